@@ -1,0 +1,530 @@
+//! Piston kinematics: the one home of every motion formula in enginedyn.
+//!
+//! A [`Mechanism`] (crank-slider with an optional pin offset, or Scotch yoke)
+//! is evaluated with a [`Model`] (the exact closed form or the harmonic
+//! series of order 2, 4 or 6) at a *cycle angle* `phi`, counted from the
+//! cylinder's firing TDC. Every quantity is SI and per radian of crank angle:
+//! multiply `dx` by `w` for the piston speed and `d2x` by `w^2` for its
+//! acceleration. [`Cylinder`] adds the bore and compression ratio and gives the
+//! volume law. Conventions (signs, offset direction, TDC angle) are those of
+//! the project's `PHYSICS.md`.
+//!
+//! Choosing a model (errors for `lambda = 0.26`, `k = 0`, relative to the
+//! stroke or to `R w^2`):
+//!
+//! | model | largest error in `x` | largest error in `a` | use when |
+//! | --- | --- | --- | --- |
+//! | `Exact` | rounding | rounding | always; the default |
+//! | `Series2` | `~ lambda^3 R / 8` (2.2e-3 R) | `~ lambda^3 / 4` (0.5 % of `R w^2` near 90°) | hand checks, balance (orders 1 and 2) |
+//! | `Series4` | `~ lambda^5 R / 16` (8e-5 R) | `~ 1e-4 R w^2` | torsional work needing order 4 |
+//! | `Series6` | `~ lambda^7 R` (1e-5 R) | `~ 1e-5 R w^2` | reproducing series tables |
+//!
+//! The series exist because the harmonic form shows which engine orders the
+//! inertia forces excite; for numbers use `Exact`: it costs one square root
+//! more per point.
+//!
+//! ```
+//! use enginedyn_kinematics::{CrankSlider, Mechanism, Model};
+//! // VAZ-2108 type: R = 35.5 mm, lambda = 0.26, no offset.
+//! let m = Mechanism::CrankSlider(CrankSlider::new(0.0355, 0.0355 / 0.26, 0.0).unwrap());
+//! let w = 4900.0 * std::f64::consts::PI / 30.0;
+//! let s = m.state(Model::Exact, 0.0).unwrap();
+//! // At TDC the acceleration is R w^2 (1 + lambda).
+//! let a_tdc = s.d2x * w * w;
+//! assert!((a_tdc - 0.0355 * w * w * 1.26).abs() < 1e-9 * a_tdc);
+//! assert_eq!(s.x, 0.0);
+//! ```
+
+use std::f64::consts::PI;
+
+/// Errors of an impossible mechanism or an undefined model.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum KinematicsError {
+    /// A length that must be positive is not.
+    #[error("{what} must be positive and finite, got {value}")]
+    NonPositive {
+        /// Which quantity.
+        what: &'static str,
+        /// The value given (m).
+        value: f64,
+    },
+    /// The crank cannot turn a full revolution: `lambda (1 + |k|) >= 1`.
+    #[error(
+        "the crank cannot turn: lambda (1 + |k|) = {value:.4} must be below 1 (lambda = {lambda:.4}, k = e/R = {k:.4})"
+    )]
+    Impossible {
+        /// `R/L`.
+        lambda: f64,
+        /// `e/R`.
+        k: f64,
+        /// `lambda (1 + |k|)`.
+        value: f64,
+    },
+    /// Series of order 4 and 6 are defined for a central crank only.
+    #[error("{model} is defined for a central crank only (pin offset {offset_m} m); use series2 or exact")]
+    SeriesWithOffset {
+        /// The model asked for.
+        model: &'static str,
+        /// The offset (m).
+        offset_m: f64,
+    },
+    /// The requested displacement lies outside the stroke.
+    #[error("displacement {x} m lies outside the stroke [0, {stroke}] m")]
+    OutsideStroke {
+        /// The displacement asked for (m).
+        x: f64,
+        /// The stroke (m).
+        stroke: f64,
+    },
+}
+
+/// How piston motion is computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Model {
+    /// The exact closed form (any offset).
+    #[default]
+    Exact,
+    /// Harmonics up to `cos 2phi` (any offset, second order in `lambda`).
+    Series2,
+    /// Harmonics up to `cos 4phi` (central crank only).
+    Series4,
+    /// Harmonics up to `cos 6phi` (central crank only).
+    Series6,
+}
+
+impl Model {
+    /// Every model, most exact first.
+    pub const ALL: [Model; 4] = [Model::Exact, Model::Series2, Model::Series4, Model::Series6];
+
+    /// The name used on the command line and in `summary.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Model::Exact => "exact",
+            Model::Series2 => "series2",
+            Model::Series4 => "series4",
+            Model::Series6 => "series6",
+        }
+    }
+
+    /// Parses a name as written by [`Model::name`].
+    pub fn from_name(s: &str) -> Option<Model> {
+        Model::ALL.into_iter().find(|m| m.name() == s)
+    }
+
+    /// Series coefficients `(A2, A4, A6)` of PHYSICS.md for this order.
+    fn coefficients(self, lambda: f64) -> (f64, f64, f64) {
+        let l3 = lambda.powi(3);
+        let l5 = lambda.powi(5);
+        match self {
+            Model::Exact | Model::Series2 => (lambda, 0.0, 0.0),
+            Model::Series4 => (lambda + l3 / 4.0, l3 / 4.0, 0.0),
+            Model::Series6 => (
+                lambda + l3 / 4.0 + 15.0 * l5 / 128.0,
+                l3 / 4.0 + 3.0 * l5 / 16.0,
+                9.0 * l5 / 128.0,
+            ),
+        }
+    }
+}
+
+/// Motion of the piston and rod at one crank angle, per radian of crank angle.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct State {
+    /// Piston displacement from TDC, positive toward the crankshaft (m).
+    pub x: f64,
+    /// `dx/dphi` (m/rad); the piston speed is `w dx/dphi`.
+    pub dx: f64,
+    /// `d2x/dphi2` (m/rad²); the acceleration is `w^2 d2x/dphi2`.
+    pub d2x: f64,
+    /// Rod angle `beta` (rad), `sin beta = lambda (sin phi_g - k)`.
+    pub beta: f64,
+    /// `dbeta/dphi`.
+    pub dbeta: f64,
+    /// `d2beta/dphi2`.
+    pub d2beta: f64,
+}
+
+/// A crank-slider: crank radius `r`, rod length `l`, pin offset `e` (m).
+///
+/// Construction checks that the crank can turn (`lambda (1 + |k|) < 1`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CrankSlider {
+    r: f64,
+    l: f64,
+    e: f64,
+}
+
+impl CrankSlider {
+    /// A checked crank-slider.
+    pub fn new(r: f64, l: f64, e: f64) -> Result<Self, KinematicsError> {
+        positive("crank radius", r)?;
+        positive("rod length", l)?;
+        if !e.is_finite() {
+            return Err(KinematicsError::NonPositive {
+                what: "pin offset (finite)",
+                value: e,
+            });
+        }
+        let lambda = r / l;
+        let k = e / r;
+        let value = lambda * (1.0 + k.abs());
+        if value >= 1.0 {
+            return Err(KinematicsError::Impossible { lambda, k, value });
+        }
+        Ok(Self { r, l, e })
+    }
+
+    /// Crank radius `R` (m).
+    pub fn r(&self) -> f64 {
+        self.r
+    }
+    /// Rod length `L` (m).
+    pub fn l(&self) -> f64 {
+        self.l
+    }
+    /// Pin offset `e` (m).
+    pub fn e(&self) -> f64 {
+        self.e
+    }
+    /// `lambda = R/L`.
+    pub fn lambda(&self) -> f64 {
+        self.r / self.l
+    }
+    /// `k = e/R`.
+    pub fn k(&self) -> f64 {
+        self.e / self.r
+    }
+    /// Geometric angle of TDC, `asin(e/(L+R))` (rad).
+    pub fn phi_tdc(&self) -> f64 {
+        (self.e / (self.l + self.r)).asin()
+    }
+    /// Geometric angle of BDC, `pi + asin(e/(L-R))` (rad).
+    pub fn phi_bdc(&self) -> f64 {
+        PI + (self.e / (self.l - self.r)).asin()
+    }
+    /// Distance of the piston pin from the crank axis at TDC (m).
+    pub fn y_tdc(&self) -> f64 {
+        ((self.l + self.r).powi(2) - self.e * self.e).sqrt()
+    }
+    /// True stroke (m): `2R` without offset, longer with one.
+    pub fn stroke(&self) -> f64 {
+        self.y_tdc() - ((self.l - self.r).powi(2) - self.e * self.e).sqrt()
+    }
+
+    /// The exact motion at cycle angle `phi` (rad from firing TDC).
+    pub fn exact(&self, phi: f64) -> State {
+        let (r, lambda, k) = (self.r, self.lambda(), self.k());
+        let phi_g = phi + self.phi_tdc();
+        let (s, c) = phi_g.sin_cos();
+        let sin_b = lambda * (s - k);
+        let cos_b = (1.0 - sin_b * sin_b).sqrt();
+        let dbeta = lambda * c / cos_b;
+        let (sp, cp) = (phi_g + sin_b.asin()).sin_cos();
+        State {
+            // Rounding can leave -1e-19 at TDC; the piston never rises above it.
+            x: (self.y_tdc() - (r * c + self.l * cos_b)).max(0.0),
+            dx: r * sp / cos_b,
+            d2x: r * (cp / cos_b + lambda * c * c / cos_b.powi(3)),
+            beta: sin_b.asin(),
+            dbeta,
+            d2beta: -lambda * s / cos_b + dbeta * dbeta * sin_b / cos_b,
+        }
+    }
+
+    fn state(&self, model: Model, phi: f64) -> Result<State, KinematicsError> {
+        let exact = self.exact(phi);
+        let (r, lambda, k) = (self.r, self.lambda(), self.k());
+        let phi_g = phi + self.phi_tdc();
+        let (s, c) = phi_g.sin_cos();
+        // The series approximate the piston's motion only; the rod angle stays exact.
+        let rod = |x, dx, d2x| State { x, dx, d2x, ..exact };
+        match model {
+            Model::Exact => Ok(exact),
+            Model::Series2 => {
+                let (s2, c2) = (2.0 * phi_g).sin_cos();
+                let x = r * ((1.0 - c) + lambda / 4.0 * (1.0 - c2) - k * lambda * s);
+                let dx = r * (s + lambda / 2.0 * s2 - k * lambda * c);
+                let d2x = r * (c + lambda * c2 + k * lambda * s);
+                Ok(rod(x, dx, d2x))
+            }
+            Model::Series4 | Model::Series6 => {
+                if self.e != 0.0 {
+                    return Err(KinematicsError::SeriesWithOffset {
+                        model: model.name(),
+                        offset_m: self.e,
+                    });
+                }
+                let (a2, a4, a6) = model.coefficients(lambda);
+                let a0 = 1.0 + a2 / 4.0 - a4 / 16.0 + a6 / 36.0;
+                let (s2, c2) = (2.0 * phi).sin_cos();
+                let (s4, c4) = (4.0 * phi).sin_cos();
+                let (s6, c6) = (6.0 * phi).sin_cos();
+                let x = r * (a0 - c - a2 / 4.0 * c2 + a4 / 16.0 * c4 - a6 / 36.0 * c6);
+                let dx = r * (s + a2 / 2.0 * s2 - a4 / 4.0 * s4 + a6 / 6.0 * s6);
+                let d2x = r * (c + a2 * c2 - a4 * c4 + a6 * c6);
+                Ok(rod(x, dx, d2x))
+            }
+        }
+    }
+}
+
+/// A Scotch yoke: crank radius `r` (m) and the slot's tilt from square to the
+/// cylinder axis `gamma_s` (rad, 0 nominally). Pure harmonic motion, no rod.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScotchYoke {
+    r: f64,
+    slot_tilt: f64,
+}
+
+impl ScotchYoke {
+    /// A checked yoke.
+    pub fn new(r: f64, slot_tilt: f64) -> Result<Self, KinematicsError> {
+        positive("crank radius", r)?;
+        if !slot_tilt.is_finite() || slot_tilt.abs() >= PI / 4.0 {
+            return Err(KinematicsError::NonPositive {
+                what: "45° minus the slot tilt",
+                value: PI / 4.0 - slot_tilt.abs(),
+            });
+        }
+        Ok(Self { r, slot_tilt })
+    }
+    /// Crank radius (m).
+    pub fn r(&self) -> f64 {
+        self.r
+    }
+    fn state(&self, phi: f64) -> State {
+        let (s, c) = phi.sin_cos();
+        let t = self.slot_tilt.tan();
+        let r = self.r;
+        State {
+            x: r * (1.0 - c) + r * s * t,
+            dx: r * (s + c * t),
+            d2x: r * (c - s * t),
+            ..State::default()
+        }
+    }
+}
+
+/// The mechanism turning crank rotation into piston travel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Mechanism {
+    /// Crank, connecting rod and piston.
+    CrankSlider(CrankSlider),
+    /// Crank and slotted yoke.
+    ScotchYoke(ScotchYoke),
+}
+
+impl Mechanism {
+    /// Crank radius `R` (m).
+    pub fn r(&self) -> f64 {
+        match self {
+            Mechanism::CrankSlider(m) => m.r,
+            Mechanism::ScotchYoke(m) => m.r,
+        }
+    }
+    /// `R/L`, 0 for the yoke.
+    pub fn lambda(&self) -> f64 {
+        match self {
+            Mechanism::CrankSlider(m) => m.lambda(),
+            Mechanism::ScotchYoke(_) => 0.0,
+        }
+    }
+    /// Geometric angle of firing TDC (rad).
+    pub fn phi_tdc(&self) -> f64 {
+        match self {
+            Mechanism::CrankSlider(m) => m.phi_tdc(),
+            Mechanism::ScotchYoke(_) => 0.0,
+        }
+    }
+    /// True stroke (m).
+    pub fn stroke(&self) -> f64 {
+        match self {
+            Mechanism::CrankSlider(m) => m.stroke(),
+            Mechanism::ScotchYoke(m) => 2.0 * m.r,
+        }
+    }
+    /// Cycle angle of BDC after firing TDC (rad): `pi` unless offset.
+    pub fn bdc_after_tdc(&self) -> f64 {
+        match self {
+            Mechanism::CrankSlider(m) => m.phi_bdc() - m.phi_tdc(),
+            Mechanism::ScotchYoke(_) => PI,
+        }
+    }
+
+    /// The exact motion at cycle angle `phi` (rad from firing TDC).
+    pub fn exact(&self, phi: f64) -> State {
+        match self {
+            Mechanism::CrankSlider(m) => m.exact(phi),
+            Mechanism::ScotchYoke(m) => m.state(phi),
+        }
+    }
+
+    /// Checks that `model` is defined for this mechanism.
+    pub fn check(&self, model: Model) -> Result<(), KinematicsError> {
+        self.state(model, 0.0).map(|_| ())
+    }
+
+    /// The motion at cycle angle `phi` (rad from TDC).
+    pub fn state(&self, model: Model, phi: f64) -> Result<State, KinematicsError> {
+        match self {
+            Mechanism::CrankSlider(m) => m.state(model, phi),
+            Mechanism::ScotchYoke(m) => Ok(m.state(phi)),
+        }
+    }
+
+    /// Evaluates the motion on the uniform grid `phi_k = start + k * step`
+    /// (rad), filling `out` (resized to `n`, reusing its allocations).
+    pub fn fill(
+        &self,
+        model: Model,
+        start: f64,
+        step: f64,
+        n: usize,
+        out: &mut Table,
+    ) -> Result<(), KinematicsError> {
+        self.check(model)?;
+        out.resize(n);
+        for k in 0..n {
+            let s = self.state(model, start + step * k as f64)?;
+            out.x[k] = s.x;
+            out.dx[k] = s.dx;
+            out.d2x[k] = s.d2x;
+            out.beta[k] = s.beta;
+            out.dbeta[k] = s.dbeta;
+            out.d2beta[k] = s.d2beta;
+        }
+        Ok(())
+    }
+
+    /// Cycle angle (rad, in `[0, 2pi)`) at which the piston is `x` from TDC,
+    /// on the down-stroke (`down = true`, TDC to BDC) or the up-stroke.
+    /// Exact kinematics; bisection refined to 1e-13 rad.
+    pub fn angle_at(&self, x: f64, down: bool) -> Result<f64, KinematicsError> {
+        let stroke = self.stroke();
+        if !(-1e-12 * stroke..=stroke * (1.0 + 1e-12)).contains(&x) {
+            return Err(KinematicsError::OutsideStroke { x, stroke });
+        }
+        let bdc = self.bdc_after_tdc();
+        let (mut lo, mut hi) = if down { (0.0, bdc) } else { (bdc, 2.0 * PI) };
+        let f = |phi: f64| self.exact(phi).x - x;
+        // x rises on the down-stroke and falls on the up-stroke.
+        let sign = if down { 1.0 } else { -1.0 };
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if sign * f(mid) < 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+            if hi - lo < 1e-13 {
+                break;
+            }
+        }
+        Ok(0.5 * (lo + hi))
+    }
+}
+
+/// Motion on a crank-angle grid, one vector per quantity (see [`State`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Table {
+    /// Displacement (m).
+    pub x: Vec<f64>,
+    /// `dx/dphi` (m/rad).
+    pub dx: Vec<f64>,
+    /// `d2x/dphi2` (m/rad²).
+    pub d2x: Vec<f64>,
+    /// Rod angle (rad).
+    pub beta: Vec<f64>,
+    /// `dbeta/dphi`.
+    pub dbeta: Vec<f64>,
+    /// `d2beta/dphi2`.
+    pub d2beta: Vec<f64>,
+}
+
+impl Table {
+    fn resize(&mut self, n: usize) {
+        for v in [
+            &mut self.x,
+            &mut self.dx,
+            &mut self.d2x,
+            &mut self.beta,
+            &mut self.dbeta,
+            &mut self.d2beta,
+        ] {
+            v.resize(n, 0.0);
+        }
+    }
+    /// Number of grid points.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+    /// True when empty.
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+}
+
+/// A cylinder: its mechanism, bore and compression ratio. Gives the volume law.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cylinder {
+    mechanism: Mechanism,
+    bore: f64,
+    compression_ratio: f64,
+}
+
+impl Cylinder {
+    /// A checked cylinder (bore in m, compression ratio > 1).
+    pub fn new(
+        mechanism: Mechanism,
+        bore: f64,
+        compression_ratio: f64,
+    ) -> Result<Self, KinematicsError> {
+        positive("bore", bore)?;
+        positive("compression ratio minus 1", compression_ratio - 1.0)?;
+        Ok(Self {
+            mechanism,
+            bore,
+            compression_ratio,
+        })
+    }
+    /// The mechanism.
+    pub fn mechanism(&self) -> &Mechanism {
+        &self.mechanism
+    }
+    /// Bore (m).
+    pub fn bore(&self) -> f64 {
+        self.bore
+    }
+    /// Compression ratio.
+    pub fn compression_ratio(&self) -> f64 {
+        self.compression_ratio
+    }
+    /// Piston area `pi D^2 / 4` (m²).
+    pub fn piston_area(&self) -> f64 {
+        PI * self.bore * self.bore / 4.0
+    }
+    /// Swept volume with the true stroke (m³).
+    pub fn swept_volume(&self) -> f64 {
+        self.piston_area() * self.mechanism.stroke()
+    }
+    /// Clearance volume `V_d / (eps - 1)` (m³).
+    pub fn clearance_volume(&self) -> f64 {
+        self.swept_volume() / (self.compression_ratio - 1.0)
+    }
+    /// Volume at cycle angle `phi` (m³), always from the exact displacement.
+    pub fn volume(&self, phi: f64) -> f64 {
+        self.clearance_volume() + self.piston_area() * self.mechanism.exact(phi).x
+    }
+    /// `dV/dphi` (m³/rad), exact.
+    pub fn dvolume(&self, phi: f64) -> f64 {
+        self.piston_area() * self.mechanism.exact(phi).dx
+    }
+}
+
+fn positive(what: &'static str, value: f64) -> Result<(), KinematicsError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(KinematicsError::NonPositive { what, value })
+    }
+}
