@@ -1,0 +1,471 @@
+//! The engine file (TOML) of INTERFACE.md: keys carry their unit in the name;
+//! an unknown key is an error that names the nearest known one.
+
+use crate::model::*;
+use enginedyn_kinematics::{CrankSlider, Mechanism, ScotchYoke};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+const ROOT_KEYS: &[&str] = &[
+    "name",
+    "cycle",
+    "mechanism",
+    "cylinders",
+    "layout",
+    "bank_angle_deg",
+    "firing_order",
+    "firing_angles_deg",
+    "crank_angles_deg",
+    "bore_mm",
+    "stroke_mm",
+    "rod_length_mm",
+    "lambda",
+    "pin_offset_mm",
+    "cylinder_spacing_mm",
+    "compression_ratio",
+    "rod_model",
+    "diagram",
+    "masses",
+    "operating",
+    "flywheel",
+    "tolerances",
+];
+const MASS_KEYS: &[&str] = &[
+    "piston_group_kg",
+    "rod_kg",
+    "rod_cg_from_small_end_mm",
+    "rod_inertia_kg_m2",
+    "crank_unbalanced_kg",
+    "yoke_kg",
+    "slider_block_kg",
+];
+const OPERATING_KEYS: &[&str] = &["rpm", "crankcase_pressure_bar", "mechanical_efficiency"];
+const FLYWHEEL_KEYS: &[&str] = &[
+    "speed_fluctuation",
+    "other_rotating_inertia_kg_m2",
+    "include_crank_train",
+    "max_rim_speed_m_s",
+    "outer_diameter_mm",
+    "density_kg_m3",
+    "shape",
+    "rim_inner_ratio",
+];
+/// The tolerance keys of INTERFACE.md's `[tolerances]` section.
+pub const TOLERANCE_KEYS: &[&str] = &[
+    "stroke_mm",
+    "rod_length_mm",
+    "pin_offset_mm",
+    "bore_mm",
+    "piston_group_kg",
+    "rod_kg",
+    "throw_angle_deg",
+    "tdc_deg",
+    "yoke_slot_squareness_deg",
+];
+const SECTIONS: &[(&str, &[&str])] = &[
+    ("masses", MASS_KEYS),
+    ("operating", OPERATING_KEYS),
+    ("flywheel", FLYWHEEL_KEYS),
+    ("tolerances", TOLERANCE_KEYS),
+];
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Raw {
+    name: Option<String>,
+    cycle: Option<String>,
+    mechanism: Option<String>,
+    cylinders: Option<i64>,
+    layout: Option<String>,
+    bank_angle_deg: Option<f64>,
+    firing_order: Option<Vec<i64>>,
+    firing_angles_deg: Option<Vec<f64>>,
+    crank_angles_deg: Option<Vec<f64>>,
+    bore_mm: Option<f64>,
+    stroke_mm: Option<f64>,
+    rod_length_mm: Option<f64>,
+    lambda: Option<f64>,
+    pin_offset_mm: Option<f64>,
+    cylinder_spacing_mm: Option<f64>,
+    compression_ratio: Option<f64>,
+    rod_model: Option<String>,
+    diagram: Option<String>,
+    #[serde(default)]
+    masses: RawMasses,
+    #[serde(default)]
+    operating: RawOperating,
+    flywheel: Option<RawFlywheel>,
+    #[serde(default)]
+    tolerances: toml::Table,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawMasses {
+    piston_group_kg: Option<f64>,
+    rod_kg: Option<f64>,
+    rod_cg_from_small_end_mm: Option<f64>,
+    rod_inertia_kg_m2: Option<f64>,
+    crank_unbalanced_kg: Option<f64>,
+    yoke_kg: Option<f64>,
+    slider_block_kg: Option<f64>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawOperating {
+    rpm: Option<f64>,
+    crankcase_pressure_bar: Option<f64>,
+    mechanical_efficiency: Option<f64>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawFlywheel {
+    speed_fluctuation: Option<f64>,
+    other_rotating_inertia_kg_m2: Option<f64>,
+    include_crank_train: Option<bool>,
+    max_rim_speed_m_s: Option<f64>,
+    outer_diameter_mm: Option<f64>,
+    density_kg_m3: Option<f64>,
+    shape: Option<String>,
+    rim_inner_ratio: Option<f64>,
+}
+
+/// Reads and checks an engine file; `diagram` is resolved against its folder.
+pub fn read(path: &Path) -> Result<Engine, EngineError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| EngineError::Toml(format!("cannot read the engine file: {e}")))?;
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "engine".into());
+    let mut engine = parse(&text, &stem)?;
+    if let Some(d) = &engine.diagram
+        && d.is_relative()
+    {
+        let base = path.parent().unwrap_or(Path::new("."));
+        engine.diagram = Some(base.join(d));
+    }
+    Ok(engine)
+}
+
+/// Parses engine-file text; `stem` is the default name.
+pub fn parse(text: &str, stem: &str) -> Result<Engine, EngineError> {
+    let table: toml::Table = toml::from_str(text).map_err(|e| EngineError::Toml(e.to_string()))?;
+    check_keys(&table, text)?;
+    let raw: Raw = toml::from_str(text).map_err(|e| EngineError::Toml(e.to_string()))?;
+    build(raw, stem)
+}
+
+/// The tolerances section as (key, value) pairs, each checked as a number >= 0.
+pub fn tolerances(text: &str) -> Result<Vec<(String, f64)>, EngineError> {
+    let raw: Raw = toml::from_str(text).map_err(|e| EngineError::Toml(e.to_string()))?;
+    raw.tolerances
+        .into_iter()
+        .map(|(k, v)| {
+            let x = v
+                .as_float()
+                .or_else(|| v.as_integer().map(|i| i as f64))
+                .filter(|x| x.is_finite() && *x >= 0.0);
+            match x {
+                Some(x) => Ok((k, x)),
+                None => Err(EngineError::Toml(format!(
+                    "tolerances.{k} = {v}: expected a deviation of 0 or more"
+                ))),
+            }
+        })
+        .collect()
+}
+
+fn check_keys(table: &toml::Table, text: &str) -> Result<(), EngineError> {
+    for (key, value) in table {
+        if !ROOT_KEYS.contains(&key.as_str()) {
+            return Err(unknown(key, "root", ROOT_KEYS, text));
+        }
+        if let Some((section, keys)) = SECTIONS.iter().find(|(s, _)| s == key) {
+            let Some(sub) = value.as_table() else {
+                return Err(EngineError::Toml(format!(
+                    "`{section}` must be a table: [{section}]"
+                )));
+            };
+            for k in sub.keys() {
+                if !keys.contains(&k.as_str()) {
+                    return Err(unknown(k, section, keys, text));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn unknown(key: &str, section: &str, known: &[&str], text: &str) -> EngineError {
+    let lower = key.to_ascii_lowercase();
+    let best = known
+        .iter()
+        .map(|k| {
+            let prefix = k.starts_with(&lower) || lower.starts_with(*k);
+            let score = strsim::jaro_winkler(&lower, k) + if prefix { 0.2 } else { 0.0 };
+            (score, *k)
+        })
+        .max_by(|a, b| a.0.total_cmp(&b.0));
+    let mut suggestion = best.filter(|(s, _)| *s > 0.8).map(|(_, k)| k.to_string());
+    if suggestion.is_none() {
+        // The key may belong to another section: `rpm` at the root.
+        for (s, keys) in SECTIONS {
+            if *s != section && keys.contains(&key) {
+                suggestion = Some(format!("{key}` in [{s}]; or `{s}.{key}"));
+            }
+        }
+        if section != "root" && ROOT_KEYS.contains(&key) {
+            suggestion = Some(format!("{key}` at the top of the file, before any [section]; or `{key}"));
+        }
+    }
+    EngineError::UnknownKey {
+        key: key.to_string(),
+        section: section.to_string(),
+        suggestion,
+        line: find_line(text, section, key),
+    }
+}
+
+/// 1-based line where `key` is set in `section` (`root` = before any header).
+fn find_line(text: &str, section: &str, key: &str) -> Option<usize> {
+    let mut current = "root".to_string();
+    for (n, line) in text.lines().enumerate() {
+        let t = line.trim();
+        if let Some(h) = t.strip_prefix('[') {
+            current = h.trim_end_matches(']').trim().to_string();
+            continue;
+        }
+        let k = t.split('=').next().unwrap_or("").trim().trim_matches('"');
+        if current == section && k == key {
+            return Some(n + 1);
+        }
+    }
+    None
+}
+
+fn need<T>(v: Option<T>, key: &'static str, why: &'static str) -> Result<T, EngineError> {
+    v.ok_or(EngineError::Missing { key, why })
+}
+
+fn bad(key: &'static str, value: impl ToString, expected: &str) -> EngineError {
+    EngineError::Invalid {
+        key,
+        value: value.to_string(),
+        expected: expected.to_string(),
+    }
+}
+
+fn build(raw: Raw, stem: &str) -> Result<Engine, EngineError> {
+    let stroke = match need(raw.cycle, "cycle", "\"four-stroke\" or \"two-stroke\"")?.as_str() {
+        "four-stroke" => Stroke::Four,
+        "two-stroke" => Stroke::Two,
+        other => {
+            return Err(bad(
+                "cycle",
+                format!("\"{other}\""),
+                "\"four-stroke\" or \"two-stroke\"",
+            ));
+        }
+    };
+    let cylinders = need(raw.cylinders, "cylinders", "the number of cylinders, 1 to 24")?;
+    if !(1..=24).contains(&cylinders) {
+        return Err(bad("cylinders", cylinders, "1 to 24"));
+    }
+    let layout = match raw.layout.as_deref().unwrap_or("inline") {
+        "inline" => Layout::Inline,
+        "vee" => Layout::Vee {
+            bank_angle: need(raw.bank_angle_deg, "bank_angle_deg", "required for a vee")?
+                .to_radians(),
+        },
+        "boxer" => Layout::Boxer,
+        other => {
+            return Err(bad(
+                "layout",
+                format!("\"{other}\""),
+                "\"inline\", \"vee\" or \"boxer\"",
+            ));
+        }
+    };
+    if raw.bank_angle_deg.is_some() && !matches!(layout, Layout::Vee { .. }) {
+        return Err(bad(
+            "bank_angle_deg",
+            raw.bank_angle_deg.unwrap_or_default(),
+            "only with layout = \"vee\"",
+        ));
+    }
+    let bore = need(raw.bore_mm, "bore_mm", "the cylinder bore")? * 1e-3;
+    let r = need(raw.stroke_mm, "stroke_mm", "twice the crank radius")? * 0.5e-3;
+    let compression_ratio = need(
+        raw.compression_ratio,
+        "compression_ratio",
+        "the geometric compression ratio",
+    )?;
+    let m = &raw.masses;
+    let yoke = match raw.mechanism.as_deref().unwrap_or("crank-slider") {
+        "crank-slider" => false,
+        "scotch-yoke" => true,
+        other => {
+            return Err(bad(
+                "mechanism",
+                format!("\"{other}\""),
+                "\"crank-slider\" or \"scotch-yoke\"",
+            ));
+        }
+    };
+    let mechanism = if yoke {
+        let rod_keys = [
+            ("rod_length_mm", raw.rod_length_mm.is_some()),
+            ("lambda", raw.lambda.is_some()),
+            ("pin_offset_mm", raw.pin_offset_mm.is_some()),
+            ("masses.rod_kg", m.rod_kg.is_some()),
+            (
+                "masses.rod_cg_from_small_end_mm",
+                m.rod_cg_from_small_end_mm.is_some(),
+            ),
+            ("masses.rod_inertia_kg_m2", m.rod_inertia_kg_m2.is_some()),
+        ];
+        if let Some((k, _)) = rod_keys.iter().find(|(_, set)| *set) {
+            return Err(EngineError::Invalid {
+                key: k,
+                value: "given".into(),
+                expected: "nothing: a Scotch yoke has no connecting rod or pin offset".into(),
+            });
+        }
+        Mechanism::ScotchYoke(ScotchYoke::new(r, 0.0).map_err(|source| {
+            EngineError::Mechanism {
+                keys: "stroke_mm",
+                source,
+            }
+        })?)
+    } else {
+        if m.yoke_kg.is_some() || m.slider_block_kg.is_some() {
+            return Err(bad(
+                "masses.yoke_kg",
+                "given",
+                "only with mechanism = \"scotch-yoke\"",
+            ));
+        }
+        let l = match (raw.rod_length_mm, raw.lambda) {
+            (Some(l), None) => l * 1e-3,
+            (None, Some(lambda)) => {
+                if !(lambda > 0.0 && lambda < 1.0) {
+                    return Err(bad("lambda", lambda, "R/L between 0 and 1"));
+                }
+                r / lambda
+            }
+            (Some(_), Some(_)) => {
+                return Err(bad(
+                    "lambda",
+                    "given with rod_length_mm",
+                    "exactly one of `rod_length_mm` and `lambda`",
+                ));
+            }
+            (None, None) => {
+                return Err(EngineError::Missing {
+                    key: "rod_length_mm",
+                    why: "give `rod_length_mm` or `lambda` (exactly one)",
+                });
+            }
+        };
+        let e = raw.pin_offset_mm.unwrap_or(0.0) * 1e-3;
+        Mechanism::CrankSlider(CrankSlider::new(r, l, e).map_err(|source| {
+            EngineError::Mechanism {
+                keys: "stroke_mm, rod_length_mm (or lambda), pin_offset_mm",
+                source,
+            }
+        })?)
+    };
+    let rod_model = match raw.rod_model.as_deref() {
+        None => RodModel::TwoMass,
+        Some(s) => RodModel::from_name(s).ok_or_else(|| {
+            bad(
+                "rod_model",
+                format!("\"{s}\""),
+                "\"two-mass\", \"three-mass\" or \"rigid\"",
+            )
+        })?,
+    };
+    let masses = Masses {
+        piston_group: need(m.piston_group_kg, "masses.piston_group_kg", "piston, rings and pin")?
+            + m.yoke_kg.unwrap_or(0.0),
+        rod: if yoke {
+            0.0
+        } else {
+            need(m.rod_kg, "masses.rod_kg", "required for a crank-slider")?
+        },
+        rod_cg_from_small_end: m.rod_cg_from_small_end_mm.unwrap_or(0.0) * 1e-3,
+        rod_inertia: m.rod_inertia_kg_m2,
+        crank_unbalanced: m.crank_unbalanced_kg.unwrap_or(0.0) + m.slider_block_kg.unwrap_or(0.0),
+    };
+    if m.rod_cg_from_small_end_mm.is_some_and(|v| v <= 0.0) {
+        return Err(bad(
+            "masses.rod_cg_from_small_end_mm",
+            m.rod_cg_from_small_end_mm.unwrap_or_default(),
+            "inside the rod: between 0 and the rod length",
+        ));
+    }
+    let op = &raw.operating;
+    let operating = Operating {
+        rpm: op.rpm,
+        crankcase_pressure: op.crankcase_pressure_bar.unwrap_or(1.01325) * 1e5,
+        mechanical_efficiency: op.mechanical_efficiency.unwrap_or(1.0),
+    };
+    let fw = raw.flywheel.unwrap_or_default();
+    let d = FlywheelSpec::default();
+    let flywheel = FlywheelSpec {
+        speed_fluctuation: fw.speed_fluctuation.unwrap_or(d.speed_fluctuation),
+        other_rotating_inertia: fw
+            .other_rotating_inertia_kg_m2
+            .unwrap_or(d.other_rotating_inertia),
+        include_crank_train: fw.include_crank_train.unwrap_or(d.include_crank_train),
+        max_rim_speed: fw.max_rim_speed_m_s.unwrap_or(d.max_rim_speed),
+        outer_diameter: fw.outer_diameter_mm.map(|v| v * 1e-3),
+        density: fw.density_kg_m3.unwrap_or(d.density),
+        shape: match fw.shape.as_deref() {
+            None | Some("rim") => FlywheelShape::Rim,
+            Some("disc") => FlywheelShape::Disc,
+            Some(other) => {
+                return Err(bad(
+                    "flywheel.shape",
+                    format!("\"{other}\""),
+                    "\"rim\" or \"disc\"",
+                ));
+            }
+        },
+        rim_inner_ratio: fw.rim_inner_ratio.unwrap_or(d.rim_inner_ratio),
+    };
+    let firing_order = match raw.firing_order {
+        None => None,
+        Some(v) => Some(
+            v.into_iter()
+                .map(|c| usize::try_from(c).unwrap_or(0))
+                .collect(),
+        ),
+    };
+    EngineBuilder {
+        name: raw.name.unwrap_or_else(|| stem.to_string()),
+        stroke,
+        layout,
+        cylinders: cylinders as usize,
+        firing_order,
+        firing_angles: raw
+            .firing_angles_deg
+            .map(|v| v.into_iter().map(f64::to_radians).collect()),
+        crank_angles: raw
+            .crank_angles_deg
+            .map(|v| v.into_iter().map(f64::to_radians).collect()),
+        mechanism,
+        bore,
+        compression_ratio,
+        cylinder_spacing: raw.cylinder_spacing_mm.map(|v| v * 1e-3),
+        rod_model,
+        diagram: raw.diagram.map(PathBuf::from),
+        masses,
+        operating,
+        flywheel,
+    }
+    .build()
+}

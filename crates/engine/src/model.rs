@@ -1,0 +1,873 @@
+//! The checked engine and the quantities derived from it.
+
+use enginedyn_kinematics::{Cylinder, KinematicsError, Mechanism};
+use std::f64::consts::PI;
+use std::path::PathBuf;
+
+/// Why an engine description is rejected. Each names the engine-file key.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EngineError {
+    /// The TOML itself does not parse or a value has the wrong type.
+    #[error("{0}")]
+    Toml(String),
+    /// A key the engine file does not know.
+    #[error("unknown key `{key}` in [{section}]{}{}", line.map(|l| format!(" (line {l})")).unwrap_or_default(), suggestion.as_ref().map(|s| format!("; did you mean `{s}`?")).unwrap_or_default())]
+    UnknownKey {
+        /// The key as written.
+        key: String,
+        /// `root` or the table's name.
+        section: String,
+        /// The nearest known key, if any is close.
+        suggestion: Option<String>,
+        /// 1-based line of the key, when found.
+        line: Option<usize>,
+    },
+    /// A required key is absent.
+    #[error("missing key `{key}`: {why}")]
+    Missing {
+        /// The key.
+        key: &'static str,
+        /// When it is required.
+        why: &'static str,
+    },
+    /// A value outside its bounds.
+    #[error("`{key}` = {value}: {expected}")]
+    Invalid {
+        /// The key.
+        key: &'static str,
+        /// The value as given.
+        value: String,
+        /// What is expected, with the bound.
+        expected: String,
+    },
+    /// The crank mechanism cannot exist.
+    #[error("{keys}: {source}")]
+    Mechanism {
+        /// The keys that define it.
+        keys: &'static str,
+        /// The geometric reason.
+        source: KinematicsError,
+    },
+}
+
+/// Two-stroke or four-stroke working cycle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stroke {
+    /// One cycle per two revolutions (720°).
+    Four,
+    /// One cycle per revolution (360°).
+    Two,
+}
+
+impl Stroke {
+    /// The cycle length (rad): 4pi or 2pi.
+    pub fn cycle(self) -> f64 {
+        match self {
+            Stroke::Four => 4.0 * PI,
+            Stroke::Two => 2.0 * PI,
+        }
+    }
+    /// As written in the engine file.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stroke::Four => "four-stroke",
+            Stroke::Two => "two-stroke",
+        }
+    }
+}
+
+/// Arrangement of the cylinders (numbering and banks as in PHYSICS.md).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Layout {
+    /// One bank; cylinder i on throw i.
+    Inline,
+    /// Two banks `bank_angle` apart (rad); cylinders i and i + z/2 share throw i.
+    Vee {
+        /// Angle between the banks (rad).
+        bank_angle: f64,
+    },
+    /// Opposed banks; cylinder i on its own throw i, even cylinders on bank 2.
+    Boxer,
+}
+
+impl Layout {
+    /// As written in the engine file.
+    pub fn name(self) -> &'static str {
+        match self {
+            Layout::Inline => "inline",
+            Layout::Vee { .. } => "vee",
+            Layout::Boxer => "boxer",
+        }
+    }
+}
+
+/// How the connecting rod's mass is modelled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RodModel {
+    /// Two point masses at the bearing centres (static equivalence). Misses
+    /// the couple `(I_G - m l_A l_B) w^2 d2beta/dphi2`: for a typical car rod
+    /// (`I_G` about 80 % of `m l_A l_B`) a few percent of the inertia torque.
+    #[default]
+    TwoMass,
+    /// Three point masses (small end, big end, centre of mass) keeping the
+    /// rod's mass, centre and moment of inertia: dynamically exact.
+    ThreeMass,
+    /// The rod as a planar rigid body; exact, the reference.
+    Rigid,
+}
+
+impl RodModel {
+    /// Every model.
+    pub const ALL: [RodModel; 3] = [RodModel::TwoMass, RodModel::ThreeMass, RodModel::Rigid];
+    /// As written on the command line and in the engine file.
+    pub fn name(self) -> &'static str {
+        match self {
+            RodModel::TwoMass => "two-mass",
+            RodModel::ThreeMass => "three-mass",
+            RodModel::Rigid => "rigid",
+        }
+    }
+    /// Parses [`RodModel::name`].
+    pub fn from_name(s: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| m.name() == s)
+    }
+}
+
+/// Masses of one cylinder's crank train (kg, m, kg m²).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Masses {
+    /// Piston, rings and pin (plus the yoke for a Scotch yoke).
+    pub piston_group: f64,
+    /// Connecting rod (0 for a Scotch yoke).
+    pub rod: f64,
+    /// Small-end centre to the rod's centre of mass, `l_A` (m).
+    pub rod_cg_from_small_end: f64,
+    /// Rod's moment of inertia about its centre of mass, if given.
+    pub rod_inertia: Option<f64>,
+    /// Crank unbalance per throw, reduced to the crank radius (plus the
+    /// slider block for a Scotch yoke).
+    pub crank_unbalanced: f64,
+}
+
+/// The operating point as far as the engine file gives it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Operating {
+    /// Speed (rpm), if the file gives one.
+    pub rpm: Option<f64>,
+    /// Crankcase pressure (Pa, absolute).
+    pub crankcase_pressure: f64,
+    /// Mechanical efficiency (0, 1].
+    pub mechanical_efficiency: f64,
+}
+
+/// Flywheel as a disc or a rim.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FlywheelShape {
+    /// A solid disc.
+    Disc,
+    /// An annulus (rim) with inner diameter `rim_inner_ratio` × outer.
+    Rim,
+}
+
+/// Flywheel targets and material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlywheelSpec {
+    /// Allowed speed fluctuation `delta`.
+    pub speed_fluctuation: f64,
+    /// Inertia of the other rotating parts (kg m²).
+    pub other_rotating_inertia: f64,
+    /// Count the crank train's reduced masses as engine inertia.
+    pub include_crank_train: bool,
+    /// Allowed rim speed (m/s).
+    pub max_rim_speed: f64,
+    /// Fixed outer diameter (m), instead of the rim speed.
+    pub outer_diameter: Option<f64>,
+    /// Material density (kg/m³).
+    pub density: f64,
+    /// Disc or rim.
+    pub shape: FlywheelShape,
+    /// Rim inner / outer diameter.
+    pub rim_inner_ratio: f64,
+}
+
+impl Default for FlywheelSpec {
+    fn default() -> Self {
+        Self {
+            speed_fluctuation: 0.01,
+            other_rotating_inertia: 0.0,
+            include_crank_train: false,
+            max_rim_speed: 60.0,
+            outer_diameter: None,
+            density: 7850.0,
+            shape: FlywheelShape::Rim,
+            rim_inner_ratio: 0.8,
+        }
+    }
+}
+
+/// A checked engine. Build it with [`crate::file::parse`] or [`EngineBuilder`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Engine {
+    pub(crate) name: String,
+    pub(crate) stroke: Stroke,
+    pub(crate) layout: Layout,
+    pub(crate) z: usize,
+    pub(crate) firing_order: Vec<usize>,
+    pub(crate) firing_angles: Vec<f64>,
+    pub(crate) crank_angles: Vec<f64>,
+    pub(crate) cylinder: Cylinder,
+    pub(crate) cylinder_spacing: f64,
+    pub(crate) rod_model: RodModel,
+    pub(crate) diagram: Option<PathBuf>,
+    pub(crate) masses: Masses,
+    pub(crate) operating: Operating,
+    pub(crate) flywheel: FlywheelSpec,
+    pub(crate) notes: Vec<String>,
+}
+
+/// Everything an engine is built from, SI, unchecked. Fields left `None`
+/// take the defaults of INTERFACE.md.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EngineBuilder {
+    /// Name.
+    pub name: String,
+    /// Working cycle.
+    pub stroke: Stroke,
+    /// Layout.
+    pub layout: Layout,
+    /// Cylinder count.
+    pub cylinders: usize,
+    /// Firing order (1-based cylinder numbers).
+    pub firing_order: Option<Vec<usize>>,
+    /// Firing angles per cylinder (rad), if given.
+    pub firing_angles: Option<Vec<f64>>,
+    /// Throw lags per throw (rad), if given.
+    pub crank_angles: Option<Vec<f64>>,
+    /// The mechanism (checked by the kinematics crate).
+    pub mechanism: Mechanism,
+    /// Bore (m).
+    pub bore: f64,
+    /// Compression ratio.
+    pub compression_ratio: f64,
+    /// Throw pitch (m); `None` assumes 1.2 × bore.
+    pub cylinder_spacing: Option<f64>,
+    /// Rod model.
+    pub rod_model: RodModel,
+    /// Diagram path.
+    pub diagram: Option<PathBuf>,
+    /// Masses (`rod_cg_from_small_end` 0 means the default).
+    pub masses: Masses,
+    /// Operating point.
+    pub operating: Operating,
+    /// Flywheel.
+    pub flywheel: FlywheelSpec,
+}
+
+fn invalid(key: &'static str, value: impl ToString, expected: impl Into<String>) -> EngineError {
+    EngineError::Invalid {
+        key,
+        value: value.to_string(),
+        expected: expected.into(),
+    }
+}
+
+fn deg_list(v: &[f64]) -> String {
+    let s: Vec<String> = v
+        .iter()
+        .map(|a| format!("{}", (a.to_degrees() * 1e6).round() / 1e6))
+        .collect();
+    format!("[{}]", s.join(", "))
+}
+
+/// `a mod m` in `[0, m)`, with values within 1e-9 rad of `m` folded to 0.
+fn wrap(a: f64, m: f64) -> f64 {
+    let r = a.rem_euclid(m);
+    if (m - r).abs() < 1e-9 { 0.0 } else { r }
+}
+
+fn same_angle(a: f64, b: f64, m: f64) -> bool {
+    let d = wrap(a - b, m);
+    d < 1e-6 || m - d < 1e-6
+}
+
+impl EngineBuilder {
+    /// Checks everything and derives firing angles and crank throws.
+    pub fn build(self) -> Result<Engine, EngineError> {
+        let mut notes = Vec::new();
+        let z = self.cylinders;
+        if !(1..=24).contains(&z) {
+            return Err(invalid("cylinders", z, "1 to 24"));
+        }
+        match self.layout {
+            Layout::Vee { bank_angle } => {
+                if z % 2 != 0 {
+                    return Err(invalid("cylinders", z, "an even number for a vee"));
+                }
+                if !(bank_angle > 0.0 && bank_angle < PI) {
+                    return Err(invalid(
+                        "bank_angle_deg",
+                        bank_angle.to_degrees(),
+                        "between 0 and 180°",
+                    ));
+                }
+            }
+            Layout::Boxer if z % 2 != 0 => {
+                return Err(invalid("cylinders", z, "an even number for a boxer"));
+            }
+            _ => {}
+        }
+        let cylinder = Cylinder::new(self.mechanism, self.bore, self.compression_ratio).map_err(
+            |source| EngineError::Mechanism {
+                keys: "bore_mm, compression_ratio",
+                source,
+            },
+        )?;
+        let is_yoke = matches!(self.mechanism, Mechanism::ScotchYoke(_));
+        let mut masses = self.masses;
+        if !(masses.piston_group.is_finite() && masses.piston_group > 0.0) {
+            return Err(invalid(
+                "masses.piston_group_kg",
+                masses.piston_group,
+                "a positive mass (kg)",
+            ));
+        }
+        if !(masses.crank_unbalanced.is_finite() && masses.crank_unbalanced >= 0.0) {
+            return Err(invalid(
+                "masses.crank_unbalanced_kg",
+                masses.crank_unbalanced,
+                "a mass of 0 or more (kg)",
+            ));
+        }
+        let rod_len = match self.mechanism {
+            Mechanism::CrankSlider(cs) => cs.l(),
+            Mechanism::ScotchYoke(_) => 0.0,
+        };
+        if !is_yoke {
+            if !(masses.rod.is_finite() && masses.rod > 0.0) {
+                return Err(invalid("masses.rod_kg", masses.rod, "a positive mass (kg)"));
+            }
+            if masses.rod_cg_from_small_end == 0.0 {
+                masses.rod_cg_from_small_end = 0.725 * rod_len;
+            }
+            let la = masses.rod_cg_from_small_end;
+            if !(la > 0.0 && la < rod_len) {
+                return Err(invalid(
+                    "masses.rod_cg_from_small_end_mm",
+                    la * 1e3,
+                    format!(
+                        "inside the rod: between 0 and the rod length {:.3} mm",
+                        rod_len * 1e3
+                    ),
+                ));
+            }
+            if let Some(i) = masses.rod_inertia
+                && !(i.is_finite() && i > 0.0)
+            {
+                return Err(invalid(
+                    "masses.rod_inertia_kg_m2",
+                    i,
+                    "a positive moment of inertia (kg m²)",
+                ));
+            }
+            if self.rod_model != RodModel::TwoMass && masses.rod_inertia.is_none() {
+                return Err(EngineError::Missing {
+                    key: "masses.rod_inertia_kg_m2",
+                    why: "required for rod_model = \"three-mass\" and \"rigid\"",
+                });
+            }
+        }
+        let op = self.operating;
+        if let Some(rpm) = op.rpm
+            && !(rpm.is_finite() && rpm > 0.0)
+        {
+            return Err(invalid("operating.rpm", rpm, "a positive speed (rpm)"));
+        }
+        if !(op.crankcase_pressure.is_finite() && op.crankcase_pressure >= 0.0) {
+            return Err(invalid(
+                "operating.crankcase_pressure_bar",
+                op.crankcase_pressure / 1e5,
+                "an absolute pressure of 0 or more (bar)",
+            ));
+        }
+        if !(op.mechanical_efficiency > 0.0 && op.mechanical_efficiency <= 1.0) {
+            return Err(invalid(
+                "operating.mechanical_efficiency",
+                op.mechanical_efficiency,
+                "in (0, 1]",
+            ));
+        }
+        check_flywheel(&self.flywheel)?;
+        let cylinder_spacing = match self.cylinder_spacing {
+            Some(s) if s.is_finite() && s > 0.0 => s,
+            Some(s) => {
+                return Err(invalid(
+                    "cylinder_spacing_mm",
+                    s * 1e3,
+                    "a positive distance (mm)",
+                ));
+            }
+            None => {
+                notes.push(format!(
+                    "cylinder_spacing_mm not given: assumed 1.2 × bore = {:.1} mm",
+                    1.2 * self.bore * 1e3
+                ));
+                1.2 * self.bore
+            }
+        };
+        let firing_order = match self.firing_order {
+            Some(f) => f,
+            None if z == 1 => vec![1],
+            None => {
+                return Err(EngineError::Missing {
+                    key: "firing_order",
+                    why: "required for more than one cylinder",
+                });
+            }
+        };
+        let mut seen = vec![false; z];
+        if firing_order.len() != z {
+            return Err(invalid(
+                "firing_order",
+                format!("{firing_order:?}"),
+                format!("each of the {z} cylinders once"),
+            ));
+        }
+        for &c in &firing_order {
+            if c == 0 || c > z || seen[c - 1] {
+                return Err(invalid(
+                    "firing_order",
+                    format!("{firing_order:?}"),
+                    format!("each cylinder 1..{z} exactly once"),
+                ));
+            }
+            seen[c - 1] = true;
+        }
+        let layout = self.layout;
+        let (firing_angles, crank_angles) = firing(
+            self.stroke,
+            layout,
+            z,
+            &firing_order,
+            self.firing_angles,
+            self.crank_angles,
+        )?;
+        Ok(Engine {
+            name: self.name,
+            stroke: self.stroke,
+            layout,
+            z,
+            firing_order,
+            firing_angles,
+            crank_angles,
+            cylinder,
+            cylinder_spacing,
+            rod_model: self.rod_model,
+            diagram: self.diagram,
+            masses,
+            operating: op,
+            flywheel: self.flywheel,
+            notes,
+        })
+    }
+}
+
+fn check_flywheel(f: &FlywheelSpec) -> Result<(), EngineError> {
+    if !(f.speed_fluctuation > 0.0 && f.speed_fluctuation < 1.0) {
+        return Err(invalid(
+            "flywheel.speed_fluctuation",
+            f.speed_fluctuation,
+            "between 0 and 1 (e.g. 0.01)",
+        ));
+    }
+    if !(f.other_rotating_inertia.is_finite() && f.other_rotating_inertia >= 0.0) {
+        return Err(invalid(
+            "flywheel.other_rotating_inertia_kg_m2",
+            f.other_rotating_inertia,
+            "0 or more (kg m²)",
+        ));
+    }
+    if !(f.max_rim_speed.is_finite() && f.max_rim_speed > 0.0) {
+        return Err(invalid(
+            "flywheel.max_rim_speed_m_s",
+            f.max_rim_speed,
+            "a positive speed (m/s)",
+        ));
+    }
+    if let Some(d) = f.outer_diameter
+        && !(d.is_finite() && d > 0.0)
+    {
+        return Err(invalid(
+            "flywheel.outer_diameter_mm",
+            d * 1e3,
+            "a positive diameter (mm)",
+        ));
+    }
+    if !(f.density.is_finite() && f.density > 0.0) {
+        return Err(invalid(
+            "flywheel.density_kg_m3",
+            f.density,
+            "a positive density (kg/m³)",
+        ));
+    }
+    if !(f.rim_inner_ratio >= 0.0 && f.rim_inner_ratio < 1.0) {
+        return Err(invalid(
+            "flywheel.rim_inner_ratio",
+            f.rim_inner_ratio,
+            "in [0, 1)",
+        ));
+    }
+    Ok(())
+}
+
+/// Throw of each cylinder (0-based) and the number of throws.
+fn throws_of(layout: Layout, z: usize) -> (Vec<usize>, usize) {
+    match layout {
+        Layout::Vee { .. } => ((0..z).map(|i| i % (z / 2)).collect(), z / 2),
+        Layout::Inline | Layout::Boxer => ((0..z).collect(), z),
+    }
+}
+
+/// Bank angle `gamma_i` of each cylinder (rad).
+fn gammas(layout: Layout, z: usize) -> Vec<f64> {
+    (0..z)
+        .map(|i| match layout {
+            Layout::Inline => 0.0,
+            Layout::Vee { bank_angle } => {
+                if i < z / 2 {
+                    0.0
+                } else {
+                    bank_angle
+                }
+            }
+            Layout::Boxer => {
+                if i % 2 == 0 {
+                    0.0
+                } else {
+                    PI
+                }
+            }
+        })
+        .collect()
+}
+
+/// Firing angles per cylinder and throw lags per throw (rad), from what the
+/// file gives: PHYSICS.md, `theta_i = alpha_i + gamma_i + 360° j_i`.
+fn firing(
+    stroke: Stroke,
+    layout: Layout,
+    z: usize,
+    order: &[usize],
+    given_firing: Option<Vec<f64>>,
+    given_crank: Option<Vec<f64>>,
+) -> Result<(Vec<f64>, Vec<f64>), EngineError> {
+    let cycle = stroke.cycle();
+    let rev = 2.0 * PI;
+    let (throw, n_throws) = throws_of(layout, z);
+    let gamma = gammas(layout, z);
+    if let Some(f) = &given_firing
+        && (f.len() != z || f.iter().any(|a| !a.is_finite()))
+    {
+        return Err(invalid(
+            "firing_angles_deg",
+            deg_list(f),
+            format!("one finite angle per cylinder ({z})"),
+        ));
+    }
+    if let Some(c) = &given_crank
+        && (c.len() != n_throws || c.iter().any(|a| !a.is_finite()))
+    {
+        return Err(invalid(
+            "crank_angles_deg",
+            deg_list(c),
+            format!("one finite angle per throw ({n_throws})"),
+        ));
+    }
+    let crank_of = |firing: &[f64]| -> Result<Vec<f64>, EngineError> {
+        let mut crank: Vec<Option<f64>> = vec![None; n_throws];
+        for i in 0..z {
+            let a = wrap(firing[i] - gamma[i], rev);
+            match crank[throw[i]] {
+                None => crank[throw[i]] = Some(a),
+                Some(b) if same_angle(a, b, rev) => {}
+                Some(b) => {
+                    return Err(EngineError::Invalid {
+                        key: "firing_angles_deg",
+                        value: deg_list(firing),
+                        expected: format!(
+                            "cylinders {} and {} share throw {} but would need it at {:.1}° and {:.1}°: \
+                             a shared-pin {} cannot fire like this; give `firing_angles_deg` the crank \
+                             allows (throw lag + bank angle + 0 or 360°), or use split pins",
+                            throw_partner(i, z) + 1,
+                            i + 1,
+                            throw[i] + 1,
+                            b.to_degrees(),
+                            a.to_degrees(),
+                            layout.name(),
+                        ),
+                    });
+                }
+            }
+        }
+        let base = crank[0].unwrap_or(0.0);
+        Ok(crank
+            .into_iter()
+            .map(|c| wrap(c.unwrap_or(0.0) - base, rev))
+            .collect())
+    };
+    let firing_angles = match (given_firing, &given_crank) {
+        (Some(f), _) => {
+            let shift = f[0];
+            let f: Vec<f64> = f.iter().map(|a| wrap(a - shift, cycle)).collect();
+            check_order(&f, order, cycle)?;
+            f
+        }
+        (None, None) => {
+            let mut f = vec![0.0; z];
+            let start = order.iter().position(|&c| c == 1).unwrap_or(0);
+            for (j, &c) in order.iter().enumerate() {
+                let k = (j + z - start) % z;
+                f[c - 1] = k as f64 * cycle / z as f64;
+            }
+            f
+        }
+        (None, Some(crank)) => from_crank(stroke, &gamma, &throw, crank, order)?,
+    };
+    let crank = crank_of(&firing_angles)?;
+    if let Some(given) = given_crank {
+        let base = given[0];
+        for (k, (&c, &g)) in crank.iter().zip(&given).enumerate() {
+            if !same_angle(c, g - base, rev) {
+                return Err(invalid(
+                    "crank_angles_deg",
+                    deg_list(&given),
+                    format!(
+                        "throws that agree with the firing angles {}: throw {} would lag {:.3}°",
+                        deg_list(&firing_angles),
+                        k + 1,
+                        c.to_degrees()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok((firing_angles, crank))
+}
+
+fn throw_partner(i: usize, z: usize) -> usize {
+    if i >= z / 2 { i - z / 2 } else { i + z / 2 }
+}
+
+/// Cylinders must fire in `order`: sorted by firing angle from cylinder 1 on.
+fn check_order(f: &[f64], order: &[usize], cycle: f64) -> Result<(), EngineError> {
+    let start = order.iter().position(|&c| c == 1).unwrap_or(0);
+    let z = order.len();
+    let mut prev = -1.0;
+    for j in 0..z {
+        let c = order[(start + j) % z];
+        let a = f[c - 1];
+        if a <= prev || a >= cycle {
+            return Err(invalid(
+                "firing_angles_deg",
+                deg_list(f),
+                format!("angles that rise in the firing order {order:?}, within one cycle"),
+            ));
+        }
+        prev = a;
+    }
+    Ok(())
+}
+
+/// Firing angles from given throws: each cylinder fires at the first
+/// admissible angle (throw lag + bank + 0 or 360°) after the one before it.
+fn from_crank(
+    stroke: Stroke,
+    gamma: &[f64],
+    throw: &[usize],
+    crank: &[f64],
+    order: &[usize],
+) -> Result<Vec<f64>, EngineError> {
+    let cycle = stroke.cycle();
+    let rev = 2.0 * PI;
+    let z = order.len();
+    let base = crank[0] + gamma[0];
+    let mut f = vec![0.0; z];
+    let start = order.iter().position(|&c| c == 1).unwrap_or(0);
+    let mut prev = -1e-9;
+    for j in 0..z {
+        let c = order[(start + j) % z] - 1;
+        let b = wrap(crank[throw[c]] + gamma[c] - base, rev);
+        let cands: &[f64] = match stroke {
+            Stroke::Four => &[b, b + rev],
+            Stroke::Two => &[b],
+        };
+        let Some(&a) = cands.iter().find(|&&a| a > prev + 1e-9 || (j == 0 && a.abs() < 1e-9))
+        else {
+            return Err(invalid(
+                "crank_angles_deg",
+                deg_list(crank),
+                format!(
+                    "a crank on which the firing order {order:?} fits in one {:.0}° cycle",
+                    cycle.to_degrees()
+                ),
+            ));
+        };
+        f[c] = a;
+        prev = a;
+    }
+    Ok(f)
+}
+
+impl Engine {
+    /// The engine's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+    /// Two- or four-stroke.
+    pub fn stroke_kind(&self) -> Stroke {
+        self.stroke
+    }
+    /// Cycle length (rad).
+    pub fn cycle(&self) -> f64 {
+        self.stroke.cycle()
+    }
+    /// Layout.
+    pub fn layout(&self) -> Layout {
+        self.layout
+    }
+    /// Number of cylinders `z`.
+    pub fn cylinders(&self) -> usize {
+        self.z
+    }
+    /// Number of crank throws.
+    pub fn throws(&self) -> usize {
+        throws_of(self.layout, self.z).1
+    }
+    /// Throw (0-based) carrying cylinder `i` (0-based).
+    pub fn throw_of(&self, i: usize) -> usize {
+        throws_of(self.layout, self.z).0[i]
+    }
+    /// Firing order (1-based cylinder numbers).
+    pub fn firing_order(&self) -> &[usize] {
+        &self.firing_order
+    }
+    /// Firing angle `theta_i` of cylinder `i` (0-based), rad in `[0, cycle)`.
+    pub fn firing_angle(&self, i: usize) -> f64 {
+        self.firing_angles[i]
+    }
+    /// All firing angles (rad), per cylinder.
+    pub fn firing_angles(&self) -> &[f64] {
+        &self.firing_angles
+    }
+    /// Throw lags `alpha_k` (rad), per throw.
+    pub fn crank_angles(&self) -> &[f64] {
+        &self.crank_angles
+    }
+    /// Bank angle `gamma_i` of cylinder `i` (rad).
+    pub fn bank_angle_of(&self, i: usize) -> f64 {
+        gammas(self.layout, self.z)[i]
+    }
+    /// The cylinder (mechanism, bore, volume law).
+    pub fn cylinder(&self) -> &Cylinder {
+        &self.cylinder
+    }
+    /// The mechanism.
+    pub fn mechanism(&self) -> &Mechanism {
+        self.cylinder.mechanism()
+    }
+    /// Throw pitch (m).
+    pub fn cylinder_spacing(&self) -> f64 {
+        self.cylinder_spacing
+    }
+    /// Rod model from the file.
+    pub fn rod_model(&self) -> RodModel {
+        self.rod_model
+    }
+    /// Diagram path from the file (already resolved against the file's folder).
+    pub fn diagram(&self) -> Option<&std::path::Path> {
+        self.diagram.as_deref()
+    }
+    /// Masses.
+    pub fn masses(&self) -> &Masses {
+        &self.masses
+    }
+    /// Operating point from the file.
+    pub fn operating(&self) -> &Operating {
+        &self.operating
+    }
+    /// Flywheel targets.
+    pub fn flywheel(&self) -> &FlywheelSpec {
+        &self.flywheel
+    }
+    /// What was assumed while reading the file.
+    pub fn notes(&self) -> &[String] {
+        &self.notes
+    }
+    /// The same engine with another rod model (checked).
+    pub fn with_rod_model(&self, rod_model: RodModel) -> Result<Engine, EngineError> {
+        if rod_model != RodModel::TwoMass
+            && self.masses.rod_inertia.is_none()
+            && !matches!(self.mechanism(), Mechanism::ScotchYoke(_))
+        {
+            return Err(EngineError::Missing {
+                key: "masses.rod_inertia_kg_m2",
+                why: "required for rod_model = \"three-mass\" and \"rigid\"",
+            });
+        }
+        Ok(Engine {
+            rod_model,
+            ..self.clone()
+        })
+    }
+
+    /// The rod split into point masses for `model`: `(m_A, m_B, m_0)` at the
+    /// small end, the big end and the centre of mass (PHYSICS.md). The rigid
+    /// rod is the two-mass split plus a couple, so it returns that split.
+    pub fn rod_masses(&self, model: RodModel) -> RodMasses {
+        let m = &self.masses;
+        let l = match self.mechanism() {
+            Mechanism::CrankSlider(cs) => cs.l(),
+            Mechanism::ScotchYoke(_) => return RodMasses::default(),
+        };
+        let la = m.rod_cg_from_small_end;
+        let lb = l - la;
+        match (model, m.rod_inertia) {
+            (RodModel::ThreeMass, Some(ig)) => {
+                let ma = ig / (la * l);
+                let mb = ig / (lb * l);
+                RodMasses {
+                    small_end: ma,
+                    big_end: mb,
+                    centre: m.rod - ma - mb,
+                }
+            }
+            _ => RodMasses {
+                small_end: m.rod * lb / l,
+                big_end: m.rod * la / l,
+                centre: 0.0,
+            },
+        }
+    }
+
+    /// Reciprocating mass per cylinder `m_j` = piston group + `m_A` (kg).
+    pub fn reciprocating_mass(&self, model: RodModel) -> f64 {
+        self.masses.piston_group + self.rod_masses(model).small_end
+    }
+
+    /// Rotating mass on throw `k` (0-based) at the crank radius, `m_r` =
+    /// crank unbalance + the big-end masses of the rods on it (kg).
+    pub fn rotating_mass(&self, k: usize, model: RodModel) -> f64 {
+        let rods = (0..self.z).filter(|&i| self.throw_of(i) == k).count() as f64;
+        self.masses.crank_unbalanced + rods * self.rod_masses(model).big_end
+    }
+}
+
+/// A rod split into point masses (kg).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RodMasses {
+    /// At the small end, moving with the piston.
+    pub small_end: f64,
+    /// At the big end, rotating with the crank pin.
+    pub big_end: f64,
+    /// At the centre of mass (three-mass model; may be negative).
+    pub centre: f64,
+}
