@@ -1,1 +1,52 @@
-fn main() {}
+//! The `enginedyn` command line: parses flags, reads files, calls the
+//! pipeline, prints and writes results. Errors become exit codes: 1 for a
+//! bad diagram or torque file, 2 for a bad command line or engine file.
+
+mod args;
+mod kinematics;
+mod run;
+mod table;
+
+use clap::Parser;
+use std::process::ExitCode;
+
+/// An error on its way to the user: the message and the exit code.
+#[derive(Debug)]
+pub struct Failure {
+    /// 1: data file; 2: command line or engine file.
+    pub code: u8,
+    /// What went wrong, with file, line and key.
+    pub message: String,
+}
+
+impl Failure {
+    /// Bad command line or engine file (exit 2).
+    pub fn usage(message: impl Into<String>) -> Self {
+        Self {
+            code: 2,
+            message: message.into(),
+        }
+    }
+    /// Bad data file (exit 1).
+    pub fn data(message: impl Into<String>) -> Self {
+        Self {
+            code: 1,
+            message: message.into(),
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = args::Cli::parse();
+    let result = match cli.command {
+        args::Command::Run(a) => run::run(&a),
+        args::Command::Kinematics(a) => kinematics::run(&a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => {
+            eprintln!("error: {}", f.message);
+            ExitCode::from(f.code)
+        }
+    }
+}

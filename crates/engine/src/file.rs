@@ -218,7 +218,9 @@ fn unknown(key: &str, section: &str, known: &[&str], text: &str) -> EngineError 
             }
         }
         if section != "root" && ROOT_KEYS.contains(&key) {
-            suggestion = Some(format!("{key}` at the top of the file, before any [section]; or `{key}"));
+            suggestion = Some(format!(
+                "{key}` at the top of the file, before any [section]; or `{key}"
+            ));
         }
     }
     EngineError::UnknownKey {
@@ -270,7 +272,11 @@ fn build(raw: Raw, stem: &str) -> Result<Engine, EngineError> {
             ));
         }
     };
-    let cylinders = need(raw.cylinders, "cylinders", "the number of cylinders, 1 to 24")?;
+    let cylinders = need(
+        raw.cylinders,
+        "cylinders",
+        "the number of cylinders, 1 to 24",
+    )?;
     if !(1..=24).contains(&cylinders) {
         return Err(bad("cylinders", cylinders, "1 to 24"));
     }
@@ -334,12 +340,12 @@ fn build(raw: Raw, stem: &str) -> Result<Engine, EngineError> {
                 expected: "nothing: a Scotch yoke has no connecting rod or pin offset".into(),
             });
         }
-        Mechanism::ScotchYoke(ScotchYoke::new(r, 0.0).map_err(|source| {
-            EngineError::Mechanism {
+        Mechanism::ScotchYoke(
+            ScotchYoke::new(r, 0.0).map_err(|source| EngineError::Mechanism {
                 keys: "stroke_mm",
                 source,
-            }
-        })?)
+            })?,
+        )
     } else {
         if m.yoke_kg.is_some() || m.slider_block_kg.is_some() {
             return Err(bad(
@@ -389,8 +395,11 @@ fn build(raw: Raw, stem: &str) -> Result<Engine, EngineError> {
         })?,
     };
     let masses = Masses {
-        piston_group: need(m.piston_group_kg, "masses.piston_group_kg", "piston, rings and pin")?
-            + m.yoke_kg.unwrap_or(0.0),
+        piston_group: need(
+            m.piston_group_kg,
+            "masses.piston_group_kg",
+            "piston, rings and pin",
+        )? + m.yoke_kg.unwrap_or(0.0),
         rod: if yoke {
             0.0
         } else {
@@ -437,14 +446,12 @@ fn build(raw: Raw, stem: &str) -> Result<Engine, EngineError> {
         },
         rim_inner_ratio: fw.rim_inner_ratio.unwrap_or(d.rim_inner_ratio),
     };
-    let firing_order = match raw.firing_order {
-        None => None,
-        Some(v) => Some(
-            v.into_iter()
-                .map(|c| usize::try_from(c).unwrap_or(0))
-                .collect(),
-        ),
-    };
+    // A negative cylinder number becomes 0, which the builder rejects by name.
+    let firing_order = raw.firing_order.map(|v| {
+        v.into_iter()
+            .map(|c| usize::try_from(c).unwrap_or(0))
+            .collect()
+    });
     EngineBuilder {
         name: raw.name.unwrap_or_else(|| stem.to_string()),
         stroke,

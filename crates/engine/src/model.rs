@@ -316,12 +316,13 @@ impl EngineBuilder {
             }
             _ => {}
         }
-        let cylinder = Cylinder::new(self.mechanism, self.bore, self.compression_ratio).map_err(
-            |source| EngineError::Mechanism {
-                keys: "bore_mm, compression_ratio",
-                source,
-            },
-        )?;
+        let cylinder =
+            Cylinder::new(self.mechanism, self.bore, self.compression_ratio).map_err(|source| {
+                EngineError::Mechanism {
+                    keys: "bore_mm, compression_ratio",
+                    source,
+                }
+            })?;
         let is_yoke = matches!(self.mechanism, Mechanism::ScotchYoke(_));
         let mut masses = self.masses;
         if !(masses.piston_group.is_finite() && masses.piston_group > 0.0) {
@@ -700,7 +701,9 @@ fn from_crank(
             Stroke::Four => &[b, b + rev],
             Stroke::Two => &[b],
         };
-        let Some(&a) = cands.iter().find(|&&a| a > prev + 1e-9 || (j == 0 && a.abs() < 1e-9))
+        let Some(&a) = cands
+            .iter()
+            .find(|&&a| a > prev + 1e-9 || (j == 0 && a.abs() < 1e-9))
         else {
             return Err(invalid(
                 "crank_angles_deg",

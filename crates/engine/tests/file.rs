@@ -18,7 +18,9 @@ rpm = 4900
 "#;
 
 fn deg(v: &[f64]) -> Vec<f64> {
-    v.iter().map(|a| (a.to_degrees() * 1e9).round() / 1e9).collect()
+    v.iter()
+        .map(|a| (a.to_degrees() * 1e9).round() / 1e9)
+        .collect()
 }
 
 #[test]
@@ -48,23 +50,44 @@ fn unknown_key_names_the_nearest() {
     assert!(msg.contains("line 5"), "{msg}");
     let text = BASE.replace("rpm = 4900", "rpms = 4900");
     let msg = parse(&text, "x").unwrap_err().to_string();
-    assert!(msg.contains("[operating]") && msg.contains("`rpm`"), "{msg}");
+    assert!(
+        msg.contains("[operating]") && msg.contains("`rpm`"),
+        "{msg}"
+    );
 }
 
 #[test]
 fn missing_and_invalid_keys() {
     let e = parse(&BASE.replace("bore_mm = 76.0\n", ""), "x").unwrap_err();
     assert!(matches!(e, EngineError::Missing { key: "bore_mm", .. }));
-    let e = parse(&BASE.replace("lambda = 0.26", "lambda = 0.26\nrod_length_mm = 136.5"), "x");
+    let e = parse(
+        &BASE.replace("lambda = 0.26", "lambda = 0.26\nrod_length_mm = 136.5"),
+        "x",
+    );
     assert!(e.unwrap_err().to_string().contains("exactly one"));
     let e = parse(&BASE.replace("[1, 3, 4, 2]", "[1, 3, 3, 2]"), "x").unwrap_err();
     assert!(e.to_string().contains("firing_order"));
-    let e = parse(&BASE.replace("lambda = 0.26", "lambda = 0.26\npin_offset_mm = 200"), "x");
+    let e = parse(
+        &BASE.replace("lambda = 0.26", "lambda = 0.26\npin_offset_mm = 200"),
+        "x",
+    );
     let msg = e.unwrap_err().to_string();
-    assert!(msg.contains("pin_offset_mm") && msg.contains("below 1"), "{msg}");
-    let e = parse(&BASE.replace("rod_kg = 0.52", "rod_kg = 0.52\nrod_cg_from_small_end_mm = 200"), "x");
+    assert!(
+        msg.contains("pin_offset_mm") && msg.contains("below 1"),
+        "{msg}"
+    );
+    let e = parse(
+        &BASE.replace(
+            "rod_kg = 0.52",
+            "rod_kg = 0.52\nrod_cg_from_small_end_mm = 200",
+        ),
+        "x",
+    );
     assert!(e.unwrap_err().to_string().contains("inside the rod"));
-    let e = parse(&BASE.replace("cycle = \"four-stroke\"", "cycle = \"4-stroke\""), "x");
+    let e = parse(
+        &BASE.replace("cycle = \"four-stroke\"", "cycle = \"4-stroke\""),
+        "x",
+    );
     assert!(e.unwrap_err().to_string().contains("\"four-stroke\""));
 }
 
@@ -75,15 +98,27 @@ fn missing_and_invalid_keys() {
 #[test]
 fn cross_plane_v8() {
     let text = BASE
-        .replace("cylinders = 4", "cylinders = 8\nlayout = \"vee\"\nbank_angle_deg = 90")
+        .replace(
+            "cylinders = 4",
+            "cylinders = 8\nlayout = \"vee\"\nbank_angle_deg = 90",
+        )
         .replace("[1, 3, 4, 2]", "[1, 5, 4, 8, 7, 2, 6, 3]");
     let e = parse(&text, "v8").unwrap();
     assert!(matches!(e.layout(), Layout::Vee { .. }));
-    assert_eq!(deg(e.firing_angles()), vec![0.0, 450.0, 630.0, 180.0, 90.0, 540.0, 360.0, 270.0]);
+    assert_eq!(
+        deg(e.firing_angles()),
+        vec![0.0, 450.0, 630.0, 180.0, 90.0, 540.0, 360.0, 270.0]
+    );
     assert_eq!(deg(e.crank_angles()), vec![0.0, 90.0, 270.0, 180.0]);
     // The same crank given explicitly gives the same firing.
-    let text2 = text.replace("bank_angle_deg = 90", "bank_angle_deg = 90\ncrank_angles_deg = [0, 90, 270, 180]");
-    assert_eq!(parse(&text2, "v8").unwrap().firing_angles(), e.firing_angles());
+    let text2 = text.replace(
+        "bank_angle_deg = 90",
+        "bank_angle_deg = 90\ncrank_angles_deg = [0, 90, 270, 180]",
+    );
+    assert_eq!(
+        parse(&text2, "v8").unwrap().firing_angles(),
+        e.firing_angles()
+    );
     // A crank that contradicts the firing angles is refused.
     let text3 = text.replace("bank_angle_deg = 90", "bank_angle_deg = 90\ncrank_angles_deg = [0, 90, 270, 180]\nfiring_angles_deg = [0, 450, 630, 180, 90, 540, 360, 300]");
     assert!(parse(&text3, "v8").is_err());
@@ -93,8 +128,14 @@ fn cross_plane_v8() {
 #[test]
 fn shared_pin_v6_even_firing_refused() {
     let text = BASE
-        .replace("cylinders = 4", "cylinders = 6\nlayout = \"vee\"\nbank_angle_deg = 60")
+        .replace(
+            "cylinders = 4",
+            "cylinders = 6\nlayout = \"vee\"\nbank_angle_deg = 60",
+        )
         .replace("[1, 3, 4, 2]", "[1, 4, 2, 5, 3, 6]");
     let msg = parse(&text, "v6").unwrap_err().to_string();
-    assert!(msg.contains("shared-pin") && msg.contains("split pins"), "{msg}");
+    assert!(
+        msg.contains("shared-pin") && msg.contains("split pins"),
+        "{msg}"
+    );
 }

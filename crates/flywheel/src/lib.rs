@@ -1,1 +1,203 @@
-//! placeholder
+//! Uniformity and the flywheel: excess energy `E(phi)`, excess work and its
+//! coefficient, torque non-uniformity, the required moment of inertia for a
+//! speed fluctuation `delta`, the flywheel's size, and the speed trace that
+//! inertia gives (PHYSICS.md, "Flywheel").
+//!
+//! ```
+//! use enginedyn_engine::FlywheelSpec;
+//! use enginedyn_flywheel::{analyse, Uniformity};
+//! use enginedyn_numerics::integrate::Rule;
+//! // M = 100 + 50 cos(2 phi) over one revolution: E = 25 sin(2 phi), dE = 50 J.
+//! let n = 3600;
+//! let h = 2.0 * std::f64::consts::PI / n as f64;
+//! let m: Vec<f64> = (0..n).map(|k| 100.0 + 50.0 * (2.0 * k as f64 * h).cos()).collect();
+//! let u = Uniformity::new(&m, h, Rule::Trapezoid);
+//! assert!((u.excess_work - 50.0).abs() < 1e-3);
+//! let f = analyse(&u, &FlywheelSpec::default(), 300.0, 0.0).unwrap();
+//! assert!((f.speed_fluctuation_achieved - 0.01).abs() < 1e-12);
+//! ```
+
+use enginedyn_engine::{FlywheelShape, FlywheelSpec};
+use enginedyn_numerics::{integrate, integrate::Rule, roots};
+
+/// Standard gravity (m/s²), for GD².
+pub const G: f64 = 9.806_65;
+
+/// What the torque curve says about uniformity, before any flywheel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Uniformity {
+    /// Mean torque `M_m` (N m).
+    pub mean: f64,
+    /// Largest and smallest torque (N m).
+    pub max: f64,
+    /// Smallest torque (N m).
+    pub min: f64,
+    /// Excess energy `E(phi)` (J) on the grid.
+    pub excess_energy: Vec<f64>,
+    /// `dE = max E - min E` (J).
+    pub excess_work: f64,
+    /// Cycle length (rad).
+    pub cycle: f64,
+}
+
+impl Uniformity {
+    /// From a torque sampled at `n` points `h` apart over one cycle.
+    pub fn new(torque: &[f64], h: f64, rule: Rule) -> Self {
+        let mean = integrate::periodic_mean(rule, torque);
+        let dev: Vec<f64> = torque.iter().map(|m| m - mean).collect();
+        let mut e = vec![0.0; torque.len()];
+        integrate::cumulative(rule, &dev, h, &mut e);
+        let (emin, emax) = min_max(&e);
+        let (min, max) = min_max(torque);
+        Self {
+            mean,
+            max,
+            min,
+            excess_energy: e,
+            excess_work: emax - emin,
+            cycle: h * torque.len() as f64,
+        }
+    }
+    /// True when the engine delivers no work: `M_m <= 0`, or a mean so
+    /// small against the torque swing (below 1e-9 of it) that it is rounding.
+    pub fn is_motoring(&self) -> bool {
+        let swing = self.max.abs().max(self.min.abs());
+        self.mean <= 1e-9 * swing
+    }
+    /// Torque non-uniformity `mu = (M_max - M_min) / M_m`; `None` when motoring.
+    pub fn nonuniformity(&self) -> Option<f64> {
+        (!self.is_motoring()).then(|| (self.max - self.min) / self.mean)
+    }
+    /// Excess-work coefficient `psi = dE / (M_m Phi)`; `None` when motoring.
+    pub fn excess_work_coefficient(&self) -> Option<f64> {
+        (!self.is_motoring()).then(|| self.excess_work / (self.mean * self.cycle))
+    }
+}
+
+fn min_max(v: &[f64]) -> (f64, f64) {
+    v.iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        })
+}
+
+/// Why no flywheel figures exist.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FlywheelError {
+    /// The engine absorbs work on average (motoring).
+    #[error(
+        "the mean torque is {0:.3e} N m, not positive (motored engine): no flywheel, non-uniformity or excess-work coefficient"
+    )]
+    Motoring(f64),
+    /// The torque is perfectly uniform.
+    #[error("the torque is uniform (excess work 0): no flywheel is needed")]
+    Uniform,
+}
+
+/// Flywheel figures (SI).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Flywheel {
+    /// Required total moment of inertia `I_0 = dE / (delta w_m^2)` (kg m²).
+    pub required_inertia: f64,
+    /// The inertia the engine brings itself (kg m²).
+    pub engine_inertia: f64,
+    /// Flywheel inertia `I_f = I_0 - I_engine`, at least 0 (kg m²).
+    pub inertia: f64,
+    /// Outer diameter (m); `None` when no flywheel is needed.
+    pub outer_diameter: Option<f64>,
+    /// Mass (kg).
+    pub mass: f64,
+    /// Disc thickness or rim width (m); `None` when no flywheel is needed.
+    pub width: Option<f64>,
+    /// Flywheel moment `GD^2 = 4 g I_f` (N m²); `None` when no flywheel is needed.
+    pub gd2: Option<f64>,
+    /// Speed trace `w(phi)` (rad/s) with `I_0`.
+    pub speed: Vec<f64>,
+    /// `delta` that trace gives.
+    pub speed_fluctuation_achieved: f64,
+    /// Warnings.
+    pub notes: Vec<String>,
+}
+
+/// Sizes the flywheel for the mean speed `omega` (rad/s); `engine_inertia`
+/// is what the engine's own rotating parts contribute (kg m²).
+pub fn analyse(
+    u: &Uniformity,
+    spec: &FlywheelSpec,
+    omega: f64,
+    engine_inertia: f64,
+) -> Result<Flywheel, FlywheelError> {
+    if u.is_motoring() {
+        return Err(FlywheelError::Motoring(u.mean));
+    }
+    if u.excess_work <= 0.0 {
+        return Err(FlywheelError::Uniform);
+    }
+    let delta = spec.speed_fluctuation;
+    let i0 = u.excess_work / (delta * omega * omega);
+    let mut notes = Vec::new();
+    let i_f = i0 - engine_inertia;
+    let (inertia, outer_diameter, mass, width, gd2) = if i_f <= 0.0 {
+        notes.push(format!(
+            "the engine's own rotating inertia ({engine_inertia:.4} kg m²) exceeds the {i0:.4} kg m² required: no flywheel needed"
+        ));
+        (0.0, None, 0.0, None, None)
+    } else {
+        let d = spec
+            .outer_diameter
+            .unwrap_or(2.0 * spec.max_rim_speed / (omega * (1.0 + delta / 2.0)));
+        let area = std::f64::consts::PI * d * d / 4.0;
+        let (mass, width) = match spec.shape {
+            FlywheelShape::Disc => {
+                let m = 8.0 * i_f / (d * d);
+                (m, m / (spec.density * area))
+            }
+            FlywheelShape::Rim => {
+                let r = spec.rim_inner_ratio;
+                let m = 8.0 * i_f / (d * d * (1.0 + r * r));
+                (m, m / (spec.density * area * (1.0 - r * r)))
+            }
+        };
+        if width > d {
+            notes.push(format!(
+                "the flywheel is wider ({:.0} mm) than its diameter ({:.0} mm): allow a higher rim speed or a larger diameter",
+                width * 1e3,
+                d * 1e3
+            ));
+        }
+        (i_f, Some(d), mass, Some(width), Some(4.0 * G * i_f))
+    };
+    let (speed, achieved) = speed_trace(&u.excess_energy, i0, omega);
+    Ok(Flywheel {
+        required_inertia: i0,
+        engine_inertia,
+        inertia,
+        outer_diameter,
+        mass,
+        width,
+        gd2,
+        speed,
+        speed_fluctuation_achieved: achieved,
+        notes,
+    })
+}
+
+/// `w(phi) = sqrt(w_0^2 + 2 E(phi) / I)` with `w_0` such that
+/// `(w_max + w_min)/2 = omega`; returns the trace and its `delta`.
+pub fn speed_trace(e: &[f64], inertia: f64, omega: f64) -> (Vec<f64>, f64) {
+    let (emin, emax) = min_max(e);
+    let mid = |w0: f64| {
+        let hi = (w0 * w0 + 2.0 * emax / inertia).max(0.0).sqrt();
+        let lo = (w0 * w0 + 2.0 * emin / inertia).max(0.0).sqrt();
+        0.5 * (hi + lo) - omega
+    };
+    // mid is increasing in w0; bracket it from the smallest w0 that keeps w real.
+    let lo = (-2.0 * emin / inertia).max(0.0).sqrt();
+    let w0 = roots::brent(mid, lo, 2.0 * omega + lo, 1e-14 * omega).unwrap_or(omega);
+    let speed: Vec<f64> = e
+        .iter()
+        .map(|&x| (w0 * w0 + 2.0 * x / inertia).max(0.0).sqrt())
+        .collect();
+    let (wmin, wmax) = min_max(&speed);
+    (speed, (wmax - wmin) / (0.5 * (wmax + wmin)))
+}

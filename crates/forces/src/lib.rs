@@ -1,1 +1,186 @@
-//! placeholder
+//! Forces on one cylinder's crank train over a cycle: gas, reciprocating
+//! inertia, side thrust, rod force, radial and tangential force, crank-pin
+//! load and the cylinder's torque, with the sign conventions of PHYSICS.md.
+//!
+//! Input is the cylinder's pressure on a uniform grid of its own cycle angle
+//! (from its firing TDC) and the mechanism's motion on the same grid (from
+//! the kinematics crate, the one home of the motion formulas).
+//!
+//! ```
+//! use enginedyn_forces::{cylinder_forces, Setup};
+//! use enginedyn_kinematics::{CrankSlider, Cylinder, Mechanism, Model, Table};
+//! let cs = CrankSlider::new(0.0355, 0.0355 / 0.26, 0.0).unwrap();
+//! let cyl = Cylinder::new(Mechanism::CrankSlider(cs), 0.076, 9.9).unwrap();
+//! let n = 720;
+//! let step = 4.0 * std::f64::consts::PI / n as f64;
+//! let mut kin = Table::default();
+//! cyl.mechanism().fill(Model::Exact, 0.0, step, n, &mut kin).unwrap();
+//! let pressure = vec![101_325.0; n]; // motored at crankcase pressure: inertia only
+//! let setup = Setup { mechanism: *cyl.mechanism(), area: cyl.piston_area(),
+//!     crankcase_pressure: 101_325.0, omega: 500.0, m_recip: 0.6, m_big_end: 0.38,
+//!     rod_couple: None, rod_centre: None };
+//! let f = cylinder_forces(&setup, &kin, &pressure, 0.0, step);
+//! // T R = P dx/dphi at every angle.
+//! for k in 0..n { assert!((f.tangential[k] * 0.0355 - f.total[k] * kin.dx[k]).abs() < 1e-9); }
+//! ```
+
+use enginedyn_kinematics::{Mechanism, Table};
+
+/// Everything the force formulas need besides pressure and motion (SI).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Setup {
+    /// The mechanism (for the rod's centre-of-mass path).
+    pub mechanism: Mechanism,
+    /// Piston area `A_p` (m²).
+    pub area: f64,
+    /// Crankcase pressure `p_0` (Pa, absolute).
+    pub crankcase_pressure: f64,
+    /// Crank speed `w` (rad/s).
+    pub omega: f64,
+    /// Reciprocating mass `m_j` (kg).
+    pub m_recip: f64,
+    /// Rod big-end mass `m_B` (kg) for its centrifugal force.
+    pub m_big_end: f64,
+    /// Rigid rod: `I_G - m_rod l_A l_B` (kg m²), the couple's coefficient.
+    pub rod_couple: Option<f64>,
+    /// Three-mass rod: the centre mass `m_0` (kg) and `l_A / L`.
+    pub rod_centre: Option<(f64, f64)>,
+}
+
+/// Force curves on the grid (N, N m), one value per grid angle.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Forces {
+    /// Gas force `P_g = (p - p_0) A_p`.
+    pub gas: Vec<f64>,
+    /// Reciprocating inertia force `P_j = -m_j a`.
+    pub inertia: Vec<f64>,
+    /// `P = P_g + P_j`, positive toward the crankshaft.
+    pub total: Vec<f64>,
+    /// Side thrust `N = P tan beta`.
+    pub side: Vec<f64>,
+    /// Rod force `S = P / cos beta` (positive: compression); 0 for a yoke.
+    pub rod: Vec<f64>,
+    /// Radial force on the pin `K = P cos(phi_g + beta)/cos(beta)` (positive
+    /// toward the crank axis), without the big end's centrifugal force.
+    pub radial: Vec<f64>,
+    /// Tangential force `T = M / R` (positive driving).
+    pub tangential: Vec<f64>,
+    /// Crank-pin load magnitude, `|(T, K - K_rB)|`.
+    pub pin_load: Vec<f64>,
+    /// Crank-pin load direction (deg), `atan2(T, K - K_rB)`: 0 toward the
+    /// crank axis, positive in the direction of rotation.
+    pub pin_angle_deg: Vec<f64>,
+    /// Cylinder torque `M` (N m).
+    pub torque: Vec<f64>,
+    /// The part of `M` due to the crank train's inertia alone (N m).
+    pub inertia_torque: Vec<f64>,
+}
+
+impl Forces {
+    fn resize(&mut self, n: usize) {
+        for v in [
+            &mut self.gas,
+            &mut self.inertia,
+            &mut self.total,
+            &mut self.side,
+            &mut self.rod,
+            &mut self.radial,
+            &mut self.tangential,
+            &mut self.pin_load,
+            &mut self.pin_angle_deg,
+            &mut self.torque,
+            &mut self.inertia_torque,
+        ] {
+            v.resize(n, 0.0);
+        }
+    }
+}
+
+/// Forces and torque of one cylinder. `pressure` (Pa, absolute) and `kin`
+/// are on the same uniform grid of cycle angle `start + k * step` (rad).
+///
+/// Torque is `M = P_g dx/dphi + M_inertia` by virtual work; for the two-mass
+/// rod with exact kinematics it equals `T R` with
+/// `T = P sin(phi_g + beta)/cos(beta)` (a test). With series kinematics `dx`
+/// is the series' own, so the energy balance holds for every model.
+pub fn cylinder_forces(
+    setup: &Setup,
+    kin: &Table,
+    pressure: &[f64],
+    start: f64,
+    step: f64,
+) -> Forces {
+    let n = pressure.len().min(kin.len());
+    let w2 = setup.omega * setup.omega;
+    let r = setup.mechanism.r();
+    let k_rb = setup.m_big_end * r * w2;
+    let has_rod = matches!(setup.mechanism, Mechanism::CrankSlider(_));
+    let mut f = Forces::default();
+    f.resize(n);
+    for k in 0..n {
+        let (dx, d2x, beta) = (kin.dx[k], kin.d2x[k], kin.beta[k]);
+        let gas = (pressure[k] - setup.crankcase_pressure) * setup.area;
+        let inertia = -setup.m_recip * d2x * w2;
+        let total = gas + inertia;
+        let mut m_inertia = inertia * dx;
+        if let Some(c) = setup.rod_couple {
+            // Rigid rod: the couple -(I_G - m l_A l_B) w^2 beta'' works through beta'.
+            m_inertia += -c * w2 * kin.d2beta[k] * kin.dbeta[k];
+        }
+        if let Some((m0, ratio)) = setup.rod_centre {
+            let phi = start + step * k as f64;
+            m_inertia += -m0 * w2 * setup.mechanism.rod_point_dot(phi, ratio);
+        }
+        let torque = gas * dx + m_inertia;
+        let t = torque / r;
+        let radial = total * kin.k_factor[k];
+        let kr = radial - k_rb;
+        f.gas[k] = gas;
+        f.inertia[k] = inertia;
+        f.total[k] = total;
+        f.side[k] = total * beta.tan();
+        f.rod[k] = if has_rod { total / beta.cos() } else { 0.0 };
+        f.radial[k] = radial;
+        f.tangential[k] = t;
+        f.pin_load[k] = t.hypot(kr);
+        f.pin_angle_deg[k] = t.atan2(kr).to_degrees();
+        f.torque[k] = torque;
+        f.inertia_torque[k] = m_inertia;
+    }
+    f
+}
+
+impl Setup {
+    /// The setup of one cylinder of `engine` with the rod model `rod` at
+    /// speed `omega` (rad/s), with the masses split as PHYSICS.md says.
+    pub fn new(
+        engine: &enginedyn_engine::Engine,
+        rod: enginedyn_engine::RodModel,
+        omega: f64,
+    ) -> Self {
+        use enginedyn_engine::RodModel;
+        let split = engine.rod_masses(rod);
+        let masses = engine.masses();
+        let (rod_couple, rod_centre) = match (engine.mechanism(), rod, masses.rod_inertia) {
+            (Mechanism::CrankSlider(cs), RodModel::Rigid, Some(ig)) => {
+                let la = masses.rod_cg_from_small_end;
+                (Some(ig - masses.rod * la * (cs.l() - la)), None)
+            }
+            (Mechanism::CrankSlider(cs), RodModel::ThreeMass, Some(_)) => (
+                None,
+                Some((split.centre, masses.rod_cg_from_small_end / cs.l())),
+            ),
+            _ => (None, None),
+        };
+        Setup {
+            mechanism: *engine.mechanism(),
+            area: engine.cylinder().piston_area(),
+            crankcase_pressure: engine.operating().crankcase_pressure,
+            omega,
+            m_recip: engine.reciprocating_mass(rod),
+            m_big_end: split.big_end,
+            rod_couple,
+            rod_centre,
+        }
+    }
+}

@@ -61,7 +61,9 @@ pub enum KinematicsError {
         value: f64,
     },
     /// Series of order 4 and 6 are defined for a central crank only.
-    #[error("{model} is defined for a central crank only (pin offset {offset_m} m); use series2 or exact")]
+    #[error(
+        "{model} is defined for a central crank only (pin offset {offset_m} m); use series2 or exact"
+    )]
     SeriesWithOffset {
         /// The model asked for.
         model: &'static str,
@@ -142,6 +144,11 @@ pub struct State {
     pub dbeta: f64,
     /// `d2beta/dphi2`.
     pub d2beta: f64,
+    /// Radial force factor `cos(phi_g + beta)/cos(beta)`: the crank pin's
+    /// radial force per unit piston force (exact for every model).
+    pub k_factor: f64,
+    /// Tangential force factor `sin(phi_g + beta)/cos(beta)` = `(dx/dphi)/R` exactly.
+    pub t_factor: f64,
 }
 
 /// A crank-slider: crank radius `r`, rod length `l`, pin offset `e` (m).
@@ -228,7 +235,24 @@ impl CrankSlider {
             beta: sin_b.asin(),
             dbeta,
             d2beta: -lambda * s / cos_b + dbeta * dbeta * sin_b / cos_b,
+            k_factor: cp / cos_b,
+            t_factor: sp / cos_b,
         }
+    }
+
+    /// `r_G' · r_G''` (m²/rad³) for the point at `ratio = l_A/L` along the rod
+    /// from the small end, `r_G = r_A + ratio (r_B - r_A)`: the three-mass
+    /// rod's centre mass adds the torque `-m_0 w^2 r_G' · r_G''`.
+    pub fn rod_point_dot(&self, phi: f64, ratio: f64) -> f64 {
+        let st = self.exact(phi);
+        let (s, c) = (phi + self.phi_tdc()).sin_cos();
+        let r = self.r;
+        // Axes: u along the cylinder from the crank axis, v across it.
+        let (au1, au2) = (-st.dx, -st.d2x); // the small end moves on the axis
+        let (bu1, bv1, bu2, bv2) = (-r * s, r * c, -r * c, -r * s);
+        let (gu1, gv1) = (au1 + ratio * (bu1 - au1), ratio * bv1);
+        let (gu2, gv2) = (au2 + ratio * (bu2 - au2), ratio * bv2);
+        gu1 * gu2 + gv1 * gv2
     }
 
     fn state(&self, model: Model, phi: f64) -> Result<State, KinematicsError> {
@@ -237,7 +261,12 @@ impl CrankSlider {
         let phi_g = phi + self.phi_tdc();
         let (s, c) = phi_g.sin_cos();
         // The series approximate the piston's motion only; the rod angle stays exact.
-        let rod = |x, dx, d2x| State { x, dx, d2x, ..exact };
+        let rod = |x, dx, d2x| State {
+            x,
+            dx,
+            d2x,
+            ..exact
+        };
         match model {
             Model::Exact => Ok(exact),
             Model::Series2 => {
@@ -300,6 +329,8 @@ impl ScotchYoke {
             x: r * (1.0 - c) + r * s * t,
             dx: r * (s + c * t),
             d2x: r * (c - s * t),
+            k_factor: c,
+            t_factor: s,
             ..State::default()
         }
     }
@@ -359,6 +390,14 @@ impl Mechanism {
         }
     }
 
+    /// `r_G' · r_G''` for a point on the rod (see [`CrankSlider::rod_point_dot`]); 0 for the yoke.
+    pub fn rod_point_dot(&self, phi: f64, ratio: f64) -> f64 {
+        match self {
+            Mechanism::CrankSlider(m) => m.rod_point_dot(phi, ratio),
+            Mechanism::ScotchYoke(_) => 0.0,
+        }
+    }
+
     /// Checks that `model` is defined for this mechanism.
     pub fn check(&self, model: Model) -> Result<(), KinematicsError> {
         self.state(model, 0.0).map(|_| ())
@@ -392,6 +431,8 @@ impl Mechanism {
             out.beta[k] = s.beta;
             out.dbeta[k] = s.dbeta;
             out.d2beta[k] = s.d2beta;
+            out.k_factor[k] = s.k_factor;
+            out.t_factor[k] = s.t_factor;
         }
         Ok(())
     }
@@ -439,6 +480,10 @@ pub struct Table {
     pub dbeta: Vec<f64>,
     /// `d2beta/dphi2`.
     pub d2beta: Vec<f64>,
+    /// `cos(phi_g + beta)/cos(beta)`.
+    pub k_factor: Vec<f64>,
+    /// `sin(phi_g + beta)/cos(beta)`.
+    pub t_factor: Vec<f64>,
 }
 
 impl Table {
@@ -450,6 +495,8 @@ impl Table {
             &mut self.beta,
             &mut self.dbeta,
             &mut self.d2beta,
+            &mut self.k_factor,
+            &mut self.t_factor,
         ] {
             v.resize(n, 0.0);
         }

@@ -80,6 +80,9 @@ fn impossible_mechanisms_are_rejected() {
     assert!(CrankSlider::new(-0.05, 0.2, 0.0).is_err());
     assert!(CrankSlider::new(0.05, f64::NAN, 0.0).is_err());
     let m = mech(0.25, 0.1);
-    assert!(matches!(m.check(Model::Series4), Err(KinematicsError::SeriesWithOffset { .. })));
+    assert!(matches!(
+        m.check(Model::Series4),
+        Err(KinematicsError::SeriesWithOffset { .. })
+    ));
     assert!(m.check(Model::Series2).is_ok());
 }

@@ -35,7 +35,7 @@ fn seed000_table3_series2() {
         (360.0, 0.000, 0.000, 11765.45, 0.005),
     ];
     for (deg, s, v, j, dj) in table {
-        let st = m.state(Model::Series2, (deg as f64).to_radians()).unwrap();
+        let st = m.state(Model::Series2, deg.to_radians()).unwrap();
         assert!((st.x - s).abs() <= 0.0005 + 1e-12, "S at {deg}: {}", st.x);
         // V to one unit of its last digit: at 60° the exact series value is
         // 17.81753, printed 17.817 (the seed truncates or rounds R w lower).
@@ -46,7 +46,11 @@ fn seed000_table3_series2() {
         // other (9300.542 at 30° needs R w^2 <= 9337.6563, 3454.933 at 60°
         // needs R w^2 >= 9337.6568), so no single rounding rule fits all.
         let tol = (2.0 * dj).max(5e-7 * j.abs());
-        assert!((st.d2x * w * w - j).abs() <= tol, "J at {deg}: {}", st.d2x * w * w);
+        assert!(
+            (st.d2x * w * w - j).abs() <= tol,
+            "J at {deg}: {}",
+            st.d2x * w * w
+        );
     }
 }
 
@@ -89,7 +93,10 @@ fn dead_centres_closed_form() {
             let s0 = m.state(model, 0.0).unwrap();
             let s1 = m.state(model, PI).unwrap();
             let tol = 1e-12;
-            assert!(s0.x.abs() < tol && (s1.x - 2.0 * r).abs() < tol, "{model:?}");
+            assert!(
+                s0.x.abs() < tol && (s1.x - 2.0 * r).abs() < tol,
+                "{model:?}"
+            );
             if model == Model::Exact {
                 assert!((s0.d2x - r * (1.0 + lambda)).abs() < tol);
                 assert!((s1.d2x + r * (1.0 - lambda)).abs() < tol);
@@ -113,7 +120,10 @@ fn seed001_series2_accuracy() {
         })
         .fold(0.0, f64::max);
     // lambda^3/8 = 0.00292: "about 0.003 R" holds.
-    assert!((max_dx - 0.0029).abs() < 2e-4, "displacement error {max_dx}");
+    assert!(
+        (max_dx - 0.0029).abs() < 2e-4,
+        "displacement error {max_dx}"
+    );
     // Speed at lambda = 0.32: the largest error relative to the peak speed.
     let m = central(r, 0.32);
     let (mut max_err, mut vmax) = (0.0_f64, 0.0_f64);
@@ -129,7 +139,10 @@ fn seed001_series2_accuracy() {
     let s2 = m.state(Model::Series2, PI / 2.0).unwrap().d2x;
     let rel = ((s2 - ex) / ex).abs();
     // exact: -lambda/sqrt(1-lambda^2) = -0.33776; series2: -0.32 -> 5.26 %.
-    assert!((rel - 0.053).abs() < 1e-3, "acceleration error at 90°: {rel}");
+    assert!(
+        (rel - 0.053).abs() < 1e-3,
+        "acceleration error at 90°: {rel}"
+    );
 }
 
 /// Series error falls with order as theory says: series2 ~ lambda^3, series4 ~ lambda^5, series6 ~ lambda^7.
@@ -145,7 +158,11 @@ fn series_error_falls_with_order() {
             })
             .fold(0.0, f64::max)
     };
-    let (e2, e4, e6) = (err(Model::Series2), err(Model::Series4), err(Model::Series6));
+    let (e2, e4, e6) = (
+        err(Model::Series2),
+        err(Model::Series4),
+        err(Model::Series6),
+    );
     assert!(e2 > 10.0 * e4 && e4 > 10.0 * e6, "{e2} {e4} {e6}");
     assert!(e2 < 0.6 * lambda.powi(3) && e4 < 0.3 * lambda.powi(5) && e6 < 0.3 * lambda.powi(7));
 }

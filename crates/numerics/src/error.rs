@@ -40,7 +40,9 @@ pub enum NumericsError {
         previous: f64,
     },
     /// The samples span a period or more, or the period is not positive.
-    #[error("samples span {span}, the period is {period}: the span must be shorter than a positive period")]
+    #[error(
+        "samples span {span}, the period is {period}: the span must be shorter than a positive period"
+    )]
     Period {
         /// Span of the samples.
         span: f64,

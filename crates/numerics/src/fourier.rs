@@ -64,7 +64,13 @@ pub fn synthesize(
         *o = orders
             .iter()
             .zip(harmonics)
-            .map(|(&ord, &(a, ph))| if ord == 0.0 { a } else { a * (ord * theta + ph).cos() })
+            .map(|(&ord, &(a, ph))| {
+                if ord == 0.0 {
+                    a
+                } else {
+                    a * (ord * theta + ph).cos()
+                }
+            })
             .sum();
     }
 }

@@ -128,7 +128,9 @@ mod tests {
             let y: Vec<f64> = (0..=n).map(|k| (k as f64 * h).sin()).collect();
             let mut out = vec![0.0; n + 1];
             cumulative(r, &y, h, &mut out);
-            (0..=n).map(|i| (out[i] - (1.0 - (i as f64 * h).cos())).abs()).fold(0.0, f64::max)
+            (0..=n)
+                .map(|i| (out[i] - (1.0 - (i as f64 * h).cos())).abs())
+                .fold(0.0, f64::max)
         };
         let t = (err(20, Rule::Trapezoid) / err(40, Rule::Trapezoid)).log2();
         let s = (err(20, Rule::Simpson) / err(40, Rule::Simpson)).log2();

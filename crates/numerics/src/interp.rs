@@ -54,7 +54,10 @@ impl Periodic {
     ) -> Result<Periodic, NumericsError> {
         let n = xs.len();
         if n != ys.len() {
-            return Err(NumericsError::LengthMismatch { xs: n, ys: ys.len() });
+            return Err(NumericsError::LengthMismatch {
+                xs: n,
+                ys: ys.len(),
+            });
         }
         let need = if kind == InterpKind::Linear { 2 } else { 3 };
         if n < need {
@@ -86,7 +89,13 @@ impl Periodic {
             return Err(NumericsError::Period { span, period });
         }
         let h: Vec<f64> = (0..n)
-            .map(|i| if i + 1 < n { xs[i + 1] - xs[i] } else { xs[0] + period - xs[n - 1] })
+            .map(|i| {
+                if i + 1 < n {
+                    xs[i + 1] - xs[i]
+                } else {
+                    xs[0] + period - xs[n - 1]
+                }
+            })
             .collect();
         let delta: Vec<f64> = (0..n).map(|i| (ys[(i + 1) % n] - ys[i]) / h[i]).collect();
         let d = match kind {
@@ -267,11 +276,12 @@ fn gauss3(mut m: [[f64; 4]; 3]) -> Vec<f64> {
             .max_by(|&i, &j| m[i][col].abs().total_cmp(&m[j][col].abs()))
             .unwrap_or(col);
         m.swap(col, piv);
-        for row in 0..3 {
+        let pivot_row = m[col];
+        for (row, r) in m.iter_mut().enumerate() {
             if row != col {
-                let f = m[row][col] / m[col][col];
-                for k in col..4 {
-                    m[row][k] -= f * m[col][k];
+                let f = r[col] / pivot_row[col];
+                for (x, p) in r.iter_mut().zip(pivot_row).skip(col) {
+                    *x -= f * p;
                 }
             }
         }
@@ -374,13 +384,18 @@ mod tests {
             assert!((d_l - d_r).abs() < 1e-3, "slope jump at {x}");
             let dd_l = (f.eval(x) - 2.0 * f.eval(x - e) + f.eval(x - 2.0 * e)) / (e * e);
             let dd_r = (f.eval(x + 2.0 * e) - 2.0 * f.eval(x + e) + f.eval(x)) / (e * e);
-            assert!((dd_l - dd_r).abs() < 2e-2 * (1.0 + dd_l.abs()), "curvature jump at {x}");
+            assert!(
+                (dd_l - dd_r).abs() < 2e-2 * (1.0 + dd_l.abs()),
+                "curvature jump at {x}"
+            );
         }
     }
 
     fn step() -> (Vec<f64>, Vec<f64>) {
         let xs: Vec<f64> = (0..12).map(|k| k as f64).collect();
-        let ys: Vec<f64> = (0..12).map(|k| if (3..8).contains(&k) { 1.0 } else { 0.0 }).collect();
+        let ys: Vec<f64> = (0..12)
+            .map(|k| if (3..8).contains(&k) { 1.0 } else { 0.0 })
+            .collect();
         (xs, ys)
     }
 
@@ -403,7 +418,11 @@ mod tests {
         }
         assert!(p.max_overshoot() < 1e-12);
         assert!(s.max_overshoot() > 0.05);
-        assert!((s.max_overshoot() - scan).abs() < 1e-6, "{} vs {scan}", s.max_overshoot());
+        assert!(
+            (s.max_overshoot() - scan).abs() < 1e-6,
+            "{} vs {scan}",
+            s.max_overshoot()
+        );
     }
 
     /// Monotone data stays monotone under pchip; linear data is reproduced.
@@ -444,11 +463,29 @@ mod tests {
     fn errors() {
         use NumericsError as E;
         let k = InterpKind::Spline;
-        assert!(matches!(Periodic::new(k, &[0.0, 1.0], &[1.0], 4.0), Err(E::LengthMismatch { .. })));
-        assert!(matches!(Periodic::new(k, &[0.0, 1.0], &[1.0, 2.0], 4.0), Err(E::TooFewPoints { .. })));
-        assert!(matches!(Periodic::new(k, &[0.0, 1.0, 2.0], &[1.0, f64::NAN, 2.0], 4.0), Err(E::NonFinite { .. })));
-        assert!(matches!(Periodic::new(k, &[0.0, 2.0, 1.0], &[1.0, 1.0, 2.0], 4.0), Err(E::NotIncreasing { .. })));
-        assert!(matches!(Periodic::new(k, &[0.0, 1.0, 4.0], &[1.0, 1.0, 2.0], 4.0), Err(E::Period { .. })));
-        assert!(matches!(Periodic::new(k, &[0.0, 1.0, 2.0], &[1.0, 1.0, 2.0], -1.0), Err(E::Period { .. })));
+        assert!(matches!(
+            Periodic::new(k, &[0.0, 1.0], &[1.0], 4.0),
+            Err(E::LengthMismatch { .. })
+        ));
+        assert!(matches!(
+            Periodic::new(k, &[0.0, 1.0], &[1.0, 2.0], 4.0),
+            Err(E::TooFewPoints { .. })
+        ));
+        assert!(matches!(
+            Periodic::new(k, &[0.0, 1.0, 2.0], &[1.0, f64::NAN, 2.0], 4.0),
+            Err(E::NonFinite { .. })
+        ));
+        assert!(matches!(
+            Periodic::new(k, &[0.0, 2.0, 1.0], &[1.0, 1.0, 2.0], 4.0),
+            Err(E::NotIncreasing { .. })
+        ));
+        assert!(matches!(
+            Periodic::new(k, &[0.0, 1.0, 4.0], &[1.0, 1.0, 2.0], 4.0),
+            Err(E::Period { .. })
+        ));
+        assert!(matches!(
+            Periodic::new(k, &[0.0, 1.0, 2.0], &[1.0, 1.0, 2.0], -1.0),
+            Err(E::Period { .. })
+        ));
     }
 }

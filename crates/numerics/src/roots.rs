@@ -43,7 +43,8 @@ pub fn brent<F: FnMut(f64) -> f64>(
         if e.abs() >= tol1 && fa.abs() > fb.abs() {
             let s = fb / fa;
             let (mut p, mut q);
-            if a == c {
+            // a and c coincide after a bisection step: secant instead of inverse quadratic.
+            if a.to_bits() == c.to_bits() {
                 p = 2.0 * m * s;
                 q = 1.0 - s;
             } else {
@@ -113,7 +114,10 @@ mod tests {
     fn brent_sqrt2() {
         let r = brent(|x| x * x - 2.0, 0.0, 2.0, 1e-14).unwrap();
         assert!((r - 2.0_f64.sqrt()).abs() < 1e-12);
-        assert!(matches!(brent(|x| x * x + 1.0, 0.0, 2.0, 1e-12), Err(NumericsError::NoBracket { .. })));
+        assert!(matches!(
+            brent(|x| x * x + 1.0, 0.0, 2.0, 1e-12),
+            Err(NumericsError::NoBracket { .. })
+        ));
     }
 
     #[test]

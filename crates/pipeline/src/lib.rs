@@ -1,1 +1,289 @@
-//! placeholder
+//! One operating point, end to end: a checked engine and its pressure on the
+//! crank-angle grid in, every curve and summary figure out. This crate only
+//! wires the stage crates together (kinematics → forces → torque →
+//! flywheel); it holds no formula of its own, and it does no I/O.
+//!
+//! ```no_run
+//! use enginedyn_pipeline::{analyse, Options};
+//! # fn demo(engine: &enginedyn_engine::Engine, pressure: &enginedyn_ingest::Resampled) {
+//! let a = analyse(engine, pressure, 4900.0, &Options::default()).unwrap();
+//! println!("mean torque {:.1} N m", a.summary.mean_torque_nm.unwrap());
+//! # }
+//! ```
+
+use enginedyn_engine::{Engine, RodModel};
+use enginedyn_flywheel::{Flywheel, Uniformity};
+use enginedyn_forces::{Forces, Setup, cylinder_forces};
+use enginedyn_ingest::{Interp, Resampled};
+use enginedyn_kinematics::{Model, Table};
+use enginedyn_numerics::{integrate, integrate::Rule, roots};
+use enginedyn_torque::{EngineTorque, Harmonic};
+use std::f64::consts::PI;
+
+mod summary;
+pub use summary::{Summary, Value};
+
+/// Why an operating point cannot be analysed.
+#[derive(Debug, thiserror::Error)]
+pub enum PipelineError {
+    /// A model is not defined for this mechanism.
+    #[error(transparent)]
+    Kinematics(#[from] enginedyn_kinematics::KinematicsError),
+    /// The engine and a method option disagree.
+    #[error(transparent)]
+    Engine(#[from] enginedyn_engine::EngineError),
+    /// Inconsistent input.
+    #[error("{0}")]
+    Input(String),
+    /// A numerical step failed.
+    #[error(transparent)]
+    Numerics(#[from] enginedyn_numerics::NumericsError),
+}
+
+/// The method settings (INTERFACE.md's method options).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// Grid step (deg).
+    pub step_deg: f64,
+    /// Kinematics model.
+    pub kinematics: Model,
+    /// Rod model; `None` takes the engine file's.
+    pub rod_model: Option<RodModel>,
+    /// Interpolation asked for.
+    pub interp: Interp,
+    /// Integration rule.
+    pub integration: Rule,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            step_deg: 0.1,
+            kinematics: Model::Exact,
+            rod_model: None,
+            interp: Interp::Auto,
+            integration: Rule::Trapezoid,
+        }
+    }
+}
+
+/// Everything computed for one operating point.
+#[derive(Debug, Clone)]
+pub struct Analysis {
+    /// Grid step (rad).
+    pub step: f64,
+    /// Cylinder 1's pressure (Pa, absolute) on the grid.
+    pub pressure: Vec<f64>,
+    /// Cylinder 1's volume (m³).
+    pub volume: Vec<f64>,
+    /// Cylinder 1's motion.
+    pub kinematics: Table,
+    /// Cylinder 1's forces and torque.
+    pub forces: Forces,
+    /// Engine and journal torques (indicated).
+    pub torque: EngineTorque,
+    /// Uniformity of the indicated engine torque.
+    pub uniformity: Uniformity,
+    /// Flywheel, when the engine delivers work.
+    pub flywheel: Option<Flywheel>,
+    /// Harmonics of cylinder 1's torque.
+    pub cylinder_harmonics: Vec<Harmonic>,
+    /// Harmonics of the engine torque.
+    pub engine_harmonics: Vec<Harmonic>,
+    /// The summary figures.
+    pub summary: Summary,
+}
+
+/// Highest engine order in `harmonics.csv`.
+pub const MAX_ORDER: f64 = 24.0;
+
+/// Analyses one operating point at `rpm` from a resampled pressure trace.
+pub fn analyse(
+    engine: &Engine,
+    pressure: &Resampled,
+    rpm: f64,
+    opts: &Options,
+) -> Result<Analysis, PipelineError> {
+    if !(rpm.is_finite() && rpm > 0.0) {
+        return Err(PipelineError::Input(format!(
+            "speed {rpm} rpm: a positive speed is needed"
+        )));
+    }
+    let rod_model = opts.rod_model.unwrap_or(engine.rod_model());
+    let engine = &engine.with_rod_model(rod_model)?;
+    let mut notes: Vec<String> = engine.notes().to_vec();
+    notes.extend(pressure.notes.iter().cloned());
+    let omega = rpm * PI / 30.0;
+    let cycle = engine.cycle();
+    let n = pressure.pressure.len();
+    let h = cycle / n as f64;
+    if ((h.to_degrees() - opts.step_deg) / opts.step_deg).abs() > 1e-9 {
+        return Err(PipelineError::Input(format!(
+            "the pressure grid step {}° differs from the method step {}°",
+            h.to_degrees(),
+            opts.step_deg
+        )));
+    }
+    let mech = engine.mechanism();
+    let cyl = engine.cylinder();
+    let mut kin = Table::default();
+    mech.fill(opts.kinematics, 0.0, h, n, &mut kin)?;
+    let setup = Setup::new(engine, rod_model, omega);
+    if setup.rod_centre.is_some_and(|(m0, _)| m0 < 0.0) {
+        notes.push(format!(
+            "three-mass rod: the centre mass m_0 = {:.4} kg is negative (I_G > m l_A l_B): \
+             mass lies beyond the bearing centres; the model is still exact",
+            setup.rod_centre.map(|c| c.0).unwrap_or_default()
+        ));
+    }
+    let p = &pressure.pressure;
+    let forces = cylinder_forces(&setup, &kin, p, 0.0, h);
+    let torque = enginedyn_torque::sum(engine, h, |_| &forces.torque);
+    if !enginedyn_torque::on_grid(engine, h) {
+        notes.push(format!(
+            "firing angles fall between grid points of {}°: cylinder torques shifted by linear interpolation",
+            opts.step_deg
+        ));
+    }
+    let uniformity = Uniformity::new(&torque.total, h, opts.integration);
+    let volume: Vec<f64> = (0..n).map(|k| cyl.volume(k as f64 * h)).collect();
+    // Indicated work from the exact volume law: W = ∮ p dV.
+    let p_dv: Vec<f64> = (0..n).map(|k| p[k] * cyl.dvolume(k as f64 * h)).collect();
+    let work = integrate::periodic_integral(opts.integration, &p_dv, h);
+    let z = engine.cylinders() as f64;
+    let mean_from_work = z * work / cycle;
+    let energy_balance_error =
+        (uniformity.mean - mean_from_work).abs() / mean_from_work.abs().max(1e-300);
+    let mut engine_inertia = engine.flywheel().other_rotating_inertia;
+    if engine.flywheel().include_crank_train {
+        let r = mech.r();
+        let lambda = mech.lambda();
+        let rot: f64 = (0..engine.throws())
+            .map(|k| engine.rotating_mass(k, rod_model) * r * r)
+            .sum();
+        engine_inertia +=
+            rot + z * engine.reciprocating_mass(rod_model) * r * r * (0.5 + lambda * lambda / 8.0);
+    }
+    let flywheel =
+        match enginedyn_flywheel::analyse(&uniformity, engine.flywheel(), omega, engine_inertia) {
+            Ok(f) => {
+                notes.extend(f.notes.iter().cloned());
+                Some(f)
+            }
+            Err(e) => {
+                notes.push(e.to_string());
+                None
+            }
+        };
+    let revs = cycle / (2.0 * PI);
+    let cylinder_harmonics = enginedyn_torque::harmonics(&forces.torque, revs, MAX_ORDER)?;
+    let engine_harmonics = enginedyn_torque::harmonics(&torque.total, revs, MAX_ORDER)?;
+    let ext = kinematic_extremes(engine, opts.kinematics, omega)?;
+    let eta = engine.operating().mechanical_efficiency;
+    let (j_max, j_idx) = torque
+        .journals
+        .iter()
+        .enumerate()
+        .map(|(k, j)| (j.iter().fold(0.0_f64, |a, b| a.max(b.abs())), k))
+        .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
+    let abs_max = |v: &[f64]| v.iter().fold(0.0_f64, |a, b| a.max(b.abs()));
+    let interp_name = match opts.interp {
+        Interp::Auto => pressure.interp.name(),
+        other => other.name(),
+    };
+    let summary = Summary {
+        rpm,
+        omega_rad_s: omega,
+        imep_bar: Some(work / cyl.swept_volume() / 1e5),
+        indicated_work_per_cylinder_j: Some(work),
+        mean_torque_nm: Some(uniformity.mean * eta),
+        power_kw: Some(uniformity.mean * eta * omega / 1e3),
+        torque_max_nm: Some(uniformity.max),
+        torque_min_nm: Some(uniformity.min),
+        torque_nonuniformity: uniformity.nonuniformity(),
+        excess_work_j: Some(uniformity.excess_work),
+        excess_work_coefficient: uniformity.excess_work_coefficient(),
+        required_inertia_kg_m2: flywheel.as_ref().map(|f| f.required_inertia),
+        flywheel_inertia_kg_m2: flywheel.as_ref().map(|f| f.inertia),
+        flywheel_gd2_n_m2: flywheel.as_ref().and_then(|f| f.gd2),
+        flywheel_outer_diameter_m: flywheel.as_ref().and_then(|f| f.outer_diameter),
+        flywheel_mass_kg: flywheel.as_ref().map(|f| f.mass),
+        flywheel_width_m: flywheel.as_ref().and_then(|f| f.width),
+        speed_fluctuation_achieved: flywheel.as_ref().map(|f| f.speed_fluctuation_achieved),
+        stroke_m: mech.stroke(),
+        lambda: mech.lambda(),
+        piston_speed_mean_m_s: mech.stroke() * omega / PI,
+        piston_speed_max_m_s: ext.speed_max,
+        piston_accel_max_m_s2: ext.accel_max,
+        piston_accel_min_m_s2: ext.accel_min,
+        gas_force_max_n: Some(abs_max(&forces.gas)),
+        side_force_max_n: Some(abs_max(&forces.side)),
+        rod_force_max_n: Some(abs_max(&forces.rod)),
+        crankpin_load_max_n: Some(abs_max(&forces.pin_load)),
+        crankpin_load_mean_n: Some(integrate::periodic_mean(opts.integration, &forces.pin_load)),
+        journal_torque_max_nm: j_max,
+        journal_most_loaded: j_idx + 1,
+        energy_balance_error: Some(energy_balance_error),
+        kinematics: opts.kinematics.name(),
+        rod_model: rod_model.name(),
+        interpolation: interp_name,
+        grid_step_deg: opts.step_deg,
+        integration: opts.integration.name(),
+        cycles: (pressure.cycles > 1).then_some(pressure.cycles),
+        notes,
+    };
+    Ok(Analysis {
+        step: h,
+        pressure: p.clone(),
+        volume,
+        kinematics: kin,
+        forces,
+        torque,
+        uniformity,
+        flywheel,
+        cylinder_harmonics,
+        engine_harmonics,
+        summary,
+    })
+}
+
+struct Extremes {
+    speed_max: f64,
+    accel_max: f64,
+    accel_min: f64,
+}
+
+/// Extremes of piston speed and acceleration, searched for (a 0.5° scan
+/// refined by minimisation), not read at the dead centres.
+fn kinematic_extremes(
+    engine: &Engine,
+    model: Model,
+    omega: f64,
+) -> Result<Extremes, PipelineError> {
+    let mech = engine.mechanism();
+    let revolution = 2.0 * PI;
+    let scan = 720;
+    let h = revolution / scan as f64;
+    let refine = |f: &dyn Fn(f64) -> f64| -> f64 {
+        // Largest value of f over one revolution.
+        let (mut best, mut at) = (f64::NEG_INFINITY, 0.0);
+        for k in 0..scan {
+            let x = k as f64 * h;
+            let v = f(x);
+            if v > best {
+                best = v;
+                at = x;
+            }
+        }
+        let (_, fmin) = roots::minimize(|x| -f(x), at - h, at + h, 1e-12);
+        (-fmin).max(best)
+    };
+    mech.check(model)?;
+    let st = |x: f64| mech.state(model, x).unwrap_or_default();
+    let w2 = omega * omega;
+    Ok(Extremes {
+        speed_max: refine(&|x| st(x).dx.abs()) * omega,
+        accel_max: refine(&|x| st(x).d2x) * w2,
+        accel_min: -refine(&|x| -st(x).d2x) * w2,
+    })
+}

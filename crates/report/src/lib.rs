@@ -1,1 +1,198 @@
-//! placeholder
+//! Results out: `summary.json`, `curves.csv`, `harmonics.csv` and SVG charts
+//! (plotters, SVG backend only, no system fonts), written atomically: every
+//! file of an output folder appears whole or not at all.
+//!
+//! ```no_run
+//! # fn demo(engine: &enginedyn_engine::Engine, a: &enginedyn_pipeline::Analysis) {
+//! let files = enginedyn_report::run_files(engine, a).unwrap();
+//! enginedyn_report::write_all(std::path::Path::new("out"), &files).unwrap();
+//! # }
+//! ```
+
+use enginedyn_engine::Engine;
+use enginedyn_pipeline::{Analysis, Summary, Value};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+mod chart;
+pub use chart::{Chart, Series};
+
+/// Why output could not be produced.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// Writing a file failed.
+    #[error("cannot write {path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// A chart could not be drawn.
+    #[error("chart {name}: {message}")]
+    Chart {
+        /// The chart's file name.
+        name: String,
+        /// What plotters said.
+        message: String,
+    },
+}
+
+/// The summary as a JSON object, keys in INTERFACE.md's order. Non-finite
+/// numbers never reach the output: they become `null`.
+pub fn summary_json(summary: &Summary) -> serde_json::Value {
+    fn conv(v: &Value) -> serde_json::Value {
+        match v {
+            Value::Num(Some(x)) if x.is_finite() => serde_json::Value::from(*x),
+            Value::Num(_) => serde_json::Value::Null,
+            Value::Int(i) => serde_json::Value::from(*i),
+            Value::Text(s) => serde_json::Value::from(*s),
+            Value::List(l) => serde_json::Value::from(l.clone()),
+            Value::Map(m) => {
+                serde_json::Value::Object(m.iter().map(|(k, v)| (k.to_string(), conv(v))).collect())
+            }
+        }
+    }
+    serde_json::Value::Object(
+        summary
+            .fields()
+            .iter()
+            .map(|(k, v)| (k.to_string(), conv(v)))
+            .collect(),
+    )
+}
+
+/// Formats a number for CSV: shortest round-trip form.
+fn num(out: &mut String, x: f64) {
+    let _ = write!(out, "{x}");
+}
+
+/// `curves.csv`: one row per grid angle of cylinder 1 over the cycle.
+pub fn curves_csv(a: &Analysis) -> String {
+    let n = a.pressure.len();
+    let w = a.summary.omega_rad_s;
+    let throws = a.torque.journals.len();
+    let mut s = String::with_capacity(n * 400);
+    s.push_str(
+        "crank_deg,pressure_bar,volume_m3,piston_x_m,piston_v_m_s,piston_a_m_s2,rod_angle_deg,\
+         force_gas_n,force_inertia_n,force_total_n,force_side_n,force_rod_n,force_radial_n,\
+         force_tangential_n,crankpin_load_n,crankpin_load_angle_deg,torque_cylinder_nm,\
+         torque_engine_nm,excess_energy_j",
+    );
+    for k in 1..=throws {
+        let _ = write!(s, ",torque_journal_{k}_nm");
+    }
+    if a.flywheel.is_some() {
+        s.push_str(",speed_rad_s");
+    }
+    s.push('\n');
+    let f = &a.forces;
+    let kin = &a.kinematics;
+    for k in 0..n {
+        let row = [
+            (k as f64 * a.step).to_degrees(),
+            a.pressure[k] / 1e5,
+            a.volume[k],
+            kin.x[k],
+            kin.dx[k] * w,
+            kin.d2x[k] * w * w,
+            kin.beta[k].to_degrees(),
+            f.gas[k],
+            f.inertia[k],
+            f.total[k],
+            f.side[k],
+            f.rod[k],
+            f.radial[k],
+            f.tangential[k],
+            f.pin_load[k],
+            f.pin_angle_deg[k],
+            f.torque[k],
+            a.torque.total[k],
+            a.uniformity.excess_energy[k],
+        ];
+        for (i, x) in row.iter().enumerate() {
+            if i > 0 {
+                s.push(',');
+            }
+            num(&mut s, round_angle(i, *x));
+        }
+        for j in &a.torque.journals {
+            s.push(',');
+            num(&mut s, j[k]);
+        }
+        if let Some(fw) = &a.flywheel {
+            s.push(',');
+            num(&mut s, fw.speed[k]);
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Grid angles are printed without binary noise (0.30000000000000004 → 0.3).
+fn round_angle(col: usize, x: f64) -> f64 {
+    if col == 0 { (x * 1e9).round() / 1e9 } else { x }
+}
+
+/// `harmonics.csv`: amplitude and phase by engine order.
+pub fn harmonics_csv(a: &Analysis) -> String {
+    let mut s = String::from(
+        "order,cylinder_amplitude_nm,cylinder_phase_deg,engine_amplitude_nm,engine_phase_deg\n",
+    );
+    for (c, e) in a.cylinder_harmonics.iter().zip(&a.engine_harmonics) {
+        num(&mut s, c.order);
+        for x in [
+            c.amplitude,
+            c.phase.to_degrees(),
+            e.amplitude,
+            e.phase.to_degrees(),
+        ] {
+            s.push(',');
+            num(&mut s, x);
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Every file of `run --out DIR`, as (name, contents).
+pub fn run_files(engine: &Engine, a: &Analysis) -> Result<Vec<(String, Vec<u8>)>, ReportError> {
+    let json = serde_json::to_string_pretty(&summary_json(&a.summary)).unwrap_or_default() + "\n";
+    let mut files = vec![
+        ("summary.json".to_string(), json.into_bytes()),
+        ("curves.csv".to_string(), curves_csv(a).into_bytes()),
+        ("harmonics.csv".to_string(), harmonics_csv(a).into_bytes()),
+    ];
+    for (name, svg) in chart::run_charts(engine, a)? {
+        files.push((name, svg.into_bytes()));
+    }
+    Ok(files)
+}
+
+/// Writes files into `dir` (created if missing): each to a temporary name
+/// first, then all renamed into place, so a failure leaves no partial file.
+pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), ReportError> {
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| ReportError::Io { path, source }
+    };
+    std::fs::create_dir_all(dir).map_err(io(dir))?;
+    let mut temps = Vec::with_capacity(files.len());
+    let result = (|| {
+        for (name, bytes) in files {
+            let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
+            std::fs::write(&tmp, bytes).map_err(io(&tmp))?;
+            temps.push((tmp, dir.join(name)));
+        }
+        for (tmp, target) in &temps {
+            std::fs::rename(tmp, target).map_err(io(target))?;
+        }
+        Ok(())
+    })();
+    if result.is_err() {
+        for (tmp, _) in &temps {
+            let _ = std::fs::remove_file(tmp);
+        }
+    }
+    result
+}

@@ -1,1 +1,131 @@
-//! placeholder
+//! Multi-cylinder torque: each cylinder's torque placed at its firing angle
+//! and summed into the engine torque and the torque on every main journal
+//! (counted from the free end, PHYSICS.md), plus torque harmonics by engine
+//! order.
+//!
+//! ```
+//! use enginedyn_torque::shift_add;
+//! // A cylinder torque curve on a 4-point grid over the cycle, added in twice:
+//! // once as it is and once delayed by one grid step.
+//! let m1 = [1.0, 2.0, 3.0, 4.0];
+//! let mut sum = [0.0; 4];
+//! shift_add(&m1, 0.0, 1.0, &mut sum);
+//! shift_add(&m1, 1.0, 1.0, &mut sum);
+//! assert_eq!(sum, [5.0, 3.0, 5.0, 7.0]);
+//! ```
+
+use enginedyn_engine::Engine;
+use enginedyn_numerics::{NumericsError, fourier};
+
+/// Adds `m(phi - theta)` to `out(phi)` on a periodic uniform grid of
+/// spacing `step`: the curve delayed by `theta` (same unit as `step`). A
+/// delay that is a whole number of steps is exact; otherwise the curve is
+/// interpolated linearly between grid points.
+pub fn shift_add(m: &[f64], theta: f64, step: f64, out: &mut [f64]) {
+    let n = m.len();
+    if n == 0 {
+        return;
+    }
+    let s = theta / step;
+    let whole = s.floor();
+    let frac = s - whole;
+    let base = (whole as i64).rem_euclid(n as i64) as usize;
+    if frac.abs() < 1e-9 || (1.0 - frac).abs() < 1e-9 {
+        let base = if frac > 0.5 { (base + 1) % n } else { base };
+        for (k, o) in out.iter_mut().enumerate() {
+            *o += m[(k + n - base) % n];
+        }
+    } else {
+        for (k, o) in out.iter_mut().enumerate() {
+            let i0 = (k + n - base) % n; // m at phi - whole*step
+            let i1 = (i0 + n - 1) % n; // one step further back
+            *o += (1.0 - frac) * m[i0] + frac * m[i1];
+        }
+    }
+}
+
+/// True when every firing angle falls on the grid (no interpolation needed).
+pub fn on_grid(engine: &Engine, step: f64) -> bool {
+    engine.firing_angles().iter().all(|t| {
+        let s = t / step;
+        (s - s.round()).abs() < 1e-9
+    })
+}
+
+/// Engine torque and the torques on the main journals.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct EngineTorque {
+    /// Engine torque `M(phi)` (N m) on the grid of cylinder 1's cycle angle.
+    pub total: Vec<f64>,
+    /// `journals[K]`: torque on the main journal after throw `K + 1`, counted
+    /// from the free end; the last equals `total`.
+    pub journals: Vec<Vec<f64>>,
+}
+
+/// Sums cylinder torques by firing angle. `cylinder_torque(i)` gives
+/// cylinder `i`'s torque over its own cycle angle on the grid (the same curve
+/// for every cylinder with one diagram for all).
+pub fn sum<'a>(
+    engine: &Engine,
+    step: f64,
+    cylinder_torque: impl Fn(usize) -> &'a [f64],
+) -> EngineTorque {
+    let n = cylinder_torque(0).len();
+    let throws = engine.throws();
+    let mut per_throw = vec![vec![0.0; n]; throws];
+    for i in 0..engine.cylinders() {
+        shift_add(
+            cylinder_torque(i),
+            engine.firing_angle(i),
+            step,
+            &mut per_throw[engine.throw_of(i)],
+        );
+    }
+    let mut journals = Vec::with_capacity(throws);
+    let mut acc = vec![0.0; n];
+    for t in &per_throw {
+        for (a, v) in acc.iter_mut().zip(t) {
+            *a += v;
+        }
+        journals.push(acc.clone());
+    }
+    EngineTorque {
+        total: acc,
+        journals,
+    }
+}
+
+/// One torque harmonic: amplitude (N m) and phase (rad) of
+/// `A cos(k phi + phase)`, `phi` in radians of crank angle from firing TDC.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Harmonic {
+    /// Engine order `k` (per revolution).
+    pub order: f64,
+    /// One-sided amplitude (N m); the mean for order 0.
+    pub amplitude: f64,
+    /// Phase (rad).
+    pub phase: f64,
+}
+
+/// Harmonics of a torque sampled over one cycle (`revolutions` = 2 for a
+/// four-stroke, 1 for a two-stroke), orders 0 to `max_order` in steps of
+/// `1/revolutions`.
+pub fn harmonics(
+    torque: &[f64],
+    revolutions: f64,
+    max_order: f64,
+) -> Result<Vec<Harmonic>, NumericsError> {
+    let step = 1.0 / revolutions;
+    let count = (max_order / step).round() as usize;
+    let orders: Vec<f64> = (0..=count).map(|i| i as f64 * step).collect();
+    let h = fourier::harmonics(torque, revolutions, &orders)?;
+    Ok(orders
+        .iter()
+        .zip(h)
+        .map(|(&order, (amplitude, phase))| Harmonic {
+            order,
+            amplitude,
+            phase,
+        })
+        .collect())
+}

@@ -1,0 +1,192 @@
+//! Flags as the user writes them (INTERFACE.md), before any checking.
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+
+/// Engine dynamics from indicator diagrams: kinematics, forces, torque by
+/// firing order, journal torques, uniformity and flywheel, charts.
+#[derive(Debug, Parser)]
+#[command(name = "enginedyn", version, about, propagate_version = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// The whole pipeline for one operating point (no arguments: the bundled example).
+    Run(RunArgs),
+    /// Piston path, speed, acceleration and rod angle table.
+    Kinematics(KinematicsArgs),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum KinematicsArg {
+    Exact,
+    Series2,
+    Series4,
+    Series6,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum RodModelArg {
+    TwoMass,
+    ThreeMass,
+    Rigid,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum InterpArg {
+    Auto,
+    Linear,
+    Spline,
+    Pchip,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum IntegrationArg {
+    Trapezoid,
+    Simpson,
+}
+
+/// How the computation is done (INTERFACE.md's method options).
+#[derive(Debug, Clone, Args)]
+pub struct MethodArgs {
+    /// Grid step of the crank-angle grid (deg); must divide the cycle.
+    #[arg(long, value_name = "DEG", default_value_t = 0.1)]
+    pub step: f64,
+    /// Piston kinematics.
+    #[arg(long, value_enum, default_value = "exact")]
+    pub kinematics: KinematicsArg,
+    /// Connecting-rod mass model [default: the engine file's `rod_model`].
+    #[arg(long, value_enum)]
+    pub rod_model: Option<RodModelArg>,
+    /// Interpolation onto the grid (`auto`: linear on grid data, else the
+    /// periodic spline unless it overshoots by > 0.5 % of the peak, then pchip).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub interp: InterpArg,
+    /// Integration rule for means and the running integral E(φ).
+    #[arg(long, value_enum, default_value = "trapezoid")]
+    pub integration: IntegrationArg,
+}
+
+/// How the diagram file is read.
+#[derive(Debug, Clone, Args)]
+pub struct DiagramArgs {
+    /// The file's angle value that is firing TDC.
+    #[arg(
+        long,
+        value_name = "X",
+        default_value_t = 0.0,
+        allow_hyphen_values = true
+    )]
+    pub tdc_deg: f64,
+    /// Pressures are gauge (relative to 1.01325 bar).
+    #[arg(long)]
+    pub gauge: bool,
+    /// Column names for a file without a header (or replacing it); `_` skips a column.
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub columns: Option<Vec<String>>,
+    /// Peg each cycle so its mean pressure ±5° around intake BDC is P bar absolute.
+    #[arg(long, value_name = "P")]
+    pub peg_bar: Option<f64>,
+    /// Peg each cycle so p V^N is constant on compression (N = 1.32 by default).
+    #[arg(long, value_name = "polytropic[=N]")]
+    pub peg: Option<String>,
+    /// Where p–V data starts: at firing TDC or at the BDC before it.
+    #[arg(long, value_name = "tdc|bdc")]
+    pub pv_start: Option<String>,
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct RunArgs {
+    /// Engine file (TOML) [default: the bundled VAZ-2108 type example].
+    #[arg(long, value_name = "FILE")]
+    pub engine: Option<PathBuf>,
+    /// Indicator diagram (CSV); several: one per cylinder, in order 1..z.
+    #[arg(long, value_name = "FILE", num_args = 1..)]
+    pub diagram: Vec<PathBuf>,
+    /// Turning-moment diagram (CSV) instead of pressure.
+    #[arg(long, value_name = "FILE", conflicts_with = "diagram")]
+    pub torque: Option<PathBuf>,
+    /// Engine speed (rpm); overrides the diagram's `# rpm` line and the engine file.
+    #[arg(long, value_name = "N")]
+    pub rpm: Option<f64>,
+    /// Write summary.json, curves.csv, harmonics.csv and charts into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print the summary as JSON only.
+    #[arg(long)]
+    pub json: bool,
+    /// Pick the cheapest method setting whose estimated relative error is below REL.
+    #[arg(long, value_name = "REL")]
+    pub tolerance: Option<f64>,
+    /// Angles in the output: `cycle` [0, cycle) or `centered` [-cycle/2, cycle/2).
+    #[arg(long, value_name = "centered")]
+    pub angles: Option<String>,
+    #[command(flatten)]
+    pub diagram_args: DiagramArgs,
+    #[command(flatten)]
+    pub method: MethodArgs,
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct KinematicsArgs {
+    /// Engine file (TOML).
+    #[arg(long, value_name = "FILE")]
+    pub engine: PathBuf,
+    /// Angle step of the table (deg) [default: 30 for the printed table, 0.1 for --csv and --out].
+    #[arg(long, value_name = "DEG")]
+    pub step: Option<f64>,
+    /// Piston kinematics.
+    #[arg(long, value_enum, default_value = "exact")]
+    pub kinematics: KinematicsArg,
+    /// Engine speed (rpm) [default: the engine file's].
+    #[arg(long, value_name = "N")]
+    pub rpm: Option<f64>,
+    /// Write kinematics.csv and kinematics.svg into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print the table as CSV.
+    #[arg(long)]
+    pub csv: bool,
+}
+
+impl KinematicsArg {
+    pub fn model(self) -> enginedyn_kinematics::Model {
+        use enginedyn_kinematics::Model;
+        match self {
+            KinematicsArg::Exact => Model::Exact,
+            KinematicsArg::Series2 => Model::Series2,
+            KinematicsArg::Series4 => Model::Series4,
+            KinematicsArg::Series6 => Model::Series6,
+        }
+    }
+}
+
+impl MethodArgs {
+    pub fn options(&self) -> enginedyn_pipeline::Options {
+        use enginedyn_engine::RodModel;
+        use enginedyn_ingest::Interp;
+        use enginedyn_numerics::integrate::Rule;
+        enginedyn_pipeline::Options {
+            step_deg: self.step,
+            kinematics: self.kinematics.model(),
+            rod_model: self.rod_model.map(|r| match r {
+                RodModelArg::TwoMass => RodModel::TwoMass,
+                RodModelArg::ThreeMass => RodModel::ThreeMass,
+                RodModelArg::Rigid => RodModel::Rigid,
+            }),
+            interp: match self.interp {
+                InterpArg::Auto => Interp::Auto,
+                InterpArg::Linear => Interp::Linear,
+                InterpArg::Spline => Interp::Spline,
+                InterpArg::Pchip => Interp::Pchip,
+            },
+            integration: match self.integration {
+                IntegrationArg::Trapezoid => Rule::Trapezoid,
+                IntegrationArg::Simpson => Rule::Simpson,
+            },
+        }
+    }
+}

@@ -1,0 +1,116 @@
+//! `enginedyn kinematics`: the piston table the seeds print.
+
+use crate::Failure;
+use crate::args::KinematicsArgs;
+use enginedyn_kinematics::Table;
+use enginedyn_report::{Chart, Series};
+use std::f64::consts::PI;
+use std::fmt::Write as _;
+
+const HEADER: &str =
+    "crank_deg,coef_a,coef_b,coef_c,piston_x_m,piston_v_m_s,piston_a_m_s2,rod_angle_deg";
+
+pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
+    let loaded = crate::run::load_engine(Some(&a.engine))?;
+    let engine = &loaded.engine;
+    let rpm = crate::run::resolve_rpm(a.rpm, None, engine)?;
+    let omega = rpm * PI / 30.0;
+    let model = a.kinematics.model();
+    let mech = engine.mechanism();
+    let r = mech.r();
+    let fine = a.csv || a.out.is_some();
+    let step = a.step.unwrap_or(if fine { 0.1 } else { 30.0 });
+    let n = (360.0 / step).round();
+    if !(step > 0.0) || (n * step - 360.0).abs() > 1e-9 || n < 1.0 {
+        return Err(Failure::usage(format!(
+            "--step {step}: the step must divide 360°"
+        )));
+    }
+    // The table closes the revolution: 0..=360 as the seeds print it.
+    let rows = n as usize + 1;
+    let mut t = Table::default();
+    mech.fill(model, 0.0, step.to_radians(), rows, &mut t)
+        .map_err(|e| Failure::usage(format!("{}: {e}", a.engine.display())))?;
+    let csv = || {
+        let mut s = String::from(HEADER);
+        s.push('\n');
+        for k in 0..rows {
+            let _ = writeln!(
+                s,
+                "{},{},{},{},{},{},{},{}",
+                (k as f64 * step * 1e9).round() / 1e9,
+                t.x[k] / r,
+                t.dx[k] / r,
+                t.d2x[k] / r,
+                t.x[k],
+                t.dx[k] * omega,
+                t.d2x[k] * omega * omega,
+                t.beta[k].to_degrees()
+            );
+        }
+        s
+    };
+    if a.csv {
+        print!("{}", csv());
+    } else {
+        println!(
+            "{}: {} kinematics, R = {:.4} mm, λ = {:.4}, {rpm:.0} rpm (ω = {omega:.3} rad/s)",
+            engine.name(),
+            model.name(),
+            r * 1e3,
+            mech.lambda()
+        );
+        println!(
+            "{:>8} {:>9} {:>9} {:>9} {:>10} {:>9} {:>11} {:>9}",
+            "φ deg", "A=x/R", "B=v/Rω", "C=a/Rω²", "x mm", "v m/s", "a m/s²", "β deg"
+        );
+        for k in 0..rows {
+            println!(
+                "{:>8.1} {:>9.4} {:>9.4} {:>9.4} {:>10.3} {:>9.3} {:>11.1} {:>9.3}",
+                k as f64 * step,
+                t.x[k] / r,
+                t.dx[k] / r,
+                t.d2x[k] / r,
+                t.x[k] * 1e3,
+                t.dx[k] * omega,
+                t.d2x[k] * omega * omega,
+                t.beta[k].to_degrees()
+            );
+        }
+    }
+    if let Some(dir) = &a.out {
+        let deg = || (0..rows).map(|k| k as f64 * step);
+        let scale = |v: &[f64], f: f64| v.iter().map(|x| x * f).collect::<Vec<_>>();
+        let chart = Chart {
+            file: "kinematics.svg".into(),
+            title: format!(
+                "{} — piston motion ({}), {rpm:.0} rpm",
+                engine.name(),
+                model.name()
+            ),
+            x_label: "crank angle from TDC (deg)".into(),
+            y_label: "x/R, v/(Rω), a/(Rω²), β (deg/10)".into(),
+            series: vec![
+                Series::new("A = x/R", deg(), &scale(&t.x, 1.0 / r)),
+                Series::new("B = v/(Rω)", deg(), &scale(&t.dx, 1.0 / r)),
+                Series::new("C = a/(Rω²)", deg(), &scale(&t.d2x, 1.0 / r)),
+                Series::new("rod angle β (deg/10)", deg(), &scale(&t.beta, 18.0 / PI)),
+            ],
+            log: false,
+            equal: false,
+        };
+        let svg = chart.render().map_err(|e| Failure::data(e.to_string()))?;
+        let files = vec![
+            ("kinematics.csv".to_string(), csv().into_bytes()),
+            ("kinematics.svg".to_string(), svg.into_bytes()),
+        ];
+        enginedyn_report::write_all(dir, &files).map_err(|e| Failure::data(e.to_string()))?;
+        if !a.csv {
+            println!(
+                "wrote kinematics.csv and kinematics.svg to {}",
+                dir.display()
+            );
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,133 @@
+//! The summary figures of one operating point, in INTERFACE.md's key order.
+
+/// Summary figures (SI units as named by each key). `None` is JSON `null`.
+#[derive(Debug, Clone, PartialEq)]
+#[allow(missing_docs)] // each field is the summary.json key of the same name (INTERFACE.md)
+pub struct Summary {
+    pub rpm: f64,
+    pub omega_rad_s: f64,
+    pub imep_bar: Option<f64>,
+    pub indicated_work_per_cylinder_j: Option<f64>,
+    pub mean_torque_nm: Option<f64>,
+    pub power_kw: Option<f64>,
+    pub torque_max_nm: Option<f64>,
+    pub torque_min_nm: Option<f64>,
+    pub torque_nonuniformity: Option<f64>,
+    pub excess_work_j: Option<f64>,
+    pub excess_work_coefficient: Option<f64>,
+    pub required_inertia_kg_m2: Option<f64>,
+    pub flywheel_inertia_kg_m2: Option<f64>,
+    pub flywheel_gd2_n_m2: Option<f64>,
+    pub flywheel_outer_diameter_m: Option<f64>,
+    pub flywheel_mass_kg: Option<f64>,
+    pub flywheel_width_m: Option<f64>,
+    pub speed_fluctuation_achieved: Option<f64>,
+    pub stroke_m: f64,
+    pub lambda: f64,
+    pub piston_speed_mean_m_s: f64,
+    pub piston_speed_max_m_s: f64,
+    pub piston_accel_max_m_s2: f64,
+    pub piston_accel_min_m_s2: f64,
+    pub gas_force_max_n: Option<f64>,
+    pub side_force_max_n: Option<f64>,
+    pub rod_force_max_n: Option<f64>,
+    pub crankpin_load_max_n: Option<f64>,
+    pub crankpin_load_mean_n: Option<f64>,
+    pub journal_torque_max_nm: f64,
+    pub journal_most_loaded: usize,
+    pub energy_balance_error: Option<f64>,
+    /// `models.kinematics`.
+    pub kinematics: &'static str,
+    /// `models.rod_model`.
+    pub rod_model: &'static str,
+    /// `models.interpolation`.
+    pub interpolation: &'static str,
+    /// `models.grid_step_deg`.
+    pub grid_step_deg: f64,
+    /// `models.integration`.
+    pub integration: &'static str,
+    /// Number of measured cycles, when more than one.
+    pub cycles: Option<usize>,
+    pub notes: Vec<String>,
+}
+
+/// A summary value, as the report writers need it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Value {
+    /// A number or null.
+    Num(Option<f64>),
+    /// A whole number.
+    Int(usize),
+    /// Text.
+    Text(&'static str),
+    /// A nested object, in key order.
+    Map(Vec<(&'static str, Value)>),
+    /// A list of strings.
+    List(Vec<String>),
+}
+
+impl Summary {
+    /// Every key in INTERFACE.md's order, then the optional keys present.
+    pub fn fields(&self) -> Vec<(&'static str, Value)> {
+        use Value::{Int, Num};
+        let s = |v: f64| Num(Some(v));
+        let mut f = vec![
+            ("rpm", s(self.rpm)),
+            ("omega_rad_s", s(self.omega_rad_s)),
+            ("imep_bar", Num(self.imep_bar)),
+            (
+                "indicated_work_per_cylinder_j",
+                Num(self.indicated_work_per_cylinder_j),
+            ),
+            ("mean_torque_nm", Num(self.mean_torque_nm)),
+            ("power_kw", Num(self.power_kw)),
+            ("torque_max_nm", Num(self.torque_max_nm)),
+            ("torque_min_nm", Num(self.torque_min_nm)),
+            ("torque_nonuniformity", Num(self.torque_nonuniformity)),
+            ("excess_work_j", Num(self.excess_work_j)),
+            ("excess_work_coefficient", Num(self.excess_work_coefficient)),
+            ("required_inertia_kg_m2", Num(self.required_inertia_kg_m2)),
+            ("flywheel_inertia_kg_m2", Num(self.flywheel_inertia_kg_m2)),
+            ("flywheel_gd2_n_m2", Num(self.flywheel_gd2_n_m2)),
+            (
+                "flywheel_outer_diameter_m",
+                Num(self.flywheel_outer_diameter_m),
+            ),
+            ("flywheel_mass_kg", Num(self.flywheel_mass_kg)),
+            ("flywheel_width_m", Num(self.flywheel_width_m)),
+            (
+                "speed_fluctuation_achieved",
+                Num(self.speed_fluctuation_achieved),
+            ),
+            ("stroke_m", s(self.stroke_m)),
+            ("lambda", s(self.lambda)),
+            ("piston_speed_mean_m_s", s(self.piston_speed_mean_m_s)),
+            ("piston_speed_max_m_s", s(self.piston_speed_max_m_s)),
+            ("piston_accel_max_m_s2", s(self.piston_accel_max_m_s2)),
+            ("piston_accel_min_m_s2", s(self.piston_accel_min_m_s2)),
+            ("gas_force_max_n", Num(self.gas_force_max_n)),
+            ("side_force_max_n", Num(self.side_force_max_n)),
+            ("rod_force_max_n", Num(self.rod_force_max_n)),
+            ("crankpin_load_max_n", Num(self.crankpin_load_max_n)),
+            ("crankpin_load_mean_n", Num(self.crankpin_load_mean_n)),
+            ("journal_torque_max_nm", s(self.journal_torque_max_nm)),
+            ("journal_most_loaded", Int(self.journal_most_loaded)),
+            ("energy_balance_error", Num(self.energy_balance_error)),
+            (
+                "models",
+                Value::Map(vec![
+                    ("kinematics", Value::Text(self.kinematics)),
+                    ("rod_model", Value::Text(self.rod_model)),
+                    ("interpolation", Value::Text(self.interpolation)),
+                    ("grid_step_deg", s(self.grid_step_deg)),
+                    ("integration", Value::Text(self.integration)),
+                ]),
+            ),
+            ("notes", Value::List(self.notes.clone())),
+        ];
+        if let Some(c) = self.cycles {
+            f.push(("cycles", Int(c)));
+        }
+        f
+    }
+}

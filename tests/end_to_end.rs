@@ -1,0 +1,220 @@
+//! Runs the `enginedyn` binary as a user would and checks what it writes.
+
+use enginedyn_tests::binary;
+use std::process::{Command, Output};
+
+fn run(args: &[&str]) -> Output {
+    Command::new(binary())
+        .args(args)
+        .output()
+        .expect("run enginedyn")
+}
+
+const SUMMARY_KEYS: &[&str] = &[
+    "rpm",
+    "omega_rad_s",
+    "imep_bar",
+    "indicated_work_per_cylinder_j",
+    "mean_torque_nm",
+    "power_kw",
+    "torque_max_nm",
+    "torque_min_nm",
+    "torque_nonuniformity",
+    "excess_work_j",
+    "excess_work_coefficient",
+    "required_inertia_kg_m2",
+    "flywheel_inertia_kg_m2",
+    "flywheel_gd2_n_m2",
+    "flywheel_outer_diameter_m",
+    "flywheel_mass_kg",
+    "flywheel_width_m",
+    "speed_fluctuation_achieved",
+    "stroke_m",
+    "lambda",
+    "piston_speed_mean_m_s",
+    "piston_speed_max_m_s",
+    "piston_accel_max_m_s2",
+    "piston_accel_min_m_s2",
+    "gas_force_max_n",
+    "side_force_max_n",
+    "rod_force_max_n",
+    "crankpin_load_max_n",
+    "crankpin_load_mean_n",
+    "journal_torque_max_nm",
+    "journal_most_loaded",
+    "energy_balance_error",
+];
+
+const CURVE_COLUMNS: &[&str] = &[
+    "crank_deg",
+    "pressure_bar",
+    "volume_m3",
+    "piston_x_m",
+    "piston_v_m_s",
+    "piston_a_m_s2",
+    "rod_angle_deg",
+    "force_gas_n",
+    "force_inertia_n",
+    "force_total_n",
+    "force_side_n",
+    "force_rod_n",
+    "force_radial_n",
+    "force_tangential_n",
+    "crankpin_load_n",
+    "crankpin_load_angle_deg",
+    "torque_cylinder_nm",
+    "torque_engine_nm",
+    "excess_energy_j",
+    "torque_journal_1_nm",
+    "torque_journal_4_nm",
+];
+
+/// The bundled example with --out: every required key present and finite
+/// (the example is a firing engine, so nothing may be null), every curve
+/// column present, the energy balance within 1e-4 (issue 3's bound).
+#[test]
+fn bundled_example_writes_everything() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run(&["run", "--out", dir.path().to_str().unwrap(), "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let printed: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let text = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
+    let s: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(printed, s, "--json prints the summary.json object");
+    for k in SUMMARY_KEYS {
+        let v = &s[k];
+        assert!(v.as_f64().is_some_and(f64::is_finite), "{k} = {v}");
+    }
+    for k in [
+        "kinematics",
+        "rod_model",
+        "interpolation",
+        "grid_step_deg",
+        "integration",
+    ] {
+        assert!(!s["models"][k].is_null(), "models.{k}");
+    }
+    assert!(s["notes"].is_array());
+    assert!(s["energy_balance_error"].as_f64().unwrap() < 1e-4);
+    let curves = std::fs::read_to_string(dir.path().join("curves.csv")).unwrap();
+    let header: Vec<&str> = curves.lines().next().unwrap().split(',').collect();
+    for c in CURVE_COLUMNS {
+        assert!(header.contains(c), "curves.csv lacks {c}");
+    }
+    // 0.1° over 720°: 7200 rows plus the header; every cell a finite number.
+    assert_eq!(curves.lines().count(), 7201);
+    for line in curves.lines().skip(1) {
+        for cell in line.split(',') {
+            assert!(cell.parse::<f64>().is_ok_and(f64::is_finite), "cell {cell}");
+        }
+    }
+    for f in ["torque.svg", "harmonics.csv"] {
+        assert!(dir.path().join(f).exists(), "{f}");
+    }
+    // No temporary files left behind.
+    for e in std::fs::read_dir(dir.path()).unwrap() {
+        let name = e.unwrap().file_name().into_string().unwrap();
+        assert!(!name.starts_with('.'), "leftover {name}");
+    }
+}
+
+/// An unknown engine key exits 2 and names the key and its nearest neighbour.
+#[test]
+fn unknown_engine_key_exits_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(
+        &bad,
+        "cycle = \"four-stroke\"\ncylinders = 1\nbore = 80.0\n",
+    )
+    .unwrap();
+    let out = run(&["run", "--engine", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("`bore`") && err.contains("bore_mm") && err.contains("bad.toml"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"));
+}
+
+/// A diagram with a non-numeric cell exits 1, naming file, line and column,
+/// and writes no output folder.
+#[test]
+fn bad_diagram_exits_1_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("d.csv");
+    std::fs::write(&csv, "crank_deg,pressure_bar\n0,10\n90,abc\n180,1\n").unwrap();
+    let out_dir = dir.path().join("out");
+    let out = run(&[
+        "run",
+        "--diagram",
+        csv.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("d.csv") && err.contains("line 3") && err.contains("column 2"),
+        "{err}"
+    );
+    assert!(!out_dir.exists());
+}
+
+/// A step that does not divide the cycle is a usage error (exit 2).
+#[test]
+fn bad_step_exits_2() {
+    let out = run(&["run", "--step", "0.7"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--step"));
+}
+
+/// The readable table names the key figures with units.
+#[test]
+fn readable_table() {
+    let out = run(&["run"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    for s in [
+        "IMEP",
+        "bar",
+        "mean torque",
+        "N m",
+        "required inertia",
+        "kg m²",
+    ] {
+        assert!(text.contains(s), "{s} missing from\n{text}");
+    }
+}
+
+/// `kinematics --csv` prints the seed table's columns; at 0° the exact
+/// acceleration coefficient is 1 + lambda = 1.26.
+#[test]
+fn kinematics_csv() {
+    let engine = concat!(env!("CARGO_MANIFEST_DIR"), "/../data/vaz2108.toml");
+    let out = run(&["kinematics", "--engine", engine, "--csv", "--step", "30"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "crank_deg,coef_a,coef_b,coef_c,piston_x_m,piston_v_m_s,piston_a_m_s2,rod_angle_deg"
+    );
+    let first: Vec<f64> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(|c| c.parse().unwrap())
+        .collect();
+    assert!((first[3] - 1.26).abs() < 1e-12);
+    assert_eq!(text.lines().count(), 1 + 13);
+}
