@@ -51,21 +51,23 @@ pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
         s
     };
     if a.csv {
-        print!("{}", csv());
+        crate::emit(&csv());
     } else {
-        println!(
-            "{}: {} kinematics, R = {:.4} mm, λ = {:.4}, {rpm:.0} rpm (ω = {omega:.3} rad/s)",
+        let mut text = format!(
+            "{}: {} kinematics, R = {:.4} mm, λ = {:.4}, {rpm:.0} rpm (ω = {omega:.3} rad/s)\n",
             engine.name(),
             model.name(),
             r * 1e3,
             mech.lambda()
         );
-        println!(
+        let _ = writeln!(
+            text,
             "{:>8} {:>9} {:>9} {:>9} {:>10} {:>9} {:>11} {:>9}",
             "φ deg", "A=x/R", "B=v/Rω", "C=a/Rω²", "x mm", "v m/s", "a m/s²", "β deg"
         );
         for k in 0..rows {
-            println!(
+            let _ = writeln!(
+                text,
                 "{:>8.1} {:>9.4} {:>9.4} {:>9.4} {:>10.3} {:>9.3} {:>11.1} {:>9.3}",
                 k as f64 * step,
                 t.x[k] / r,
@@ -77,6 +79,7 @@ pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
                 t.beta[k].to_degrees()
             );
         }
+        crate::emit(&text);
     }
     if let Some(dir) = &a.out {
         let deg = || (0..rows).map(|k| k as f64 * step);
@@ -106,10 +109,10 @@ pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
         ];
         enginedyn_report::write_all(dir, &files).map_err(|e| Failure::data(e.to_string()))?;
         if !a.csv {
-            println!(
-                "wrote kinematics.csv and kinematics.svg to {}",
+            crate::emit(&format!(
+                "wrote kinematics.csv and kinematics.svg to {}\n",
                 dir.display()
-            );
+            ));
         }
     }
     Ok(())

@@ -153,22 +153,24 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     }
     if a.json {
         let json = enginedyn_report::summary_json(&analysis.summary);
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&json).unwrap_or_default()
-        );
+        crate::emit(&(serde_json::to_string_pretty(&json).unwrap_or_default() + "\n"));
     } else {
-        print!(
-            "{}",
-            crate::table::summary_table(engine, &shown, &analysis.summary)
-        );
+        crate::emit(&crate::table::summary_table(
+            engine,
+            &shown,
+            &analysis.summary,
+        ));
     }
     if let Some(dir) = &a.out {
         let files = enginedyn_report::run_files(engine, &analysis)
             .map_err(|e| Failure::data(e.to_string()))?;
         enginedyn_report::write_all(dir, &files).map_err(|e| Failure::data(e.to_string()))?;
         if !a.json {
-            println!("wrote {} files to {}", files.len(), dir.display());
+            crate::emit(&format!(
+                "wrote {} files to {}\n",
+                files.len(),
+                dir.display()
+            ));
         }
     }
     Ok(())

@@ -218,7 +218,7 @@ pub fn run_charts(engine: &Engine, a: &Analysis) -> Result<Vec<(String, String)>
                 deg(),
                 &a.torque.total,
             ),
-            Series::hline(format!("mean {mean:.1} N m"), mean, 0.0, cycle),
+            Series::hline(format!("mean (indicated) {mean:.1} N m"), mean, 0.0, cycle),
         ],
         log: false,
         equal: false,
