@@ -18,7 +18,7 @@
 //! let pressure = vec![101_325.0; n]; // motored at crankcase pressure: inertia only
 //! let setup = Setup { mechanism: *cyl.mechanism(), area: cyl.piston_area(),
 //!     crankcase_pressure: 101_325.0, omega: 500.0, m_recip: 0.6, m_big_end: 0.38,
-//!     rod_couple: None, rod_centre: None };
+//!     rod_couple: None, rod_centre: None, rigid: None };
 //! let f = cylinder_forces(&setup, &kin, &pressure, 0.0, step);
 //! // T R = P dx/dphi at every angle.
 //! for k in 0..n { assert!((f.tangential[k] * 0.0355 - f.total[k] * kin.dx[k]).abs() < 1e-9); }
@@ -45,6 +45,75 @@ pub struct Setup {
     pub rod_couple: Option<f64>,
     /// Three-mass rod: the centre mass `m_0` (kg) and `l_A / L`.
     pub rod_centre: Option<(f64, f64)>,
+    /// Three-mass and rigid rods: the rod as a body, for the Newton–Euler
+    /// side thrust, rod force and crank-pin load.
+    pub rigid: Option<RigidRod>,
+}
+
+/// A connecting rod as a planar rigid body plus the piston it carries.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigidRod {
+    /// Piston group mass (kg), without any rod share.
+    pub m_piston: f64,
+    /// Rod mass (kg).
+    pub m_rod: f64,
+    /// Small end to centre of mass `l_A` (m).
+    pub l_a: f64,
+    /// Rod length `L` (m).
+    pub l: f64,
+    /// Moment of inertia about the centre of mass (kg m²).
+    pub i_g: f64,
+    /// Big-end mass of the two-mass split `m_rod l_A / L` (kg): the radial
+    /// force `K` is reported without its centrifugal force, as for the two-mass rod.
+    pub m_big_end_two_mass: f64,
+}
+
+/// Newton–Euler forces on piston and rod at one angle (N): side thrust,
+/// rod force along the rod at the small end, and the rod's load on the
+/// crank pin, radial (toward the axis) and tangential (driving).
+struct NewtonEuler {
+    side: f64,
+    rod: f64,
+    pin_radial: f64,
+    pin_tangential: f64,
+}
+
+/// Axes: `u` along the cylinder from the crank axis toward the head, `v`
+/// across it; the rod runs from the small end A to the big end B along
+/// `e = (-cos beta, sin beta)`. Gas force `gas` is positive toward the crank.
+fn newton_euler(
+    rod: &RigidRod,
+    gas: f64,
+    st: (f64, f64, f64, f64),
+    phi_g: f64,
+    r: f64,
+    w2: f64,
+) -> NewtonEuler {
+    let (d2x, beta, _dbeta, d2beta) = st;
+    let (sb, cb) = beta.sin_cos();
+    let (sg, cg) = phi_g.sin_cos();
+    // Accelerations (m/s²): the small end moves on the axis, the big end on the crank circle.
+    let a_a = (-w2 * d2x, 0.0);
+    let a_b = (-w2 * r * cg, -w2 * r * sg);
+    let rho = rod.l_a / rod.l;
+    let a_g = (a_a.0 + rho * (a_b.0 - a_a.0), a_a.1 + rho * (a_b.1 - a_a.1));
+    // Piston along u: m_p a_u = -gas + F_Au (F_A: force of the rod on the piston).
+    let f_au = rod.m_piston * a_a.0 + gas;
+    // Moments about G: L (e × F_A) = -I_G beta_tt - l_B m (e × a_G), beta_tt = w² beta''.
+    let e = (-cb, sb);
+    let cross = |p: (f64, f64), q: (f64, f64)| p.0 * q.1 - p.1 * q.0;
+    let l_b = rod.l - rod.l_a;
+    let rhs = (-rod.i_g * w2 * d2beta - l_b * rod.m_rod * cross(e, a_g)) / rod.l;
+    // e × F_A = -cos(beta) F_Av - sin(beta) F_Au.
+    let f_av = -(rhs + sb * f_au) / cb;
+    // Rod translation: F_B (crank pin on rod) = m a_G + F_A; the pin carries Q = -F_B.
+    let q = (-(rod.m_rod * a_g.0 + f_au), -(rod.m_rod * a_g.1 + f_av));
+    NewtonEuler {
+        side: -f_av,
+        rod: f_au * cb - f_av * sb,
+        pin_radial: -(q.0 * cg + q.1 * sg),
+        pin_tangential: -q.0 * sg + q.1 * cg,
+    }
 }
 
 /// Force curves on the grid (N, N m), one value per grid angle.
@@ -132,14 +201,28 @@ pub fn cylinder_forces(
             m_inertia += -m0 * w2 * setup.mechanism.rod_point_dot(phi, ratio);
         }
         let torque = gas * dx + m_inertia;
-        let t = torque / r;
-        let radial = total * kin.k_factor[k];
-        let kr = radial - k_rb;
+        let (side, rod, radial, kr, t) = match &setup.rigid {
+            Some(body) => {
+                let phi_g = start + step * k as f64 + setup.mechanism.phi_tdc();
+                let st = (d2x, beta, kin.dbeta[k], kin.d2beta[k]);
+                let ne = newton_euler(body, gas, st, phi_g, r, w2);
+                let k_rb2 = body.m_big_end_two_mass * r * w2;
+                // T from the Newton–Euler pin load; T R equals the virtual-work
+                // torque to rounding (a test), so the torque stays one curve.
+                let t = ne.pin_tangential;
+                (ne.side, ne.rod, ne.pin_radial + k_rb2, ne.pin_radial, t)
+            }
+            None => {
+                let radial = total * kin.k_factor[k];
+                let rod = if has_rod { total / beta.cos() } else { 0.0 };
+                (total * beta.tan(), rod, radial, radial - k_rb, torque / r)
+            }
+        };
         f.gas[k] = gas;
         f.inertia[k] = inertia;
         f.total[k] = total;
-        f.side[k] = total * beta.tan();
-        f.rod[k] = if has_rod { total / beta.cos() } else { 0.0 };
+        f.side[k] = side;
+        f.rod[k] = rod;
         f.radial[k] = radial;
         f.tangential[k] = t;
         f.pin_load[k] = t.hypot(kr);
@@ -161,6 +244,19 @@ impl Setup {
         use enginedyn_engine::RodModel;
         let split = engine.rod_masses(rod);
         let masses = engine.masses();
+        let rigid = match (engine.mechanism(), rod, masses.rod_inertia) {
+            (Mechanism::CrankSlider(cs), RodModel::Rigid | RodModel::ThreeMass, Some(i_g)) => {
+                Some(RigidRod {
+                    m_piston: masses.piston_group,
+                    m_rod: masses.rod,
+                    l_a: masses.rod_cg_from_small_end,
+                    l: cs.l(),
+                    i_g,
+                    m_big_end_two_mass: engine.rod_masses(RodModel::TwoMass).big_end,
+                })
+            }
+            _ => None,
+        };
         let (rod_couple, rod_centre) = match (engine.mechanism(), rod, masses.rod_inertia) {
             (Mechanism::CrankSlider(cs), RodModel::Rigid, Some(ig)) => {
                 let la = masses.rod_cg_from_small_end;
@@ -181,6 +277,7 @@ impl Setup {
             m_big_end: split.big_end,
             rod_couple,
             rod_centre,
+            rigid,
         }
     }
 }

@@ -203,3 +203,93 @@ fn motoring_has_no_flywheel() {
     assert!(a.summary.excess_work_j.is_some());
     assert!(a.summary.notes.iter().any(|n| n.contains("motored")));
 }
+
+/// Rigid and three-mass rods by Newton–Euler: T R equals the virtual-work
+/// torque at every angle (1e-9 of the torque scale).
+#[test]
+fn newton_euler_tangential_force_matches_virtual_work() {
+    let e = engine("pin_offset_mm = 2.0");
+    for rod in [RodModel::Rigid, RodModel::ThreeMass] {
+        let a = analyse(
+            &e,
+            &pressure(0.5, 60.0),
+            6000.0,
+            &opts(0.5, Model::Exact, rod),
+        )
+        .unwrap();
+        let r = e.mechanism().r();
+        let scale = a.forces.torque.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        for k in 0..a.pressure.len() {
+            let d = a.forces.tangential[k] * r - a.forces.torque[k];
+            assert!(d.abs() < 1e-9 * scale, "{rod:?} at {k}: {d}");
+        }
+    }
+}
+
+/// Where the rod is dynamically a two-mass rod (I_G = m l_A l_B) all three
+/// models agree: torque, side thrust, radial force and pin load equal the
+/// two-mass values; the rod force S does not (the textbook P / cos(beta)
+/// counts m_A with the piston), PHYSICS.md.
+#[test]
+fn rod_models_agree_in_the_two_mass_limit() {
+    let l = 0.0355 / 0.26;
+    let (la, m) = (0.725 * l, 0.52);
+    let ig = m * la * (l - la);
+    let limit = parse(
+        &format!(
+            r#"
+cycle = "four-stroke"
+cylinders = 4
+firing_order = [1, 3, 4, 2]
+bore_mm = 76.0
+stroke_mm = 71.0
+lambda = 0.26
+compression_ratio = 9.9
+cylinder_spacing_mm = 87.0
+pin_offset_mm = 1.5
+[masses]
+piston_group_kg = 0.45
+rod_kg = 0.52
+rod_inertia_kg_m2 = {ig:.17e}
+[operating]
+rpm = 4900
+"#
+        ),
+        "limit",
+    )
+    .unwrap();
+    let p = pressure(0.5, 60.0);
+    let two = analyse(
+        &limit,
+        &p,
+        6000.0,
+        &opts(0.5, Model::Exact, RodModel::TwoMass),
+    )
+    .unwrap();
+    let scale = two.forces.pin_load.iter().fold(0.0_f64, |a, b| a.max(*b));
+    for rod in [RodModel::ThreeMass, RodModel::Rigid] {
+        let a = analyse(&limit, &p, 6000.0, &opts(0.5, Model::Exact, rod)).unwrap();
+        let mut s_diff = 0.0_f64;
+        for k in 0..p.pressure.len() {
+            let (f, g) = (&a.forces, &two.forces);
+            for (x, y, what) in [
+                (f.torque[k] / 0.0355, g.torque[k] / 0.0355, "torque"),
+                (f.side[k], g.side[k], "side"),
+                (f.radial[k], g.radial[k], "radial"),
+                (f.tangential[k], g.tangential[k], "tangential"),
+                (f.pin_load[k], g.pin_load[k], "pin load"),
+            ] {
+                assert!(
+                    (x - y).abs() < 1e-8 * scale,
+                    "{rod:?} {what} at {k}: {x} vs {y}"
+                );
+            }
+            s_diff = s_diff.max((f.rod[k] - g.rod[k]).abs());
+        }
+        // S differs by about m_A a / cos(beta): here m_A = 0.143 kg at ~1.3e4 m/s².
+        assert!(
+            s_diff > 0.01 * scale,
+            "{rod:?}: S should differ, max diff {s_diff}"
+        );
+    }
+}
