@@ -9,15 +9,19 @@
 //! volume law. Conventions (signs, offset direction, TDC angle) are those of
 //! the project's `PHYSICS.md`.
 //!
-//! Choosing a model (errors for `lambda = 0.26`, `k = 0`, relative to the
-//! stroke or to `R w^2`):
+//! Choosing a model (largest error over the cycle for `lambda = 0.26`,
+//! `k = 0`, relative to `R` and to `R w^2`; the test
+//! `documented_series_errors` checks every figure):
 //!
-//! | model | largest error in `x` | largest error in `a` | use when |
+//! | model | error in `x` | error in `a` | use when |
 //! | --- | --- | --- | --- |
 //! | `Exact` | rounding | rounding | always; the default |
-//! | `Series2` | `~ lambda^3 R / 8` (2.2e-3 R) | `~ lambda^3 / 4` (0.5 % of `R w^2` near 90°) | hand checks, balance (orders 1 and 2) |
-//! | `Series4` | `~ lambda^5 R / 16` (8e-5 R) | `~ 1e-4 R w^2` | torsional work needing order 4 |
-//! | `Series6` | `~ lambda^7 R` (1e-5 R) | `~ 1e-5 R w^2` | reproducing series tables |
+//! | `Series2` | 2.3e-3 R (`~ lambda^3/8`) | 9.3e-3 R w^2 | hand checks, balance of orders 1 and 2 |
+//! | `Series4` | 7.8e-5 R | 4.7e-4 R w^2 | torsional work needing order 4 |
+//! | `Series6` | 3.3e-6 R | 2.7e-5 R w^2 | reproducing series tables |
+//!
+//! Each order gains about `lambda^2` (a factor 15–20 here). With a pin
+//! offset only `Series2` is defined.
 //!
 //! The series exist because the harmonic form shows which engine orders the
 //! inertia forces excite; for numbers use `Exact`: it costs one square root

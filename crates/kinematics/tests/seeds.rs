@@ -166,3 +166,28 @@ fn series_error_falls_with_order() {
     assert!(e2 > 10.0 * e4 && e4 > 10.0 * e6, "{e2} {e4} {e6}");
     assert!(e2 < 0.6 * lambda.powi(3) && e4 < 0.3 * lambda.powi(5) && e6 < 0.3 * lambda.powi(7));
 }
+
+/// The error table in the crate docs (lambda = 0.26), each figure to 5 %.
+#[test]
+fn documented_series_errors() {
+    let m = central(1.0, 0.26);
+    let worst = |model: Model| {
+        let (mut ex, mut ea) = (0.0_f64, 0.0_f64);
+        for k in 0..7200 {
+            let phi = (k as f64 * 0.05).to_radians();
+            let (s, e) = (m.state(model, phi).unwrap(), m.exact(phi));
+            ex = ex.max((s.x - e.x).abs());
+            ea = ea.max((s.d2x - e.d2x).abs());
+        }
+        (ex, ea)
+    };
+    for (model, dx, da) in [
+        (Model::Series2, 2.3e-3, 9.3e-3),
+        (Model::Series4, 7.8e-5, 4.7e-4),
+        (Model::Series6, 3.3e-6, 2.7e-5),
+    ] {
+        let (ex, ea) = worst(model);
+        assert!((ex / dx - 1.0).abs() < 0.05, "{model:?} x: {ex}");
+        assert!((ea / da - 1.0).abs() < 0.05, "{model:?} a: {ea}");
+    }
+}
