@@ -18,19 +18,31 @@ pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
     let model = a.kinematics.model();
     let mech = engine.mechanism();
     let r = mech.r();
-    let fine = a.csv || a.out.is_some();
-    let step = a.step.unwrap_or(if fine { 0.1 } else { 30.0 });
-    let n = (360.0 / step).round();
-    if !(step > 0.0) || (n * step - 360.0).abs() > 1e-9 || n < 1.0 {
-        return Err(Failure::usage(format!(
-            "--step {step}: the step must divide 360°"
-        )));
-    }
-    // The table closes the revolution: 0..=360 as the seeds print it.
-    let rows = n as usize + 1;
-    let mut t = Table::default();
-    mech.fill(model, 0.0, step.to_radians(), rows, &mut t)
-        .map_err(|e| Failure::usage(format!("{}: {e}", a.engine.display())))?;
+    // The printed table at 30° as the seeds print it; files at 0.1°; --step sets both.
+    let table_step = a.step.unwrap_or(30.0);
+    let file_step = a.step.unwrap_or(0.1);
+    let fill = |step: f64| -> Result<(usize, Table), Failure> {
+        let n = (360.0 / step).round();
+        if !(step > 0.0) || (n * step - 360.0).abs() > 1e-9 || n < 1.0 {
+            return Err(Failure::usage(format!(
+                "--step {step}: the step must divide 360°"
+            )));
+        }
+        // The table closes the revolution: 0..=360 as the seeds print it.
+        let rows = n as usize + 1;
+        let mut t = Table::default();
+        mech.fill(model, 0.0, step.to_radians(), rows, &mut t)
+            .map_err(|e| {
+                Failure::usage(format!(
+                    "{}: --kinematics {}: {e}",
+                    a.engine.display(),
+                    model.name()
+                ))
+            })?;
+        Ok((rows, t))
+    };
+    let (rows, t) = fill(file_step)?;
+    let step = file_step;
     let csv = || {
         let mut s = String::from(HEADER);
         s.push('\n');
@@ -53,6 +65,8 @@ pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
     if a.csv {
         crate::emit(&csv());
     } else {
+        let (rows, t) = fill(table_step)?;
+        let step = table_step;
         let mut text = format!(
             "{}: {} kinematics, R = {:.4} mm, λ = {:.4}, {rpm:.0} rpm (ω = {omega:.3} rad/s)\n",
             engine.name(),
