@@ -3,7 +3,7 @@
 use crate::Failure;
 use crate::args::KinematicsArgs;
 use enginedyn_kinematics::Table;
-use enginedyn_report::{Chart, Series};
+use enginedyn_report::Figure;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
 
@@ -96,27 +96,18 @@ pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
         crate::emit(&text);
     }
     if let Some(dir) = &a.out {
-        let deg = || (0..rows).map(|k| k as f64 * step);
-        let scale = |v: &[f64], f: f64| v.iter().map(|x| x * f).collect::<Vec<_>>();
-        let chart = Chart {
-            file: "kinematics.svg".into(),
-            title: format!(
+        let chart = enginedyn_report::kinematics_chart(
+            format!(
                 "{} — piston motion ({}), {rpm:.0} rpm",
                 engine.name(),
                 model.name()
             ),
-            x_label: "crank angle from TDC (deg)".into(),
-            y_label: "x/R, v/(Rω), a/(Rω²), β (deg/10)".into(),
-            series: vec![
-                Series::new("A = x/R", deg(), &scale(&t.x, 1.0 / r)),
-                Series::new("B = v/(Rω)", deg(), &scale(&t.dx, 1.0 / r)),
-                Series::new("C = a/(Rω²)", deg(), &scale(&t.d2x, 1.0 / r)),
-                Series::new("rod angle β (deg/10)", deg(), &scale(&t.beta, 18.0 / PI)),
-            ],
-            log: false,
-            equal: false,
-        };
-        let svg = chart.render().map_err(|e| Failure::data(e.to_string()))?;
+            &t,
+            r,
+            step,
+        );
+        let figure = Figure::single("kinematics.svg", chart);
+        let svg = figure.render().map_err(|e| Failure::data(e.to_string()))?;
         let files = vec![
             ("kinematics.csv".to_string(), csv().into_bytes()),
             ("kinematics.svg".to_string(), svg.into_bytes()),

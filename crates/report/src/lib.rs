@@ -15,7 +15,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 mod chart;
-pub use chart::{Chart, Series};
+mod html;
+pub use chart::{Chart, Figure, Series, kinematics_chart, run_figures};
+pub use html::report_html;
 
 /// Why output could not be produced.
 #[derive(Debug, thiserror::Error)]
@@ -163,7 +165,15 @@ pub fn run_files(engine: &Engine, a: &Analysis) -> Result<Vec<(String, Vec<u8>)>
         ("curves.csv".to_string(), curves_csv(a).into_bytes()),
         ("harmonics.csv".to_string(), harmonics_csv(a).into_bytes()),
     ];
-    for (name, svg) in chart::run_charts(engine, a)? {
+    let mut charts = Vec::new();
+    for fig in chart::run_figures(engine, a) {
+        charts.push((fig.file.clone(), fig.render()?));
+    }
+    files.push((
+        "report.html".to_string(),
+        html::report_html(engine, a, &charts).into_bytes(),
+    ));
+    for (name, svg) in charts {
         files.push((name, svg.into_bytes()));
     }
     Ok(files)

@@ -1,0 +1,187 @@
+//! `report.html`: one self-contained page (no external files, no scripts)
+//! with the engine, the operating point, the models, the summary, the notes
+//! and every chart inlined as SVG.
+
+use enginedyn_engine::Engine;
+use enginedyn_pipeline::Analysis;
+use std::fmt::Write as _;
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// Rows of the summary table: label, value, unit.
+fn rows(a: &Analysis) -> Vec<(&'static str, Option<f64>, &'static str, usize)> {
+    let s = &a.summary;
+    vec![
+        ("IMEP", s.imep_bar, "bar", 3),
+        (
+            "indicated work per cylinder",
+            s.indicated_work_per_cylinder_j,
+            "J",
+            2,
+        ),
+        ("mean torque", s.mean_torque_nm, "N m", 2),
+        ("power", s.power_kw, "kW", 2),
+        ("torque max", s.torque_max_nm, "N m", 1),
+        ("torque min", s.torque_min_nm, "N m", 1),
+        ("torque non-uniformity μ", s.torque_nonuniformity, "", 3),
+        ("energy balance error", s.energy_balance_error, "", 12),
+        ("excess work ΔE", s.excess_work_j, "J", 2),
+        (
+            "excess work coefficient ψ",
+            s.excess_work_coefficient,
+            "",
+            4,
+        ),
+        ("required inertia I₀", s.required_inertia_kg_m2, "kg m²", 5),
+        ("flywheel inertia I_f", s.flywheel_inertia_kg_m2, "kg m²", 5),
+        ("flywheel GD²", s.flywheel_gd2_n_m2, "N m²", 3),
+        (
+            "flywheel outer diameter",
+            s.flywheel_outer_diameter_m.map(|d| d * 1e3),
+            "mm",
+            1,
+        ),
+        (
+            "flywheel width",
+            s.flywheel_width_m.map(|d| d * 1e3),
+            "mm",
+            1,
+        ),
+        ("flywheel mass", s.flywheel_mass_kg, "kg", 2),
+        (
+            "speed fluctuation achieved δ",
+            s.speed_fluctuation_achieved,
+            "",
+            5,
+        ),
+        ("stroke", Some(s.stroke_m * 1e3), "mm", 3),
+        ("λ = R/L", Some(s.lambda), "", 4),
+        ("mean piston speed", Some(s.piston_speed_mean_m_s), "m/s", 2),
+        ("max piston speed", Some(s.piston_speed_max_m_s), "m/s", 2),
+        (
+            "max piston acceleration",
+            Some(s.piston_accel_max_m_s2),
+            "m/s²",
+            0,
+        ),
+        (
+            "min piston acceleration",
+            Some(s.piston_accel_min_m_s2),
+            "m/s²",
+            0,
+        ),
+        ("gas force max", s.gas_force_max_n, "N", 0),
+        ("side thrust max", s.side_force_max_n, "N", 0),
+        ("rod force max", s.rod_force_max_n, "N", 0),
+        ("crank-pin load max", s.crankpin_load_max_n, "N", 0),
+        ("crank-pin load mean", s.crankpin_load_mean_n, "N", 0),
+        (
+            "main-journal torque max",
+            Some(s.journal_torque_max_nm),
+            "N m",
+            1,
+        ),
+    ]
+}
+
+/// The page, with `charts` as (file name, SVG text) inlined in order.
+pub fn report_html(engine: &Engine, a: &Analysis, charts: &[(String, String)]) -> String {
+    let s = &a.summary;
+    let mut o = String::with_capacity(600_000);
+    let title = format!("{} — {:.0} rpm", engine.name(), s.rpm);
+    let _ = write!(
+        o,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{}</title>\n<style>\
+body{{font-family:sans-serif;margin:24px auto;max-width:1280px;color:#222}}\
+h1{{font-size:22px}}h2{{font-size:17px;margin-top:28px;border-bottom:1px solid #ddd}}\
+table{{border-collapse:collapse;font-size:14px}}td,th{{padding:3px 10px;border-bottom:1px solid #eee;text-align:left}}\
+td.v{{text-align:right;font-variant-numeric:tabular-nums}}.grid{{display:flex;gap:40px;flex-wrap:wrap}}\
+figure{{margin:12px 0}}figure svg{{max-width:100%;height:auto}}figcaption{{font-size:13px;color:#555}}\
+</style></head><body>\n<h1>{}</h1>\n",
+        esc(&title),
+        esc(&title)
+    );
+    let _ = writeln!(o, "<div class=\"grid\"><div><h2>Engine</h2><table>");
+    let geometry = [
+        ("cycle", engine.stroke_kind().name().to_string()),
+        (
+            "layout",
+            format!("{} {}", engine.layout().name(), engine.cylinders()),
+        ),
+        (
+            "firing order",
+            engine
+                .firing_order()
+                .iter()
+                .map(|c| c.to_string())
+                .collect::<Vec<_>>()
+                .join("-"),
+        ),
+        ("bore", format!("{:.2} mm", engine.cylinder().bore() * 1e3)),
+        ("stroke", format!("{:.3} mm", s.stroke_m * 1e3)),
+        ("λ = R/L", format!("{:.4}", s.lambda)),
+        (
+            "compression ratio",
+            format!("{}", engine.cylinder().compression_ratio()),
+        ),
+        (
+            "speed",
+            format!("{:.0} rpm (ω = {:.3} rad/s)", s.rpm, s.omega_rad_s),
+        ),
+    ];
+    for (k, v) in geometry {
+        let _ = writeln!(o, "<tr><th>{}</th><td>{}</td></tr>", esc(k), esc(&v));
+    }
+    let _ = writeln!(o, "</table><h2>Models</h2><table>");
+    for (k, v) in [
+        ("kinematics", s.kinematics.to_string()),
+        ("rod model", s.rod_model.to_string()),
+        ("interpolation", s.interpolation.to_string()),
+        ("grid step", format!("{}°", s.grid_step_deg)),
+        ("integration", s.integration.to_string()),
+    ] {
+        let _ = writeln!(o, "<tr><th>{k}</th><td>{}</td></tr>", esc(&v));
+    }
+    let _ = writeln!(o, "</table></div><div><h2>Summary</h2><table>");
+    for (label, value, unit, digits) in rows(a) {
+        let v = value.map_or("—".to_string(), |x| format!("{x:.digits$}"));
+        let _ = writeln!(
+            o,
+            "<tr><th>{}</th><td class=\"v\">{v}</td><td>{}</td></tr>",
+            esc(label),
+            esc(unit)
+        );
+    }
+    let _ = writeln!(
+        o,
+        "<tr><th>most loaded journal</th><td class=\"v\">{}</td><td>after throw</td></tr></table></div></div>",
+        s.journal_most_loaded
+    );
+    let _ = writeln!(o, "<h2>Notes</h2>");
+    if s.notes.is_empty() {
+        let _ = writeln!(o, "<p>None.</p>");
+    } else {
+        let _ = writeln!(o, "<ul>");
+        for n in &s.notes {
+            let _ = writeln!(o, "<li>{}</li>", esc(n));
+        }
+        let _ = writeln!(o, "</ul>");
+    }
+    let _ = writeln!(o, "<h2>Charts</h2>");
+    for (name, svg) in charts {
+        let body = svg.find("<svg").map_or(svg.as_str(), |i| &svg[i..]);
+        let _ = writeln!(
+            o,
+            "<figure id=\"{}\">{body}<figcaption>{}</figcaption></figure>",
+            esc(name.trim_end_matches(".svg")),
+            esc(name)
+        );
+    }
+    let _ = writeln!(o, "</body></html>");
+    o
+}
