@@ -1,0 +1,57 @@
+#!/usr/bin/env python3
+"""Checks generated report folders: every SVG parses as XML and names the
+series it should; report.html inlines every chart and its internal links
+resolve. usage: check_reports.py DIR... (each a `run --out` folder)."""
+import os, re, sys, xml.dom.minidom
+
+EXPECT = {
+    "pressure.svg": ["p(φ)", "p–V"],
+    "kinematics.svg": ["A = x/R", "B = v/(Rω)", "C = a/(Rω²)"],
+    "forces.svg": ["gas P_g", "inertia P_j", "side thrust N", "tangential T"],
+    "torque.svg": ["cylinder 1", "engine (", "mean (indicated)"],
+    "journal_torques.svg": ["journal after throw 1"],
+    "crankpin_polar.svg": ["pin load"],
+    "flywheel.svg": ["E(φ)"],
+    "harmonics.svg": ["cylinder 1", "engine"],
+}
+
+
+def main():
+    problems = 0
+    for d in sys.argv[1:]:
+        for name, texts in EXPECT.items():
+            p = os.path.join(d, name)
+            try:
+                doc = xml.dom.minidom.parse(p)
+            except Exception as e:  # any parse failure is the finding
+                print(f"{p}: does not parse: {e}")
+                problems += 1
+                continue
+            words = " ".join(t.firstChild.data for t in doc.getElementsByTagName("text") if t.firstChild)
+            for t in texts:
+                if t not in words:
+                    print(f"{p}: no series or label `{t}`")
+                    problems += 1
+            if not doc.getElementsByTagName("polyline") and not doc.getElementsByTagName("path"):
+                print(f"{p}: draws no curve")
+                problems += 1
+        html = open(os.path.join(d, "report.html"), encoding="utf-8").read()
+        ids = set(re.findall(r'id="([^"]+)"', html))
+        for name in EXPECT:
+            if name[:-4] not in ids:
+                print(f"{d}/report.html: chart {name} is not on the page")
+                problems += 1
+        for href in re.findall(r'(?:href|src)="([^"]+)"', html):
+            if href.startswith("#"):
+                ok = href[1:] in ids
+            else:
+                ok = os.path.exists(os.path.join(d, href))
+            if not ok:
+                print(f"{d}/report.html: link {href} does not resolve")
+                problems += 1
+    print(f"{problems} report problems in {len(sys.argv) - 1} folders")
+    sys.exit(1 if problems else 0)
+
+
+if __name__ == "__main__":
+    main()
