@@ -13,82 +13,6 @@ fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// Rows of the summary table: label, value, unit.
-fn rows(a: &Analysis) -> Vec<(&'static str, Option<f64>, &'static str, usize)> {
-    let s = &a.summary;
-    vec![
-        ("IMEP", s.imep_bar, "bar", 3),
-        (
-            "indicated work per cylinder",
-            s.indicated_work_per_cylinder_j,
-            "J",
-            2,
-        ),
-        ("mean torque", s.mean_torque_nm, "N m", 2),
-        ("power", s.power_kw, "kW", 2),
-        ("torque max", s.torque_max_nm, "N m", 1),
-        ("torque min", s.torque_min_nm, "N m", 1),
-        ("torque non-uniformity μ", s.torque_nonuniformity, "", 3),
-        ("energy balance error", s.energy_balance_error, "", 12),
-        ("excess work ΔE", s.excess_work_j, "J", 2),
-        (
-            "excess work coefficient ψ",
-            s.excess_work_coefficient,
-            "",
-            4,
-        ),
-        ("required inertia I₀", s.required_inertia_kg_m2, "kg m²", 5),
-        ("flywheel inertia I_f", s.flywheel_inertia_kg_m2, "kg m²", 5),
-        ("flywheel GD²", s.flywheel_gd2_n_m2, "N m²", 3),
-        (
-            "flywheel outer diameter",
-            s.flywheel_outer_diameter_m.map(|d| d * 1e3),
-            "mm",
-            1,
-        ),
-        (
-            "flywheel width",
-            s.flywheel_width_m.map(|d| d * 1e3),
-            "mm",
-            1,
-        ),
-        ("flywheel mass", s.flywheel_mass_kg, "kg", 2),
-        (
-            "speed fluctuation achieved δ",
-            s.speed_fluctuation_achieved,
-            "",
-            5,
-        ),
-        ("stroke", Some(s.stroke_m * 1e3), "mm", 3),
-        ("λ = R/L", Some(s.lambda), "", 4),
-        ("mean piston speed", Some(s.piston_speed_mean_m_s), "m/s", 2),
-        ("max piston speed", Some(s.piston_speed_max_m_s), "m/s", 2),
-        (
-            "max piston acceleration",
-            Some(s.piston_accel_max_m_s2),
-            "m/s²",
-            0,
-        ),
-        (
-            "min piston acceleration",
-            Some(s.piston_accel_min_m_s2),
-            "m/s²",
-            0,
-        ),
-        ("gas force max", s.gas_force_max_n, "N", 0),
-        ("side thrust max", s.side_force_max_n, "N", 0),
-        ("rod force max", s.rod_force_max_n, "N", 0),
-        ("crank-pin load max", s.crankpin_load_max_n, "N", 0),
-        ("crank-pin load mean", s.crankpin_load_mean_n, "N", 0),
-        (
-            "main-journal torque max",
-            Some(s.journal_torque_max_nm),
-            "N m",
-            1,
-        ),
-    ]
-}
-
 /// The page, with `charts` as (file name, SVG text) inlined in order.
 pub fn report_html(engine: &Engine, a: &Analysis, charts: &[(String, String)]) -> String {
     let s = &a.summary;
@@ -148,8 +72,8 @@ figure{{margin:12px 0}}figure svg{{max-width:100%;height:auto}}figcaption{{font-
         let _ = writeln!(o, "<tr><th>{k}</th><td>{}</td></tr>", esc(&v));
     }
     let _ = writeln!(o, "</table></div><div><h2>Summary</h2><table>");
-    for (label, value, unit, digits) in rows(a) {
-        let v = value.map_or("—".to_string(), |x| format!("{x:.digits$}"));
+    for row in crate::summary_rows(&a.summary) {
+        let (label, unit, v) = (row.label, row.unit, row.shown());
         let _ = writeln!(
             o,
             "<tr><th>{}</th><td class=\"v\">{v}</td><td>{}</td></tr>",

@@ -64,6 +64,195 @@ pub fn summary_json(summary: &Summary) -> serde_json::Value {
     )
 }
 
+/// One line of the readable summary (the printed table and the HTML page).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// Section heading the row belongs to.
+    pub section: &'static str,
+    /// What it is, as an engineer names it.
+    pub label: &'static str,
+    /// The value in `unit`, `None` when it does not exist for the case.
+    pub value: Option<f64>,
+    /// Display unit.
+    pub unit: &'static str,
+    /// Decimals shown.
+    pub digits: usize,
+}
+
+impl Row {
+    /// The value as shown: fixed decimals, or scientific for the tiny
+    /// energy-balance error; `—` when absent.
+    pub fn shown(&self) -> String {
+        let digits = self.digits;
+        match self.value {
+            None => "—".to_string(),
+            Some(x) if digits >= 10 => format!("{x:.2e}"),
+            Some(x) => format!("{x:.digits$}"),
+        }
+    }
+}
+
+/// The summary as labelled rows in display units, grouped by section: the
+/// one list both the printed table and `report.html` show.
+pub fn summary_rows(s: &Summary) -> Vec<Row> {
+    let mm = |v: Option<f64>| v.map(|d| d * 1e3);
+    let table: [(&'static str, &'static str, Option<f64>, &'static str, usize); 29] = [
+        ("Work and torque", "IMEP", s.imep_bar, "bar", 3),
+        (
+            "Work and torque",
+            "indicated work per cylinder",
+            s.indicated_work_per_cylinder_j,
+            "J",
+            2,
+        ),
+        ("Work and torque", "mean torque", s.mean_torque_nm, "N m", 2),
+        ("Work and torque", "power", s.power_kw, "kW", 2),
+        ("Work and torque", "torque max", s.torque_max_nm, "N m", 1),
+        ("Work and torque", "torque min", s.torque_min_nm, "N m", 1),
+        (
+            "Work and torque",
+            "torque non-uniformity μ",
+            s.torque_nonuniformity,
+            "",
+            3,
+        ),
+        (
+            "Work and torque",
+            "energy balance error",
+            s.energy_balance_error,
+            "",
+            12,
+        ),
+        ("Flywheel", "excess work ΔE", s.excess_work_j, "J", 2),
+        (
+            "Flywheel",
+            "excess work coefficient ψ",
+            s.excess_work_coefficient,
+            "",
+            4,
+        ),
+        (
+            "Flywheel",
+            "required inertia I₀",
+            s.required_inertia_kg_m2,
+            "kg m²",
+            5,
+        ),
+        (
+            "Flywheel",
+            "flywheel inertia I_f",
+            s.flywheel_inertia_kg_m2,
+            "kg m²",
+            5,
+        ),
+        ("Flywheel", "flywheel GD²", s.flywheel_gd2_n_m2, "N m²", 3),
+        (
+            "Flywheel",
+            "flywheel outer diameter",
+            mm(s.flywheel_outer_diameter_m),
+            "mm",
+            1,
+        ),
+        (
+            "Flywheel",
+            "flywheel width",
+            mm(s.flywheel_width_m),
+            "mm",
+            1,
+        ),
+        ("Flywheel", "flywheel mass", s.flywheel_mass_kg, "kg", 2),
+        (
+            "Flywheel",
+            "speed fluctuation achieved δ",
+            s.speed_fluctuation_achieved,
+            "",
+            5,
+        ),
+        ("Kinematics", "stroke", Some(s.stroke_m * 1e3), "mm", 3),
+        ("Kinematics", "λ = R/L", Some(s.lambda), "", 4),
+        (
+            "Kinematics",
+            "mean piston speed",
+            Some(s.piston_speed_mean_m_s),
+            "m/s",
+            2,
+        ),
+        (
+            "Kinematics",
+            "max piston speed",
+            Some(s.piston_speed_max_m_s),
+            "m/s",
+            2,
+        ),
+        (
+            "Kinematics",
+            "max piston acceleration",
+            Some(s.piston_accel_max_m_s2),
+            "m/s²",
+            0,
+        ),
+        (
+            "Kinematics",
+            "min piston acceleration",
+            Some(s.piston_accel_min_m_s2),
+            "m/s²",
+            0,
+        ),
+        (
+            "Forces (largest magnitude)",
+            "gas force",
+            s.gas_force_max_n,
+            "N",
+            0,
+        ),
+        (
+            "Forces (largest magnitude)",
+            "side thrust",
+            s.side_force_max_n,
+            "N",
+            0,
+        ),
+        (
+            "Forces (largest magnitude)",
+            "rod force",
+            s.rod_force_max_n,
+            "N",
+            0,
+        ),
+        (
+            "Forces (largest magnitude)",
+            "crank-pin load max",
+            s.crankpin_load_max_n,
+            "N",
+            0,
+        ),
+        (
+            "Forces (largest magnitude)",
+            "crank-pin load mean",
+            s.crankpin_load_mean_n,
+            "N",
+            0,
+        ),
+        (
+            "Forces (largest magnitude)",
+            "main-journal torque max",
+            Some(s.journal_torque_max_nm),
+            "N m",
+            1,
+        ),
+    ];
+    table
+        .into_iter()
+        .map(|(section, label, value, unit, digits)| Row {
+            section,
+            label,
+            value,
+            unit,
+            digits,
+        })
+        .collect()
+}
+
 /// Formats a number for CSV: shortest round-trip form.
 fn num(out: &mut String, x: f64) {
     let _ = write!(out, "{x}");
