@@ -3,7 +3,7 @@
 /// What a numerical routine could not do, with the offending value.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum NumericsError {
-    /// Slices of different lengths.
+    /// Abscissae and values of different lengths.
     #[error("{xs} abscissae but {ys} values")]
     LengthMismatch {
         /// Number of x values.
@@ -18,15 +18,17 @@ pub enum NumericsError {
         got: usize,
         /// Points needed.
         need: usize,
-        /// Method.
+        /// The method or routine that needs them.
         method: &'static str,
     },
     /// A NaN or infinity in the input.
-    #[error("non-finite value {value} at index {index}")]
+    #[error("non-finite value {what}[{index}] = {value}")]
     NonFinite {
-        /// Index.
+        /// Which input holds it (`"x"`, `"y"`).
+        what: &'static str,
+        /// Index within that input.
         index: usize,
-        /// Value.
+        /// The value.
         value: f64,
     },
     /// Abscissae not strictly increasing.
@@ -39,15 +41,26 @@ pub enum NumericsError {
         /// The value before it.
         previous: f64,
     },
-    /// The samples span a period or more, or the period is not positive.
+    /// The samples span a period or more, or the period is not a positive
+    /// finite number.
     #[error(
-        "samples span {span}, the period is {period}: the span must be shorter than a positive period"
+        "samples span {span}, the period is {period}: the span must be shorter than a positive, finite period"
     )]
     Period {
-        /// Span of the samples.
+        /// Span of the samples (last abscissa minus first).
         span: f64,
         /// Period.
         period: f64,
+    },
+    /// A scalar parameter outside its valid range.
+    #[error("{name} = {value}: {why}")]
+    Parameter {
+        /// The parameter's name.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// What it must be.
+        why: &'static str,
     },
     /// No sign change on the bracket.
     #[error("no sign change on [{a}, {b}]: f(a) = {fa}, f(b) = {fb}")]

@@ -1,16 +1,34 @@
-//! Engine-free numerics for enginedyn: periodic interpolation (linear, cubic
-//! spline, monotone cubic), integration rules, root finding and harmonic
-//! analysis. Nothing here knows about engines; everything works on plain
-//! slices of `f64`.
+//! Numerical building blocks for enginedyn, with no knowledge of the domain:
+//! everything works on plain `f64` slices and closures.
+//!
+//! - [`interp`]: periodic interpolation through samples of one period
+//!   (linear, C2 cubic spline, monotone cubic), with a fast uniform-grid
+//!   evaluator and an analytic overshoot measure.
+//! - [`integrate`]: trapezoid and Simpson rules for periodic means, cycle
+//!   integrals and running integrals of uniformly sampled data.
+//! - [`roots`]: Brent's root finder and minimiser.
+//! - [`fourier`]: amplitudes and phases of chosen harmonic orders, and the
+//!   inverse.
+//!
+//! Bad input gives a [`NumericsError`] carrying the offending value; no
+//! routine panics on it.
 //!
 //! ```
-//! use enginedyn_numerics::{InterpKind, Periodic};
-//! // A periodic spline through samples of cos(x) on [0, 2pi).
-//! let n = 32;
-//! let xs: Vec<f64> = (0..n).map(|k| k as f64 * std::f64::consts::TAU / n as f64).collect();
+//! use enginedyn_numerics::{InterpKind, Periodic, integrate::{self, Rule}};
+//! use std::f64::consts::TAU;
+//!
+//! // A periodic spline through 32 samples of cos x on [0, 2π) ...
+//! let xs: Vec<f64> = (0..32).map(|k| k as f64 * TAU / 32.0).collect();
 //! let ys: Vec<f64> = xs.iter().map(|x| x.cos()).collect();
-//! let f = Periodic::new(InterpKind::Spline, &xs, &ys, std::f64::consts::TAU).unwrap();
+//! let f = Periodic::new(InterpKind::Spline, &xs, &ys, TAU)?;
 //! assert!((f.eval(1.0) - 1.0_f64.cos()).abs() < 1e-5);
+//!
+//! // ... resampled on a finer grid, whose mean of cos² is 1/2.
+//! let mut fine = vec![0.0; 720];
+//! f.eval_uniform(0.0, TAU / 720.0, &mut fine);
+//! let sq: Vec<f64> = fine.iter().map(|v| v * v).collect();
+//! assert!((integrate::periodic_mean(Rule::Trapezoid, &sq) - 0.5).abs() < 1e-5);
+//! # Ok::<(), enginedyn_numerics::NumericsError>(())
 //! ```
 
 mod error;
