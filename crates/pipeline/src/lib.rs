@@ -82,6 +82,8 @@ pub struct Analysis {
     pub forces: Forces,
     /// Engine and journal torques (indicated).
     pub torque: EngineTorque,
+    /// Main-bearing load magnitudes (N), bearing 1 at the free end.
+    pub bearings: Vec<Vec<f64>>,
     /// Uniformity of the indicated engine torque.
     pub uniformity: Uniformity,
     /// Flywheel, when the engine delivers work.
@@ -146,6 +148,15 @@ pub fn analyse(
         ));
     }
     let uniformity = Uniformity::new(&torque.total, h, opts.integration);
+    let pin_radial: Vec<f64> = forces
+        .pin_load
+        .iter()
+        .zip(&forces.pin_angle_deg)
+        .map(|(l, a)| l * a.to_radians().cos())
+        .collect();
+    let unbalance = engine.masses().crank_unbalanced * mech.r() * omega * omega;
+    let bearings =
+        enginedyn_torque::main_bearing_loads(engine, h, &forces.tangential, &pin_radial, unbalance);
     let volume: Vec<f64> = (0..n).map(|k| cyl.volume(k as f64 * h)).collect();
     // Indicated work from the exact volume law: W = ∮ p dV.
     let p_dv: Vec<f64> = (0..n).map(|k| p[k] * cyl.dvolume(k as f64 * h)).collect();
@@ -239,6 +250,7 @@ pub fn analyse(
         kinematics: kin,
         forces,
         torque,
+        bearings,
         uniformity,
         flywheel,
         cylinder_harmonics,

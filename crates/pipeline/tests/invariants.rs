@@ -318,3 +318,24 @@ fn acceleration_extremes_are_searched() {
         a.summary.piston_accel_min_m_s2 / rw2
     );
 }
+
+/// Main bearings of a single-cylinder engine without crank unbalance each
+/// carry half the crank-pin load (the statically determinate split).
+#[test]
+fn single_cylinder_bearings_carry_half_the_pin_load() {
+    let text = "cycle = \"four-stroke\"\ncylinders = 1\nbore_mm = 80\nstroke_mm = 80\nlambda = 0.3\ncompression_ratio = 10\n[masses]\npiston_group_kg = 0.5\nrod_kg = 0.5\n";
+    let one = parse(text, "one").unwrap();
+    let a = analyse(
+        &one,
+        &pressure(1.0, 40.0),
+        3000.0,
+        &opts(1.0, Model::Exact, RodModel::TwoMass),
+    )
+    .unwrap();
+    assert_eq!(a.bearings.len(), 2);
+    for k in 0..a.pressure.len() {
+        let half = 0.5 * a.forces.pin_load[k];
+        assert!((a.bearings[0][k] - half).abs() < 1e-9 * (1.0 + half));
+        assert!((a.bearings[1][k] - half).abs() < 1e-9 * (1.0 + half));
+    }
+}

@@ -273,6 +273,9 @@ pub fn curves_csv(a: &Analysis) -> String {
     for k in 1..=throws {
         let _ = write!(s, ",torque_journal_{k}_nm");
     }
+    for k in 1..=a.bearings.len() {
+        let _ = write!(s, ",main_bearing_{k}_n");
+    }
     if a.flywheel.is_some() {
         s.push_str(",speed_rad_s");
     }
@@ -307,7 +310,7 @@ pub fn curves_csv(a: &Analysis) -> String {
             }
             num(&mut s, round_angle(i, *x));
         }
-        for j in &a.torque.journals {
+        for j in a.torque.journals.iter().chain(&a.bearings) {
             s.push(',');
             num(&mut s, j[k]);
         }

@@ -129,3 +129,65 @@ pub fn harmonics(
         })
         .collect())
 }
+
+/// Loads on the main bearings (N, magnitude) over the cycle, from the
+/// crank-pin loads of one cylinder's curve placed at every cylinder's firing
+/// angle. `tangential` is `T` and `radial` is `K - K_rB` (toward the axis) of
+/// cylinder 1 on the grid; `unbalance` is the throw's own centrifugal force
+/// `m_crank R w^2` (N).
+///
+/// Statically determinate split: each throw sits midway between two main
+/// bearings and hands half of its force (a vector in engine-fixed axes) to
+/// each; bearing `K` (1-based, `throws + 1` of them, counted from the free
+/// end) carries half of throw `K - 1` and half of throw `K`. A continuous
+/// crankshaft on more bearings is statically indeterminate and shares loads
+/// differently (neighbouring throws relieve each other); this split is the
+/// textbook first estimate.
+pub fn main_bearing_loads(
+    engine: &Engine,
+    step: f64,
+    tangential: &[f64],
+    radial: &[f64],
+    unbalance: f64,
+) -> Vec<Vec<f64>> {
+    let n = tangential.len();
+    let throws = engine.throws();
+    // Per throw: force on the throw in engine-fixed axes (x along cylinder 1, y across).
+    let mut fx = vec![vec![0.0; n]; throws];
+    let mut fy = vec![vec![0.0; n]; throws];
+    let mut t = vec![0.0; n];
+    let mut r = vec![0.0; n];
+    for k in 0..throws {
+        t.iter_mut().for_each(|v| *v = 0.0);
+        r.iter_mut().for_each(|v| *v = 0.0);
+        for i in (0..engine.cylinders()).filter(|&i| engine.throw_of(i) == k) {
+            shift_add(tangential, engine.firing_angle(i), step, &mut t);
+            shift_add(radial, engine.firing_angle(i), step, &mut r);
+        }
+        let lag = engine.crank_angles()[k];
+        for j in 0..n {
+            let (s, c) = (j as f64 * step - lag).sin_cos();
+            // Radial toward the axis along -r̂, tangential along t̂ = (-sin, cos);
+            // the unbalance pulls outward along r̂.
+            let radial_out = unbalance - r[j];
+            fx[k][j] = radial_out * c - t[j] * s;
+            fy[k][j] = radial_out * s + t[j] * c;
+        }
+    }
+    (0..=throws)
+        .map(|b| {
+            (0..n)
+                .map(|j| {
+                    let (mut x, mut y) = (0.0, 0.0);
+                    for k in [b.wrapping_sub(1), b] {
+                        if k < throws {
+                            x += 0.5 * fx[k][j];
+                            y += 0.5 * fy[k][j];
+                        }
+                    }
+                    x.hypot(y)
+                })
+                .collect()
+        })
+        .collect()
+}
