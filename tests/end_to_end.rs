@@ -218,3 +218,62 @@ fn kinematics_csv() {
     assert!((first[3] - 1.26).abs() < 1e-12);
     assert_eq!(text.lines().count(), 1 + 13);
 }
+
+/// Turning-moment input: the cylinder torque that a pressure run writes,
+/// fed back with --torque on the same grid, gives the same mean torque,
+/// excess work and flywheel to rounding (1e-9 relative); the pressure keys
+/// are null with a note.
+#[test]
+fn torque_input_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run(&["run", "--out", dir.path().to_str().unwrap(), "--json"]);
+    assert!(out.status.success());
+    let first: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let curves = std::fs::read_to_string(dir.path().join("curves.csv")).unwrap();
+    let mut lines = curves.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let i = header
+        .iter()
+        .position(|h| *h == "torque_cylinder_nm")
+        .unwrap();
+    let mut t = String::from("# rpm = 4900\ncrank_deg,torque_cylinder_nm\n");
+    for l in lines {
+        let c: Vec<&str> = l.split(',').collect();
+        t.push_str(&format!("{},{}\n", c[0], c[i]));
+    }
+    let tf = dir.path().join("t.csv");
+    std::fs::write(&tf, t).unwrap();
+    let out = run(&["run", "--torque", tf.to_str().unwrap(), "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let second: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for k in [
+        "mean_torque_nm",
+        "excess_work_j",
+        "required_inertia_kg_m2",
+        "torque_max_nm",
+        "flywheel_mass_kg",
+    ] {
+        let (a, b) = (first[k].as_f64().unwrap(), second[k].as_f64().unwrap());
+        assert!((a - b).abs() <= 1e-9 * a.abs(), "{k}: {a} vs {b}");
+    }
+    for k in [
+        "imep_bar",
+        "indicated_work_per_cylinder_j",
+        "energy_balance_error",
+        "gas_force_max_n",
+        "crankpin_load_max_n",
+    ] {
+        assert!(second[k].is_null(), "{k} should be null");
+    }
+    assert!(
+        second["notes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|n| n.as_str().unwrap().contains("turning-moment"))
+    );
+}

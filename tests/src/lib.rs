@@ -16,8 +16,11 @@ pub fn binary() -> PathBuf {
         .expect("target profile folder")
         .to_path_buf();
     let bin = dir.join(format!("enginedyn{}", std::env::consts::EXE_SUFFIX));
-    if !bin.exists() {
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    // Build (or confirm up to date) once per test process: a stale binary
+    // from an earlier build must never be the one under test.
+    static BUILT: std::sync::OnceLock<()> = std::sync::OnceLock::new();
+    BUILT.get_or_init(|| {
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| env!("CARGO").into());
         let release = dir.file_name().is_some_and(|n| n == "release");
         let mut cmd = std::process::Command::new(cargo);
         cmd.args(["build", "-q", "-p", "enginedyn", "--bin", "enginedyn"]);
@@ -26,6 +29,6 @@ pub fn binary() -> PathBuf {
         }
         let status = cmd.status().expect("cargo build");
         assert!(status.success(), "building enginedyn failed");
-    }
+    });
     bin
 }

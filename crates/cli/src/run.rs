@@ -3,7 +3,7 @@
 use crate::Failure;
 use crate::args::{DiagramArgs, RunArgs};
 use enginedyn_engine::Engine;
-use enginedyn_ingest::{Diagram, ParseOptions};
+use enginedyn_ingest::{Diagram, ParseOptions, Quantity};
 use std::path::{Path, PathBuf};
 
 /// The bundled example, compiled in so `enginedyn run` works from anywhere.
@@ -96,11 +96,6 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
             "--tolerance needs the accuracy study, which this build does not have yet; choose the method with --step, --kinematics, --interp",
         ));
     }
-    if a.torque.is_some() {
-        return Err(Failure::usage(
-            "--torque (turning-moment input) is not supported by this build yet",
-        ));
-    }
     if let Some(angles) = &a.angles {
         return Err(Failure::usage(format!(
             "--angles {angles}: not supported by this build yet"
@@ -121,6 +116,23 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
             "--step {step}: the step must divide the {cycle_deg}° cycle (0.1, 0.2, 0.25, 0.5, 1, …)"
         )));
     }
+    let opts = a.method.options();
+    if let Some(path) = &a.torque {
+        let diagram = read_diagram(Some(path), engine, &a.diagram_args)?;
+        let shown = path.display().to_string();
+        if diagram.quantity == Quantity::Pressure {
+            return Err(Failure::data(format!(
+                "{shown}: a pressure diagram; --torque reads `crank_deg` with `torque_cylinder_nm` or `torque_engine_nm` (use --diagram for pressure)"
+            )));
+        }
+        let rpm = resolve_rpm(a.rpm, diagram.rpm, engine)?;
+        let resampled = enginedyn_ingest::resample(&diagram, step, opts.interp)
+            .map_err(|e| Failure::data(format!("{shown}: {e}")))?;
+        let analysis =
+            enginedyn_pipeline::analyse_torque(engine, &resampled, diagram.quantity, rpm, &opts)
+                .map_err(|e| Failure::usage(e.to_string()))?;
+        return finish(a, engine, &shown, &analysis);
+    }
     let diagram_path: Option<PathBuf> = match (a.diagram.as_slice(), &loaded.path) {
         ([], None) => None,
         ([], Some(p)) => Some(engine.diagram().map(Path::to_path_buf).ok_or_else(|| {
@@ -139,15 +151,29 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     };
     let diagram = read_diagram(diagram_path.as_deref(), engine, &a.diagram_args)?;
     let rpm = resolve_rpm(a.rpm, diagram.rpm, engine)?;
-    let opts = a.method.options();
     let shown = diagram_path
         .as_ref()
         .map(|p| p.display().to_string())
         .unwrap_or_else(|| "data/vaz2108.csv (bundled)".into());
     let resampled = enginedyn_ingest::resample(&diagram, step, opts.interp)
         .map_err(|e| Failure::data(format!("{shown}: {e}")))?;
+    if diagram.quantity != Quantity::Pressure {
+        return Err(Failure::data(format!(
+            "{shown}: a turning-moment (torque) file: give it with --torque"
+        )));
+    }
     let analysis = enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)
         .map_err(|e| Failure::usage(e.to_string()))?;
+    finish(a, engine, &shown, &analysis)
+}
+
+/// Prints and writes the results of one operating point.
+fn finish(
+    a: &RunArgs,
+    engine: &Engine,
+    shown: &str,
+    analysis: &enginedyn_pipeline::Analysis,
+) -> Result<(), Failure> {
     for note in &analysis.summary.notes {
         eprintln!("warning: {note}");
     }
@@ -157,12 +183,12 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     } else {
         crate::emit(&crate::table::summary_table(
             engine,
-            &shown,
+            shown,
             &analysis.summary,
         ));
     }
     if let Some(dir) = &a.out {
-        let files = enginedyn_report::run_files(engine, &analysis)
+        let files = enginedyn_report::run_files(engine, analysis)
             .map_err(|e| Failure::data(e.to_string()))?;
         enginedyn_report::write_all(dir, &files).map_err(|e| Failure::data(e.to_string()))?;
         if !a.json {

@@ -82,13 +82,27 @@ pub struct Trace {
     pub cylinder: i64,
     /// Cycle angles (deg from firing TDC), strictly increasing, span < cycle.
     pub angle_deg: Vec<f64>,
-    /// Absolute pressure (Pa).
-    pub pressure_pa: Vec<f64>,
+    /// Absolute pressure (Pa), or torque (N m) for a turning-moment file.
+    pub values: Vec<f64>,
+}
+
+/// What a diagram's values are.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Quantity {
+    /// Cylinder pressure (Pa, absolute).
+    #[default]
+    Pressure,
+    /// One cylinder's torque (N m), `torque_cylinder_nm`.
+    CylinderTorque,
+    /// The engine's torque (N m), `torque_engine_nm`.
+    EngineTorque,
 }
 
 /// A parsed diagram.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Diagram {
+    /// Pressure, or torque from a turning-moment file.
+    pub quantity: Quantity,
     /// Speed from a `# rpm = N` comment line.
     pub rpm: Option<f64>,
     /// Traces in file order.
@@ -175,6 +189,8 @@ const KNOWN: &[&str] = &[
     "pressure_pa",
     "pressure_psi",
     "pressure_kgf_cm2",
+    "torque_cylinder_nm",
+    "torque_engine_nm",
     "cycle",
     "cylinder",
     "_",
@@ -308,7 +324,7 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
                 ));
             }
             if let Some(n) = names.as_ref() {
-                (i_angle, i_p, i_cycle, i_cyl, scale) = columns(n, lineno)?;
+                (i_angle, i_p, i_cycle, i_cyl, scale, d.quantity) = columns(n, lineno)?;
                 have_cols = true;
             }
             continue;
@@ -321,7 +337,7 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
                     "no header row: name the columns with --columns crank_deg,pressure_bar (or add a header)",
                 ));
             };
-            (i_angle, i_p, i_cycle, i_cyl, scale) = columns(n, lineno)?;
+            (i_angle, i_p, i_cycle, i_cyl, scale, d.quantity) = columns(n, lineno)?;
             have_cols = true;
         }
         let ncols = names.as_ref().map(Vec::len).unwrap_or(0);
@@ -343,8 +359,9 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
             Some(i) => number(cell(i), dc, lineno, i + 1)? as i64,
             None => 0,
         };
-        let p = p_raw * scale + if opts.gauge { ATM } else { 0.0 };
-        if p < 0.0 {
+        let is_pressure = d.quantity == Quantity::Pressure;
+        let p = p_raw * scale + if opts.gauge && is_pressure { ATM } else { 0.0 };
+        if is_pressure && p < 0.0 {
             return Err(at(
                 lineno,
                 Some(i_p + 1),
@@ -390,7 +407,7 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
                     ));
                 }
                 tr.angle_deg.push(a);
-                tr.pressure_pa.push(p);
+                tr.values.push(p);
             }
             _ => {
                 if let Some(tr) = current.take() {
@@ -400,7 +417,7 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
                     cycle: cyc,
                     cylinder: cyl,
                     angle_deg: vec![a],
-                    pressure_pa: vec![p],
+                    values: vec![p],
                 });
             }
         }
@@ -415,15 +432,10 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
     let peak = d
         .traces
         .iter()
-        .flat_map(|t| t.pressure_pa.iter())
+        .flat_map(|t| t.values.iter())
         .fold(0.0_f64, |a, &b| a.max(b));
-    if peak > 1e9 {
-        return Err(IngestError::Data(format!(
-            "peak pressure {:.3e} bar is implausible: is the pressure column's unit right?",
-            peak / 1e5
-        )));
-    }
-    if peak < 5e3 {
+    // 5 kPa to 10 kbar absolute: anything outside is a unit mix-up.
+    if d.quantity == Quantity::Pressure && !(5e3..=1e9).contains(&peak) {
         return Err(IngestError::Data(format!(
             "peak pressure {:.3e} bar is implausible: is the pressure column's unit right?",
             peak / 1e5
@@ -432,8 +444,8 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
     Ok(d)
 }
 
-/// Column indices of angle, pressure, cycle, cylinder, and the unit factor.
-type Cols = (usize, usize, Option<usize>, Option<usize>, f64);
+/// Column indices of angle, value, cycle, cylinder, the unit factor and what the value is.
+type Cols = (usize, usize, Option<usize>, Option<usize>, f64, Quantity);
 
 fn columns(names: &[String], line: usize) -> Result<Cols, IngestError> {
     for (i, n) in names.iter().enumerate() {
@@ -465,6 +477,17 @@ fn columns(names: &[String], line: usize) -> Result<Cols, IngestError> {
         }
         return Err(at(line, None, "no `crank_deg` column"));
     };
+    let torque = names
+        .iter()
+        .enumerate()
+        .find_map(|(i, n)| match n.as_str() {
+            "torque_cylinder_nm" => Some((i, Quantity::CylinderTorque)),
+            "torque_engine_nm" => Some((i, Quantity::EngineTorque)),
+            _ => None,
+        });
+    if let Some((i, q)) = torque {
+        return Ok((i_angle, i, find("cycle"), find("cylinder"), 1.0, q));
+    }
     let Some((i_p, scale)) = names
         .iter()
         .enumerate()
@@ -476,7 +499,14 @@ fn columns(names: &[String], line: usize) -> Result<Cols, IngestError> {
             "no pressure column (pressure_bar, pressure_mpa, pressure_kpa, pressure_pa, pressure_psi or pressure_kgf_cm2)",
         ));
     };
-    Ok((i_angle, i_p, find("cycle"), find("cylinder"), scale))
+    Ok((
+        i_angle,
+        i_p,
+        find("cycle"),
+        find("cylinder"),
+        scale,
+        Quantity::Pressure,
+    ))
 }
 
 fn similarity(a: &str, b: &str) -> f64 {
@@ -517,7 +547,7 @@ fn finish(mut tr: Trace, cycle: f64) -> Result<Trace, IngestError> {
         .chain(&wrapped[..start])
         .copied()
         .collect();
-    tr.pressure_pa.rotate_left(start);
+    tr.values.rotate_left(start);
     Ok(tr)
 }
 
@@ -538,10 +568,14 @@ pub fn resample(d: &Diagram, step_deg: f64, interp: Interp) -> Result<Resampled,
     let mut buf = vec![0.0; n];
     for tr in &d.traces {
         let kind = choose(tr, step_deg, n, interp, &mut notes)?;
-        let f = Periodic::new(kind, &tr.angle_deg, &tr.pressure_pa, cycle)
+        let f = Periodic::new(kind, &tr.angle_deg, &tr.values, cycle)
             .map_err(|e| IngestError::Data(format!("cycle {}: {e}", tr.cycle)))?;
         f.eval_uniform(0.0, step_deg, &mut buf);
-        if let Some(k) = buf.iter().position(|p| !p.is_finite() || *p < 0.0) {
+        let pressure = d.quantity == Quantity::Pressure;
+        if let Some(k) = buf
+            .iter()
+            .position(|p| !p.is_finite() || (pressure && *p < 0.0))
+        {
             return Err(IngestError::Data(format!(
                 "cycle {}: the {} interpolant gives {} Pa at {}°; use --interp pchip",
                 tr.cycle,
@@ -597,11 +631,11 @@ fn choose(
                 let s = Periodic::new(
                     InterpKind::Spline,
                     &tr.angle_deg,
-                    &tr.pressure_pa,
+                    &tr.values,
                     step * n as f64,
                 )
                 .map_err(|e| IngestError::Data(e.to_string()))?;
-                let peak = tr.pressure_pa.iter().fold(0.0_f64, |a, &b| a.max(b));
+                let peak = tr.values.iter().fold(0.0_f64, |a, &b| a.max(b.abs()));
                 if s.max_overshoot() > 0.005 * peak {
                     notes.push(format!(
                         "the periodic spline overshoots the data by {:.2} % of the peak: pchip used instead",

@@ -41,7 +41,7 @@ fn units_and_delimiters_round_trip() {
             let d = parse(text.as_bytes(), &opts()).unwrap();
             assert_eq!(d.rpm, Some(3000.0));
             let tr = &d.traces[0];
-            for (a, p) in tr.angle_deg.iter().zip(&tr.pressure_pa) {
+            for (a, p) in tr.angle_deg.iter().zip(&tr.values) {
                 assert!(
                     (p - p_bar(*a) * 1e5).abs() < 1e-9 * p,
                     "{unit} {delim:?} at {a}"
@@ -84,7 +84,7 @@ fn columns_without_header() {
     let mut o = opts();
     o.columns = Some(vec!["crank_deg".into(), "_".into(), "pressure_bar".into()]);
     let d = parse(s.as_bytes(), &o).unwrap();
-    assert_eq!(d.traces[0].pressure_pa, vec![1.5e5, 2.5e5, 3.5e5, 4.5e5]);
+    assert_eq!(d.traces[0].values, vec![1.5e5, 2.5e5, 3.5e5, 4.5e5]);
     let e = parse(s.as_bytes(), &opts()).unwrap_err();
     assert!(e.to_string().contains("--columns"), "{e}");
 }

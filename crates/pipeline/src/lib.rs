@@ -14,7 +14,7 @@
 use enginedyn_engine::{Engine, RodModel};
 use enginedyn_flywheel::{Flywheel, Uniformity};
 use enginedyn_forces::{Forces, Setup, cylinder_forces};
-use enginedyn_ingest::{Interp, Resampled};
+use enginedyn_ingest::{Interp, Quantity, Resampled};
 use enginedyn_kinematics::{Model, Table};
 use enginedyn_numerics::{integrate, integrate::Rule, roots};
 use enginedyn_torque::{EngineTorque, Harmonic};
@@ -72,13 +72,15 @@ impl Default for Options {
 pub struct Analysis {
     /// Grid step (rad).
     pub step: f64,
-    /// Cylinder 1's pressure (Pa, absolute) on the grid.
+    /// Cylinder 1's pressure (Pa, absolute) on the grid; empty for torque input.
     pub pressure: Vec<f64>,
-    /// Cylinder 1's volume (m³).
+    /// Cylinder 1's volume (m³); empty for torque input.
     pub volume: Vec<f64>,
     /// Cylinder 1's motion.
     pub kinematics: Table,
-    /// Cylinder 1's forces and torque.
+    /// Cylinder 1's torque (N m); empty when only the engine torque is known.
+    pub cylinder_torque: Vec<f64>,
+    /// Cylinder 1's forces and torque (empty vectors without pressure).
     pub forces: Forces,
     /// Engine and journal torques (indicated).
     pub torque: EngineTorque,
@@ -99,6 +101,58 @@ pub struct Analysis {
 /// Highest engine order in `harmonics.csv`.
 pub const MAX_ORDER: f64 = 24.0;
 
+/// What the front ends hand to [`complete`].
+struct Parts {
+    h: f64,
+    rod_model: RodModel,
+    pressure: Vec<f64>,
+    volume: Vec<f64>,
+    kinematics: Table,
+    forces: Forces,
+    cylinder_torque: Vec<f64>,
+    torque: EngineTorque,
+    bearings: Vec<Vec<f64>>,
+    /// `∮ p dV` per cylinder (J), when pressure is known.
+    work: Option<f64>,
+    notes: Vec<String>,
+    interpolation: &'static str,
+    cycles: usize,
+}
+
+/// Checks the speed and grid, applies the rod model; returns the engine to
+/// use, the grid step (rad) and the notes so far.
+fn prepare(
+    engine: &Engine,
+    rpm: f64,
+    n: usize,
+    opts: &Options,
+) -> Result<(Engine, f64, Vec<String>), PipelineError> {
+    if !(rpm.is_finite() && rpm > 0.0) {
+        return Err(PipelineError::Input(format!(
+            "speed {rpm} rpm: a positive speed is needed"
+        )));
+    }
+    let rod_model = opts.rod_model.unwrap_or(engine.rod_model());
+    let engine = engine.with_rod_model(rod_model)?;
+    let h = engine.cycle() / n.max(1) as f64;
+    if ((h.to_degrees() - opts.step_deg) / opts.step_deg).abs() > 1e-9 {
+        return Err(PipelineError::Input(format!(
+            "the data grid step {}° differs from the method step {}°",
+            h.to_degrees(),
+            opts.step_deg
+        )));
+    }
+    let notes = engine.notes().to_vec();
+    Ok((engine, h, notes))
+}
+
+fn interp_name(opts: &Options, chosen: &Resampled) -> &'static str {
+    match opts.interp {
+        Interp::Auto => chosen.interp.name(),
+        other => other.name(),
+    }
+}
+
 /// Analyses one operating point at `rpm` from a resampled pressure trace.
 pub fn analyse(
     engine: &Engine,
@@ -106,26 +160,12 @@ pub fn analyse(
     rpm: f64,
     opts: &Options,
 ) -> Result<Analysis, PipelineError> {
-    if !(rpm.is_finite() && rpm > 0.0) {
-        return Err(PipelineError::Input(format!(
-            "speed {rpm} rpm: a positive speed is needed"
-        )));
-    }
-    let rod_model = opts.rod_model.unwrap_or(engine.rod_model());
-    let engine = &engine.with_rod_model(rod_model)?;
-    let mut notes: Vec<String> = engine.notes().to_vec();
+    let n = pressure.pressure.len();
+    let (engine, h, mut notes) = prepare(engine, rpm, n, opts)?;
+    let engine = &engine;
+    let rod_model = engine.rod_model();
     notes.extend(pressure.notes.iter().cloned());
     let omega = rpm * PI / 30.0;
-    let cycle = engine.cycle();
-    let n = pressure.pressure.len();
-    let h = cycle / n as f64;
-    if ((h.to_degrees() - opts.step_deg) / opts.step_deg).abs() > 1e-9 {
-        return Err(PipelineError::Input(format!(
-            "the pressure grid step {}° differs from the method step {}°",
-            h.to_degrees(),
-            opts.step_deg
-        )));
-    }
     let mech = engine.mechanism();
     let cyl = engine.cylinder();
     let mut kin = Table::default();
@@ -141,13 +181,6 @@ pub fn analyse(
     let p = &pressure.pressure;
     let forces = cylinder_forces(&setup, &kin, p, 0.0, h);
     let torque = enginedyn_torque::sum(engine, h, |_| &forces.torque);
-    if !enginedyn_torque::on_grid(engine, h) {
-        notes.push(format!(
-            "firing angles fall between grid points of {}°: cylinder torques shifted by linear interpolation",
-            opts.step_deg
-        ));
-    }
-    let uniformity = Uniformity::new(&torque.total, h, opts.integration);
     let pin_radial: Vec<f64> = forces
         .pin_load
         .iter()
@@ -161,10 +194,124 @@ pub fn analyse(
     // Indicated work from the exact volume law: W = ∮ p dV.
     let p_dv: Vec<f64> = (0..n).map(|k| p[k] * cyl.dvolume(k as f64 * h)).collect();
     let work = integrate::periodic_integral(opts.integration, &p_dv, h);
+    let parts = Parts {
+        h,
+        rod_model,
+        pressure: p.clone(),
+        volume,
+        kinematics: kin,
+        cylinder_torque: forces.torque.clone(),
+        forces,
+        torque,
+        bearings,
+        work: Some(work),
+        notes,
+        interpolation: interp_name(opts, pressure),
+        cycles: pressure.cycles,
+    };
+    complete(engine, parts, rpm, opts)
+}
+
+/// Analyses one operating point from a turning-moment diagram (torque of one
+/// cylinder, summed by firing order, or of the whole engine): no pressure,
+/// so the pressure and force figures are absent (`None`), with a note.
+pub fn analyse_torque(
+    engine: &Engine,
+    torque: &Resampled,
+    quantity: Quantity,
+    rpm: f64,
+    opts: &Options,
+) -> Result<Analysis, PipelineError> {
+    let n = torque.pressure.len();
+    let (engine, h, mut notes) = prepare(engine, rpm, n, opts)?;
+    let engine = &engine;
+    notes.extend(torque.notes.iter().cloned());
+    let mut kin = Table::default();
+    engine
+        .mechanism()
+        .fill(opts.kinematics, 0.0, h, n, &mut kin)?;
+    notes.push(
+        "turning-moment input: no pressure, so IMEP, indicated work, the energy balance and the forces are not computed".into(),
+    );
+    let m = torque.pressure.clone();
+    let (cylinder_torque, engine_torque) = match quantity {
+        Quantity::CylinderTorque => {
+            let t = enginedyn_torque::sum(engine, h, |_| &m);
+            (m.clone(), t)
+        }
+        Quantity::EngineTorque => {
+            notes.push(
+                "engine torque given: the torques of the other main journals are unknown; the last journal carries the engine torque".into(),
+            );
+            (
+                Vec::new(),
+                EngineTorque {
+                    total: m.clone(),
+                    journals: vec![m.clone()],
+                },
+            )
+        }
+        Quantity::Pressure => {
+            return Err(PipelineError::Input(
+                "a pressure diagram given as turning-moment input".into(),
+            ));
+        }
+    };
+    let parts = Parts {
+        h,
+        rod_model: engine.rod_model(),
+        pressure: Vec::new(),
+        volume: Vec::new(),
+        kinematics: kin,
+        forces: Forces::default(),
+        cylinder_torque,
+        torque: engine_torque,
+        bearings: Vec::new(),
+        work: None,
+        notes,
+        interpolation: interp_name(opts, torque),
+        cycles: torque.cycles,
+    };
+    complete(engine, parts, rpm, opts)
+}
+
+/// Uniformity, flywheel, harmonics and the summary, shared by both inputs.
+fn complete(
+    engine: &Engine,
+    parts: Parts,
+    rpm: f64,
+    opts: &Options,
+) -> Result<Analysis, PipelineError> {
+    let Parts {
+        h,
+        rod_model,
+        pressure,
+        volume,
+        kinematics,
+        forces,
+        cylinder_torque,
+        torque,
+        bearings,
+        work,
+        mut notes,
+        interpolation,
+        cycles,
+    } = parts;
+    let omega = rpm * PI / 30.0;
+    let cycle = engine.cycle();
+    let mech = engine.mechanism();
+    if !enginedyn_torque::on_grid(engine, h) {
+        notes.push(format!(
+            "firing angles fall between grid points of {}°: cylinder torques shifted by linear interpolation",
+            opts.step_deg
+        ));
+    }
+    let uniformity = Uniformity::new(&torque.total, h, opts.integration);
     let z = engine.cylinders() as f64;
-    let mean_from_work = z * work / cycle;
-    let energy_balance_error =
-        (uniformity.mean - mean_from_work).abs() / mean_from_work.abs().max(1e-300);
+    let energy_balance_error = work.map(|w| {
+        let mean_from_work = z * w / cycle;
+        (uniformity.mean - mean_from_work).abs() / mean_from_work.abs().max(1e-300)
+    });
     let mut engine_inertia = engine.flywheel().other_rotating_inertia;
     if engine.flywheel().include_crank_train {
         let r = mech.r();
@@ -187,7 +334,11 @@ pub fn analyse(
             }
         };
     let revs = cycle / (2.0 * PI);
-    let cylinder_harmonics = enginedyn_torque::harmonics(&forces.torque, revs, MAX_ORDER)?;
+    let cylinder_harmonics = if cylinder_torque.is_empty() {
+        Vec::new()
+    } else {
+        enginedyn_torque::harmonics(&cylinder_torque, revs, MAX_ORDER)?
+    };
     let engine_harmonics = enginedyn_torque::harmonics(&torque.total, revs, MAX_ORDER)?;
     let ext = kinematic_extremes(engine, opts.kinematics, omega)?;
     let eta = engine.operating().mechanical_efficiency;
@@ -197,16 +348,20 @@ pub fn analyse(
         .enumerate()
         .map(|(k, j)| (j.iter().fold(0.0_f64, |a, b| a.max(b.abs())), k))
         .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
-    let abs_max = |v: &[f64]| v.iter().fold(0.0_f64, |a, b| a.max(b.abs()));
-    let interp_name = match opts.interp {
-        Interp::Auto => pressure.interp.name(),
-        other => other.name(),
+    // Journal numbering: with engine-torque input only the last journal is known.
+    let j_idx = if torque.journals.len() == 1 {
+        engine.throws() - 1
+    } else {
+        j_idx
     };
+    let has_forces = !forces.gas.is_empty();
+    let abs_max = |v: &[f64]| has_forces.then(|| v.iter().fold(0.0_f64, |a, b| a.max(b.abs())));
+    let cyl = engine.cylinder();
     let summary = Summary {
         rpm,
         omega_rad_s: omega,
-        imep_bar: Some(work / cyl.swept_volume() / 1e5),
-        indicated_work_per_cylinder_j: Some(work),
+        imep_bar: work.map(|w| w / cyl.swept_volume() / 1e5),
+        indicated_work_per_cylinder_j: work,
         mean_torque_nm: Some(uniformity.mean * eta),
         power_kw: Some(uniformity.mean * eta * omega / 1e3),
         torque_max_nm: Some(uniformity.max),
@@ -227,27 +382,29 @@ pub fn analyse(
         piston_speed_max_m_s: ext.speed_max,
         piston_accel_max_m_s2: ext.accel_max,
         piston_accel_min_m_s2: ext.accel_min,
-        gas_force_max_n: Some(abs_max(&forces.gas)),
-        side_force_max_n: Some(abs_max(&forces.side)),
-        rod_force_max_n: Some(abs_max(&forces.rod)),
-        crankpin_load_max_n: Some(abs_max(&forces.pin_load)),
-        crankpin_load_mean_n: Some(integrate::periodic_mean(opts.integration, &forces.pin_load)),
+        gas_force_max_n: abs_max(&forces.gas),
+        side_force_max_n: abs_max(&forces.side),
+        rod_force_max_n: abs_max(&forces.rod),
+        crankpin_load_max_n: abs_max(&forces.pin_load),
+        crankpin_load_mean_n: has_forces
+            .then(|| integrate::periodic_mean(opts.integration, &forces.pin_load)),
         journal_torque_max_nm: j_max,
         journal_most_loaded: j_idx + 1,
-        energy_balance_error: Some(energy_balance_error),
+        energy_balance_error,
         kinematics: opts.kinematics.name(),
         rod_model: rod_model.name(),
-        interpolation: interp_name,
+        interpolation,
         grid_step_deg: opts.step_deg,
         integration: opts.integration.name(),
-        cycles: (pressure.cycles > 1).then_some(pressure.cycles),
+        cycles: (cycles > 1).then_some(cycles),
         notes,
     };
     Ok(Analysis {
         step: h,
-        pressure: p.clone(),
+        pressure,
         volume,
-        kinematics: kin,
+        kinematics,
+        cylinder_torque,
         forces,
         torque,
         bearings,

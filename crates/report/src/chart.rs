@@ -329,7 +329,8 @@ pub fn kinematics_chart(title: impl Into<String>, t: &Table, r: f64, step_deg: f
 
 /// The charts of `run --out DIR`, in report order.
 pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
-    let n = a.pressure.len();
+    let n = a.torque.total.len();
+    let has_pressure = !a.pressure.is_empty();
     let deg = || (0..n).map(|k| (k as f64 * a.step).to_degrees());
     let cycle = (n as f64 * a.step).to_degrees();
     let name = engine.name();
@@ -338,38 +339,40 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
     let mut figs = Vec::new();
 
     // Pressure: p–φ, and p–V on log-log axes.
-    let bar: Vec<f64> = a.pressure.iter().map(|p| p / 1e5).collect();
-    let litre: Vec<f64> = a.volume.iter().map(|v| v * 1e3).collect();
-    let mut pv = Chart {
-        title: "p–V (log-log)".into(),
-        x_label: "cylinder volume (l)".into(),
-        y_label: "pressure (bar, absolute)".into(),
-        series: vec![Series::from_points(
-            "cylinder 1",
-            litre
-                .iter()
-                .copied()
-                .zip(bar.iter().copied())
-                .collect::<Vec<_>>()
-                .into_iter(),
-        )],
-        log: true,
-        equal: false,
-        angle_ticks: None,
-    };
-    let first = pv.series[0].points[0];
-    pv.series[0].points.push(first); // close the loop
-    figs.push(Figure {
-        file: "pressure.svg".into(),
-        panels: vec![
-            Chart::angle(
-                format!("{name} — cylinder pressure, {rpm:.0} rpm"),
-                "pressure (bar, absolute)",
-                vec![Series::new("p(φ)", deg(), &bar)],
-            ),
-            pv,
-        ],
-    });
+    if has_pressure {
+        let bar: Vec<f64> = a.pressure.iter().map(|p| p / 1e5).collect();
+        let litre: Vec<f64> = a.volume.iter().map(|v| v * 1e3).collect();
+        let mut pv = Chart {
+            title: "p–V (log-log)".into(),
+            x_label: "cylinder volume (l)".into(),
+            y_label: "pressure (bar, absolute)".into(),
+            series: vec![Series::from_points(
+                "cylinder 1",
+                litre
+                    .iter()
+                    .copied()
+                    .zip(bar.iter().copied())
+                    .collect::<Vec<_>>()
+                    .into_iter(),
+            )],
+            log: true,
+            equal: false,
+            angle_ticks: None,
+        };
+        let first = pv.series[0].points[0];
+        pv.series[0].points.push(first); // close the loop
+        figs.push(Figure {
+            file: "pressure.svg".into(),
+            panels: vec![
+                Chart::angle(
+                    format!("{name} — cylinder pressure, {rpm:.0} rpm"),
+                    "pressure (bar, absolute)",
+                    vec![Series::new("p(φ)", deg(), &bar)],
+                ),
+                pv,
+            ],
+        });
+    }
 
     // Kinematics over the cycle of cylinder 1.
     let r = engine.mechanism().r();
@@ -385,24 +388,26 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
 
     // Forces on cylinder 1.
     let f = &a.forces;
-    figs.push(Figure::single(
-        "forces.svg",
-        Chart::angle(
-            format!(
-                "{name} — forces on cylinder 1 ({} rod), {rpm:.0} rpm",
-                a.summary.rod_model
+    if has_pressure {
+        figs.push(Figure::single(
+            "forces.svg",
+            Chart::angle(
+                format!(
+                    "{name} — forces on cylinder 1 ({} rod), {rpm:.0} rpm",
+                    a.summary.rod_model
+                ),
+                "force (kN), positive toward the crank / driving",
+                vec![
+                    Series::new("gas P_g", deg(), &kn(&f.gas)),
+                    Series::new("inertia P_j", deg(), &kn(&f.inertia)),
+                    Series::new("total P", deg(), &kn(&f.total)),
+                    Series::new("side thrust N", deg(), &kn(&f.side)),
+                    Series::new("radial K", deg(), &kn(&f.radial)),
+                    Series::new("tangential T", deg(), &kn(&f.tangential)),
+                ],
             ),
-            "force (kN), positive toward the crank / driving",
-            vec![
-                Series::new("gas P_g", deg(), &kn(&f.gas)),
-                Series::new("inertia P_j", deg(), &kn(&f.inertia)),
-                Series::new("total P", deg(), &kn(&f.total)),
-                Series::new("side thrust N", deg(), &kn(&f.side)),
-                Series::new("radial K", deg(), &kn(&f.radial)),
-                Series::new("tangential T", deg(), &kn(&f.tangential)),
-            ],
-        ),
-    ));
+        ));
+    }
 
     // Torque.
     let mean = a.uniformity.mean;
@@ -441,30 +446,32 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
     ));
 
     // Crank-pin load, crank-fixed axes.
-    let pin: Vec<(f64, f64)> = (0..n)
-        .map(|k| {
-            let t = f.pin_load[k] * f.pin_angle_deg[k].to_radians().sin();
-            let k_r = f.pin_load[k] * f.pin_angle_deg[k].to_radians().cos();
-            (t / 1e3, k_r / 1e3)
-        })
-        .collect();
-    let mut polar_pts = pin.clone();
-    polar_pts.push(pin[0]);
-    figs.push(Figure::single(
-        "crankpin_polar.svg",
-        Chart {
-            title: format!(
-                "{name} — crank-pin load in crank axes, max {:.1} kN",
-                a.summary.crankpin_load_max_n.unwrap_or(0.0) / 1e3
-            ),
-            x_label: "tangential T (kN), + direction of rotation".into(),
-            y_label: "radial K − K_rB (kN), + toward the axis".into(),
-            series: vec![Series::from_points("pin load", polar_pts.into_iter())],
-            log: false,
-            equal: true,
-            angle_ticks: None,
-        },
-    ));
+    if has_pressure {
+        let pin: Vec<(f64, f64)> = (0..n)
+            .map(|k| {
+                let t = f.pin_load[k] * f.pin_angle_deg[k].to_radians().sin();
+                let k_r = f.pin_load[k] * f.pin_angle_deg[k].to_radians().cos();
+                (t / 1e3, k_r / 1e3)
+            })
+            .collect();
+        let mut polar_pts = pin.clone();
+        polar_pts.push(pin[0]);
+        figs.push(Figure::single(
+            "crankpin_polar.svg",
+            Chart {
+                title: format!(
+                    "{name} — crank-pin load in crank axes, max {:.1} kN",
+                    a.summary.crankpin_load_max_n.unwrap_or(0.0) / 1e3
+                ),
+                x_label: "tangential T (kN), + direction of rotation".into(),
+                y_label: "radial K − K_rB (kN), + toward the axis".into(),
+                series: vec![Series::from_points("pin load", polar_pts.into_iter())],
+                log: false,
+                equal: true,
+                angle_ticks: None,
+            },
+        ));
+    }
 
     // Flywheel: excess energy and the speed trace with I_0.
     let mut panels = vec![Chart::angle(

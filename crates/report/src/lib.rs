@@ -258,12 +258,14 @@ fn num(out: &mut String, x: f64) {
     let _ = write!(out, "{x}");
 }
 
-/// `curves.csv`: one row per grid angle of cylinder 1 over the cycle.
+/// `curves.csv`: one row per grid angle of cylinder 1 over the cycle. Columns
+/// that do not exist for the case (the pressure and force columns of a
+/// turning-moment run) are empty cells.
 pub fn curves_csv(a: &Analysis) -> String {
-    let n = a.pressure.len();
+    let n = a.torque.total.len();
     let w = a.summary.omega_rad_s;
     let throws = a.torque.journals.len();
-    let mut s = String::with_capacity(n * 400);
+    let mut s = String::with_capacity(n * 420);
     s.push_str(
         "crank_deg,pressure_bar,volume_m3,piston_x_m,piston_v_m_s,piston_a_m_s2,rod_angle_deg,\
          force_gas_n,force_inertia_n,force_total_n,force_side_n,force_rod_n,force_radial_n,\
@@ -282,41 +284,43 @@ pub fn curves_csv(a: &Analysis) -> String {
     s.push('\n');
     let f = &a.forces;
     let kin = &a.kinematics;
+    let at = |v: &[f64], k: usize| v.get(k).copied();
     for k in 0..n {
         let row = [
-            (k as f64 * a.step).to_degrees(),
-            a.pressure[k] / 1e5,
-            a.volume[k],
-            kin.x[k],
-            kin.dx[k] * w,
-            kin.d2x[k] * w * w,
-            kin.beta[k].to_degrees(),
-            f.gas[k],
-            f.inertia[k],
-            f.total[k],
-            f.side[k],
-            f.rod[k],
-            f.radial[k],
-            f.tangential[k],
-            f.pin_load[k],
-            f.pin_angle_deg[k],
-            f.torque[k],
-            a.torque.total[k],
-            a.uniformity.excess_energy[k],
+            Some(round_angle((k as f64 * a.step).to_degrees())),
+            at(&a.pressure, k).map(|p| p / 1e5),
+            at(&a.volume, k),
+            at(&kin.x, k),
+            at(&kin.dx, k).map(|v| v * w),
+            at(&kin.d2x, k).map(|v| v * w * w),
+            at(&kin.beta, k).map(f64::to_degrees),
+            at(&f.gas, k),
+            at(&f.inertia, k),
+            at(&f.total, k),
+            at(&f.side, k),
+            at(&f.rod, k),
+            at(&f.radial, k),
+            at(&f.tangential, k),
+            at(&f.pin_load, k),
+            at(&f.pin_angle_deg, k),
+            at(&a.cylinder_torque, k),
+            at(&a.torque.total, k),
+            at(&a.uniformity.excess_energy, k),
         ];
-        for (i, x) in row.iter().enumerate() {
+        let extra = a
+            .torque
+            .journals
+            .iter()
+            .chain(&a.bearings)
+            .map(|j| at(j, k))
+            .chain(a.flywheel.iter().map(|fw| at(&fw.speed, k)));
+        for (i, x) in row.into_iter().chain(extra).enumerate() {
             if i > 0 {
                 s.push(',');
             }
-            num(&mut s, round_angle(i, *x));
-        }
-        for j in a.torque.journals.iter().chain(&a.bearings) {
-            s.push(',');
-            num(&mut s, j[k]);
-        }
-        if let Some(fw) = &a.flywheel {
-            s.push(',');
-            num(&mut s, fw.speed[k]);
+            if let Some(x) = x {
+                num(&mut s, x);
+            }
         }
         s.push('\n');
     }
@@ -324,25 +328,29 @@ pub fn curves_csv(a: &Analysis) -> String {
 }
 
 /// Grid angles are printed without binary noise (0.30000000000000004 → 0.3).
-fn round_angle(col: usize, x: f64) -> f64 {
-    if col == 0 { (x * 1e9).round() / 1e9 } else { x }
+fn round_angle(x: f64) -> f64 {
+    (x * 1e9).round() / 1e9
 }
 
-/// `harmonics.csv`: amplitude and phase by engine order.
+/// `harmonics.csv`: amplitude and phase by engine order (cylinder columns
+/// empty when only the engine torque is known).
 pub fn harmonics_csv(a: &Analysis) -> String {
     let mut s = String::from(
         "order,cylinder_amplitude_nm,cylinder_phase_deg,engine_amplitude_nm,engine_phase_deg\n",
     );
-    for (c, e) in a.cylinder_harmonics.iter().zip(&a.engine_harmonics) {
-        num(&mut s, c.order);
+    for (i, e) in a.engine_harmonics.iter().enumerate() {
+        num(&mut s, e.order);
+        let c = a.cylinder_harmonics.get(i);
         for x in [
-            c.amplitude,
-            c.phase.to_degrees(),
-            e.amplitude,
-            e.phase.to_degrees(),
+            c.map(|c| c.amplitude),
+            c.map(|c| c.phase.to_degrees()),
+            Some(e.amplitude),
+            Some(e.phase.to_degrees()),
         ] {
             s.push(',');
-            num(&mut s, x);
+            if let Some(x) = x {
+                num(&mut s, x);
+            }
         }
         s.push('\n');
     }
