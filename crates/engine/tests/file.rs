@@ -139,3 +139,33 @@ fn shared_pin_v6_even_firing_refused() {
         "{msg}"
     );
 }
+
+/// The bundled 60° V12 (bank 1 = 1–6): it fires every 60° in the order
+/// 1-7-5-11-3-9-6-12-2-8-4-10 on the six-throw crank 0-120-240-240-120-0.
+/// Hand check: 7 shares throw 1 and sits 60° (the bank) after 1; 11 shares
+/// throw 5 (120°) and fires at 120 + 60 = 180°; 12 shares throw 6 (0°) and
+/// fires at 0 + 60 + 360 = 420°.
+#[test]
+fn bundled_v12_firing_angles() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/v12_60.toml");
+    let e = enginedyn_engine::file::read(std::path::Path::new(path)).unwrap();
+    assert_eq!(
+        deg(e.firing_angles()),
+        vec![
+            0.0, 480.0, 240.0, 600.0, 120.0, 360.0, 60.0, 540.0, 300.0, 660.0, 180.0, 420.0
+        ]
+    );
+    assert_eq!(
+        deg(e.crank_angles()),
+        vec![0.0, 120.0, 240.0, 240.0, 120.0, 0.0]
+    );
+}
+
+/// The bundled three-cylinder two-stroke fires every 120° (1-3-2).
+#[test]
+fn bundled_two_stroke_triple() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/i3_two_stroke.toml");
+    let e = enginedyn_engine::file::read(std::path::Path::new(path)).unwrap();
+    assert_eq!(deg(e.firing_angles()), vec![0.0, 240.0, 120.0]);
+    assert_eq!(deg(e.crank_angles()), vec![0.0, 240.0, 120.0]);
+}

@@ -19,7 +19,8 @@ USAGE:
     enginedyn-synth [OPTIONS]
 
 OPTIONS:
-    --preset NAME     petrol (default) or diesel: CycleModel::petrol_full_load / diesel_full_load
+    --preset NAME     petrol (default), diesel or two-stroke: CycleModel::petrol_full_load /
+                      diesel_full_load / petrol_two_stroke
     --bore-mm D       bore (petrol 76, diesel 84)
     --stroke-mm S     stroke, twice the crank radius (petrol 71, diesel 90)
     --lambda L        R/L, crank radius over rod length (petrol 0.26, diesel 0.3)
@@ -178,7 +179,20 @@ fn job(f: &Flags) -> Result<Job, String> {
             17.0,
             4000.0,
         ),
-        Some(other) => return Err(format!("--preset {other}: expected petrol or diesel")),
+        Some("two-stroke") => (
+            "two-stroke",
+            CycleModel::petrol_two_stroke(),
+            73.5,
+            78.0,
+            0.27,
+            7.5,
+            4200.0,
+        ),
+        Some(other) => {
+            return Err(format!(
+                "--preset {other}: expected petrol, diesel or two-stroke"
+            ));
+        }
     };
     let bore_mm = f.bore_mm.unwrap_or(bore);
     let stroke_mm = f.stroke_mm.unwrap_or(stroke);
