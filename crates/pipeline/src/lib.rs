@@ -248,6 +248,7 @@ pub fn analyse_torque(
                 EngineTorque {
                     total: m.clone(),
                     journals: vec![m.clone()],
+                    crankpins: Vec::new(),
                 },
             )
         }

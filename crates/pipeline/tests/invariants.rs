@@ -339,3 +339,26 @@ fn single_cylinder_bearings_carry_half_the_pin_load() {
         assert!((a.bearings[1][k] - half).abs() < 1e-9 * (1.0 + half));
     }
 }
+
+/// Crank-pin torques lie halfway between the journal torques on either side
+/// (the statically determinate web split): pin K = (journal K-1 + journal K)/2.
+#[test]
+fn crankpin_torques_are_between_journals() {
+    let e = engine("");
+    let a = analyse(
+        &e,
+        &pressure(1.0, 60.0),
+        4900.0,
+        &opts(1.0, Model::Exact, RodModel::TwoMass),
+    )
+    .unwrap();
+    let t = &a.torque;
+    assert_eq!(t.crankpins.len(), 4);
+    for k in 0..4 {
+        for j in 0..a.pressure.len() {
+            let before = if k == 0 { 0.0 } else { t.journals[k - 1][j] };
+            let mid = 0.5 * (before + t.journals[k][j]);
+            assert!((t.crankpins[k][j] - mid).abs() < 1e-9 * (1.0 + mid.abs()));
+        }
+    }
+}

@@ -278,6 +278,9 @@ pub fn curves_csv(a: &Analysis) -> String {
     for k in 1..=a.bearings.len() {
         let _ = write!(s, ",main_bearing_{k}_n");
     }
+    for k in 1..=a.torque.crankpins.len() {
+        let _ = write!(s, ",torque_crankpin_{k}_nm");
+    }
     if a.flywheel.is_some() {
         s.push_str(",speed_rad_s");
     }
@@ -312,6 +315,7 @@ pub fn curves_csv(a: &Analysis) -> String {
             .journals
             .iter()
             .chain(&a.bearings)
+            .chain(&a.torque.crankpins)
             .map(|j| at(j, k))
             .chain(a.flywheel.iter().map(|fw| at(&fw.speed, k)));
         for (i, x) in row.into_iter().chain(extra).enumerate() {

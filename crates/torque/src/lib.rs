@@ -60,6 +60,12 @@ pub struct EngineTorque {
     /// `journals[K]`: torque on the main journal after throw `K + 1`, counted
     /// from the free end; the last equals `total`.
     pub journals: Vec<Vec<f64>>,
+    /// `crankpins[K]`: torque twisting the crank pin of throw `K + 1`: the
+    /// journal torque before it plus the half of the throw's own torque that
+    /// its free-end web passes on (the statically determinate split of the
+    /// tangential force between the two webs). Empty when only the engine
+    /// torque is known.
+    pub crankpins: Vec<Vec<f64>>,
 }
 
 /// Sums cylinder torques by firing angle. `cylinder_torque(i)` gives
@@ -82,8 +88,10 @@ pub fn sum<'a>(
         );
     }
     let mut journals = Vec::with_capacity(throws);
+    let mut crankpins = Vec::with_capacity(throws);
     let mut acc = vec![0.0; n];
     for t in &per_throw {
+        crankpins.push(acc.iter().zip(t).map(|(a, v)| a + 0.5 * v).collect());
         for (a, v) in acc.iter_mut().zip(t) {
             *a += v;
         }
@@ -92,6 +100,7 @@ pub fn sum<'a>(
     EngineTorque {
         total: acc,
         journals,
+        crankpins,
     }
 }
 
