@@ -216,20 +216,49 @@ impl Delim {
             Delim::Space
         }
     }
-    /// Byte ranges of the cells of `line` (reused buffer: no allocation per line).
+    /// Byte ranges of the cells of `line`, trimmed of ASCII white space
+    /// (a reused buffer and a byte scan: no allocation per line).
     fn split(self, line: &str, out: &mut Vec<(usize, usize)>) {
         out.clear();
-        let range = |cell: &str| {
-            let t = cell.trim();
-            let start = t.as_ptr() as usize - line.as_ptr() as usize;
-            (start, start + t.len())
+        let b = line.as_bytes();
+        let trimmed = |mut s: usize, mut e: usize| {
+            while s < e && b[s].is_ascii_whitespace() {
+                s += 1;
+            }
+            while e > s && b[e - 1].is_ascii_whitespace() {
+                e -= 1;
+            }
+            (s, e)
         };
-        match self {
-            Delim::Comma => out.extend(line.split(',').map(range)),
-            Delim::Semicolon => out.extend(line.split(';').map(range)),
-            Delim::Tab => out.extend(line.split('\t').map(range)),
-            Delim::Space => out.extend(line.split_whitespace().map(range)),
+        let sep = match self {
+            Delim::Comma => b',',
+            Delim::Semicolon => b';',
+            Delim::Tab => b'\t',
+            Delim::Space => {
+                let mut i = 0;
+                while i < b.len() {
+                    while i < b.len() && b[i].is_ascii_whitespace() {
+                        i += 1;
+                    }
+                    let s = i;
+                    while i < b.len() && !b[i].is_ascii_whitespace() {
+                        i += 1;
+                    }
+                    if i > s {
+                        out.push((s, i));
+                    }
+                }
+                return;
+            }
+        };
+        let mut start = 0;
+        for (i, &c) in b.iter().enumerate() {
+            if c == sep {
+                out.push(trimmed(start, i));
+                start = i + 1;
+            }
         }
+        out.push(trimmed(start, b.len()));
     }
     /// A decimal comma is accepted where the comma is not the delimiter.
     fn decimal_comma(self) -> bool {
@@ -240,8 +269,10 @@ impl Delim {
 fn number(cell: &str, decimal_comma: bool, line: usize, col: usize) -> Result<f64, IngestError> {
     let parsed = if decimal_comma && cell.contains(',') {
         cell.replacen(',', ".", 1).parse::<f64>()
-    } else {
+    } else if cell.as_bytes().first() == Some(&b'"') {
         cell.trim_matches('"').parse::<f64>()
+    } else {
+        cell.parse::<f64>()
     };
     match parsed {
         Ok(v) if v.is_finite() => Ok(v),
@@ -284,10 +315,9 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
             break;
         }
         lineno += 1;
-        let line = buf
-            .trim_end_matches(['\n', '\r'])
-            .trim_start_matches('\u{feff}');
-        let t = line.trim();
+        // A byte-order mark may open the file; ASCII trimming is all a line needs.
+        let line = buf.strip_prefix('\u{feff}').unwrap_or(&buf);
+        let t = line.trim_ascii();
         if t.is_empty() {
             continue;
         }
@@ -300,9 +330,10 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
         let dl = *delim.get_or_insert_with(|| Delim::detect(t));
         dl.split(t, &mut spans);
         let cell = |i: usize| &t[spans[i].0..spans[i].1];
+        let undecided = !header_from_file && rows == 0 && current.is_none();
         let first_is_number =
-            !spans.is_empty() && number(cell(0), dl.decimal_comma(), 0, 0).is_ok();
-        if !header_from_file && rows == 0 && current.is_none() && !first_is_number {
+            || !spans.is_empty() && number(cell(0), dl.decimal_comma(), 0, 0).is_ok();
+        if undecided && !first_is_number() {
             // A header row: it names the columns unless --columns replaces them.
             header_from_file = true;
             if names.is_none() {
