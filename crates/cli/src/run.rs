@@ -3,7 +3,7 @@
 use crate::Failure;
 use crate::args::{DiagramArgs, RunArgs};
 use enginedyn_engine::Engine;
-use enginedyn_ingest::{Diagram, ParseOptions, Quantity};
+use enginedyn_ingest::{GridOptions, ParseOptions, Peg, Quantity, Resampled};
 use std::path::{Path, PathBuf};
 
 /// The bundled example, compiled in so `enginedyn run` works from anywhere.
@@ -36,18 +36,58 @@ pub fn load_engine(path: Option<&Path>) -> Result<Loaded, Failure> {
     }
 }
 
-/// Reads one diagram file (or the bundled one for `None`).
-pub fn read_diagram(
-    path: Option<&Path>,
+/// How to read and grid a diagram, from the diagram and method flags.
+pub fn diagram_options(
     engine: &Engine,
     d: &DiagramArgs,
-) -> Result<Diagram, Failure> {
-    if d.peg_bar.is_some() || d.peg.is_some() || d.pv_start.is_some() {
-        return Err(Failure::usage(
-            "--peg-bar, --peg and --pv-start are not supported by this build yet",
-        ));
-    }
-    let opts = ParseOptions {
+    step: f64,
+    interp: enginedyn_ingest::Interp,
+) -> Result<(ParseOptions, GridOptions), Failure> {
+    let pv_start_bdc = match d.pv_start.as_deref() {
+        None | Some("tdc") => false,
+        Some("bdc") => true,
+        Some(other) => {
+            return Err(Failure::usage(format!(
+                "--pv-start {other}: expected tdc or bdc"
+            )));
+        }
+    };
+    let peg = match (d.peg_bar, d.peg.as_deref()) {
+        (Some(_), Some(_)) => {
+            return Err(Failure::usage(
+                "--peg-bar and --peg: give one pegging method",
+            ));
+        }
+        (Some(p), None) if p.is_finite() && p > 0.0 => Some(Peg::Bar(p * 1e5)),
+        (Some(p), None) => {
+            return Err(Failure::usage(format!(
+                "--peg-bar {p}: an absolute pressure in bar above 0 is needed"
+            )));
+        }
+        (None, Some(spec)) => {
+            let n = match spec.strip_prefix("polytropic") {
+                Some("") => 1.32,
+                Some(rest) => rest
+                    .strip_prefix('=')
+                    .and_then(|v| v.parse::<f64>().ok())
+                    .filter(|n| n.is_finite() && *n > 1.0 && *n < 2.0)
+                    .ok_or_else(|| {
+                        Failure::usage(format!(
+                            "--peg {spec}: expected polytropic or polytropic=N with 1 < N < 2"
+                        ))
+                    })?,
+                None => {
+                    return Err(Failure::usage(format!(
+                        "--peg {spec}: expected polytropic[=N]"
+                    )));
+                }
+            };
+            Some(Peg::Polytropic(n))
+        }
+        (None, None) => None,
+    };
+    let cylinder = Some(*engine.cylinder());
+    let parse = ParseOptions {
         cycle_deg: engine.cycle().to_degrees(),
         tdc_deg: d.tdc_deg,
         gauge: d.gauge,
@@ -55,17 +95,70 @@ pub fn read_diagram(
             .columns
             .as_ref()
             .map(|c| c.iter().map(|s| s.trim().to_ascii_lowercase()).collect()),
+        cylinder,
+        pv_start_bdc,
     };
+    let grid = GridOptions {
+        step_deg: step,
+        interp,
+        peg,
+        cylinder,
+    };
+    Ok((parse, grid))
+}
+
+/// Reads one diagram file (or the bundled one for `None`) straight onto the grid.
+pub fn load_diagram(
+    path: Option<&Path>,
+    parse: &ParseOptions,
+    grid: &GridOptions,
+) -> Result<Resampled, Failure> {
     match path {
         Some(p) => {
             let file = std::fs::File::open(p)
                 .map_err(|e| Failure::data(format!("{}: cannot open: {e}", p.display())))?;
-            enginedyn_ingest::parse(std::io::BufReader::new(file), &opts)
-                .map_err(|e| Failure::data(format!("{}: {e}", p.display())))
+            enginedyn_ingest::load(
+                std::io::BufReader::with_capacity(1 << 16, file),
+                parse,
+                grid,
+            )
+            .map_err(|e| Failure::data(format!("{}: {e}", p.display())))
         }
-        None => enginedyn_ingest::parse(EXAMPLE_DIAGRAM.as_bytes(), &opts)
+        None => enginedyn_ingest::load(EXAMPLE_DIAGRAM.as_bytes(), parse, grid)
             .map_err(|e| Failure::data(format!("data/vaz2108.csv (bundled): {e}"))),
     }
+}
+
+/// One trace per file and cylinder, in cylinder order 1..z, as one diagram.
+fn merge_per_cylinder(files: Vec<(String, Resampled)>) -> Result<Resampled, Failure> {
+    let mut it = files.into_iter();
+    let Some((_, mut first)) = it.next() else {
+        return Err(Failure::usage("no diagram"));
+    };
+    if !first.cylinders.is_empty() {
+        return Err(Failure::usage(
+            "several --diagram files are one trace per cylinder: a file with a `cylinder` column must come alone",
+        ));
+    }
+    let mut cylinders = vec![std::mem::take(&mut first.pressure)];
+    for (name, r) in it {
+        if !r.cylinders.is_empty() {
+            return Err(Failure::usage(format!(
+                "{name}: has a `cylinder` column; with several --diagram files each file is one cylinder"
+            )));
+        }
+        first.cycles = first.cycles.min(r.cycles);
+        first.stats.extend(r.stats);
+        for n in r.notes {
+            if !first.notes.contains(&n) {
+                first.notes.push(n);
+            }
+        }
+        cylinders.push(r.pressure);
+    }
+    first.pressure = cylinders[0].clone();
+    first.cylinders = cylinders;
+    Ok(first)
 }
 
 /// The speed: `--rpm`, else the diagram's `# rpm` line, else the engine file's.
@@ -96,11 +189,14 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
             "--tolerance needs the accuracy study, which this build does not have yet; choose the method with --step, --kinematics, --interp",
         ));
     }
-    if let Some(angles) = &a.angles {
-        return Err(Failure::usage(format!(
-            "--angles {angles}: not supported by this build yet"
-        )));
-    }
+    match a.angles.as_deref() {
+        None | Some("cycle") | Some("centered") => {}
+        Some(other) => {
+            return Err(Failure::usage(format!(
+                "--angles {other}: expected centered (or cycle, the default)"
+            )));
+        }
+    };
     let step = a.method.step;
     if !(step.is_finite() && step > 0.0) {
         return Err(Failure::usage(format!(
@@ -117,51 +213,73 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
         )));
     }
     let opts = a.method.options();
+    let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
     if let Some(path) = &a.torque {
-        let diagram = read_diagram(Some(path), engine, &a.diagram_args)?;
         let shown = path.display().to_string();
-        if diagram.quantity == Quantity::Pressure {
+        let torque_grid = GridOptions {
+            peg: None,
+            ..grid.clone()
+        };
+        let resampled = load_diagram(Some(path), &parse, &torque_grid)?;
+        if resampled.quantity == Quantity::Pressure {
             return Err(Failure::data(format!(
                 "{shown}: a pressure diagram; --torque reads `crank_deg` with `torque_cylinder_nm` or `torque_engine_nm` (use --diagram for pressure)"
             )));
         }
-        let rpm = resolve_rpm(a.rpm, diagram.rpm, engine)?;
-        let resampled = enginedyn_ingest::resample(&diagram, step, opts.interp)
-            .map_err(|e| Failure::data(format!("{shown}: {e}")))?;
+        let rpm = resolve_rpm(a.rpm, resampled.rpm, engine)?;
         let analysis =
-            enginedyn_pipeline::analyse_torque(engine, &resampled, diagram.quantity, rpm, &opts)
+            enginedyn_pipeline::analyse_torque(engine, &resampled, resampled.quantity, rpm, &opts)
                 .map_err(|e| Failure::usage(e.to_string()))?;
         return finish(a, engine, &shown, &analysis);
     }
-    let diagram_path: Option<PathBuf> = match (a.diagram.as_slice(), &loaded.path) {
-        ([], None) => None,
-        ([], Some(p)) => Some(engine.diagram().map(Path::to_path_buf).ok_or_else(|| {
-            Failure::usage(format!(
-                "no indicator diagram: give --diagram or `diagram =` in {}",
-                p.display()
-            ))
-        })?),
-        ([one], _) => Some(one.clone()),
+    let z = engine.cylinders();
+    let (shown, resampled) = match (a.diagram.as_slice(), &loaded.path) {
+        ([], None) => (
+            "data/vaz2108.csv (bundled)".to_string(),
+            load_diagram(None, &parse, &grid)?,
+        ),
+        ([], Some(p)) => {
+            let d = engine.diagram().map(Path::to_path_buf).ok_or_else(|| {
+                Failure::usage(format!(
+                    "no indicator diagram: give --diagram or `diagram =` in {}",
+                    p.display()
+                ))
+            })?;
+            (
+                d.display().to_string(),
+                load_diagram(Some(&d), &parse, &grid)?,
+            )
+        }
+        ([one], _) => (
+            one.display().to_string(),
+            load_diagram(Some(one), &parse, &grid)?,
+        ),
         (many, _) => {
-            return Err(Failure::usage(format!(
-                "{} diagrams given: one trace per cylinder is not supported by this build yet; give one diagram for all cylinders",
-                many.len()
-            )));
+            if many.len() != z {
+                return Err(Failure::usage(format!(
+                    "{} diagrams given: several --diagram files are one trace per cylinder, and the engine has {z}",
+                    many.len()
+                )));
+            }
+            let files = many
+                .iter()
+                .map(|p| {
+                    Ok((
+                        p.display().to_string(),
+                        load_diagram(Some(p), &parse, &grid)?,
+                    ))
+                })
+                .collect::<Result<Vec<_>, Failure>>()?;
+            let shown = format!("{} files, one per cylinder", many.len());
+            (shown, merge_per_cylinder(files)?)
         }
     };
-    let diagram = read_diagram(diagram_path.as_deref(), engine, &a.diagram_args)?;
-    let rpm = resolve_rpm(a.rpm, diagram.rpm, engine)?;
-    let shown = diagram_path
-        .as_ref()
-        .map(|p| p.display().to_string())
-        .unwrap_or_else(|| "data/vaz2108.csv (bundled)".into());
-    let resampled = enginedyn_ingest::resample(&diagram, step, opts.interp)
-        .map_err(|e| Failure::data(format!("{shown}: {e}")))?;
-    if diagram.quantity != Quantity::Pressure {
+    if resampled.quantity != Quantity::Pressure {
         return Err(Failure::data(format!(
             "{shown}: a turning-moment (torque) file: give it with --torque"
         )));
     }
+    let rpm = resolve_rpm(a.rpm, resampled.rpm, engine)?;
     let analysis = enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)
         .map_err(|e| Failure::usage(e.to_string()))?;
     finish(a, engine, &shown, &analysis)
@@ -188,7 +306,8 @@ fn finish(
         ));
     }
     if let Some(dir) = &a.out {
-        let files = enginedyn_report::run_files(engine, analysis)
+        let centered = a.angles.as_deref() == Some("centered");
+        let files = enginedyn_report::run_files(engine, analysis, centered)
             .map_err(|e| Failure::data(e.to_string()))?;
         enginedyn_report::write_all(dir, &files).map_err(|e| Failure::data(e.to_string()))?;
         if !a.json {

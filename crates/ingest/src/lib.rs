@@ -16,8 +16,12 @@
 //! assert!((g.pressure[90] - 21e5).abs() < 1e-6); // halfway between 40 and 2 bar
 //! ```
 
-use enginedyn_numerics::{InterpKind, Periodic};
+use enginedyn_kinematics::Cylinder;
 use std::io::BufRead;
+
+mod grid;
+mod pv;
+pub use grid::{Accumulator, CycleStats, GridOptions, Peg, PegReport, Resampled, mean_std};
 
 /// What went wrong, with the line and column where it did (1-based).
 #[derive(Debug, thiserror::Error)]
@@ -59,6 +63,10 @@ pub struct ParseOptions {
     pub gauge: bool,
     /// Column names replacing the header (`_` skips a column).
     pub columns: Option<Vec<String>>,
+    /// The volume law, needed for p–V data.
+    pub cylinder: Option<Cylinder>,
+    /// p–V data starts at the BDC before firing TDC (`--pv-start bdc`).
+    pub pv_start_bdc: bool,
 }
 
 impl ParseOptions {
@@ -69,6 +77,8 @@ impl ParseOptions {
             tdc_deg: 0.0,
             gauge: false,
             columns: None,
+            cylinder: None,
+            pv_start_bdc: false,
         }
     }
 }
@@ -109,6 +119,8 @@ pub struct Diagram {
     pub traces: Vec<Trace>,
     /// Cycle length (deg).
     pub cycle_deg: f64,
+    /// True for p–V data.
+    pub pv: bool,
     /// Things worth telling the user.
     pub notes: Vec<String>,
 }
@@ -143,23 +155,6 @@ impl Interp {
     pub fn from_name(s: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|m| m.name() == s)
     }
-}
-
-/// Pressure on the uniform grid `k * step_deg`, `k = 0..n`, from firing TDC.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Resampled {
-    /// Grid step (deg).
-    pub step_deg: f64,
-    /// Mean absolute pressure over the traces (Pa).
-    pub pressure: Vec<f64>,
-    /// Interpolant used (for `auto`, the one it chose).
-    pub interp: InterpKind,
-    /// Number of cycles averaged.
-    pub cycles: usize,
-    /// Per-cycle pressures on the grid, when more than one cycle was read.
-    pub per_cycle: Vec<Vec<f64>>,
-    /// Things worth telling the user.
-    pub notes: Vec<String>,
 }
 
 const ATM: f64 = 101_325.0;
@@ -291,24 +286,131 @@ fn parse_rpm(comment: &str) -> Option<f64> {
         .filter(|v| *v > 0.0 && v.is_finite())
 }
 
-/// Reads a p–φ diagram from CSV text.
+/// What a file says about itself besides its traces.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Header {
+    /// Pressure, or torque from a turning-moment file.
+    pub quantity: Quantity,
+    /// Speed from a `# rpm = N` comment line.
+    pub rpm: Option<f64>,
+    /// True for p–V data.
+    pub pv: bool,
+    /// Things worth telling the user.
+    pub notes: Vec<String>,
+}
+
+/// Reads a diagram (p–φ, p–V or turning moment) into memory: every trace.
 pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, IngestError> {
-    let mut d = Diagram {
+    let mut traces = Vec::new();
+    let h = parse_stream(reader, opts, |t| {
+        traces.push(t.trace);
+        Ok(())
+    })?;
+    Ok(Diagram {
+        quantity: h.quantity,
+        rpm: h.rpm,
+        traces,
         cycle_deg: opts.cycle_deg,
-        ..Diagram::default()
-    };
+        pv: h.pv,
+        notes: h.notes,
+    })
+}
+
+/// Reads a diagram and puts it on the grid as it streams: memory is bounded
+/// by one cycle, whatever the file's length.
+pub fn load(
+    reader: impl BufRead,
+    opts: &ParseOptions,
+    grid: &GridOptions,
+) -> Result<Resampled, IngestError> {
+    let mut acc: Option<Accumulator> = None;
+    let h = parse_stream(reader, opts, |t| {
+        if acc.is_none() {
+            acc = Some(Accumulator::new(grid.clone(), opts.cycle_deg, t.quantity)?);
+        }
+        match acc.as_mut() {
+            Some(a) => a.add(&t.trace),
+            None => Ok(()),
+        }
+    })?;
+    match acc {
+        Some(a) => {
+            let pv = h.pv;
+            let mut r = a.finish(h.rpm, h.notes)?;
+            r.pv = pv;
+            Ok(r)
+        }
+        None => Err(IngestError::Data("no data rows".into())),
+    }
+}
+
+/// Puts an in-memory diagram on the grid (the same path as [`load`]).
+pub fn resample(d: &Diagram, step_deg: f64, interp: Interp) -> Result<Resampled, IngestError> {
+    resample_with(d, &GridOptions::new(step_deg, interp))
+}
+
+/// [`resample`] with pegging and the volume law.
+pub fn resample_with(d: &Diagram, grid: &GridOptions) -> Result<Resampled, IngestError> {
+    let mut acc = Accumulator::new(grid.clone(), d.cycle_deg, d.quantity)?;
+    for t in &d.traces {
+        acc.add(t)?;
+    }
+    let mut r = acc.finish(d.rpm, d.notes.clone())?;
+    r.pv = d.pv;
+    Ok(r)
+}
+
+/// A finished trace and what its values are.
+pub struct Streamed {
+    /// The trace, angles in `[0, cycle)`.
+    pub trace: Trace,
+    /// What its values are.
+    pub quantity: Quantity,
+}
+
+/// Reads the text and hands each finished trace to `sink`, in file order.
+pub fn parse_stream(
+    reader: impl BufRead,
+    opts: &ParseOptions,
+    mut sink: impl FnMut(Streamed) -> Result<(), IngestError>,
+) -> Result<Header, IngestError> {
+    let mut head = Header::default();
     let mut names: Option<Vec<String>> = opts.columns.clone();
     let mut header_from_file = false;
     let mut delim = None;
     let mut spans: Vec<(usize, usize)> = Vec::new();
-    let (mut i_angle, mut i_p, mut i_cycle, mut i_cyl) = (0, 0, None, None);
-    let mut scale = 1e5;
+    let mut cols = Cols::default();
     let mut have_cols = false;
     let mut current: Option<Trace> = None;
+    let mut current_line = 0usize;
+    let mut auto_cycle = 0i64;
     let mut rows = 0usize;
     let mut buf = String::new();
     let mut reader = reader;
     let mut lineno = 0;
+    let mut pv_notes = Vec::new();
+    let mut emit = |tr: Trace, line: usize, q: Quantity, is_pv: bool| -> Result<(), IngestError> {
+        let tr = if is_pv {
+            let cyl = opts.cylinder.as_ref().ok_or_else(|| {
+                IngestError::Data("p–V data needs the engine's volume law".into())
+            })?;
+            pv::to_angles(
+                tr,
+                cyl,
+                opts.cycle_deg,
+                opts.pv_start_bdc,
+                line,
+                &mut pv_notes,
+            )?
+        } else {
+            tr
+        };
+        let tr = finish(tr, opts.cycle_deg, q)?;
+        sink(Streamed {
+            trace: tr,
+            quantity: q,
+        })
+    };
     loop {
         buf.clear();
         if reader.read_line(&mut buf)? == 0 {
@@ -323,7 +425,7 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
         }
         if t.starts_with('#') {
             if let Some(r) = parse_rpm(t) {
-                d.rpm = Some(r);
+                head.rpm = Some(r);
             }
             continue;
         }
@@ -355,7 +457,9 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
                 ));
             }
             if let Some(n) = names.as_ref() {
-                (i_angle, i_p, i_cycle, i_cyl, scale, d.quantity) = columns(n, lineno)?;
+                cols = columns(n, lineno)?;
+                head.quantity = cols.quantity;
+                head.pv = cols.pv;
                 have_cols = true;
             }
             continue;
@@ -368,7 +472,9 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
                     "no header row: name the columns with --columns crank_deg,pressure_bar (or add a header)",
                 ));
             };
-            (i_angle, i_p, i_cycle, i_cyl, scale, d.quantity) = columns(n, lineno)?;
+            cols = columns(n, lineno)?;
+            head.quantity = cols.quantity;
+            head.pv = cols.pv;
             have_cols = true;
         }
         let ncols = names.as_ref().map(Vec::len).unwrap_or(0);
@@ -380,22 +486,29 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
             ));
         }
         let dc = dl.decimal_comma();
-        let angle = number(cell(i_angle), dc, lineno, i_angle + 1)?;
-        let p_raw = number(cell(i_p), dc, lineno, i_p + 1)?;
-        let cyc = match i_cycle {
+        let x_raw = number(cell(cols.x), dc, lineno, cols.x + 1)?;
+        let p_raw = number(cell(cols.value), dc, lineno, cols.value + 1)?;
+        let mut cyc = match cols.cycle {
+            Some(i) => number(cell(i), dc, lineno, i + 1)? as i64,
+            None => auto_cycle,
+        };
+        let cyl = match cols.cylinder {
             Some(i) => number(cell(i), dc, lineno, i + 1)? as i64,
             None => 0,
         };
-        let cyl = match i_cyl {
-            Some(i) => number(cell(i), dc, lineno, i + 1)? as i64,
-            None => 0,
-        };
-        let is_pressure = d.quantity == Quantity::Pressure;
-        let p = p_raw * scale + if opts.gauge && is_pressure { ATM } else { 0.0 };
+        if cyl < 0 || (cols.cylinder.is_some() && cyl == 0) {
+            return Err(at(
+                lineno,
+                cols.cylinder.map(|i| i + 1),
+                format!("cylinder {cyl}: cylinders are numbered from 1"),
+            ));
+        }
+        let is_pressure = cols.quantity == Quantity::Pressure;
+        let p = p_raw * cols.scale + if opts.gauge && is_pressure { ATM } else { 0.0 };
         if is_pressure && p < 0.0 {
             return Err(at(
                 lineno,
-                Some(i_p + 1),
+                Some(cols.value + 1),
                 format!(
                     "negative absolute pressure ({p_raw}){}",
                     if opts.gauge {
@@ -406,44 +519,66 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
                 ),
             ));
         }
-        let a = angle - opts.tdc_deg;
+        // p–V rows carry volume (m³); p–φ rows carry the cycle angle.
+        let a = if cols.pv {
+            x_raw * cols.x_scale
+        } else {
+            x_raw - opts.tdc_deg
+        };
+        if !cols.pv
+            && cols.cycle.is_none()
+            && let Some(tr) = current.as_ref()
+            && tr.cylinder == cyl
+        {
+            let first = tr.angle_deg[0];
+            let last = *tr.angle_deg.last().unwrap_or(&first);
+            // Without a cycle column a new cycle starts where the angle runs
+            // one cycle past the first, or jumps back by more than half a cycle.
+            if a - first >= opts.cycle_deg - 1e-9 || last - a > opts.cycle_deg / 2.0 {
+                auto_cycle += 1;
+                cyc = auto_cycle;
+            }
+        }
         match current.as_mut() {
             Some(tr) if tr.cycle == cyc && tr.cylinder == cyl => {
-                let last = *tr.angle_deg.last().unwrap_or(&f64::NEG_INFINITY);
-                let first = tr.angle_deg[0];
-                if a <= last {
-                    return Err(at(
-                        lineno,
-                        Some(i_angle + 1),
-                        format!(
-                            "angle {angle} does not rise after {}: angles must increase within a cycle",
-                            last + opts.tdc_deg
-                        ),
-                    ));
-                }
-                if a - first >= opts.cycle_deg - 1e-9 {
-                    if (a - first - opts.cycle_deg).abs() < 1e-9 {
-                        // A digitised cycle repeating its first angle at the end.
-                        continue;
+                if !cols.pv {
+                    let last = *tr.angle_deg.last().unwrap_or(&f64::NEG_INFINITY);
+                    let first = tr.angle_deg[0];
+                    if a <= last {
+                        return Err(at(
+                            lineno,
+                            Some(cols.x + 1),
+                            format!(
+                                "angle {x_raw} does not rise after {}: angles must increase within a cycle",
+                                last + opts.tdc_deg
+                            ),
+                        ));
                     }
-                    return Err(at(
-                        lineno,
-                        Some(i_angle + 1),
-                        format!(
-                            "angle {angle} lies more than one {}° cycle after the first ({}); \
-                             give a `cycle` column to separate cycles",
-                            opts.cycle_deg,
-                            first + opts.tdc_deg
-                        ),
-                    ));
+                    if a - first >= opts.cycle_deg - 1e-9 {
+                        if (a - first - opts.cycle_deg).abs() < 1e-9 {
+                            // A digitised cycle repeating its first angle at the end.
+                            continue;
+                        }
+                        return Err(at(
+                            lineno,
+                            Some(cols.x + 1),
+                            format!(
+                                "angle {x_raw} lies more than one {}° cycle after the first ({}); \
+                                 give a `cycle` column to separate cycles",
+                                opts.cycle_deg,
+                                first + opts.tdc_deg
+                            ),
+                        ));
+                    }
                 }
                 tr.angle_deg.push(a);
                 tr.values.push(p);
             }
             _ => {
                 if let Some(tr) = current.take() {
-                    d.traces.push(finish(tr, opts.cycle_deg)?);
+                    emit(tr, current_line, cols.quantity, cols.pv)?;
                 }
+                current_line = lineno;
                 current = Some(Trace {
                     cycle: cyc,
                     cylinder: cyl,
@@ -455,28 +590,36 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
         rows += 1;
     }
     if let Some(tr) = current.take() {
-        d.traces.push(finish(tr, opts.cycle_deg)?);
+        // A lone closing point (first angle + cycle) after the last cycle.
+        let lone_closing = tr.angle_deg.len() == 1 && cols.cycle.is_none() && auto_cycle > 0;
+        if !lone_closing {
+            emit(tr, current_line, cols.quantity, cols.pv)?;
+        }
     }
-    if d.traces.is_empty() {
+    if rows == 0 {
         return Err(IngestError::Data("no data rows".into()));
     }
-    let peak = d
-        .traces
-        .iter()
-        .flat_map(|t| t.values.iter())
-        .fold(0.0_f64, |a, &b| a.max(b));
-    // 5 kPa to 10 kbar absolute: anything outside is a unit mix-up.
-    if d.quantity == Quantity::Pressure && !(5e3..=1e9).contains(&peak) {
-        return Err(IngestError::Data(format!(
-            "peak pressure {:.3e} bar is implausible: is the pressure column's unit right?",
-            peak / 1e5
-        )));
-    }
-    Ok(d)
+    head.notes.extend(pv_notes);
+    Ok(head)
 }
 
-/// Column indices of angle, value, cycle, cylinder, the unit factor and what the value is.
-type Cols = (usize, usize, Option<usize>, Option<usize>, f64, Quantity);
+/// Where the columns are and what they hold.
+#[derive(Debug, Clone, Copy, Default)]
+struct Cols {
+    /// Angle (p–φ) or volume (p–V) column.
+    x: usize,
+    /// Volume unit (m³ per file unit) for p–V data.
+    x_scale: f64,
+    /// True for p–V data.
+    pv: bool,
+    /// Pressure or torque column.
+    value: usize,
+    /// Pressure unit (Pa per file unit), 1 for torque.
+    scale: f64,
+    cycle: Option<usize>,
+    cylinder: Option<usize>,
+    quantity: Quantity,
+}
 
 fn columns(names: &[String], line: usize) -> Result<Cols, IngestError> {
     for (i, n) in names.iter().enumerate() {
@@ -498,15 +641,40 @@ fn columns(names: &[String], line: usize) -> Result<Cols, IngestError> {
         }
     }
     let find = |k: &str| names.iter().position(|n| n == k);
-    let Some(i_angle) = find(ANGLE) else {
-        if names.iter().any(|n| n.starts_with("volume_")) {
+    let volume = names
+        .iter()
+        .enumerate()
+        .find_map(|(i, n)| match n.as_str() {
+            "volume_cm3" => Some((i, 1e-6)),
+            "volume_m3" => Some((i, 1.0)),
+            "volume_l" => Some((i, 1e-3)),
+            _ => None,
+        });
+    let (x, x_scale, pv) = match (find(ANGLE), volume) {
+        (Some(i), None) => (i, 1.0, false),
+        (None, Some((i, s))) => (i, s, true),
+        (Some(_), Some(_)) => {
             return Err(at(
                 line,
                 None,
-                "p–V data (a volume column) is not read yet: give crank_deg",
+                "both `crank_deg` and a volume column: give one (skip the other with `_` in --columns)",
             ));
         }
-        return Err(at(line, None, "no `crank_deg` column"));
+        (None, None) => {
+            return Err(at(
+                line,
+                None,
+                "no `crank_deg` (p–φ) or `volume_cm3`/`volume_m3`/`volume_l` (p–V) column",
+            ));
+        }
+    };
+    let base = Cols {
+        x,
+        x_scale,
+        pv,
+        cycle: find("cycle"),
+        cylinder: find("cylinder"),
+        ..Cols::default()
     };
     let torque = names
         .iter()
@@ -517,7 +685,19 @@ fn columns(names: &[String], line: usize) -> Result<Cols, IngestError> {
             _ => None,
         });
     if let Some((i, q)) = torque {
-        return Ok((i_angle, i, find("cycle"), find("cylinder"), 1.0, q));
+        if pv {
+            return Err(at(
+                line,
+                None,
+                "a turning-moment file needs `crank_deg`, not a volume",
+            ));
+        }
+        return Ok(Cols {
+            value: i,
+            scale: 1.0,
+            quantity: q,
+            ..base
+        });
     }
     let Some((i_p, scale)) = names
         .iter()
@@ -530,14 +710,12 @@ fn columns(names: &[String], line: usize) -> Result<Cols, IngestError> {
             "no pressure column (pressure_bar, pressure_mpa, pressure_kpa, pressure_pa, pressure_psi or pressure_kgf_cm2)",
         ));
     };
-    Ok((
-        i_angle,
-        i_p,
-        find("cycle"),
-        find("cylinder"),
+    Ok(Cols {
+        value: i_p,
         scale,
-        Quantity::Pressure,
-    ))
+        quantity: Quantity::Pressure,
+        ..base
+    })
 }
 
 fn similarity(a: &str, b: &str) -> f64 {
@@ -547,7 +725,7 @@ fn similarity(a: &str, b: &str) -> f64 {
 }
 
 /// Moves a trace's angles into [0, cycle), rotating so they rise, and checks coverage.
-fn finish(mut tr: Trace, cycle: f64) -> Result<Trace, IngestError> {
+fn finish(mut tr: Trace, cycle: f64, quantity: Quantity) -> Result<Trace, IngestError> {
     let n = tr.angle_deg.len();
     if n < 4 {
         return Err(IngestError::Data(format!(
@@ -569,7 +747,25 @@ fn finish(mut tr: Trace, cycle: f64) -> Result<Trace, IngestError> {
             first + span
         )));
     }
-    let wrapped: Vec<f64> = tr.angle_deg.iter().map(|a| a.rem_euclid(cycle)).collect();
+    if quantity == Quantity::Pressure {
+        let peak = tr.values.iter().fold(0.0_f64, |a, &b| a.max(b));
+        // 5 kPa to 10 kbar absolute: anything outside is a unit mix-up.
+        if !(5e3..=1e9).contains(&peak) {
+            return Err(IngestError::Data(format!(
+                "cycle {}: peak pressure {:.3e} bar is implausible: is the pressure column's unit right?",
+                tr.cycle,
+                peak / 1e5
+            )));
+        }
+    }
+    let wrapped: Vec<f64> = tr
+        .angle_deg
+        .iter()
+        .map(|a| {
+            let w = a.rem_euclid(cycle);
+            if w >= cycle { 0.0 } else { w }
+        })
+        .collect();
     let start = (0..n)
         .min_by(|&i, &j| wrapped[i].total_cmp(&wrapped[j]))
         .unwrap_or(0);
@@ -579,104 +775,11 @@ fn finish(mut tr: Trace, cycle: f64) -> Result<Trace, IngestError> {
         .copied()
         .collect();
     tr.values.rotate_left(start);
-    Ok(tr)
-}
-
-/// Resamples every trace onto the grid `k * step_deg` over the cycle and
-/// averages them (one trace for all cylinders; per-cylinder traces later).
-pub fn resample(d: &Diagram, step_deg: f64, interp: Interp) -> Result<Resampled, IngestError> {
-    let cycle = d.cycle_deg;
-    let n = (cycle / step_deg).round() as usize;
-    if !(step_deg > 0.0) || n < 8 || ((n as f64) * step_deg - cycle).abs() > 1e-9 * cycle {
+    if tr.angle_deg.windows(2).any(|w| w[1] <= w[0]) {
         return Err(IngestError::Data(format!(
-            "grid step {step_deg}° must divide the {cycle}° cycle into at least 8 steps"
+            "cycle {}: two points fall on the same crank angle once wrapped into the cycle",
+            tr.cycle
         )));
     }
-    let mut notes = Vec::new();
-    let mut sum = vec![0.0; n];
-    let mut per_cycle = Vec::new();
-    let mut used = None;
-    let mut buf = vec![0.0; n];
-    for tr in &d.traces {
-        let kind = choose(tr, step_deg, n, interp, &mut notes)?;
-        let f = Periodic::new(kind, &tr.angle_deg, &tr.values, cycle)
-            .map_err(|e| IngestError::Data(format!("cycle {}: {e}", tr.cycle)))?;
-        f.eval_uniform(0.0, step_deg, &mut buf);
-        let pressure = d.quantity == Quantity::Pressure;
-        if let Some(k) = buf
-            .iter()
-            .position(|p| !p.is_finite() || (pressure && *p < 0.0))
-        {
-            return Err(IngestError::Data(format!(
-                "cycle {}: the {} interpolant gives {} Pa at {}°; use --interp pchip",
-                tr.cycle,
-                kind.name(),
-                buf[k],
-                k as f64 * step_deg
-            )));
-        }
-        for (s, p) in sum.iter_mut().zip(&buf) {
-            *s += p;
-        }
-        if d.traces.len() > 1 {
-            per_cycle.push(buf.clone());
-        }
-        used.get_or_insert(kind);
-    }
-    let m = d.traces.len() as f64;
-    for s in &mut sum {
-        *s /= m;
-    }
-    notes.dedup();
-    Ok(Resampled {
-        step_deg,
-        pressure: sum,
-        interp: used.unwrap_or(InterpKind::Linear),
-        cycles: d.traces.len(),
-        per_cycle,
-        notes,
-    })
-}
-
-fn choose(
-    tr: &Trace,
-    step: f64,
-    n: usize,
-    interp: Interp,
-    notes: &mut Vec<String>,
-) -> Result<InterpKind, IngestError> {
-    Ok(match interp {
-        Interp::Linear => InterpKind::Linear,
-        Interp::Spline => InterpKind::Spline,
-        Interp::Pchip => InterpKind::Pchip,
-        Interp::Auto => {
-            let on_grid = tr.angle_deg.len() == n
-                && tr
-                    .angle_deg
-                    .iter()
-                    .enumerate()
-                    .all(|(k, a)| (a - k as f64 * step).abs() < 1e-9);
-            if on_grid {
-                InterpKind::Linear
-            } else {
-                let s = Periodic::new(
-                    InterpKind::Spline,
-                    &tr.angle_deg,
-                    &tr.values,
-                    step * n as f64,
-                )
-                .map_err(|e| IngestError::Data(e.to_string()))?;
-                let peak = tr.values.iter().fold(0.0_f64, |a, &b| a.max(b.abs()));
-                if s.max_overshoot() > 0.005 * peak {
-                    notes.push(format!(
-                        "the periodic spline overshoots the data by {:.2} % of the peak: pchip used instead",
-                        100.0 * s.max_overshoot() / peak
-                    ));
-                    InterpKind::Pchip
-                } else {
-                    InterpKind::Spline
-                }
-            }
-        }
-    })
+    Ok(tr)
 }

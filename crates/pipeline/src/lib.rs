@@ -14,14 +14,14 @@
 use enginedyn_engine::{Engine, RodModel};
 use enginedyn_flywheel::{Flywheel, Uniformity};
 use enginedyn_forces::{Forces, Setup, cylinder_forces};
-use enginedyn_ingest::{Interp, Quantity, Resampled};
+use enginedyn_ingest::{Interp, Peg, Quantity, Resampled, mean_std};
 use enginedyn_kinematics::{Model, Table};
 use enginedyn_numerics::{integrate, integrate::Rule, roots};
 use enginedyn_torque::{EngineTorque, Harmonic};
 use std::f64::consts::PI;
 
 mod summary;
-pub use summary::{Summary, Value};
+pub use summary::{CycleSummary, Pegging, Summary, Value};
 
 /// Why an operating point cannot be analysed.
 #[derive(Debug, thiserror::Error)]
@@ -114,9 +114,96 @@ struct Parts {
     bearings: Vec<Vec<f64>>,
     /// `∮ p dV` per cylinder (J), when pressure is known.
     work: Option<f64>,
+    /// Force extremes over every cylinder, when pressure is known.
+    force_max: Option<ForceMax>,
     notes: Vec<String>,
     interpolation: &'static str,
     cycles: usize,
+    stats: Option<CycleSummary>,
+    tdc_offset: Option<f64>,
+    pegging: Option<Pegging>,
+}
+
+/// Largest force magnitudes over every cylinder (N).
+struct ForceMax {
+    gas: f64,
+    side: f64,
+    rod: f64,
+    pin: f64,
+}
+
+/// Statistics over the measured cycles, when there are several.
+fn cycle_summary(r: &Resampled) -> Option<CycleSummary> {
+    let st = &r.stats;
+    if st.len() < 2 {
+        return None;
+    }
+    let (p_mean, p_std) = mean_std(st.iter().map(|s| s.p_max));
+    let (a_mean, a_std) = mean_std(st.iter().map(|s| s.p_max_angle_deg));
+    let imep = st
+        .iter()
+        .all(|s| s.imep_pa.is_some())
+        .then(|| mean_std(st.iter().filter_map(|s| s.imep_pa)));
+    Some(CycleSummary {
+        cycles: r.cycles,
+        imep_std_bar: imep.map(|(_, s)| s / 1e5),
+        imep_cov: imep.and_then(|(m, s)| (m.abs() > 0.0).then(|| s / m.abs())),
+        p_max_mean_bar: p_mean / 1e5,
+        p_max_cov: p_std / p_mean,
+        p_max_angle_mean_deg: a_mean,
+        p_max_angle_std_deg: a_std,
+    })
+}
+
+/// The TDC offset a measured trace suggests (deg): the shift of the volume
+/// law that makes compression from 100° to 30° before TDC most nearly a
+/// polytrope (`ln p` linear in `ln V`). A wrong TDC bends that line because
+/// the volume changes fastest there. `None` when the window holds too few
+/// points or the fit has no clear minimum.
+fn tdc_offset_estimate(p: &[f64], volume: &[f64], h: f64) -> Option<f64> {
+    let n = p.len();
+    let cycle = n as f64 * h;
+    let window: Vec<usize> = (0..n)
+        .filter(|&k| {
+            let a = (k as f64 * h - cycle).to_degrees();
+            (-100.0..=-30.0).contains(&a)
+        })
+        .collect();
+    if window.len() < 8 || window.iter().any(|&k| p[k] <= 0.0) {
+        return None;
+    }
+    // Volume at a shifted angle by linear interpolation on the periodic grid.
+    let vol_at = |a: f64| {
+        let x = (a / h).rem_euclid(n as f64);
+        let i = x.floor() as usize % n;
+        let f = x - x.floor();
+        volume[i] * (1.0 - f) + volume[(i + 1) % n] * f
+    };
+    let residual = |delta_deg: f64| {
+        let d = delta_deg.to_radians();
+        let (mut sx, mut sy, mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for &k in &window {
+            let x = vol_at(k as f64 * h - d).ln();
+            let y = p[k].ln();
+            sx += x;
+            sy += y;
+            sxx += x * x;
+            sxy += x * y;
+            syy += y * y;
+        }
+        let m = window.len() as f64;
+        let (vx, vy, cxy) = (sxx - sx * sx / m, syy - sy * sy / m, sxy - sx * sy / m);
+        (vy - cxy * cxy / vx) / m
+    };
+    let (best, _) = (-60..=60)
+        .map(|i| i as f64 * 0.1)
+        .map(|d| (d, residual(d)))
+        .fold((0.0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+    if best.abs() >= 5.99 {
+        return None;
+    }
+    let (x, _) = roots::minimize(residual, best - 0.1, best + 0.1, 1e-6);
+    Some(x)
 }
 
 /// Checks the speed and grid, applies the rod model; returns the engine to
@@ -178,36 +265,111 @@ pub fn analyse(
             setup.rod_centre.map(|c| c.0).unwrap_or_default()
         ));
     }
-    let p = &pressure.pressure;
-    let forces = cylinder_forces(&setup, &kin, p, 0.0, h);
-    let torque = enginedyn_torque::sum(engine, h, |_| &forces.torque);
-    let pin_radial: Vec<f64> = forces
-        .pin_load
+    let z = engine.cylinders();
+    // One diagram for all cylinders, or each cylinder its own trace (each
+    // over its own cycle angle from its own firing TDC).
+    let traces: Vec<&[f64]> = if pressure.cylinders.is_empty() {
+        vec![&pressure.pressure]
+    } else if pressure.cylinders.len() == z {
+        pressure.cylinders.iter().map(Vec::as_slice).collect()
+    } else {
+        return Err(PipelineError::Input(format!(
+            "the diagram has traces for {} cylinders, the engine has {z}",
+            pressure.cylinders.len()
+        )));
+    };
+    let all: Vec<Forces> = traces
         .iter()
-        .zip(&forces.pin_angle_deg)
-        .map(|(l, a)| l * a.to_radians().cos())
+        .map(|p| cylinder_forces(&setup, &kin, p, 0.0, h))
+        .collect();
+    let of = |i: usize| &all[i.min(all.len() - 1)];
+    let torque = enginedyn_torque::sum(engine, h, |i| &of(i).torque);
+    let pin_radial: Vec<Vec<f64>> = all
+        .iter()
+        .map(|f| {
+            f.pin_load
+                .iter()
+                .zip(&f.pin_angle_deg)
+                .map(|(l, a)| l * a.to_radians().cos())
+                .collect()
+        })
         .collect();
     let unbalance = engine.masses().crank_unbalanced * mech.r() * omega * omega;
-    let bearings =
-        enginedyn_torque::main_bearing_loads(engine, h, &forces.tangential, &pin_radial, unbalance);
+    let bearings = enginedyn_torque::main_bearing_loads(
+        engine,
+        h,
+        |i| &of(i).tangential,
+        |i| &pin_radial[i.min(pin_radial.len() - 1)],
+        unbalance,
+    );
     let volume: Vec<f64> = (0..n).map(|k| cyl.volume(k as f64 * h)).collect();
-    // Indicated work from the exact volume law: W = ∮ p dV.
-    let p_dv: Vec<f64> = (0..n).map(|k| p[k] * cyl.dvolume(k as f64 * h)).collect();
-    let work = integrate::periodic_integral(opts.integration, &p_dv, h);
+    let dvolume: Vec<f64> = (0..n).map(|k| cyl.dvolume(k as f64 * h)).collect();
+    // Indicated work from the exact volume law, W = ∮ p dV, mean over cylinders.
+    let work = traces
+        .iter()
+        .map(|p| {
+            let p_dv: Vec<f64> = p.iter().zip(&dvolume).map(|(p, dv)| p * dv).collect();
+            integrate::periodic_integral(opts.integration, &p_dv, h)
+        })
+        .sum::<f64>()
+        / traces.len() as f64;
+    if traces.len() > 1 {
+        notes.push(format!(
+            "one trace per cylinder: forces and torque per cylinder; curves.csv shows cylinder 1, IMEP is the mean over the {z} cylinders"
+        ));
+    }
+    // Force extremes over every cylinder.
+    let extreme = |get: fn(&Forces) -> &Vec<f64>| {
+        all.iter()
+            .flat_map(|f| get(f).iter())
+            .fold(0.0_f64, |a, b| a.max(b.abs()))
+    };
+    let force_max = ForceMax {
+        gas: extreme(|f| &f.gas),
+        side: extreme(|f| &f.side),
+        rod: extreme(|f| &f.rod),
+        pin: extreme(|f| &f.pin_load),
+    };
+    let tdc_offset = (!pressure.pv && pressure.quantity == Quantity::Pressure)
+        .then(|| tdc_offset_estimate(traces[0], &volume, h))
+        .flatten();
+    if let Some(d) = tdc_offset
+        && d.abs() > 0.3
+    {
+        notes.push(format!(
+            "the trace suggests firing TDC lies {d:+.2}° from the declared one (compression is most nearly polytropic there): check --tdc-deg; 1° of TDC error moves IMEP by about 4 % at full load"
+        ));
+    }
+    let forces = all.into_iter().next().unwrap_or_default();
     let parts = Parts {
         h,
         rod_model,
-        pressure: p.clone(),
+        pressure: traces[0].to_vec(),
         volume,
         kinematics: kin,
         cylinder_torque: forces.torque.clone(),
         forces,
+        force_max: Some(force_max),
         torque,
         bearings,
         work: Some(work),
         notes,
         interpolation: interp_name(opts, pressure),
         cycles: pressure.cycles,
+        stats: cycle_summary(pressure),
+        tdc_offset,
+        pegging: pressure.pegging.map(|g| match g.method {
+            Peg::Bar(_) => Pegging {
+                method: "bar",
+                offset_bar: g.mean_offset / 1e5,
+                polytropic_n: None,
+            },
+            Peg::Polytropic(n) => Pegging {
+                method: "polytropic",
+                offset_bar: g.mean_offset / 1e5,
+                polytropic_n: Some(n),
+            },
+        }),
     };
     complete(engine, parts, rpm, opts)
 }
@@ -272,6 +434,10 @@ pub fn analyse_torque(
         notes,
         interpolation: interp_name(opts, torque),
         cycles: torque.cycles,
+        force_max: None,
+        stats: None,
+        tdc_offset: None,
+        pegging: None,
     };
     complete(engine, parts, rpm, opts)
 }
@@ -297,6 +463,10 @@ fn complete(
         mut notes,
         interpolation,
         cycles,
+        force_max,
+        stats,
+        tdc_offset,
+        pegging,
     } = parts;
     let omega = rpm * PI / 30.0;
     let cycle = engine.cycle();
@@ -355,8 +525,7 @@ fn complete(
     } else {
         j_idx
     };
-    let has_forces = !forces.gas.is_empty();
-    let abs_max = |v: &[f64]| has_forces.then(|| v.iter().fold(0.0_f64, |a, b| a.max(b.abs())));
+    let has_forces = force_max.is_some();
     let cyl = engine.cylinder();
     let summary = Summary {
         rpm,
@@ -383,10 +552,10 @@ fn complete(
         piston_speed_max_m_s: ext.speed_max,
         piston_accel_max_m_s2: ext.accel_max,
         piston_accel_min_m_s2: ext.accel_min,
-        gas_force_max_n: abs_max(&forces.gas),
-        side_force_max_n: abs_max(&forces.side),
-        rod_force_max_n: abs_max(&forces.rod),
-        crankpin_load_max_n: abs_max(&forces.pin_load),
+        gas_force_max_n: force_max.as_ref().map(|f| f.gas),
+        side_force_max_n: force_max.as_ref().map(|f| f.side),
+        rod_force_max_n: force_max.as_ref().map(|f| f.rod),
+        crankpin_load_max_n: force_max.as_ref().map(|f| f.pin),
         crankpin_load_mean_n: has_forces
             .then(|| integrate::periodic_mean(opts.integration, &forces.pin_load)),
         journal_torque_max_nm: j_max,
@@ -398,6 +567,9 @@ fn complete(
         grid_step_deg: opts.step_deg,
         integration: opts.integration.name(),
         cycles: (cycles > 1).then_some(cycles),
+        cycle_stats: stats,
+        pegging,
+        tdc_offset_estimate_deg: tdc_offset,
         notes,
     };
     Ok(Analysis {

@@ -48,7 +48,37 @@ pub struct Summary {
     pub integration: &'static str,
     /// Number of measured cycles, when more than one.
     pub cycles: Option<usize>,
+    /// Cycle-to-cycle statistics, when several cycles were measured.
+    pub cycle_stats: Option<CycleSummary>,
+    /// Pegging applied to relative traces.
+    pub pegging: Option<Pegging>,
+    /// The TDC offset a measured p–φ trace suggests (deg).
+    pub tdc_offset_estimate_deg: Option<f64>,
     pub notes: Vec<String>,
+}
+
+/// Cycle-to-cycle statistics (INTERFACE.md's keys of the same names).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[allow(missing_docs)]
+pub struct CycleSummary {
+    pub cycles: usize,
+    pub imep_std_bar: Option<f64>,
+    pub imep_cov: Option<f64>,
+    pub p_max_mean_bar: f64,
+    pub p_max_cov: f64,
+    pub p_max_angle_mean_deg: f64,
+    pub p_max_angle_std_deg: f64,
+}
+
+/// Pegging as `summary.json` reports it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pegging {
+    /// `"bar"` or `"polytropic"`.
+    pub method: &'static str,
+    /// Mean offset added (bar).
+    pub offset_bar: f64,
+    /// The exponent of polytropic pegging.
+    pub polytropic_n: Option<f64>,
 }
 
 /// A summary value, as the report writers need it.
@@ -127,6 +157,27 @@ impl Summary {
         ];
         if let Some(c) = self.cycles {
             f.push(("cycles", Int(c)));
+        }
+        if let Some(c) = &self.cycle_stats {
+            f.push(("imep_std_bar", Num(c.imep_std_bar)));
+            f.push(("imep_cov", Num(c.imep_cov)));
+            f.push(("p_max_mean_bar", Num(Some(c.p_max_mean_bar))));
+            f.push(("p_max_cov", Num(Some(c.p_max_cov))));
+            f.push(("p_max_angle_mean_deg", Num(Some(c.p_max_angle_mean_deg))));
+            f.push(("p_max_angle_std_deg", Num(Some(c.p_max_angle_std_deg))));
+        }
+        if let Some(p) = &self.pegging {
+            f.push((
+                "pegging",
+                Value::Map(vec![
+                    ("method", Value::Text(p.method)),
+                    ("offset_bar", Num(Some(p.offset_bar))),
+                    ("polytropic_n", Num(p.polytropic_n)),
+                ]),
+            ));
+        }
+        if let Some(t) = self.tdc_offset_estimate_deg {
+            f.push(("tdc_offset_estimate_deg", Num(Some(t))));
         }
         f
     }

@@ -4,7 +4,7 @@
 use enginedyn_engine::{Engine, RodModel, file::parse};
 use enginedyn_ingest::Resampled;
 use enginedyn_kinematics::Model;
-use enginedyn_numerics::{InterpKind, integrate::Rule};
+use enginedyn_numerics::integrate::Rule;
 use enginedyn_pipeline::{Options, analyse};
 use proptest::prelude::*;
 use std::f64::consts::PI;
@@ -44,14 +44,7 @@ fn pressure(step_deg: f64, peak: f64) -> Resampled {
             1e5 + peak * 1e5 * (-(d / 25.0).powi(2)).exp()
         })
         .collect();
-    Resampled {
-        step_deg,
-        pressure: p,
-        interp: InterpKind::Linear,
-        cycles: 1,
-        per_cycle: vec![],
-        notes: vec![],
-    }
+    Resampled::from_grid(step_deg, p)
 }
 
 fn opts(step: f64, kinematics: Model, rod: RodModel) -> Options {

@@ -4,7 +4,7 @@
 //!
 //! ```no_run
 //! # fn demo(engine: &enginedyn_engine::Engine, a: &enginedyn_pipeline::Analysis) {
-//! let files = enginedyn_report::run_files(engine, a).unwrap();
+//! let files = enginedyn_report::run_files(engine, a, false).unwrap();
 //! enginedyn_report::write_all(std::path::Path::new("out"), &files).unwrap();
 //! # }
 //! ```
@@ -260,8 +260,9 @@ fn num(out: &mut String, x: f64) {
 
 /// `curves.csv`: one row per grid angle of cylinder 1 over the cycle. Columns
 /// that do not exist for the case (the pressure and force columns of a
-/// turning-moment run) are empty cells.
-pub fn curves_csv(a: &Analysis) -> String {
+/// turning-moment run) are empty cells. `centered` writes the angles in
+/// `[-cycle/2, cycle/2)`, rows from `-cycle/2`, as indicating software shows them.
+pub fn curves_csv(a: &Analysis, centered: bool) -> String {
     let n = a.torque.total.len();
     let w = a.summary.omega_rad_s;
     let throws = a.torque.journals.len();
@@ -288,9 +289,19 @@ pub fn curves_csv(a: &Analysis) -> String {
     let f = &a.forces;
     let kin = &a.kinematics;
     let at = |v: &[f64], k: usize| v.get(k).copied();
-    for k in 0..n {
+    let cycle = (n as f64 * a.step).to_degrees();
+    for row_index in 0..n {
+        let k = if centered {
+            (row_index + n / 2) % n
+        } else {
+            row_index
+        };
+        let mut angle = (k as f64 * a.step).to_degrees();
+        if centered && k >= n / 2 {
+            angle -= cycle;
+        }
         let row = [
-            Some(round_angle((k as f64 * a.step).to_degrees())),
+            Some(round_angle(angle)),
             at(&a.pressure, k).map(|p| p / 1e5),
             at(&a.volume, k),
             at(&kin.x, k),
@@ -361,12 +372,19 @@ pub fn harmonics_csv(a: &Analysis) -> String {
     s
 }
 
-/// Every file of `run --out DIR`, as (name, contents).
-pub fn run_files(engine: &Engine, a: &Analysis) -> Result<Vec<(String, Vec<u8>)>, ReportError> {
+/// Every file of `run --out DIR`, as (name, contents); `centered` as in [`curves_csv`].
+pub fn run_files(
+    engine: &Engine,
+    a: &Analysis,
+    centered: bool,
+) -> Result<Vec<(String, Vec<u8>)>, ReportError> {
     let json = serde_json::to_string_pretty(&summary_json(&a.summary)).unwrap_or_default() + "\n";
     let mut files = vec![
         ("summary.json".to_string(), json.into_bytes()),
-        ("curves.csv".to_string(), curves_csv(a).into_bytes()),
+        (
+            "curves.csv".to_string(),
+            curves_csv(a, centered).into_bytes(),
+        ),
         ("harmonics.csv".to_string(), harmonics_csv(a).into_bytes()),
     ];
     let mut charts = Vec::new();

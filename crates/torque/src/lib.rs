@@ -139,11 +139,11 @@ pub fn harmonics(
         .collect())
 }
 
-/// Loads on the main bearings (N, magnitude) over the cycle, from the
-/// crank-pin loads of one cylinder's curve placed at every cylinder's firing
-/// angle. `tangential` is `T` and `radial` is `K - K_rB` (toward the axis) of
-/// cylinder 1 on the grid; `unbalance` is the throw's own centrifugal force
-/// `m_crank R w^2` (N).
+/// Loads on the main bearings (N, magnitude) over the cycle, from each
+/// cylinder's crank-pin load placed at its firing angle. `tangential(i)` is
+/// `T` and `radial(i)` is `K - K_rB` (toward the axis) of cylinder `i` over
+/// its own cycle angle on the grid; `unbalance` is the throw's own
+/// centrifugal force `m_crank R w^2` (N).
 ///
 /// Statically determinate split: each throw sits midway between two main
 /// bearings and hands half of its force (a vector in engine-fixed axes) to
@@ -152,14 +152,14 @@ pub fn harmonics(
 /// crankshaft on more bearings is statically indeterminate and shares loads
 /// differently (neighbouring throws relieve each other); this split is the
 /// textbook first estimate.
-pub fn main_bearing_loads(
+pub fn main_bearing_loads<'a>(
     engine: &Engine,
     step: f64,
-    tangential: &[f64],
-    radial: &[f64],
+    tangential: impl Fn(usize) -> &'a [f64],
+    radial: impl Fn(usize) -> &'a [f64],
     unbalance: f64,
 ) -> Vec<Vec<f64>> {
-    let n = tangential.len();
+    let n = tangential(0).len();
     let throws = engine.throws();
     // Per throw: force on the throw in engine-fixed axes (x along cylinder 1, y across).
     let mut fx = vec![vec![0.0; n]; throws];
@@ -170,8 +170,8 @@ pub fn main_bearing_loads(
         t.iter_mut().for_each(|v| *v = 0.0);
         r.iter_mut().for_each(|v| *v = 0.0);
         for i in (0..engine.cylinders()).filter(|&i| engine.throw_of(i) == k) {
-            shift_add(tangential, engine.firing_angle(i), step, &mut t);
-            shift_add(radial, engine.firing_angle(i), step, &mut r);
+            shift_add(tangential(i), engine.firing_angle(i), step, &mut t);
+            shift_add(radial(i), engine.firing_angle(i), step, &mut r);
         }
         let lag = engine.crank_angles()[k];
         for j in 0..n {

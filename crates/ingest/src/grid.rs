@@ -1,0 +1,402 @@
+//! From traces to the uniform grid: interpolation, pegging, per-cycle
+//! statistics and the ensemble average, one trace at a time so a file of any
+//! length needs memory for one cycle only.
+
+use crate::{IngestError, Interp, Quantity, Trace};
+use enginedyn_kinematics::Cylinder;
+use enginedyn_numerics::{InterpKind, Periodic};
+
+/// Pegging of relative (piezoelectric) traces, per cycle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Peg {
+    /// Shift so the mean over ±5° around intake BDC is this absolute pressure (Pa).
+    Bar(f64),
+    /// Fit the offset so `p V^n` is constant on compression from 100° to 30° BTDC.
+    Polytropic(f64),
+}
+
+/// What the grid stage needs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridOptions {
+    /// Grid step (deg); must divide the cycle.
+    pub step_deg: f64,
+    /// Interpolation.
+    pub interp: Interp,
+    /// Pegging, if any.
+    pub peg: Option<Peg>,
+    /// The volume law, for per-cycle IMEP and polytropic pegging.
+    pub cylinder: Option<Cylinder>,
+}
+
+impl GridOptions {
+    /// A plain grid: no pegging, no volume law.
+    pub fn new(step_deg: f64, interp: Interp) -> Self {
+        Self {
+            step_deg,
+            interp,
+            peg: None,
+            cylinder: None,
+        }
+    }
+}
+
+/// Figures of one measured cycle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CycleStats {
+    /// Cylinder number (0: one trace for all).
+    pub cylinder: i64,
+    /// Cycle number.
+    pub cycle: i64,
+    /// IMEP (Pa), when the volume law is known.
+    pub imep_pa: Option<f64>,
+    /// Peak pressure (Pa).
+    pub p_max: f64,
+    /// Its angle (deg from firing TDC, in `[-cycle/2, cycle/2)`).
+    pub p_max_angle_deg: f64,
+    /// Pegging offset added (Pa).
+    pub peg_offset: f64,
+}
+
+/// Pegging as reported in `summary.json`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PegReport {
+    /// The method.
+    pub method: Peg,
+    /// Mean offset over the cycles (Pa).
+    pub mean_offset: f64,
+}
+
+/// Values on the uniform grid `k * step_deg`, `k = 0..n`, from firing TDC.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Resampled {
+    /// Grid step (deg).
+    pub step_deg: f64,
+    /// What the values are.
+    pub quantity: Quantity,
+    /// Mean over every trace (Pa, or N m for torque): the diagram for all cylinders.
+    pub pressure: Vec<f64>,
+    /// Per-cylinder means (`[k]` = cylinder `k + 1`), when the traces name cylinders.
+    pub cylinders: Vec<Vec<f64>>,
+    /// Interpolant used (for `auto`, the one it chose).
+    pub interp: InterpKind,
+    /// Number of cycles averaged (per cylinder).
+    pub cycles: usize,
+    /// Per-cycle figures.
+    pub stats: Vec<CycleStats>,
+    /// Pegging applied.
+    pub pegging: Option<PegReport>,
+    /// Speed from the file.
+    pub rpm: Option<f64>,
+    /// True when the file held p–V data (placed on angles by the volume law).
+    pub pv: bool,
+    /// Things worth telling the user.
+    pub notes: Vec<String>,
+}
+
+impl Resampled {
+    /// A resampled curve from values already on the grid (tests, generated data).
+    pub fn from_grid(step_deg: f64, values: Vec<f64>) -> Self {
+        Self {
+            step_deg,
+            quantity: Quantity::Pressure,
+            pressure: values,
+            cylinders: Vec::new(),
+            interp: InterpKind::Linear,
+            cycles: 1,
+            stats: Vec::new(),
+            pegging: None,
+            rpm: None,
+            pv: false,
+            notes: Vec::new(),
+        }
+    }
+}
+
+/// Interpolates traces onto the grid one at a time and keeps running sums.
+pub struct Accumulator {
+    opts: GridOptions,
+    cycle_deg: f64,
+    quantity: Quantity,
+    n: usize,
+    buf: Vec<f64>,
+    sum: Vec<f64>,
+    count: usize,
+    per_cylinder: Vec<(Vec<f64>, usize)>,
+    stats: Vec<CycleStats>,
+    interp: Option<InterpKind>,
+    volume: Vec<f64>,
+    dvolume: Vec<f64>,
+    notes: Vec<String>,
+}
+
+impl Accumulator {
+    /// A new accumulator for a cycle of `cycle_deg` and values of `quantity`.
+    pub fn new(opts: GridOptions, cycle_deg: f64, quantity: Quantity) -> Result<Self, IngestError> {
+        let step = opts.step_deg;
+        let n = (cycle_deg / step).round() as usize;
+        if !(step > 0.0) || n < 8 || ((n as f64) * step - cycle_deg).abs() > 1e-9 * cycle_deg {
+            return Err(IngestError::Data(format!(
+                "grid step {step}° must divide the {cycle_deg}° cycle into at least 8 steps"
+            )));
+        }
+        let h = step.to_radians();
+        let (volume, dvolume) = match &opts.cylinder {
+            Some(c) => (
+                (0..n).map(|k| c.volume(k as f64 * h)).collect(),
+                (0..n).map(|k| c.dvolume(k as f64 * h)).collect(),
+            ),
+            None => (Vec::new(), Vec::new()),
+        };
+        if matches!(opts.peg, Some(Peg::Polytropic(_))) && volume.is_empty() {
+            return Err(IngestError::Data(
+                "--peg polytropic needs the engine's volume law".into(),
+            ));
+        }
+        Ok(Self {
+            opts,
+            cycle_deg,
+            quantity,
+            n,
+            buf: vec![0.0; n],
+            sum: vec![0.0; n],
+            count: 0,
+            per_cylinder: Vec::new(),
+            stats: Vec::new(),
+            interp: None,
+            volume,
+            dvolume,
+            notes: Vec::new(),
+        })
+    }
+
+    /// Adds one trace (angles in `[0, cycle)`, rising).
+    pub fn add(&mut self, tr: &Trace) -> Result<(), IngestError> {
+        let kind = self.choose(tr)?;
+        let f = Periodic::new(kind, &tr.angle_deg, &tr.values, self.cycle_deg)
+            .map_err(|e| IngestError::Data(format!("cycle {}: {e}", tr.cycle)))?;
+        f.eval_uniform(0.0, self.opts.step_deg, &mut self.buf);
+        let pressure = self.quantity == Quantity::Pressure;
+        let peg_offset = if pressure { self.peg()? } else { 0.0 };
+        if let Some(k) = self
+            .buf
+            .iter()
+            .position(|p| !p.is_finite() || (pressure && *p < 0.0))
+        {
+            return Err(IngestError::Data(format!(
+                "cycle {}: the {} interpolant gives {:.4e} at {}°{}",
+                tr.cycle,
+                kind.name(),
+                self.buf[k],
+                k as f64 * self.opts.step_deg,
+                if peg_offset == 0.0 {
+                    "; try --interp pchip"
+                } else {
+                    " after pegging: check the pegging pressure"
+                }
+            )));
+        }
+        if pressure {
+            let (k_max, p_max) =
+                self.buf
+                    .iter()
+                    .enumerate()
+                    .fold(
+                        (0, f64::NEG_INFINITY),
+                        |a, (k, &p)| if p > a.1 { (k, p) } else { a },
+                    );
+            let mut angle = k_max as f64 * self.opts.step_deg;
+            if angle >= self.cycle_deg / 2.0 {
+                angle -= self.cycle_deg;
+            }
+            let imep_pa = (!self.volume.is_empty()).then(|| {
+                let h = self.opts.step_deg.to_radians();
+                let p_dv: f64 = self
+                    .buf
+                    .iter()
+                    .zip(&self.dvolume)
+                    .map(|(p, dv)| p * dv)
+                    .sum();
+                let vd = self.opts.cylinder.map(|c| c.swept_volume()).unwrap_or(1.0);
+                p_dv * h / vd
+            });
+            self.stats.push(CycleStats {
+                cylinder: tr.cylinder,
+                cycle: tr.cycle,
+                imep_pa,
+                p_max,
+                p_max_angle_deg: angle,
+                peg_offset,
+            });
+        }
+        for (s, p) in self.sum.iter_mut().zip(&self.buf) {
+            *s += p;
+        }
+        self.count += 1;
+        if tr.cylinder > 0 {
+            let i = (tr.cylinder - 1) as usize;
+            if self.per_cylinder.len() <= i {
+                self.per_cylinder.resize(i + 1, (Vec::new(), 0));
+            }
+            let (s, c) = &mut self.per_cylinder[i];
+            if s.is_empty() {
+                s.resize(self.n, 0.0);
+            }
+            for (a, p) in s.iter_mut().zip(&self.buf) {
+                *a += p;
+            }
+            *c += 1;
+        }
+        self.interp.get_or_insert(kind);
+        Ok(())
+    }
+
+    /// Pegs `buf` in place; returns the offset added (Pa).
+    fn peg(&mut self) -> Result<f64, IngestError> {
+        let step = self.opts.step_deg;
+        let offset = match self.opts.peg {
+            None => return Ok(0.0),
+            Some(Peg::Bar(target)) => {
+                // Mean over ±5° around intake BDC: 540° (four-stroke) or 180° (two-stroke).
+                let bdc = if self.cycle_deg > 400.0 { 540.0 } else { 180.0 };
+                let (mut s, mut c) = (0.0, 0usize);
+                for (k, p) in self.buf.iter().enumerate() {
+                    if ((k as f64 * step) - bdc).abs() <= 5.0 + 1e-9 {
+                        s += p;
+                        c += 1;
+                    }
+                }
+                target - s / c.max(1) as f64
+            }
+            Some(Peg::Polytropic(n)) => {
+                // (p + d) V^n = C on 100°..30° BTDC: p V^n = C - d V^n, a line in V^n.
+                let (mut sx, mut sy, mut sxx, mut sxy, mut m) = (0.0, 0.0, 0.0, 0.0, 0.0);
+                for (k, p) in self.buf.iter().enumerate() {
+                    let a = k as f64 * step - self.cycle_deg;
+                    if (-100.0..=-30.0).contains(&a) {
+                        let x = self.volume[k].powf(n);
+                        let y = p * x;
+                        sx += x;
+                        sy += y;
+                        sxx += x * x;
+                        sxy += x * y;
+                        m += 1.0;
+                    }
+                }
+                let den = m * sxx - sx * sx;
+                if m < 3.0 || den.abs() < f64::MIN_POSITIVE {
+                    return Err(IngestError::Data(
+                        "--peg polytropic: too few points between 100° and 30° before TDC".into(),
+                    ));
+                }
+                -(m * sxy - sx * sy) / den
+            }
+        };
+        for p in &mut self.buf {
+            *p += offset;
+        }
+        Ok(offset)
+    }
+
+    fn choose(&mut self, tr: &Trace) -> Result<InterpKind, IngestError> {
+        let (step, n) = (self.opts.step_deg, self.n);
+        Ok(match self.opts.interp {
+            Interp::Linear => InterpKind::Linear,
+            Interp::Spline => InterpKind::Spline,
+            Interp::Pchip => InterpKind::Pchip,
+            Interp::Auto => {
+                let on_grid = tr.angle_deg.len() == n
+                    && tr
+                        .angle_deg
+                        .iter()
+                        .enumerate()
+                        .all(|(k, a)| (a - k as f64 * step).abs() < 1e-9);
+                if on_grid {
+                    InterpKind::Linear
+                } else {
+                    let s = Periodic::new(
+                        InterpKind::Spline,
+                        &tr.angle_deg,
+                        &tr.values,
+                        self.cycle_deg,
+                    )
+                    .map_err(|e| IngestError::Data(e.to_string()))?;
+                    let peak = tr.values.iter().fold(0.0_f64, |a, &b| a.max(b.abs()));
+                    if s.max_overshoot() > 0.005 * peak {
+                        let note = format!(
+                            "the periodic spline overshoots the data by {:.2} % of the peak: pchip used instead",
+                            100.0 * s.max_overshoot() / peak
+                        );
+                        if !self.notes.contains(&note) {
+                            self.notes.push(note);
+                        }
+                        InterpKind::Pchip
+                    } else {
+                        InterpKind::Spline
+                    }
+                }
+            }
+        })
+    }
+
+    /// The averages and statistics.
+    pub fn finish(
+        self,
+        rpm: Option<f64>,
+        mut notes: Vec<String>,
+    ) -> Result<Resampled, IngestError> {
+        if self.count == 0 {
+            return Err(IngestError::Data("no data rows".into()));
+        }
+        let m = self.count as f64;
+        let pressure = self.sum.iter().map(|s| s / m).collect();
+        let mut cylinders = Vec::new();
+        for (i, (s, c)) in self.per_cylinder.iter().enumerate() {
+            if *c == 0 {
+                return Err(IngestError::Data(format!(
+                    "no trace for cylinder {} (cylinders must be numbered 1, 2, …)",
+                    i + 1
+                )));
+            }
+            cylinders.push(s.iter().map(|x| x / *c as f64).collect());
+        }
+        let cycles = if self.per_cylinder.is_empty() {
+            self.count
+        } else {
+            self.count / self.per_cylinder.len().max(1)
+        };
+        let pegging = self.opts.peg.map(|method| PegReport {
+            method,
+            mean_offset: self.stats.iter().map(|s| s.peg_offset).sum::<f64>()
+                / self.stats.len().max(1) as f64,
+        });
+        notes.extend(self.notes);
+        Ok(Resampled {
+            step_deg: self.opts.step_deg,
+            quantity: self.quantity,
+            pressure,
+            cylinders,
+            interp: self.interp.unwrap_or(InterpKind::Linear),
+            cycles,
+            stats: self.stats,
+            pegging,
+            rpm,
+            pv: false,
+            notes,
+        })
+    }
+}
+
+/// Mean, standard deviation (sample, n - 1) of values.
+pub fn mean_std(v: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
+    let n = v.clone().count() as f64;
+    if n == 0.0 {
+        return (f64::NAN, f64::NAN);
+    }
+    let mean = v.clone().sum::<f64>() / n;
+    let var = if n > 1.0 {
+        v.map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
+    } else {
+        0.0
+    };
+    (mean, var.sqrt())
+}
