@@ -476,3 +476,92 @@ fn one_file_per_cylinder() {
     let out = run(&["run", "--diagram", p, p]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// `batch`: rows in input order whatever the scheduling, a bad file's error
+/// in its row and on stderr while the others finish, exit 1; the header is
+/// `file,error` then the summary keys in INTERFACE.md's order; `--tolerance`
+/// is refused with exit 2 until the accuracy study exists.
+#[test]
+fn batch_rows_in_input_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.csv");
+    std::fs::write(&good, bundled_csv()).unwrap();
+    let bad = dir.path().join("bad.csv");
+    std::fs::write(&bad, "crank_deg,pressure_bar\n0,1\n1,x\n").unwrap();
+    let engine = concat!(env!("CARGO_MANIFEST_DIR"), "/../data/vaz2108.toml");
+    let g = good.to_str().unwrap();
+    let out_dir = dir.path().join("out");
+    let out = run(&[
+        "batch",
+        "--engine",
+        engine,
+        g,
+        bad.to_str().unwrap(),
+        g,
+        g,
+        "--jobs",
+        "2",
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--detail",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("bad.csv: line 3, column 2"));
+    let csv = std::fs::read_to_string(out_dir.join("summary.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert!(
+        lines[0].starts_with("file,error,rpm,omega_rad_s,imep_bar,"),
+        "{}",
+        lines[0]
+    );
+    assert!(lines[0].contains(",models.kinematics,") && lines[0].contains(",notes"));
+    assert_eq!(lines.len(), 5);
+    assert!(lines[1].starts_with(g) && lines[2].contains("bad.csv,") && lines[3].starts_with(g));
+    assert!(lines[2].contains("is not a number"));
+    assert!(out_dir.join("0000_good/report.html").exists() && out_dir.join("index.html").exists());
+    let index = std::fs::read_to_string(out_dir.join("index.html")).unwrap();
+    assert!(index.contains("href=\"0003_good/report.html\""));
+    let out = run(&["batch", "--engine", engine, g, "--tolerance", "0.01"]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+/// `sweep`: one row per speed, TO included when on the step; the mean
+/// torque does not depend on speed (same pressures), the crank-pin load does.
+#[test]
+fn sweep_over_speed() {
+    let dir = tempfile::tempdir().unwrap();
+    let engine = concat!(env!("CARGO_MANIFEST_DIR"), "/../data/vaz2108.toml");
+    let out = run(&[
+        "sweep",
+        "--engine",
+        engine,
+        "--rpm",
+        "1000:5000:1000",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.path().join("sweep.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 6);
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let (r, m) = (
+        header.iter().position(|h| *h == "rpm").unwrap(),
+        header.iter().position(|h| *h == "mean_torque_nm").unwrap(),
+    );
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows[4][r], "5000");
+    let m0: f64 = rows[0][m].parse().unwrap();
+    for row in &rows {
+        let mi: f64 = row[m].parse().unwrap();
+        assert!((mi - m0).abs() < 1e-9 * m0.abs());
+    }
+    assert!(dir.path().join("sweep.svg").exists());
+}

@@ -16,6 +16,10 @@ pub struct Cli {
 pub enum Command {
     /// The whole pipeline for one operating point (no arguments: the bundled example).
     Run(RunArgs),
+    /// Many diagrams, each its own operating point, one summary row each, in parallel.
+    Batch(BatchArgs),
+    /// One diagram over a range of speeds, charted against speed.
+    Sweep(SweepArgs),
     /// Piston path, speed, acceleration and rod angle table.
     Kinematics(KinematicsArgs),
 }
@@ -189,4 +193,50 @@ impl MethodArgs {
             },
         }
     }
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct BatchArgs {
+    /// Engine file (TOML).
+    #[arg(long, value_name = "FILE")]
+    pub engine: PathBuf,
+    /// Diagram files, folders (every .csv inside) or glob patterns.
+    #[arg(value_name = "DIAGRAM", required = true)]
+    pub diagrams: Vec<String>,
+    /// Write summary.csv (and with --detail one run folder per diagram) into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Worker threads [default: one per core].
+    #[arg(long, value_name = "N")]
+    pub jobs: Option<usize>,
+    /// One run folder per diagram, DIR/NNNN_STEM/, and index.html.
+    #[arg(long, requires = "out")]
+    pub detail: bool,
+    /// Pick the cheapest method setting whose estimated relative error is below REL.
+    #[arg(long, value_name = "REL")]
+    pub tolerance: Option<f64>,
+    #[command(flatten)]
+    pub diagram_args: DiagramArgs,
+    #[command(flatten)]
+    pub method: MethodArgs,
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct SweepArgs {
+    /// Engine file (TOML).
+    #[arg(long, value_name = "FILE")]
+    pub engine: PathBuf,
+    /// Indicator diagram [default: the engine file's `diagram`].
+    #[arg(long, value_name = "FILE")]
+    pub diagram: Option<PathBuf>,
+    /// Speeds FROM:TO:STEP (rpm); TO is included when it falls on the step.
+    #[arg(long, value_name = "FROM:TO:STEP")]
+    pub rpm: String,
+    /// Write sweep.csv and sweep.svg into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub diagram_args: DiagramArgs,
+    #[command(flatten)]
+    pub method: MethodArgs,
 }

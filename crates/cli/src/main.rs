@@ -3,6 +3,7 @@
 //! bad diagram or torque file, 2 for a bad command line or engine file.
 
 mod args;
+mod batch;
 mod kinematics;
 mod run;
 mod table;
@@ -54,6 +55,8 @@ fn main() -> ExitCode {
     let cli = args::Cli::parse();
     let result = match cli.command {
         args::Command::Run(a) => run::run(&a),
+        args::Command::Batch(a) => batch::run(&a),
+        args::Command::Sweep(a) => batch::sweep(&a),
         args::Command::Kinematics(a) => kinematics::run(&a),
     };
     match result {

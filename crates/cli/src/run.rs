@@ -161,6 +161,21 @@ fn merge_per_cylinder(files: Vec<(String, Resampled)>) -> Result<Resampled, Fail
     Ok(first)
 }
 
+/// The grid step must be positive and divide the cycle.
+pub fn check_step(engine: &Engine, step: f64) -> Result<(), Failure> {
+    let cycle_deg = engine.cycle().to_degrees();
+    let n = (cycle_deg / step).round();
+    if !(step.is_finite() && step > 0.0)
+        || (n * step - cycle_deg).abs() > 1e-9 * cycle_deg
+        || n < 8.0
+    {
+        return Err(Failure::usage(format!(
+            "--step {step}: the step must divide the {cycle_deg}° cycle (0.1, 0.2, 0.25, 0.5, 1, …)"
+        )));
+    }
+    Ok(())
+}
+
 /// The speed: `--rpm`, else the diagram's `# rpm` line, else the engine file's.
 pub fn resolve_rpm(
     flag: Option<f64>,
@@ -198,20 +213,9 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
         }
     };
     let step = a.method.step;
-    if !(step.is_finite() && step > 0.0) {
-        return Err(Failure::usage(format!(
-            "--step {step}: a positive grid step in degrees is needed"
-        )));
-    }
     let loaded = load_engine(a.engine.as_deref())?;
     let engine = &loaded.engine;
-    let cycle_deg = engine.cycle().to_degrees();
-    let n = (cycle_deg / step).round();
-    if (n * step - cycle_deg).abs() > 1e-9 * cycle_deg || n < 8.0 {
-        return Err(Failure::usage(format!(
-            "--step {step}: the step must divide the {cycle_deg}° cycle (0.1, 0.2, 0.25, 0.5, 1, …)"
-        )));
-    }
+    check_step(engine, step)?;
     let opts = a.method.options();
     let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
     if let Some(path) = &a.torque {

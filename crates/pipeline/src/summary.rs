@@ -97,6 +97,55 @@ pub enum Value {
 }
 
 impl Summary {
+    /// A summary with every fixed key and nothing measured: lists the
+    /// columns of `summary.csv`.
+    pub fn empty() -> Self {
+        Summary {
+            rpm: 0.0,
+            omega_rad_s: 0.0,
+            imep_bar: None,
+            indicated_work_per_cylinder_j: None,
+            mean_torque_nm: None,
+            power_kw: None,
+            torque_max_nm: None,
+            torque_min_nm: None,
+            torque_nonuniformity: None,
+            excess_work_j: None,
+            excess_work_coefficient: None,
+            required_inertia_kg_m2: None,
+            flywheel_inertia_kg_m2: None,
+            flywheel_gd2_n_m2: None,
+            flywheel_outer_diameter_m: None,
+            flywheel_mass_kg: None,
+            flywheel_width_m: None,
+            speed_fluctuation_achieved: None,
+            stroke_m: 0.0,
+            lambda: 0.0,
+            piston_speed_mean_m_s: 0.0,
+            piston_speed_max_m_s: 0.0,
+            piston_accel_max_m_s2: 0.0,
+            piston_accel_min_m_s2: 0.0,
+            gas_force_max_n: None,
+            side_force_max_n: None,
+            rod_force_max_n: None,
+            crankpin_load_max_n: None,
+            crankpin_load_mean_n: None,
+            journal_torque_max_nm: 0.0,
+            journal_most_loaded: 0,
+            energy_balance_error: None,
+            kinematics: "",
+            rod_model: "",
+            interpolation: "",
+            grid_step_deg: 0.0,
+            integration: "",
+            cycles: None,
+            cycle_stats: None,
+            pegging: None,
+            tdc_offset_estimate_deg: None,
+            notes: Vec::new(),
+        }
+    }
+
     /// Every key in INTERFACE.md's order, then the optional keys present.
     pub fn fields(&self) -> Vec<(&'static str, Value)> {
         use Value::{Int, Num};

@@ -64,6 +64,77 @@ pub fn summary_json(summary: &Summary) -> serde_json::Value {
     )
 }
 
+/// The fixed columns of `summary.csv` after `file` and `error`: the summary
+/// keys of INTERFACE.md in their order, `models` flattened.
+pub fn summary_columns() -> Vec<String> {
+    let s = enginedyn_pipeline::Summary::empty();
+    flatten(&s).into_iter().map(|(k, _)| k).collect()
+}
+
+/// The summary as (column, cell) pairs: `models` and `pegging` flattened to
+/// `models.kinematics` …, `notes` joined with ` | `, null as an empty cell,
+/// numbers in shortest round-trip form. Fixed keys first, then the optional
+/// keys present.
+pub fn flatten(s: &Summary) -> Vec<(String, String)> {
+    fn cell(v: &Value) -> String {
+        match v {
+            Value::Num(Some(x)) if x.is_finite() => format!("{x}"),
+            Value::Num(_) => String::new(),
+            Value::Int(i) => i.to_string(),
+            Value::Text(t) => t.to_string(),
+            Value::List(l) => l.join(" | "),
+            Value::Map(_) => String::new(),
+        }
+    }
+    let mut out = Vec::new();
+    for (k, v) in s.fields() {
+        match &v {
+            Value::Map(m) => {
+                for (kk, vv) in m {
+                    out.push((format!("{k}.{kk}"), cell(vv)));
+                }
+            }
+            _ => out.push((k.to_string(), cell(&v))),
+        }
+    }
+    out
+}
+
+/// One row of `summary.csv`: the file, its error (empty when it ran), and
+/// its flattened summary (empty when it failed).
+pub type CsvRow = (String, String, Vec<(String, String)>);
+
+/// Writes `summary.csv`: `file`, `error`, the fixed columns, then every
+/// optional column any row has (in order of first appearance). Rows are
+/// (file, error, flattened summary or empty).
+pub fn summary_csv(rows: &[CsvRow]) -> String {
+    let mut columns = summary_columns();
+    for (_, _, r) in rows {
+        for (k, _) in r {
+            if !columns.contains(k) {
+                columns.push(k.clone());
+            }
+        }
+    }
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let mut header = vec!["file".to_string(), "error".to_string()];
+    header.extend(columns.iter().cloned());
+    let _ = w.write_record(&header);
+    for (file, error, r) in rows {
+        let mut rec = vec![file.clone(), error.clone()];
+        for c in &columns {
+            rec.push(
+                r.iter()
+                    .find(|(k, _)| k == c)
+                    .map(|(_, v)| v.clone())
+                    .unwrap_or_default(),
+            );
+        }
+        let _ = w.write_record(&rec);
+    }
+    String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default()
+}
+
 /// One line of the readable summary (the printed table and the HTML page).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {

@@ -1,0 +1,377 @@
+//! `enginedyn batch` (many diagrams in parallel) and `enginedyn sweep` (one
+//! diagram over a range of speeds).
+
+use crate::Failure;
+use crate::args::{BatchArgs, SweepArgs};
+use crate::run::{check_step, diagram_options, load_diagram, load_engine, resolve_rpm};
+use enginedyn_engine::Engine;
+use enginedyn_ingest::Quantity;
+use enginedyn_report::{Chart, Figure, Series};
+use rayon::prelude::*;
+use std::fmt::Write as _;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+/// Files, folders (every `.csv` inside, sorted) and glob patterns, in the
+/// order given.
+fn expand(inputs: &[String]) -> Result<Vec<PathBuf>, Failure> {
+    let mut files = Vec::new();
+    for input in inputs {
+        let p = Path::new(input);
+        if p.is_dir() {
+            let mut inside: Vec<PathBuf> = std::fs::read_dir(p)
+                .map_err(|e| Failure::usage(format!("{input}: cannot list: {e}")))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|f| f.extension().is_some_and(|x| x.eq_ignore_ascii_case("csv")))
+                .collect();
+            inside.sort();
+            files.extend(inside);
+        } else if p.exists() {
+            files.push(p.to_path_buf());
+        } else if input.contains(['*', '?', '[']) {
+            let matched: Vec<PathBuf> = glob::glob(input)
+                .map_err(|e| Failure::usage(format!("{input}: not a valid pattern: {e}")))?
+                .filter_map(Result::ok)
+                .collect();
+            if matched.is_empty() {
+                return Err(Failure::usage(format!("{input}: no file matches")));
+            }
+            files.extend(matched);
+        } else {
+            // A missing file is that file's own error row, not the batch's.
+            files.push(p.to_path_buf());
+        }
+    }
+    if files.is_empty() {
+        return Err(Failure::usage("no diagram files found"));
+    }
+    Ok(files)
+}
+
+/// One diagram's outcome.
+struct Row {
+    file: String,
+    error: String,
+    cells: Vec<(String, String)>,
+    /// Key figures for index.html: IMEP, mean torque, power, required inertia.
+    key: Option<[Option<f64>; 4]>,
+    folder: Option<String>,
+}
+
+pub fn run(a: &BatchArgs) -> Result<(), Failure> {
+    if a.tolerance.is_some() {
+        return Err(Failure::usage(
+            "--tolerance needs the accuracy study, which this build does not have yet; choose the method with --step, --kinematics, --interp",
+        ));
+    }
+    let loaded = load_engine(Some(&a.engine))?;
+    let engine = &loaded.engine;
+    let step = a.method.step;
+    check_step(engine, step)?;
+    let opts = a.method.options();
+    let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
+    let files = expand(&a.diagrams)?;
+    let jobs = a.jobs.unwrap_or(0);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs)
+        .build()
+        .map_err(|e| Failure::usage(format!("--jobs {jobs}: {e}")))?;
+    let bar = if std::io::stderr().is_terminal() {
+        let b = indicatif::ProgressBar::new(files.len() as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{bar:40} {pos}/{len} diagrams  {elapsed} ({eta} left)",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let started = std::time::Instant::now();
+    let rows: Vec<Row> = pool.install(|| {
+        files
+            .par_iter()
+            .enumerate()
+            .map(|(i, f)| {
+                let shown = f.display().to_string();
+                let result = (|| -> Result<Row, Failure> {
+                    let resampled = load_diagram(Some(f), &parse, &grid)?;
+                    if resampled.quantity != Quantity::Pressure {
+                        return Err(Failure::data(
+                            "a turning-moment file, not a pressure diagram",
+                        ));
+                    }
+                    let rpm = resolve_rpm(None, resampled.rpm, engine)?;
+                    let an = enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)
+                        .map_err(|e| Failure::usage(e.to_string()))?;
+                    let s = &an.summary;
+                    let mut folder = None;
+                    if a.detail
+                        && let Some(dir) = &a.out
+                    {
+                        let stem = f
+                            .file_stem()
+                            .map(|s| s.to_string_lossy().into_owned())
+                            .unwrap_or_else(|| "diagram".into());
+                        let name = format!("{i:04}_{stem}");
+                        let files = enginedyn_report::run_files(engine, &an, false)
+                            .map_err(|e| Failure::data(e.to_string()))?;
+                        enginedyn_report::write_all(&dir.join(&name), &files)
+                            .map_err(|e| Failure::data(e.to_string()))?;
+                        folder = Some(name);
+                    }
+                    Ok(Row {
+                        file: shown.clone(),
+                        error: String::new(),
+                        cells: enginedyn_report::flatten(s),
+                        key: Some([
+                            s.imep_bar,
+                            s.mean_torque_nm,
+                            s.power_kw,
+                            s.required_inertia_kg_m2,
+                        ]),
+                        folder,
+                    })
+                })();
+                bar.inc(1);
+                result.unwrap_or_else(|e| {
+                    let msg = e
+                        .message
+                        .strip_prefix(&format!("{shown}: "))
+                        .unwrap_or(&e.message)
+                        .to_string();
+                    bar.suspend(|| eprintln!("error: {shown}: {msg}"));
+                    Row {
+                        file: shown,
+                        error: msg,
+                        cells: Vec::new(),
+                        key: None,
+                        folder: None,
+                    }
+                })
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    let failed = rows.iter().filter(|r| !r.error.is_empty()).count();
+    let table: Vec<enginedyn_report::CsvRow> = rows
+        .iter()
+        .map(|r| (r.file.clone(), r.error.clone(), r.cells.clone()))
+        .collect();
+    let csv = enginedyn_report::summary_csv(&table);
+    match &a.out {
+        Some(dir) => {
+            let mut out = vec![("summary.csv".to_string(), csv.into_bytes())];
+            if a.detail {
+                out.push((
+                    "index.html".to_string(),
+                    index_html(engine, &rows).into_bytes(),
+                ));
+            }
+            enginedyn_report::write_all(dir, &out).map_err(|e| Failure::data(e.to_string()))?;
+            eprintln!(
+                "{} diagrams ({} failed) in {:.2} s; wrote {}",
+                rows.len(),
+                failed,
+                started.elapsed().as_secs_f64(),
+                dir.join("summary.csv").display()
+            );
+        }
+        None => crate::emit(&csv),
+    }
+    if failed > 0 {
+        return Err(Failure {
+            code: 1,
+            message: format!(
+                "{failed} of {} diagrams failed (their rows say why)",
+                rows.len()
+            ),
+        });
+    }
+    Ok(())
+}
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// A table of every diagram with its key figures, linking to its report.
+fn index_html(engine: &Engine, rows: &[Row]) -> String {
+    let mut o = String::new();
+    let _ = write!(
+        o,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{} — batch</title><style>\
+body{{font-family:sans-serif;margin:24px}}table{{border-collapse:collapse;font-size:14px}}\
+td,th{{padding:3px 10px;border-bottom:1px solid #eee;text-align:left}}td.v{{text-align:right}}.err{{color:#b00}}\
+</style></head><body><h1>{} — {} diagrams</h1>\n<table><tr><th>#</th><th>diagram</th><th>IMEP (bar)</th>\
+<th>mean torque (N m)</th><th>power (kW)</th><th>required inertia (kg m²)</th><th>report</th></tr>\n",
+        esc(engine.name()),
+        esc(engine.name()),
+        rows.len()
+    );
+    for (i, r) in rows.iter().enumerate() {
+        let _ = write!(o, "<tr><td>{i}</td><td>{}</td>", esc(&r.file));
+        match (&r.key, &r.folder) {
+            (Some(k), Some(folder)) => {
+                for (v, d) in k.iter().zip([3, 2, 2, 5]) {
+                    let _ = write!(
+                        o,
+                        "<td class=\"v\">{}</td>",
+                        v.map_or("—".to_string(), |x| format!("{x:.d$}"))
+                    );
+                }
+                let _ = writeln!(
+                    o,
+                    "<td><a href=\"{}/report.html\">report</a></td></tr>",
+                    esc(folder)
+                );
+            }
+            _ => {
+                let _ = writeln!(
+                    o,
+                    "<td colspan=\"5\" class=\"err\">{}</td></tr>",
+                    esc(&r.error)
+                );
+            }
+        }
+    }
+    o.push_str("</table></body></html>\n");
+    o
+}
+
+/// Parses FROM:TO:STEP; TO is included when it falls on the step.
+fn speeds(spec: &str) -> Result<Vec<f64>, Failure> {
+    let bad = || {
+        Failure::usage(format!(
+            "--rpm {spec}: expected FROM:TO:STEP with 0 < FROM <= TO and STEP > 0"
+        ))
+    };
+    let parts: Vec<f64> = spec
+        .split(':')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad())?;
+    let [from, to, step] = parts[..] else {
+        return Err(bad());
+    };
+    if !(from > 0.0 && to >= from && step > 0.0 && to.is_finite()) {
+        return Err(bad());
+    }
+    let n = ((to - from) / step + 1e-9).floor() as usize;
+    if n > 100_000 {
+        return Err(Failure::usage(format!(
+            "--rpm {spec}: {n} speeds is too many"
+        )));
+    }
+    Ok((0..=n).map(|k| from + k as f64 * step).collect())
+}
+
+pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
+    let loaded = load_engine(Some(&a.engine))?;
+    let engine = &loaded.engine;
+    let step = a.method.step;
+    check_step(engine, step)?;
+    let rpms = speeds(&a.rpm)?;
+    let opts = a.method.options();
+    let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
+    let path = match &a.diagram {
+        Some(p) => p.clone(),
+        None => engine.diagram().map(Path::to_path_buf).ok_or_else(|| {
+            Failure::usage(format!(
+                "no indicator diagram: give --diagram or `diagram =` in {}",
+                a.engine.display()
+            ))
+        })?,
+    };
+    let resampled = load_diagram(Some(&path), &parse, &grid)?;
+    let shown = path.display().to_string();
+    // The pressures stay the same at every speed: gas load fixed, inertia growing with w^2.
+    let results: Vec<_> = rpms
+        .par_iter()
+        .map(|&rpm| enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts))
+        .collect::<Result<_, _>>()
+        .map_err(|e| Failure::usage(e.to_string()))?;
+    let table: Vec<enginedyn_report::CsvRow> = results
+        .iter()
+        .map(|an| {
+            (
+                shown.clone(),
+                String::new(),
+                enginedyn_report::flatten(&an.summary),
+            )
+        })
+        .collect();
+    let csv = enginedyn_report::summary_csv(&table);
+    match &a.out {
+        Some(dir) => {
+            let get = |f: fn(&enginedyn_pipeline::Summary) -> Option<f64>| -> Vec<(f64, f64)> {
+                results
+                    .iter()
+                    .filter_map(|an| f(&an.summary).map(|v| (an.summary.rpm, v)))
+                    .collect()
+            };
+            let panel = |title: &str, y: &str, series: Vec<Series>| Chart {
+                title: title.into(),
+                x_label: "engine speed (rpm)".into(),
+                y_label: y.into(),
+                series,
+                log: false,
+                equal: false,
+                angle_ticks: None,
+            };
+            let s = |name: &str, pts: Vec<(f64, f64)>| Series {
+                name: name.into(),
+                points: pts,
+                dashed: false,
+            };
+            let fig = Figure {
+                file: "sweep.svg".into(),
+                panels: vec![
+                    panel(
+                        &format!("{} — torque against speed", engine.name()),
+                        "torque (N m)",
+                        vec![
+                            s("mean", get(|x| x.mean_torque_nm)),
+                            s("max", get(|x| x.torque_max_nm)),
+                            s("min", get(|x| x.torque_min_nm)),
+                        ],
+                    ),
+                    panel(
+                        "crank-pin load and flywheel",
+                        "crank-pin load max (kN); required inertia (g m²)",
+                        vec![
+                            s(
+                                "crank-pin load max (kN)",
+                                get(|x| x.crankpin_load_max_n.map(|v| v / 1e3)),
+                            ),
+                            s(
+                                "required inertia I₀ (g m²)",
+                                get(|x| x.required_inertia_kg_m2.map(|v| v * 1e3)),
+                            ),
+                        ],
+                    ),
+                ],
+            };
+            let svg = fig.render().map_err(|e| Failure::data(e.to_string()))?;
+            enginedyn_report::write_all(
+                dir,
+                &[
+                    ("sweep.csv".to_string(), csv.into_bytes()),
+                    ("sweep.svg".to_string(), svg.into_bytes()),
+                ],
+            )
+            .map_err(|e| Failure::data(e.to_string()))?;
+            eprintln!(
+                "{} speeds; wrote sweep.csv and sweep.svg to {}",
+                rpms.len(),
+                dir.display()
+            );
+        }
+        None => crate::emit(&csv),
+    }
+    Ok(())
+}
