@@ -261,7 +261,45 @@ impl Delim {
     }
 }
 
+/// Clinger's fast path: a plain decimal of at most 15 digits is an exact
+/// integer over an exact power of ten, so one division rounds it correctly
+/// (the same value `str::parse` gives). Anything else returns `None`.
+#[inline]
+fn fast_decimal(b: &[u8]) -> Option<f64> {
+    const POW10: [f64; 16] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+    ];
+    let (neg, b) = match b.first() {
+        Some(b'-') => (true, &b[1..]),
+        Some(b'+') => (false, &b[1..]),
+        _ => (false, b),
+    };
+    if b.is_empty() || b.len() > 16 {
+        return None;
+    }
+    let (mut m, mut digits, mut frac, mut dot) = (0u64, 0usize, 0usize, false);
+    for &c in b {
+        match c {
+            b'0'..=b'9' => {
+                m = m * 10 + u64::from(c - b'0');
+                digits += 1;
+                frac += usize::from(dot);
+            }
+            b'.' if !dot => dot = true,
+            _ => return None,
+        }
+    }
+    if digits == 0 || digits > 15 {
+        return None;
+    }
+    let v = m as f64 / POW10[frac];
+    Some(if neg { -v } else { v })
+}
+
 fn number(cell: &str, decimal_comma: bool, line: usize, col: usize) -> Result<f64, IngestError> {
+    if let Some(v) = fast_decimal(cell.as_bytes()) {
+        return Ok(v);
+    }
     let parsed = if decimal_comma && cell.contains(',') {
         cell.replacen(',', ".", 1).parse::<f64>()
     } else if cell.as_bytes().first() == Some(&b'"') {
@@ -782,4 +820,43 @@ fn finish(mut tr: Trace, cycle: f64, quantity: Quantity) -> Result<Trace, Ingest
         )));
     }
     Ok(tr)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fast_decimal;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The fast path gives exactly what `str::parse` gives, or declines.
+        #[test]
+        fn fast_decimal_equals_std(x in -1e9f64..1e9, digits in 0usize..9) {
+            let s = format!("{x:.digits$}");
+            if let Some(v) = fast_decimal(s.as_bytes()) {
+                prop_assert_eq!(v.to_bits(), s.parse::<f64>().unwrap().to_bits());
+            }
+        }
+    }
+
+    #[test]
+    fn fast_decimal_declines_what_it_cannot_do() {
+        for s in [
+            "",
+            "-",
+            ".",
+            "1e5",
+            "1.2.3",
+            "nan",
+            "1234567890123456",
+            "0x10",
+            "1,5",
+        ] {
+            assert!(fast_decimal(s.as_bytes()).is_none(), "{s}");
+        }
+        assert_eq!(
+            fast_decimal(b"-0").map(f64::to_bits),
+            Some((-0.0f64).to_bits())
+        );
+        assert_eq!(fast_decimal(b"87.19176"), Some(87.19176));
+    }
 }
