@@ -34,3 +34,11 @@ ci:
 contract:
     cargo build --release
     python3 ../shared/spec/check_contract.py target/release/enginedyn
+
+# enginedyn against the Python yardsticks (installs numpy, pandas, pyarrow with pip when missing).
+bench files="40" cycles="50":
+    bash benches/bench.sh {{files}} {{cycles}}
+
+# Fuzz the diagram CSV reader (needs a nightly toolchain and cargo-fuzz).
+fuzz:
+    @if rustup toolchain list | grep -q nightly; then cd fuzz && cargo +nightly fuzz run diagram_csv -- -max_total_time=120; else echo "just fuzz needs a nightly toolchain (rustup toolchain install nightly) and cargo install cargo-fuzz; the stable property tests in crates/ingest/tests/no_panic.rs run in CI instead"; fi
