@@ -188,10 +188,12 @@ impl Accumulator {
                 kind.name(),
                 self.buf[k],
                 k as f64 * self.opts.step_deg,
-                if peg_offset == 0.0 {
+                if peg_offset != 0.0 {
+                    " after pegging: check the pegging pressure"
+                } else if kind != InterpKind::Pchip {
                     "; try --interp pchip"
                 } else {
-                    " after pegging: check the pegging pressure"
+                    ""
                 }
             )));
         }
@@ -348,7 +350,12 @@ impl Accumulator {
             return Err(IngestError::Data("no data rows".into()));
         }
         let m = self.count as f64;
-        let pressure = self.sum.iter().map(|s| s / m).collect();
+        let pressure: Vec<f64> = self.sum.iter().map(|s| s / m).collect();
+        if pressure.iter().any(|p| !p.is_finite()) {
+            return Err(IngestError::Data(
+                "the mean over the traces overflows: values too large for the declared unit".into(),
+            ));
+        }
         let mut cylinders = Vec::new();
         for (i, (s, c)) in self.per_cylinder.iter().enumerate() {
             if *c == 0 {

@@ -785,6 +785,16 @@ fn finish(mut tr: Trace, cycle: f64, quantity: Quantity) -> Result<Trace, Ingest
             first + span
         )));
     }
+    if quantity != Quantity::Pressure {
+        let peak = tr.values.iter().fold(0.0_f64, |a, &b| a.max(b.abs()));
+        // The largest engines make about 1e7 N m: beyond 1e9 is a unit mix-up.
+        if peak > 1e9 {
+            return Err(IngestError::Data(format!(
+                "cycle {}: torque {peak:.3e} N m is implausible: is the torque column in N m?",
+                tr.cycle
+            )));
+        }
+    }
     if quantity == Quantity::Pressure {
         let peak = tr.values.iter().fold(0.0_f64, |a, &b| a.max(b));
         // 5 kPa to 10 kbar absolute: anything outside is a unit mix-up.

@@ -172,19 +172,21 @@ fn tdc_offset_estimate(p: &[f64], volume: &[f64], h: f64) -> Option<f64> {
     if window.len() < 8 || window.iter().any(|&k| p[k] <= 0.0) {
         return None;
     }
-    // Volume at a shifted angle by linear interpolation on the periodic grid.
-    let vol_at = |a: f64| {
+    // ln V at a shifted angle by linear interpolation of ln V on the grid
+    // (smooth; the logarithms are taken once, not once per trial shift).
+    let ln_v: Vec<f64> = volume.iter().map(|v| v.ln()).collect();
+    let ln_p: Vec<f64> = window.iter().map(|&k| p[k].ln()).collect();
+    let ln_v_at = |a: f64| {
         let x = (a / h).rem_euclid(n as f64);
         let i = x.floor() as usize % n;
         let f = x - x.floor();
-        volume[i] * (1.0 - f) + volume[(i + 1) % n] * f
+        ln_v[i] * (1.0 - f) + ln_v[(i + 1) % n] * f
     };
     let residual = |delta_deg: f64| {
         let d = delta_deg.to_radians();
         let (mut sx, mut sy, mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0, 0.0, 0.0);
-        for &k in &window {
-            let x = vol_at(k as f64 * h - d).ln();
-            let y = p[k].ln();
+        for (&k, &y) in window.iter().zip(&ln_p) {
+            let x = ln_v_at(k as f64 * h - d);
             sx += x;
             sy += y;
             sxx += x * x;
