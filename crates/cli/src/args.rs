@@ -22,6 +22,12 @@ pub enum Command {
     Sweep(SweepArgs),
     /// Piston path, speed, acceleration and rod angle table.
     Kinematics(KinematicsArgs),
+    /// The firing orders a crank admits (or every crank), ranked, with their criteria.
+    FiringOrders(FiringOrdersArgs),
+    /// Manufacturing and measurement tolerances: influences, stack-up, Monte Carlo check.
+    Tolerance(ToleranceArgs),
+    /// Each method's error against the most exact one and its run time, charted.
+    Accuracy(AccuracyArgs),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -239,4 +245,77 @@ pub struct SweepArgs {
     pub diagram_args: DiagramArgs,
     #[command(flatten)]
     pub method: MethodArgs,
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct FiringOrdersArgs {
+    /// Engine file (TOML).
+    #[arg(long, value_name = "FILE")]
+    pub engine: PathBuf,
+    /// Indicator diagram [default: the engine file's `diagram`; none: diagram-free criteria only].
+    #[arg(long, value_name = "FILE")]
+    pub diagram: Option<PathBuf>,
+    /// Every crank arrangement for the cylinder count, each with its orders.
+    #[arg(long)]
+    pub all_cranks: bool,
+    /// Score weights, e.g. `intervals=1,neighbours=1,journal=1,balance=1`.
+    #[arg(long, value_name = "LIST")]
+    pub weights: Option<String>,
+    /// Print the result as JSON only.
+    #[arg(long)]
+    pub json: bool,
+    /// Write firing_orders.csv and crank_end_view.svg into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Engine speed (rpm); overrides the diagram's `# rpm` line and the engine file.
+    #[arg(long, value_name = "N")]
+    pub rpm: Option<f64>,
+    #[command(flatten)]
+    pub diagram_args: DiagramArgs,
+    #[command(flatten)]
+    pub method: MethodArgs,
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct ToleranceArgs {
+    /// Engine file (TOML) with a `[tolerances]` section.
+    #[arg(long, value_name = "FILE")]
+    pub engine: PathBuf,
+    /// Indicator diagram [default: the engine file's `diagram`].
+    #[arg(long, value_name = "FILE")]
+    pub diagram: Option<PathBuf>,
+    /// Monte Carlo samples over the tolerance box.
+    #[arg(long, value_name = "N", default_value_t = 10000)]
+    pub samples: usize,
+    /// Seed of the Monte Carlo sampler (reproducible).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub seed: u64,
+    /// Write tolerance.csv, tolerance.json and tolerance.svg into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Engine speed (rpm); overrides the diagram's `# rpm` line and the engine file.
+    #[arg(long, value_name = "N")]
+    pub rpm: Option<f64>,
+    #[command(flatten)]
+    pub diagram_args: DiagramArgs,
+    #[command(flatten)]
+    pub method: MethodArgs,
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct AccuracyArgs {
+    /// Engine file (TOML).
+    #[arg(long, value_name = "FILE")]
+    pub engine: PathBuf,
+    /// Indicator diagram [default: the engine file's `diagram`].
+    #[arg(long, value_name = "FILE")]
+    pub diagram: Option<PathBuf>,
+    /// Write accuracy.csv and accuracy.svg into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Engine speed (rpm); overrides the diagram's `# rpm` line and the engine file.
+    #[arg(long, value_name = "N")]
+    pub rpm: Option<f64>,
+    #[command(flatten)]
+    pub diagram_args: DiagramArgs,
 }

@@ -2,11 +2,14 @@
 //! pipeline, prints and writes results. Errors become exit codes: 1 for a
 //! bad diagram or torque file, 2 for a bad command line or engine file.
 
+mod accuracy;
 mod args;
 mod batch;
+mod firing;
 mod kinematics;
 mod run;
 mod table;
+mod tolerance;
 
 use clap::Parser;
 use std::process::ExitCode;
@@ -58,6 +61,9 @@ fn main() -> ExitCode {
         args::Command::Batch(a) => batch::run(&a),
         args::Command::Sweep(a) => batch::sweep(&a),
         args::Command::Kinematics(a) => kinematics::run(&a),
+        args::Command::FiringOrders(a) => firing::run(&a),
+        args::Command::Tolerance(a) => tolerance::run(&a),
+        args::Command::Accuracy(a) => accuracy::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
