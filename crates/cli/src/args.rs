@@ -197,6 +197,7 @@ impl MethodArgs {
                 IntegrationArg::Trapezoid => Rule::Trapezoid,
                 IntegrationArg::Simpson => Rule::Simpson,
             },
+            detail: true,
         }
     }
 }
@@ -218,6 +219,9 @@ pub struct BatchArgs {
     /// One run folder per diagram, DIR/NNNN_STEM/, and index.html.
     #[arg(long, requires = "out")]
     pub detail: bool,
+    /// Benchmarks only: read and check every file, compute nothing (the parse floor).
+    #[arg(long, hide = true)]
+    pub parse_only: bool,
     /// Pick the cheapest method setting whose estimated relative error is below REL.
     #[arg(long, value_name = "REL")]
     pub tolerance: Option<f64>,

@@ -68,7 +68,11 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
     let engine = &loaded.engine;
     let step = a.method.step;
     check_step(engine, step)?;
-    let opts = a.method.options();
+    let opts = enginedyn_pipeline::Options {
+        // Without --detail only summary.csv is written: skip the report curves.
+        detail: a.detail,
+        ..a.method.options()
+    };
     let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
     let files = expand(&a.diagrams)?;
     let jobs = a.jobs.unwrap_or(0);
@@ -96,6 +100,16 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
             .map(|(i, f)| {
                 let shown = f.display().to_string();
                 let result = (|| -> Result<Row, Failure> {
+                    if a.parse_only {
+                        parse_only(f, &parse)?;
+                        return Ok(Row {
+                            file: shown.clone(),
+                            error: String::new(),
+                            cells: Vec::new(),
+                            key: None,
+                            folder: None,
+                        });
+                    }
                     let resampled = load_diagram(Some(f), &parse, &grid)?;
                     if resampled.quantity != Quantity::Pressure {
                         return Err(Failure::data(
@@ -192,6 +206,16 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The parse floor of the benchmark: every cell read and checked, each
+/// cycle's trace built and dropped, nothing put on the grid or computed.
+fn parse_only(f: &Path, parse: &enginedyn_ingest::ParseOptions) -> Result<(), Failure> {
+    let file = std::fs::File::open(f)
+        .map_err(|e| Failure::data(format!("{}: cannot open: {e}", f.display())))?;
+    enginedyn_ingest::parse_stream(std::io::BufReader::new(file), parse, |_| Ok(()))
+        .map_err(|e| Failure::data(format!("{}: {e}", f.display())))?;
+    Ok(())
+}
+
 fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
@@ -276,7 +300,11 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
     let step = a.method.step;
     check_step(engine, step)?;
     let rpms = speeds(&a.rpm)?;
-    let opts = a.method.options();
+    let opts = enginedyn_pipeline::Options {
+        // sweep.csv and sweep.svg need the summary figures only.
+        detail: false,
+        ..a.method.options()
+    };
     let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
     let path = match &a.diagram {
         Some(p) => p.clone(),

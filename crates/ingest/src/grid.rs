@@ -139,12 +139,8 @@ impl Accumulator {
                 "grid step {step}° must divide the {cycle_deg}° cycle into at least 8 steps"
             )));
         }
-        let h = step.to_radians();
         let (volume, dvolume) = match &opts.cylinder {
-            Some(c) => (
-                (0..n).map(|k| c.volume(k as f64 * h)).collect(),
-                (0..n).map(|k| c.dvolume(k as f64 * h)).collect(),
-            ),
+            Some(c) => c.fill_volume(step.to_radians(), n),
             None => (Vec::new(), Vec::new()),
         };
         if matches!(opts.peg, Some(Peg::Polytropic(_))) && volume.is_empty() {
@@ -171,17 +167,36 @@ impl Accumulator {
 
     /// Adds one trace (angles in `[0, cycle)`, rising).
     pub fn add(&mut self, tr: &Trace) -> Result<(), IngestError> {
-        let kind = self.choose(tr)?;
-        let f = Periodic::new(kind, &tr.angle_deg, &tr.values, self.cycle_deg)
-            .map_err(|e| IngestError::Data(format!("cycle {}: {e}", tr.cycle)))?;
-        f.eval_uniform(0.0, self.opts.step_deg, &mut self.buf);
+        let on_grid = self.on_grid(tr);
+        let kind = self.choose(tr, on_grid)?;
+        if on_grid {
+            // Every interpolant passes through its samples: data already on
+            // the grid is its own interpolation.
+            self.buf.copy_from_slice(&tr.values);
+        } else {
+            let f = Periodic::new(kind, &tr.angle_deg, &tr.values, self.cycle_deg)
+                .map_err(|e| IngestError::Data(format!("cycle {}: {e}", tr.cycle)))?;
+            f.eval_uniform(0.0, self.opts.step_deg, &mut self.buf);
+        }
         let pressure = self.quantity == Quantity::Pressure;
         let peg_offset = if pressure { self.peg()? } else { 0.0 };
-        if let Some(k) = self
-            .buf
-            .iter()
-            .position(|p| !p.is_finite() || (pressure && *p < 0.0))
-        {
+        // One pass: the check for bad values, the peak, p dV and the sum.
+        let (mut bad, mut k_max, mut p_max, mut p_dv) = (None, 0, f64::NEG_INFINITY, 0.0);
+        let dv = &self.dvolume;
+        for (k, (&p, s)) in self.buf.iter().zip(self.sum.iter_mut()).enumerate() {
+            if !p.is_finite() || (pressure && p < 0.0) {
+                bad = Some(k);
+                break;
+            }
+            if p > p_max {
+                (k_max, p_max) = (k, p);
+            }
+            if let Some(d) = dv.get(k) {
+                p_dv += p * d;
+            }
+            *s += p;
+        }
+        if let Some(k) = bad {
             return Err(IngestError::Data(format!(
                 "cycle {}: the {} interpolant gives {:.4e} at {}°{}",
                 tr.cycle,
@@ -198,26 +213,12 @@ impl Accumulator {
             )));
         }
         if pressure {
-            let (k_max, p_max) =
-                self.buf
-                    .iter()
-                    .enumerate()
-                    .fold(
-                        (0, f64::NEG_INFINITY),
-                        |a, (k, &p)| if p > a.1 { (k, p) } else { a },
-                    );
             let mut angle = k_max as f64 * self.opts.step_deg;
             if angle >= self.cycle_deg / 2.0 {
                 angle -= self.cycle_deg;
             }
             let imep_pa = (!self.volume.is_empty()).then(|| {
                 let h = self.opts.step_deg.to_radians();
-                let p_dv: f64 = self
-                    .buf
-                    .iter()
-                    .zip(&self.dvolume)
-                    .map(|(p, dv)| p * dv)
-                    .sum();
                 let vd = self.opts.cylinder.map(|c| c.swept_volume()).unwrap_or(1.0);
                 p_dv * h / vd
             });
@@ -229,9 +230,6 @@ impl Accumulator {
                 p_max_angle_deg: angle,
                 peg_offset,
             });
-        }
-        for (s, p) in self.sum.iter_mut().zip(&self.buf) {
-            *s += p;
         }
         self.count += 1;
         if tr.cylinder > 0 {
@@ -299,19 +297,23 @@ impl Accumulator {
         Ok(offset)
     }
 
-    fn choose(&mut self, tr: &Trace) -> Result<InterpKind, IngestError> {
-        let (step, n) = (self.opts.step_deg, self.n);
+    /// True when the trace's angles are the grid's, one for one.
+    fn on_grid(&self, tr: &Trace) -> bool {
+        let step = self.opts.step_deg;
+        tr.angle_deg.len() == self.n
+            && tr
+                .angle_deg
+                .iter()
+                .enumerate()
+                .all(|(k, a)| (a - k as f64 * step).abs() < 1e-9)
+    }
+
+    fn choose(&mut self, tr: &Trace, on_grid: bool) -> Result<InterpKind, IngestError> {
         Ok(match self.opts.interp {
             Interp::Linear => InterpKind::Linear,
             Interp::Spline => InterpKind::Spline,
             Interp::Pchip => InterpKind::Pchip,
             Interp::Auto => {
-                let on_grid = tr.angle_deg.len() == n
-                    && tr
-                        .angle_deg
-                        .iter()
-                        .enumerate()
-                        .all(|(k, a)| (a - k as f64 * step).abs() < 1e-9);
                 if on_grid {
                     InterpKind::Linear
                 } else {

@@ -427,7 +427,11 @@ impl Mechanism {
     ) -> Result<(), KinematicsError> {
         self.check(model)?;
         out.resize(n);
-        for k in 0..n {
+        // The motion repeats every revolution: a grid over whole revolutions
+        // (the four-stroke cycle is two) is computed over the first only.
+        let m = revolutions(step, n);
+        let per_rev = n / m;
+        for k in 0..per_rev {
             let s = self.state(model, start + step * k as f64)?;
             out.x[k] = s.x;
             out.dx[k] = s.dx;
@@ -437,6 +441,20 @@ impl Mechanism {
             out.d2beta[k] = s.d2beta;
             out.k_factor[k] = s.k_factor;
             out.t_factor[k] = s.t_factor;
+        }
+        for col in [
+            &mut out.x,
+            &mut out.dx,
+            &mut out.d2x,
+            &mut out.beta,
+            &mut out.dbeta,
+            &mut out.d2beta,
+            &mut out.k_factor,
+            &mut out.t_factor,
+        ] {
+            for k in per_rev..n {
+                col[k] = col[k - per_rev];
+            }
         }
         Ok(())
     }
@@ -569,6 +587,37 @@ impl Cylinder {
     /// `dV/dphi` (m³/rad), exact.
     pub fn dvolume(&self, phi: f64) -> f64 {
         self.piston_area() * self.mechanism.exact(phi).dx
+    }
+    /// [`Self::volume`] and [`Self::dvolume`] on the uniform grid
+    /// `phi_k = k * step`, `k < n` (one exact evaluation per angle of the
+    /// first revolution; the rest repeat it).
+    pub fn fill_volume(&self, step: f64, n: usize) -> (Vec<f64>, Vec<f64>) {
+        let (vc, area) = (self.clearance_volume(), self.piston_area());
+        let per_rev = n / revolutions(step, n);
+        let mut v = Vec::with_capacity(n);
+        let mut dv = Vec::with_capacity(n);
+        for k in 0..per_rev {
+            let s = self.mechanism.exact(k as f64 * step);
+            v.push(vc + area * s.x);
+            dv.push(area * s.dx);
+        }
+        for k in per_rev..n {
+            v.push(v[k - per_rev]);
+            dv.push(dv[k - per_rev]);
+        }
+        (v, dv)
+    }
+}
+
+/// How many whole revolutions a grid of `n` steps of `step` (rad) covers
+/// with a whole number of steps in each (1 when it does not).
+fn revolutions(step: f64, n: usize) -> usize {
+    let span = step * n as f64;
+    let m = (span / (2.0 * PI)).round();
+    if m >= 2.0 && (span - m * 2.0 * PI).abs() < 1e-9 * span && n % (m as usize) == 0 {
+        m as usize
+    } else {
+        1
     }
 }
 

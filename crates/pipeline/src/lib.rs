@@ -53,6 +53,10 @@ pub struct Options {
     pub interp: Interp,
     /// Integration rule.
     pub integration: Rule,
+    /// Compute the curves only reports show (main-bearing loads, torque
+    /// harmonics); `false` computes what `summary.json` holds and no more
+    /// (a batch without `--detail`).
+    pub detail: bool,
 }
 
 impl Default for Options {
@@ -63,6 +67,7 @@ impl Default for Options {
             rod_model: None,
             interp: Interp::Auto,
             integration: Rule::Trapezoid,
+            detail: true,
         }
     }
 }
@@ -163,7 +168,10 @@ fn cycle_summary(r: &Resampled) -> Option<CycleSummary> {
 fn tdc_offset_estimate(p: &[f64], volume: &[f64], h: f64) -> Option<f64> {
     let n = p.len();
     let cycle = n as f64 * h;
+    // Every grid point up to one per 0.25°: enough points for the fit.
+    let stride = ((0.25_f64.to_radians() / h).round() as usize).max(1);
     let window: Vec<usize> = (0..n)
+        .step_by(stride)
         .filter(|&k| {
             let a = (k as f64 * h - cycle).to_degrees();
             (-100.0..=-30.0).contains(&a)
@@ -286,26 +294,29 @@ pub fn analyse(
         .collect();
     let of = |i: usize| &all[i.min(all.len() - 1)];
     let torque = enginedyn_torque::sum(engine, h, |i| &of(i).torque);
-    let pin_radial: Vec<Vec<f64>> = all
-        .iter()
-        .map(|f| {
-            f.pin_load
-                .iter()
-                .zip(&f.pin_angle_deg)
-                .map(|(l, a)| l * a.to_radians().cos())
-                .collect()
-        })
-        .collect();
-    let unbalance = engine.masses().crank_unbalanced * mech.r() * omega * omega;
-    let bearings = enginedyn_torque::main_bearing_loads(
-        engine,
-        h,
-        |i| &of(i).tangential,
-        |i| &pin_radial[i.min(pin_radial.len() - 1)],
-        unbalance,
-    );
-    let volume: Vec<f64> = (0..n).map(|k| cyl.volume(k as f64 * h)).collect();
-    let dvolume: Vec<f64> = (0..n).map(|k| cyl.dvolume(k as f64 * h)).collect();
+    let bearings = if opts.detail {
+        let pin_radial: Vec<Vec<f64>> = all
+            .iter()
+            .map(|f| {
+                f.pin_load
+                    .iter()
+                    .zip(&f.pin_angle_deg)
+                    .map(|(l, a)| l * a.to_radians().cos())
+                    .collect()
+            })
+            .collect();
+        let unbalance = engine.masses().crank_unbalanced * mech.r() * omega * omega;
+        enginedyn_torque::main_bearing_loads(
+            engine,
+            h,
+            |i| &of(i).tangential,
+            |i| &pin_radial[i.min(pin_radial.len() - 1)],
+            unbalance,
+        )
+    } else {
+        Vec::new()
+    };
+    let (volume, dvolume) = cyl.fill_volume(h, n);
     // Indicated work from the exact volume law, W = ∮ p dV, mean over cylinders.
     let work = traces
         .iter()
@@ -507,12 +518,16 @@ fn complete(
             }
         };
     let revs = cycle / (2.0 * PI);
-    let cylinder_harmonics = if cylinder_torque.is_empty() {
+    let cylinder_harmonics = if cylinder_torque.is_empty() || !opts.detail {
         Vec::new()
     } else {
         enginedyn_torque::harmonics(&cylinder_torque, revs, MAX_ORDER)?
     };
-    let engine_harmonics = enginedyn_torque::harmonics(&torque.total, revs, MAX_ORDER)?;
+    let engine_harmonics = if opts.detail {
+        enginedyn_torque::harmonics(&torque.total, revs, MAX_ORDER)?
+    } else {
+        Vec::new()
+    };
     let ext = kinematic_extremes(engine, opts.kinematics, omega)?;
     let eta = engine.operating().mechanical_efficiency;
     let (j_max, j_idx) = torque

@@ -166,6 +166,7 @@ pub fn main_bearing_loads<'a>(
     let mut fy = vec![vec![0.0; n]; throws];
     let mut t = vec![0.0; n];
     let mut r = vec![0.0; n];
+    let unit: Vec<(f64, f64)> = (0..n).map(|j| (j as f64 * step).sin_cos()).collect();
     for k in 0..throws {
         t.iter_mut().for_each(|v| *v = 0.0);
         r.iter_mut().for_each(|v| *v = 0.0);
@@ -173,9 +174,11 @@ pub fn main_bearing_loads<'a>(
             shift_add(tangential(i), engine.firing_angle(i), step, &mut t);
             shift_add(radial(i), engine.firing_angle(i), step, &mut r);
         }
-        let lag = engine.crank_angles()[k];
+        // cos and sin of (phi_j - lag) by rotating the table of phi_j.
+        let (sl, cl) = engine.crank_angles()[k].sin_cos();
         for j in 0..n {
-            let (s, c) = (j as f64 * step - lag).sin_cos();
+            let (sj, cj) = unit[j];
+            let (c, s) = (cj * cl + sj * sl, sj * cl - cj * sl);
             // Radial toward the axis along -r̂, tangential along t̂ = (-sin, cos);
             // the unbalance pulls outward along r̂.
             let radial_out = unbalance - r[j];
@@ -194,7 +197,7 @@ pub fn main_bearing_loads<'a>(
                             y += 0.5 * fy[k][j];
                         }
                     }
-                    x.hypot(y)
+                    (x * x + y * y).sqrt()
                 })
                 .collect()
         })
