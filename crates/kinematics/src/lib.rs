@@ -207,6 +207,9 @@ impl CrankSlider {
     }
     /// Geometric angle of TDC, `asin(e/(L+R))` (rad).
     pub fn phi_tdc(&self) -> f64 {
+        if self.e == 0.0 {
+            return 0.0;
+        }
         (self.e / (self.l + self.r)).asin()
     }
     /// Geometric angle of BDC, `pi + asin(e/(L-R))` (rad).
@@ -230,7 +233,8 @@ impl CrankSlider {
         let sin_b = lambda * (s - k);
         let cos_b = (1.0 - sin_b * sin_b).sqrt();
         let dbeta = lambda * c / cos_b;
-        let (sp, cp) = (phi_g + sin_b.asin()).sin_cos();
+        // sin and cos of phi_g + beta from those of phi_g and beta.
+        let (sp, cp) = (s * cos_b + c * sin_b, c * cos_b - s * sin_b);
         State {
             // Rounding can leave -1e-19 at TDC; the piston never rises above it.
             x: (self.y_tdc() - (r * c + self.l * cos_b)).max(0.0),
@@ -261,6 +265,9 @@ impl CrankSlider {
 
     fn state(&self, model: Model, phi: f64) -> Result<State, KinematicsError> {
         let exact = self.exact(phi);
+        if model == Model::Exact {
+            return Ok(exact);
+        }
         let (r, lambda, k) = (self.r, self.lambda(), self.k());
         let phi_g = phi + self.phi_tdc();
         let (s, c) = phi_g.sin_cos();
