@@ -214,8 +214,15 @@ pub fn cylinder_forces(
             }
             None => {
                 let radial = total * kin.k_factor[k];
-                let rod = if has_rod { total / beta.cos() } else { 0.0 };
-                (total * beta.tan(), rod, radial, radial - k_rb, torque / r)
+                let (sin_b, cos_b) = beta.sin_cos();
+                let rod = if has_rod { total / cos_b } else { 0.0 };
+                (
+                    total * sin_b / cos_b,
+                    rod,
+                    radial,
+                    radial - k_rb,
+                    torque / r,
+                )
             }
         };
         f.gas[k] = gas;
@@ -225,7 +232,8 @@ pub fn cylinder_forces(
         f.rod[k] = rod;
         f.radial[k] = radial;
         f.tangential[k] = t;
-        f.pin_load[k] = t.hypot(kr);
+        // Forces stay far below 1e150 N: no overflow for hypot to guard against.
+        f.pin_load[k] = (t * t + kr * kr).sqrt();
         f.pin_angle_deg[k] = t.atan2(kr).to_degrees();
         f.torque[k] = torque;
         f.inertia_torque[k] = m_inertia;

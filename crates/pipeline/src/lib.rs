@@ -205,14 +205,16 @@ fn tdc_offset_estimate(p: &[f64], volume: &[f64], h: f64) -> Option<f64> {
         let (vx, vy, cxy) = (sxx - sx * sx / m, syy - sy * sy / m, sxy - sx * sy / m);
         (vy - cxy * cxy / vx) / m
     };
-    let (best, _) = (-60..=60)
-        .map(|i| i as f64 * 0.1)
+    // A coarse scan over ±6° (the residual is smooth in the shift), then
+    // Brent's minimisation in the bracket around the best point.
+    let (best, _) = (-12..=12)
+        .map(|i| i as f64 * 0.5)
         .map(|d| (d, residual(d)))
         .fold((0.0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
     if best.abs() >= 5.99 {
         return None;
     }
-    let (x, _) = roots::minimize(residual, best - 0.1, best + 0.1, 1e-6);
+    let (x, _) = roots::minimize(residual, best - 0.5, best + 0.5, 1e-6);
     Some(x)
 }
 

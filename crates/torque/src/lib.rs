@@ -32,8 +32,13 @@ pub fn shift_add(m: &[f64], theta: f64, step: f64, out: &mut [f64]) {
     let base = (whole as i64).rem_euclid(n as i64) as usize;
     if frac.abs() < 1e-9 || (1.0 - frac).abs() < 1e-9 {
         let base = if frac > 0.5 { (base + 1) % n } else { base };
-        for (k, o) in out.iter_mut().enumerate() {
-            *o += m[(k + n - base) % n];
+        // out[k] += m[k - base]: two contiguous runs, no index arithmetic.
+        let (head, tail) = out.split_at_mut(base);
+        for (o, v) in head.iter_mut().zip(&m[n - base..]) {
+            *o += v;
+        }
+        for (o, v) in tail.iter_mut().zip(&m[..n - base]) {
+            *o += v;
         }
     } else {
         for (k, o) in out.iter_mut().enumerate() {

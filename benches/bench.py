@@ -1,0 +1,140 @@
+#!/usr/bin/env python3
+"""enginedyn against the Python yardsticks of ../shared/bench: same files,
+same run, the protocol of issue 8.
+
+usage: benches/bench.py [--files 40] [--cycles 50] [--rounds 5] [--results FILE]
+
+- Files come from ../shared/bench/make_batch.py and are read once before any
+  timing (page cache warm).
+- Each program runs --rounds times, interleaved; medians are compared and
+  every run is recorded.
+- enginedyn is timed as one `batch` process over all files, start-up
+  included: --jobs 1, --jobs 2 (or all cores), and the parse floor
+  (the hidden --parse-only: every cell read and checked, nothing computed).
+- The yardsticks time themselves (after a warm-up file), with
+  OPENBLAS_CORETYPE and OPENBLAS_L2_SIZE unset in their command alone.
+- Compute throughput: (full - parse floor) on one core, per cylinder-sample
+  (one grid point of one cylinder).
+- Serial and parallel batches must give byte-identical summary.csv.
+
+Prints a Markdown report; --results FILE also writes it there.
+"""
+import argparse, os, platform, shutil, statistics, subprocess, sys, tempfile, time, tomllib
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+SHARED = os.path.join(ROOT, "..", "shared", "bench")
+BIN = os.path.join(ROOT, "target", "release", "enginedyn")
+
+TARGETS = [
+    ("one core vs yardstick.py (pandas)", "x_slow_1", 5.0),
+    ("one core vs yardstick_fast.py (pyarrow)", "x_fast_1", 2.0),
+    ("two cores vs yardstick.py", "x_slow_2", 9.0),
+    ("two cores vs yardstick_fast.py", "x_fast_2", 3.6),
+    ("compute after parsing, M cylinder-samples/s per core", "msamples", 50.0),
+    ("whole pipeline / parse floor (at most)", "floor_ratio", 1.3),
+    ("two cores / one core speed-up", "scaling", 1.8),
+]
+
+
+def sh(cmd, env=None):
+    return subprocess.run(cmd, check=True, capture_output=True, text=True, env=env)
+
+
+def yardstick(script, files):
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_CORETYPE", "OPENBLAS_L2_SIZE")}
+    engine = os.path.join(os.path.dirname(files[0]), "engine.toml")
+    out = sh([sys.executable, os.path.join(SHARED, script), engine, *files], env).stdout
+    return float(out.split(" s per file")[0])
+
+
+def ours(files, dirname, *extra):
+    out = os.path.join(dirname, "out")
+    shutil.rmtree(out, ignore_errors=True)
+    t0 = time.perf_counter()
+    sh([BIN, "batch", "--engine", os.path.join(dirname, "engine.toml"), *files, "--out", out, *extra])
+    dt = time.perf_counter() - t0
+    with open(os.path.join(out, "summary.csv"), "rb") as f:
+        return dt / len(files), f.read()
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--files", type=int, default=40)
+    ap.add_argument("--cycles", type=int, default=50)
+    ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--results")
+    a = ap.parse_args()
+    try:
+        import numpy, pandas, pyarrow  # noqa: F401
+    except ImportError:
+        sh([sys.executable, "-m", "pip", "install", "--quiet", "numpy", "pandas", "pyarrow"])
+    sh(["cargo", "build", "--release", "--quiet", "-p", "enginedyn"])
+    cores = os.cpu_count() or 1
+    with tempfile.TemporaryDirectory() as d:
+        sh([sys.executable, os.path.join(SHARED, "make_batch.py"), d, "--files", str(a.files),
+            "--cycles", str(a.cycles), "--step", "0.1"])
+        files = sorted(os.path.join(d, f) for f in os.listdir(d) if f.endswith(".csv"))
+        size = sum(os.path.getsize(f) for f in files)
+        for f in files:  # page cache warm
+            with open(f, "rb") as h:
+                h.read()
+        with open(os.path.join(d, "engine.toml"), "rb") as f:
+            z = tomllib.load(f)["cylinders"]
+        samples = z * 7200  # 720° at 0.1°
+        runs = {k: [] for k in ("slow", "fast", "ours1", "ours2", "floor")}
+        identical = True
+        for _ in range(a.rounds):
+            runs["slow"].append(yardstick("yardstick.py", files))
+            runs["fast"].append(yardstick("yardstick_fast.py", files))
+            t1, csv1 = ours(files, d, "--jobs", "1")
+            t2, csv2 = ours(files, d, "--jobs", "2")
+            tf, _ = ours(files, d, "--jobs", "1", "--parse-only")
+            identical &= csv1 == csv2
+            runs["ours1"].append(t1)
+            runs["ours2"].append(t2)
+            runs["floor"].append(tf)
+    med = {k: statistics.median(v) for k, v in runs.items()}
+    got = {
+        "x_slow_1": med["slow"] / med["ours1"],
+        "x_fast_1": med["fast"] / med["ours1"],
+        "x_slow_2": med["slow"] / med["ours2"],
+        "x_fast_2": med["fast"] / med["ours2"],
+        "msamples": samples / max(med["ours1"] - med["floor"], 1e-9) / 1e6,
+        "floor_ratio": med["ours1"] / med["floor"],
+        "scaling": med["ours1"] / med["ours2"],
+    }
+    lines = [
+        f"machine: {cores} cores, {platform.machine()}, {platform.processor() or platform.platform()}; "
+        f"python {platform.python_version()}",
+        f"batch: {len(files)} files x {a.cycles} cycles at 0.1° ({size / 1e6:.0f} MB), "
+        f"{z} cylinders, {a.rounds} interleaved rounds, medians",
+        "",
+        "| program | median s per file | every run (s per file) |",
+        "| --- | --- | --- |",
+    ]
+    names = {
+        "slow": "yardstick.py (pandas)",
+        "fast": "yardstick_fast.py (pyarrow, threads)",
+        "ours1": "enginedyn batch --jobs 1",
+        "ours2": "enginedyn batch --jobs 2",
+        "floor": "enginedyn batch --jobs 1 --parse-only (parse floor)",
+    }
+    for k, n in names.items():
+        lines.append(f"| {n} | {med[k]:.4f} | {' '.join(f'{v:.4f}' for v in runs[k])} |")
+    lines += ["", "| target | wanted | measured | met |", "| --- | --- | --- | --- |"]
+    for label, key, want in TARGETS:
+        ok = got[key] <= want if key == "floor_ratio" else got[key] >= want
+        lines.append(f"| {label} | {'≤' if key == 'floor_ratio' else '≥'} {want} | {got[key]:.2f} | {'yes' if ok else 'no'} |")
+    lines.append(f"| serial and parallel summary.csv identical | yes | {'yes' if identical else 'no'} | {'yes' if identical else 'no'} |")
+    report = "\n".join(lines)
+    print(report)
+    if a.results:
+        with open(a.results, "w") as f:
+            f.write(report + "\n")
+    if not identical:
+        sys.exit("serial and parallel summary.csv differ")
+
+
+if __name__ == "__main__":
+    main()
