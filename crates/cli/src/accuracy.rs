@@ -1,11 +1,87 @@
-//! `enginedyn accuracy` (INTERFACE.md).
+//! `enginedyn accuracy` (INTERFACE.md): each method's error against the most
+//! exact one and its run time, as a table, `accuracy.csv` and `accuracy.svg`.
 
 use crate::Failure;
 use crate::args::AccuracyArgs;
+use crate::run::{diagram_options, diagram_path, load_engine, parse_diagram, resolve_rpm};
+use enginedyn_accuracy::{Input, KEYS, pareto};
+use enginedyn_ingest::{Interp, Quantity};
+use std::fmt::Write as _;
 
 /// Runs `enginedyn accuracy`.
-pub fn run(_a: &AccuracyArgs) -> Result<(), Failure> {
-    Err(Failure::usage(
-        "`enginedyn accuracy` is not implemented yet",
-    ))
+pub fn run(a: &AccuracyArgs) -> Result<(), Failure> {
+    let loaded = load_engine(Some(&a.engine))?;
+    let engine = &loaded.engine;
+    let path = diagram_path(a.diagram.as_deref(), &loaded)?;
+    let (parse, grid) = diagram_options(engine, &a.diagram_args, 0.1, Interp::Spline)?;
+    let diagram = parse_diagram(&path, &parse)?;
+    if diagram.quantity != Quantity::Pressure {
+        return Err(Failure::data(format!(
+            "{}: a turning-moment file; the accuracy study needs pressure",
+            path.display()
+        )));
+    }
+    let rpm = resolve_rpm(a.rpm, diagram.rpm, engine)?;
+    let input = Input {
+        engine,
+        diagram: &diagram,
+        grid,
+        rpm,
+    };
+    let study = enginedyn_accuracy::study(&input).map_err(|e| Failure::data(e.to_string()))?;
+    for n in &study.notes {
+        eprintln!("note: {n}");
+    }
+    let front = pareto(&study.rows);
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{} at {rpm} rpm: errors against exact kinematics, the {} rod, the periodic spline, 0.01° and the trapezoid rule (reference run {:.2} ms)\n",
+        engine.name(),
+        enginedyn_accuracy::best_rod(engine).name(),
+        study.reference_time_s * 1e3
+    );
+    let _ = writeln!(
+        t,
+        "{:<14} {:<52} {:>10} {:>10}  worst key",
+        "study", "setting", "time ms", "max error"
+    );
+    for (i, r) in study.rows.iter().enumerate() {
+        let worst = r
+            .errors
+            .iter()
+            .zip(KEYS)
+            .filter_map(|(e, (k, _))| Some((e.as_ref()?, k)))
+            .max_by(|a, b| a.0.total_cmp(b.0))
+            .map(|(_, k)| k)
+            .unwrap_or("");
+        let _ = writeln!(
+            t,
+            "{:<14} {:<52} {:>10.3} {:>10}  {}{}",
+            r.study.name(),
+            r.setting,
+            r.time_s * 1e3,
+            r.max_relative_error()
+                .map(|e| format!("{e:.1e}"))
+                .unwrap_or_else(|| "-".into()),
+            worst,
+            if front.contains(&i) { "  (Pareto)" } else { "" }
+        );
+    }
+    crate::emit(&t);
+    if let Some(dir) = &a.out {
+        let svg = enginedyn_accuracy::figure(&study, engine.name())
+            .render()
+            .map_err(|e| Failure::data(e.to_string()))?;
+        let files = vec![
+            (
+                "accuracy.csv".to_string(),
+                enginedyn_accuracy::csv(&study).into_bytes(),
+            ),
+            ("accuracy.svg".to_string(), svg.into_bytes()),
+        ];
+        enginedyn_report::write_all(dir, &files).map_err(|e| Failure::data(e.to_string()))?;
+        eprintln!("wrote {}", dir.display());
+    }
+    Ok(())
 }

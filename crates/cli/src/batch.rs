@@ -3,7 +3,9 @@
 
 use crate::Failure;
 use crate::args::{BatchArgs, SweepArgs};
-use crate::run::{check_step, diagram_options, load_diagram, load_engine, resolve_rpm};
+use crate::run::{
+    check_step, diagram_options, load_diagram, load_engine, parse_diagram, resolve_rpm, within,
+};
 use enginedyn_engine::Engine;
 use enginedyn_ingest::Quantity;
 use enginedyn_report::{Chart, Figure, Series};
@@ -59,10 +61,12 @@ struct Row {
 }
 
 pub fn run(a: &BatchArgs) -> Result<(), Failure> {
-    if a.tolerance.is_some() {
-        return Err(Failure::usage(
-            "--tolerance needs the accuracy study, which this build does not have yet; choose the method with --step, --kinematics, --interp",
-        ));
+    if let Some(t) = a.tolerance
+        && !(1e-6..=0.5).contains(&t)
+    {
+        return Err(Failure::usage(format!(
+            "--tolerance {t}: a relative error between 1e-6 and 0.5 is needed"
+        )));
     }
     let loaded = load_engine(Some(&a.engine))?;
     let engine = &loaded.engine;
@@ -110,15 +114,33 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                             folder: None,
                         });
                     }
-                    let resampled = load_diagram(Some(f), &parse, &grid)?;
-                    if resampled.quantity != Quantity::Pressure {
-                        return Err(Failure::data(
-                            "a turning-moment file, not a pressure diagram",
-                        ));
-                    }
-                    let rpm = resolve_rpm(None, resampled.rpm, engine)?;
-                    let an = enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)
-                        .map_err(|e| Failure::usage(e.to_string()))?;
+                    let an = match a.tolerance {
+                        Some(t) => {
+                            let d = parse_diagram(f, &parse)?;
+                            if d.quantity != Quantity::Pressure {
+                                return Err(Failure::data(
+                                    "a turning-moment file, not a pressure diagram",
+                                ));
+                            }
+                            let rpm = resolve_rpm(None, d.rpm, engine)?;
+                            let (mut an, choice) =
+                                within(engine, &[(shown.clone(), d)], &grid, rpm, t)?;
+                            an.summary.estimated_relative_error = Some(choice.estimated);
+                            an.summary.notes.extend(choice.notes);
+                            an
+                        }
+                        None => {
+                            let resampled = load_diagram(Some(f), &parse, &grid)?;
+                            if resampled.quantity != Quantity::Pressure {
+                                return Err(Failure::data(
+                                    "a turning-moment file, not a pressure diagram",
+                                ));
+                            }
+                            let rpm = resolve_rpm(None, resampled.rpm, engine)?;
+                            enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)
+                                .map_err(|e| Failure::usage(e.to_string()))?
+                        }
+                    };
                     let s = &an.summary;
                     let mut folder = None;
                     if a.detail

@@ -129,8 +129,50 @@ pub fn load_diagram(
     }
 }
 
+/// The diagram a command needs: the flag, else the engine file's `diagram`
+/// key, else a usage error that says so.
+pub fn diagram_path(flag: Option<&Path>, loaded: &Loaded) -> Result<PathBuf, Failure> {
+    match flag {
+        Some(p) => Ok(p.to_path_buf()),
+        None => loaded
+            .engine
+            .diagram()
+            .map(Path::to_path_buf)
+            .ok_or_else(|| {
+                Failure::usage(format!(
+                    "no indicator diagram: give --diagram or `diagram =` in {}",
+                    loaded
+                        .path
+                        .as_deref()
+                        .map(|p| p.display().to_string())
+                        .unwrap_or_else(|| "the engine file".into())
+                ))
+            }),
+    }
+}
+
+/// Reads a whole diagram file into memory (every trace), for commands that
+/// put it on several grids.
+pub fn parse_diagram(
+    path: &Path,
+    parse: &ParseOptions,
+) -> Result<enginedyn_ingest::Diagram, Failure> {
+    let file = std::fs::File::open(path)
+        .map_err(|e| Failure::data(format!("{}: cannot open: {e}", path.display())))?;
+    enginedyn_ingest::parse(std::io::BufReader::with_capacity(1 << 16, file), parse)
+        .map_err(|e| Failure::data(format!("{}: {e}", path.display())))
+}
+
 /// One trace per file and cylinder, in cylinder order 1..z, as one diagram.
 fn merge_per_cylinder(files: Vec<(String, Resampled)>) -> Result<Resampled, Failure> {
+    if files.len() == 1 {
+        // One file: all cylinders, or its own `cylinder` column.
+        return files
+            .into_iter()
+            .next()
+            .map(|(_, r)| r)
+            .ok_or_else(|| Failure::usage("no diagram"));
+    }
     let mut it = files.into_iter();
     let Some((_, mut first)) = it.next() else {
         return Err(Failure::usage("no diagram"));
@@ -199,11 +241,6 @@ pub fn resolve_rpm(
 }
 
 pub fn run(a: &RunArgs) -> Result<(), Failure> {
-    if a.tolerance.is_some() {
-        return Err(Failure::usage(
-            "--tolerance needs the accuracy study, which this build does not have yet; choose the method with --step, --kinematics, --interp",
-        ));
-    }
     match a.angles.as_deref() {
         None | Some("cycle") | Some("centered") => {}
         Some(other) => {
@@ -236,48 +273,20 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
                 .map_err(|e| Failure::usage(e.to_string()))?;
         return finish(a, engine, &shown, &analysis);
     }
-    let z = engine.cylinders();
-    let (shown, resampled) = match (a.diagram.as_slice(), &loaded.path) {
-        ([], None) => (
-            "data/vaz2108.csv (bundled)".to_string(),
-            load_diagram(None, &parse, &grid)?,
-        ),
-        ([], Some(p)) => {
-            let d = engine.diagram().map(Path::to_path_buf).ok_or_else(|| {
-                Failure::usage(format!(
-                    "no indicator diagram: give --diagram or `diagram =` in {}",
-                    p.display()
-                ))
-            })?;
-            (
-                d.display().to_string(),
-                load_diagram(Some(&d), &parse, &grid)?,
-            )
-        }
-        ([one], _) => (
-            one.display().to_string(),
-            load_diagram(Some(one), &parse, &grid)?,
-        ),
-        (many, _) => {
-            if many.len() != z {
-                return Err(Failure::usage(format!(
-                    "{} diagrams given: several --diagram files are one trace per cylinder, and the engine has {z}",
-                    many.len()
-                )));
-            }
-            let files = many
-                .iter()
-                .map(|p| {
-                    Ok((
-                        p.display().to_string(),
-                        load_diagram(Some(p), &parse, &grid)?,
-                    ))
-                })
-                .collect::<Result<Vec<_>, Failure>>()?;
-            let shown = format!("{} files, one per cylinder", many.len());
-            (shown, merge_per_cylinder(files)?)
-        }
-    };
+    let (shown, files) = diagram_files(a, &loaded)?;
+    if let Some(tolerance) = a.tolerance {
+        return run_within(a, engine, &shown, &files, &parse, &grid, tolerance);
+    }
+    let loaded_files = files
+        .iter()
+        .map(|p| {
+            let name = p
+                .as_deref()
+                .map_or(shown.clone(), |p| p.display().to_string());
+            Ok((name, load_diagram(p.as_deref(), &parse, &grid)?))
+        })
+        .collect::<Result<Vec<_>, Failure>>()?;
+    let resampled = merge_per_cylinder(loaded_files)?;
     if resampled.quantity != Quantity::Pressure {
         return Err(Failure::data(format!(
             "{shown}: a turning-moment (torque) file: give it with --torque"
@@ -287,6 +296,124 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let analysis = enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)
         .map_err(|e| Failure::usage(e.to_string()))?;
     finish(a, engine, &shown, &analysis)
+}
+
+/// The diagram files of `run` (`None`: the bundled example) and how to
+/// name them: one file, or one per cylinder in order 1..z.
+fn diagram_files(a: &RunArgs, loaded: &Loaded) -> Result<(String, Vec<Option<PathBuf>>), Failure> {
+    let z = loaded.engine.cylinders();
+    match (a.diagram.as_slice(), &loaded.path) {
+        ([], None) => Ok(("data/vaz2108.csv (bundled)".to_string(), vec![None])),
+        ([], Some(_)) => {
+            let d = diagram_path(None, loaded)?;
+            Ok((d.display().to_string(), vec![Some(d)]))
+        }
+        ([one], _) => Ok((one.display().to_string(), vec![Some(one.clone())])),
+        (many, _) => {
+            if many.len() != z {
+                return Err(Failure::usage(format!(
+                    "{} diagrams given: several --diagram files are one trace per cylinder, and the engine has {z}",
+                    many.len()
+                )));
+            }
+            Ok((
+                format!("{} files, one per cylinder", many.len()),
+                many.iter().cloned().map(Some).collect(),
+            ))
+        }
+    }
+}
+
+/// `run --tolerance REL`: the diagram read once, the cheapest method
+/// setting within the tolerance chosen on its cycle average, then the run
+/// with that setting.
+fn run_within(
+    a: &RunArgs,
+    engine: &Engine,
+    shown: &str,
+    files: &[Option<PathBuf>],
+    parse: &ParseOptions,
+    grid: &GridOptions,
+    tolerance: f64,
+) -> Result<(), Failure> {
+    let diagrams = files
+        .iter()
+        .map(|p| {
+            let d = match p {
+                Some(p) => parse_diagram(p, parse)?,
+                None => enginedyn_ingest::parse(EXAMPLE_DIAGRAM.as_bytes(), parse)
+                    .map_err(|e| Failure::data(format!("data/vaz2108.csv (bundled): {e}")))?,
+            };
+            let name = p
+                .as_deref()
+                .map_or(shown.to_string(), |p| p.display().to_string());
+            if d.quantity != Quantity::Pressure {
+                return Err(Failure::data(format!(
+                    "{name}: a turning-moment (torque) file: give it with --torque"
+                )));
+            }
+            Ok((name, d))
+        })
+        .collect::<Result<Vec<_>, Failure>>()?;
+    let rpm = resolve_rpm(a.rpm, diagrams[0].1.rpm, engine)?;
+    let (analysis, choice) = within(engine, &diagrams, grid, rpm, tolerance)?;
+    let mut analysis = analysis;
+    analysis.summary.estimated_relative_error = Some(choice.estimated);
+    analysis.summary.notes.extend(choice.notes);
+    finish(a, engine, shown, &analysis)
+}
+
+/// The cheapest setting within `tolerance` for these diagrams (one, or one
+/// per cylinder) and the analysis with it (with the report curves).
+pub fn within(
+    engine: &Engine,
+    diagrams: &[(String, enginedyn_ingest::Diagram)],
+    grid: &GridOptions,
+    rpm: f64,
+    tolerance: f64,
+) -> Result<(enginedyn_pipeline::Analysis, enginedyn_accuracy::Choice), Failure> {
+    let resample = |ds: &[(String, &enginedyn_ingest::Diagram)], g: &GridOptions| {
+        let each = ds
+            .iter()
+            .map(|(n, d)| {
+                enginedyn_ingest::resample_with(d, g)
+                    .map(|r| (n.clone(), r))
+                    .map_err(|e| Failure::data(format!("{n}: {e}")))
+            })
+            .collect::<Result<Vec<_>, Failure>>()?;
+        merge_per_cylinder(each)
+    };
+    // The choice on the cycle average (cheap); the run on every cycle.
+    let averaged: Vec<(String, enginedyn_ingest::Diagram)> = diagrams
+        .iter()
+        .map(|(n, d)| (n.clone(), d.averaged().unwrap_or_else(|| d.clone())))
+        .collect();
+    let avg_refs: Vec<(String, &enginedyn_ingest::Diagram)> =
+        averaged.iter().map(|(n, d)| (n.clone(), d)).collect();
+    let full_refs: Vec<(String, &enginedyn_ingest::Diagram)> =
+        diagrams.iter().map(|(n, d)| (n.clone(), d)).collect();
+    let on = |step: f64, interp| GridOptions {
+        step_deg: step,
+        interp,
+        ..grid.clone()
+    };
+    let choice = enginedyn_accuracy::choose(engine, rpm, tolerance, &|step, interp| {
+        resample(&avg_refs, &on(step, interp))
+            .map_err(|f| enginedyn_accuracy::AccuracyError::Synth(f.message))
+    })
+    .map_err(|e| match e {
+        enginedyn_accuracy::AccuracyError::Unreachable { .. }
+        | enginedyn_accuracy::AccuracyError::BadTolerance(_) => Failure::usage(e.to_string()),
+        other => Failure::data(other.to_string()),
+    })?;
+    let opts = enginedyn_pipeline::Options {
+        detail: true,
+        ..choice.options
+    };
+    let resampled = resample(&full_refs, &on(opts.step_deg, opts.interp))?;
+    let analysis = enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)
+        .map_err(|e| Failure::usage(e.to_string()))?;
+    Ok((analysis, choice))
 }
 
 /// Prints and writes the results of one operating point.

@@ -125,6 +125,54 @@ pub struct Diagram {
     pub notes: Vec<String>,
 }
 
+impl Diagram {
+    /// The cycles of each cylinder averaged into one trace per cylinder,
+    /// when they share their angles (a multi-cycle file from an indicating
+    /// system). Averaging first and interpolating after equals the reverse
+    /// for the linear interpolants (linear, spline) and nearly so for pchip;
+    /// `None` when the angles differ between cycles or there is one trace
+    /// per cylinder already.
+    pub fn averaged(&self) -> Option<Diagram> {
+        let mut out: Vec<(Trace, usize)> = Vec::new();
+        for t in &self.traces {
+            match out.iter_mut().find(|(a, _)| a.cylinder == t.cylinder) {
+                Some((a, n)) => {
+                    if a.angle_deg.len() != t.angle_deg.len()
+                        || a.angle_deg
+                            .iter()
+                            .zip(&t.angle_deg)
+                            .any(|(x, y)| (x - y).abs() > 1e-9)
+                    {
+                        return None;
+                    }
+                    for (s, v) in a.values.iter_mut().zip(&t.values) {
+                        *s += v;
+                    }
+                    *n += 1;
+                }
+                None => out.push((t.clone(), 1)),
+            }
+        }
+        if out.len() == self.traces.len() {
+            return None;
+        }
+        Some(Diagram {
+            traces: out
+                .into_iter()
+                .map(|(mut t, n)| {
+                    t.values.iter_mut().for_each(|v| *v /= n as f64);
+                    t
+                })
+                .collect(),
+            quantity: self.quantity,
+            rpm: self.rpm,
+            cycle_deg: self.cycle_deg,
+            pv: self.pv,
+            notes: Vec::new(),
+        })
+    }
+}
+
 /// Interpolation choice (`--interp`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Interp {

@@ -589,6 +589,7 @@ fn complete(
         cycle_stats: stats,
         pegging,
         tdc_offset_estimate_deg: tdc_offset,
+        estimated_relative_error: None,
         notes,
     };
     Ok(Analysis {

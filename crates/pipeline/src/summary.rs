@@ -54,6 +54,9 @@ pub struct Summary {
     pub pegging: Option<Pegging>,
     /// The TDC offset a measured p–φ trace suggests (deg).
     pub tdc_offset_estimate_deg: Option<f64>,
+    /// With `--tolerance`: the largest estimated relative error of the key
+    /// results for the methods chosen.
+    pub estimated_relative_error: Option<f64>,
     pub notes: Vec<String>,
 }
 
@@ -142,6 +145,7 @@ impl Summary {
             cycle_stats: None,
             pegging: None,
             tdc_offset_estimate_deg: None,
+            estimated_relative_error: None,
             notes: Vec::new(),
         }
     }
@@ -227,6 +231,9 @@ impl Summary {
         }
         if let Some(t) = self.tdc_offset_estimate_deg {
             f.push(("tdc_offset_estimate_deg", Num(Some(t))));
+        }
+        if let Some(e) = self.estimated_relative_error {
+            f.push(("estimated_relative_error", Num(Some(e))));
         }
         f
     }

@@ -1,0 +1,684 @@
+//! Accuracy against speed: each method choice's error on the key results
+//! and its run time ([`study`], `enginedyn accuracy`), and the cheapest
+//! setting whose estimated error stays within a tolerance ([`choose`],
+//! `--tolerance`).
+//!
+//! The reference is the most exact setting: exact kinematics, the rigid rod
+//! (three-mass or two-mass when the engine file gives no rod inertia), the
+//! periodic spline, a 0.01° grid and the trapezoid rule. Each study varies
+//! one choice from the reference. Interpolation and grid-step errors are
+//! measured on a generated diagram whose pressure is known at every angle
+//! (the project's cycle model, [`enginedyn_synth::CycleSolution`]): an
+//! interpolant cannot be judged against another interpolant of the same
+//! samples. On the user's own data the same studies are reported as
+//! differences from the reference only.
+//!
+//! ```
+//! use enginedyn_accuracy::{KEYS, relative_errors};
+//! use enginedyn_pipeline::Summary;
+//! let mut a = Summary::empty();
+//! a.mean_torque_nm = Some(100.0);
+//! let mut b = a.clone();
+//! b.mean_torque_nm = Some(101.0);
+//! let e = relative_errors(&b, &a);
+//! assert_eq!(KEYS[0].0, "mean_torque_nm");
+//! assert!((e[0].unwrap() - 0.01).abs() < 1e-12);
+//! ```
+
+use enginedyn_engine::{Engine, RodModel};
+use enginedyn_ingest::{Diagram, GridOptions, Interp, Resampled, Trace};
+use enginedyn_kinematics::Model;
+use enginedyn_numerics::integrate::Rule;
+use enginedyn_pipeline::{Options, Summary};
+use enginedyn_synth::{CycleModel, CycleSolution};
+use std::time::Instant;
+
+/// What went wrong.
+#[derive(Debug, thiserror::Error)]
+pub enum AccuracyError {
+    /// A pipeline run failed.
+    #[error(transparent)]
+    Pipeline(#[from] enginedyn_pipeline::PipelineError),
+    /// Resampling the diagram failed.
+    #[error(transparent)]
+    Ingest(#[from] enginedyn_ingest::IngestError),
+    /// The generated diagram could not be built.
+    #[error("generated diagram: {0}")]
+    Synth(String),
+    /// No method setting meets the tolerance.
+    #[error(
+        "no method setting meets --tolerance {tolerance}: even a {step}° grid leaves an estimated {best:.2e} of grid error, and half the tolerance is its budget; loosen the tolerance"
+    )]
+    Unreachable {
+        /// Asked for.
+        tolerance: f64,
+        /// Best estimated relative error found.
+        best: f64,
+        /// Finest step tried (deg).
+        step: f64,
+    },
+    /// A bad tolerance value.
+    #[error("--tolerance {0}: a relative error between 1e-6 and 0.5 is needed")]
+    BadTolerance(f64),
+}
+
+/// Reads one key result from a summary.
+pub type Getter = fn(&Summary) -> Option<f64>;
+
+/// The key results whose errors are measured, with their `summary.json` names.
+pub const KEYS: [(&str, Getter); 7] = [
+    ("mean_torque_nm", |s| s.mean_torque_nm),
+    ("torque_max_nm", |s| s.torque_max_nm),
+    ("torque_min_nm", |s| s.torque_min_nm),
+    ("excess_work_j", |s| s.excess_work_j),
+    ("required_inertia_kg_m2", |s| s.required_inertia_kg_m2),
+    ("crankpin_load_max_n", |s| s.crankpin_load_max_n),
+    ("imep_bar", |s| s.imep_bar),
+];
+
+/// Relative errors of `got` against `reference`, key by key (`None` where
+/// either lacks the figure). Torque figures are relative to the larger of
+/// their own size and a tenth of the torque swing, so that a torque minimum
+/// near zero does not turn a small absolute error into a huge relative one.
+pub fn relative_errors(got: &Summary, reference: &Summary) -> Vec<Option<f64>> {
+    let swing = match (reference.torque_max_nm, reference.torque_min_nm) {
+        (Some(a), Some(b)) => 0.1 * (a - b).abs(),
+        _ => 0.0,
+    };
+    KEYS.iter()
+        .map(|(name, get)| {
+            let (g, r) = (get(got)?, get(reference)?);
+            let floor = if name.starts_with("torque_") || name.starts_with("mean_torque") {
+                swing
+            } else {
+                0.0
+            };
+            let den = r.abs().max(floor);
+            Some(if den > 0.0 {
+                (g - r).abs() / den
+            } else {
+                (g - r).abs()
+            })
+        })
+        .collect()
+}
+
+fn max_error(e: &[Option<f64>]) -> Option<f64> {
+    e.iter().flatten().copied().reduce(f64::max)
+}
+
+/// One method study (the `study` column of `accuracy.csv`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Study {
+    /// Exact or series kinematics.
+    Kinematics,
+    /// Two-mass, three-mass or rigid rod.
+    RodModel,
+    /// Linear, spline or pchip.
+    Interpolation,
+    /// Crank-angle grid step.
+    GridStep,
+    /// Trapezoid or Simpson.
+    Integration,
+}
+
+impl Study {
+    /// As written in `accuracy.csv`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Study::Kinematics => "kinematics",
+            Study::RodModel => "rod_model",
+            Study::Interpolation => "interpolation",
+            Study::GridStep => "grid_step",
+            Study::Integration => "integration",
+        }
+    }
+}
+
+/// One method setting measured.
+#[derive(Debug, Clone)]
+pub struct Row {
+    /// Which study.
+    pub study: Study,
+    /// The setting, spelled as the option (with the basis when not the reference).
+    pub setting: String,
+    /// Run time of one analysis with this setting (s, best of a few).
+    pub time_s: f64,
+    /// Relative error per key of [`KEYS`].
+    pub errors: Vec<Option<f64>>,
+}
+
+impl Row {
+    /// The largest relative error over the keys.
+    pub fn max_relative_error(&self) -> Option<f64> {
+        max_error(&self.errors)
+    }
+}
+
+/// The whole study.
+#[derive(Debug, Clone)]
+pub struct Accuracy {
+    /// Every setting measured.
+    pub rows: Vec<Row>,
+    /// The reference setting's own run time (s).
+    pub reference_time_s: f64,
+    /// What the reader should know.
+    pub notes: Vec<String>,
+}
+
+/// What the studies need: the engine, the parsed diagram and how to put it
+/// on a grid (pegging, volume law), and the speed.
+pub struct Input<'a> {
+    /// The engine.
+    pub engine: &'a Engine,
+    /// The parsed diagram (every trace).
+    pub diagram: &'a Diagram,
+    /// Grid options besides step and interpolation (pegging, volume law).
+    pub grid: GridOptions,
+    /// Speed (rpm).
+    pub rpm: f64,
+}
+
+/// The most exact rod model the engine file supports.
+pub fn best_rod(engine: &Engine) -> RodModel {
+    if engine.masses().rod_inertia.is_some() {
+        RodModel::Rigid
+    } else {
+        RodModel::TwoMass
+    }
+}
+
+/// The reference setting.
+pub fn reference(engine: &Engine) -> Options {
+    Options {
+        step_deg: 0.01,
+        kinematics: Model::Exact,
+        rod_model: Some(best_rod(engine)),
+        interp: Interp::Spline,
+        integration: Rule::Trapezoid,
+        detail: false,
+    }
+}
+
+/// Grid steps studied (deg), coarse to fine; only those that divide the
+/// cycle and put every firing angle on the grid are used.
+pub const STEPS: [f64; 10] = [10.0, 5.0, 4.0, 2.0, 1.0, 0.5, 0.25, 0.2, 0.1, 0.05];
+
+/// The halving ladder of grid steps [`choose`] climbs down (deg).
+pub const LADDER: [f64; 9] = [16.0, 8.0, 4.0, 2.0, 1.0, 0.5, 0.25, 0.125, 0.0625];
+
+/// True when `step` divides the cycle and every firing angle.
+pub fn step_fits(engine: &Engine, step: f64) -> bool {
+    let fits = |a: f64| {
+        let k = a / step;
+        (k - k.round()).abs() < 1e-6
+    };
+    fits(engine.cycle().to_degrees()) && engine.firing_angles().iter().all(|a| fits(a.to_degrees()))
+}
+
+/// Runs `f` a few times (at least once, up to 5 or 0.2 s) and returns its
+/// value and its shortest run time.
+fn timed<T>(mut f: impl FnMut() -> Result<T, AccuracyError>) -> Result<(T, f64), AccuracyError> {
+    let start = Instant::now();
+    let mut best = f64::INFINITY;
+    let mut out = None;
+    for _ in 0..5 {
+        let t = Instant::now();
+        let v = f()?;
+        best = best.min(t.elapsed().as_secs_f64());
+        out = Some(v);
+        if start.elapsed().as_secs_f64() > 0.2 {
+            break;
+        }
+    }
+    match out {
+        Some(v) => Ok((v, best)),
+        None => unreachable!("the loop runs at least once"),
+    }
+}
+
+fn run(input: &Input, opts: &Options) -> Result<Summary, AccuracyError> {
+    let grid = GridOptions {
+        step_deg: opts.step_deg,
+        interp: opts.interp,
+        ..input.grid.clone()
+    };
+    let r = enginedyn_ingest::resample_with(input.diagram, &grid)?;
+    Ok(enginedyn_pipeline::analyse(input.engine, &r, input.rpm, opts)?.summary)
+}
+
+fn run_grid(
+    engine: &Engine,
+    p: &Resampled,
+    rpm: f64,
+    opts: &Options,
+) -> Result<Summary, AccuracyError> {
+    Ok(enginedyn_pipeline::analyse(engine, p, rpm, opts)?.summary)
+}
+
+/// The generated diagram for the closed-form studies: the project's cycle
+/// model for this engine's cylinder (diesel above a compression ratio of
+/// 14, petrol below; the two-stroke model for a two-stroke).
+pub fn generated(engine: &Engine) -> Result<(CycleSolution, &'static str), AccuracyError> {
+    let cyl = engine.cylinder();
+    let (model, name) = if engine.cycle().to_degrees() < 400.0 {
+        (CycleModel::petrol_two_stroke(), "two-stroke")
+    } else if cyl.compression_ratio() >= 14.0 {
+        (CycleModel::diesel_full_load(), "diesel")
+    } else {
+        (CycleModel::petrol_full_load(), "petrol")
+    };
+    let sol = CycleSolution::new(cyl, &model).map_err(|e| AccuracyError::Synth(e.to_string()))?;
+    Ok((sol, name))
+}
+
+/// The generated pressure on a grid of `step` degrees.
+fn on_grid(sol: &CycleSolution, cycle_deg: f64, step: f64) -> Resampled {
+    let n = (cycle_deg / step).round() as usize;
+    Resampled::from_grid(
+        step,
+        (0..n).map(|k| sol.pressure(k as f64 * step)).collect(),
+    )
+}
+
+/// The median spacing of the diagram's first trace (deg).
+fn data_step(d: &Diagram) -> Option<f64> {
+    let t = d.traces.first()?;
+    let mut gaps: Vec<f64> = t.angle_deg.windows(2).map(|w| w[1] - w[0]).collect();
+    if gaps.is_empty() {
+        return None;
+    }
+    gaps.sort_by(f64::total_cmp);
+    Some(gaps[gaps.len() / 2])
+}
+
+/// Every study of the module docs.
+pub fn study(input: &Input) -> Result<Accuracy, AccuracyError> {
+    let engine = input.engine;
+    let reference = reference(engine);
+    let cycle = engine.cycle().to_degrees();
+    let mut notes = Vec::new();
+    if best_rod(engine) != RodModel::Rigid {
+        notes.push(
+            "no masses.rod_inertia_kg_m2: the reference rod is the two-mass model, and the rod study has nothing to compare".into(),
+        );
+    }
+    let (ref_summary, reference_time_s) = timed(|| run(input, &reference))?;
+    let mut rows = Vec::new();
+    let mut vary = |study: Study, setting: String, opts: Options| -> Result<(), AccuracyError> {
+        let (s, t) = timed(|| run(input, &opts))?;
+        rows.push(Row {
+            study,
+            setting,
+            time_s: t,
+            errors: relative_errors(&s, &ref_summary),
+        });
+        Ok(())
+    };
+    let offset = engine.mechanism().phi_tdc() != 0.0;
+    for m in [Model::Exact, Model::Series2, Model::Series4, Model::Series6] {
+        if offset && matches!(m, Model::Series4 | Model::Series6) {
+            continue;
+        }
+        let o = Options {
+            kinematics: m,
+            ..reference
+        };
+        vary(Study::Kinematics, m.name().into(), o)?;
+    }
+    if offset {
+        notes.push("pin offset: series4 and series6 are not defined, left out".into());
+    }
+    let rods: &[RodModel] = if best_rod(engine) == RodModel::Rigid {
+        &[RodModel::TwoMass, RodModel::ThreeMass, RodModel::Rigid]
+    } else {
+        &[RodModel::TwoMass]
+    };
+    for &r in rods {
+        let o = Options {
+            rod_model: Some(r),
+            ..reference
+        };
+        vary(Study::RodModel, r.name().into(), o)?;
+    }
+    for rule in [Rule::Trapezoid, Rule::Simpson] {
+        for step in [1.0, 0.1] {
+            if !step_fits(engine, step) {
+                continue;
+            }
+            let o = Options {
+                integration: rule,
+                step_deg: step,
+                ..reference
+            };
+            vary(Study::Integration, format!("{} at {step}°", rule.name()), o)?;
+        }
+    }
+    // The user's data: interpolation and grid step as differences only.
+    for interp in [Interp::Linear, Interp::Pchip] {
+        let o = Options {
+            interp,
+            ..reference
+        };
+        vary(
+            Study::Interpolation,
+            format!("{} (this diagram: difference from spline)", interp.name()),
+            o,
+        )?;
+    }
+    for step in STEPS.into_iter().filter(|&s| step_fits(engine, s)) {
+        let o = Options {
+            step_deg: step,
+            ..reference
+        };
+        vary(
+            Study::GridStep,
+            format!("{step}° (this diagram: difference from 0.01°)"),
+            o,
+        )?;
+    }
+    // The generated diagram, known at every angle: true errors.
+    let (sol, model) = generated(engine)?;
+    let truth = on_grid(&sol, cycle, reference.step_deg);
+    let truth_summary = run_grid(engine, &truth, input.rpm, &reference)?;
+    let sampling = data_step(input.diagram)
+        .filter(|&s| s > 0.11)
+        .unwrap_or(1.0);
+    notes.push(format!(
+        "interpolation and grid-step errors against the generated {model} diagram, known at every angle; interpolation from samples every {sampling:.3}° (this diagram's spacing, or 1° when it is finer than 0.1°)"
+    ));
+    let n_data = (cycle / sampling).round() as usize;
+    let samples = Diagram {
+        quantity: enginedyn_ingest::Quantity::Pressure,
+        rpm: None,
+        traces: vec![Trace {
+            cycle: 0,
+            cylinder: 0,
+            angle_deg: (0..n_data)
+                .map(|k| k as f64 * cycle / n_data as f64)
+                .collect(),
+            values: (0..n_data)
+                .map(|k| sol.pressure(k as f64 * cycle / n_data as f64))
+                .collect(),
+        }],
+        cycle_deg: cycle,
+        pv: false,
+        notes: Vec::new(),
+    };
+    for interp in [Interp::Linear, Interp::Spline, Interp::Pchip] {
+        let opts = Options {
+            interp,
+            ..reference
+        };
+        let grid = GridOptions {
+            step_deg: reference.step_deg,
+            interp,
+            ..input.grid.clone()
+        };
+        let (s, t) = timed(|| {
+            let r = enginedyn_ingest::resample_with(&samples, &grid)?;
+            run_grid(engine, &r, input.rpm, &opts)
+        })?;
+        rows.push(Row {
+            study: Study::Interpolation,
+            setting: format!("{} (generated, from {sampling:.3}° samples)", interp.name()),
+            time_s: t,
+            errors: relative_errors(&s, &truth_summary),
+        });
+    }
+    for step in STEPS.into_iter().filter(|&s| step_fits(engine, s)) {
+        let p = on_grid(&sol, cycle, step);
+        let opts = Options {
+            step_deg: step,
+            ..reference
+        };
+        let (s, t) = timed(|| run_grid(engine, &p, input.rpm, &opts))?;
+        rows.push(Row {
+            study: Study::GridStep,
+            setting: format!("{step}° (generated)"),
+            time_s: t,
+            errors: relative_errors(&s, &truth_summary),
+        });
+    }
+    Ok(Accuracy {
+        rows,
+        reference_time_s,
+        notes,
+    })
+}
+
+/// Indices of the rows on the Pareto front: no other row is both faster
+/// and more accurate. Rows without an error are left out.
+pub fn pareto(rows: &[Row]) -> Vec<usize> {
+    let pts: Vec<(usize, f64, f64)> = rows
+        .iter()
+        .enumerate()
+        .filter_map(|(i, r)| Some((i, r.time_s, r.max_relative_error()?)))
+        .collect();
+    let mut front: Vec<usize> = pts
+        .iter()
+        .filter(|&&(i, t, e)| {
+            !pts.iter()
+                .any(|&(j, t2, e2)| j != i && t2 <= t && e2 <= e && (t2 < t || e2 < e))
+        })
+        .map(|&(i, _, _)| i)
+        .collect();
+    front.sort_by(|&a, &b| rows[a].time_s.total_cmp(&rows[b].time_s));
+    front
+}
+
+/// `accuracy.csv`: `study`, `setting`, `time_s`, `max_relative_error`,
+/// then one error column per key (empty where the figure does not exist).
+pub fn csv(a: &Accuracy) -> String {
+    let mut out = String::from("study,setting,time_s,max_relative_error");
+    for (k, _) in KEYS {
+        out.push(',');
+        out.push_str(k);
+    }
+    out.push('\n');
+    let num = |v: Option<f64>| v.map(|x| format!("{x:e}")).unwrap_or_default();
+    for r in &a.rows {
+        out.push_str(&format!(
+            "{},\"{}\",{:e},{}",
+            r.study.name(),
+            r.setting.replace('"', "\"\""),
+            r.time_s,
+            num(r.max_relative_error())
+        ));
+        for e in &r.errors {
+            out.push(',');
+            out.push_str(&num(*e));
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// `accuracy.svg`: largest relative error against run time, log-log, one
+/// line per study and basis, the Pareto front dashed.
+pub fn figure(a: &Accuracy, engine_name: &str) -> enginedyn_report::Figure {
+    use enginedyn_report::{Chart, Figure, Series};
+    // Exact settings have zero error; on log axes they sit at a floor.
+    const FLOOR: f64 = 1e-16;
+    let point = |r: &Row| Some((r.time_s, r.max_relative_error()?.max(FLOOR)));
+    let mut groups: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    for r in &a.rows {
+        let basis = if r.setting.contains("generated") {
+            " (generated)"
+        } else if r.setting.contains("difference") {
+            " (this diagram, differences)"
+        } else {
+            ""
+        };
+        let name = format!("{}{basis}", r.study.name());
+        let Some(p) = point(r) else { continue };
+        match groups.iter_mut().find(|(n, _)| *n == name) {
+            Some((_, v)) => v.push(p),
+            None => groups.push((name, vec![p])),
+        }
+    }
+    let mut series: Vec<Series> = groups
+        .into_iter()
+        .map(|(n, mut pts)| {
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            Series::from_points(n, pts.into_iter())
+        })
+        .collect();
+    let front: Vec<(f64, f64)> = pareto(&a.rows)
+        .into_iter()
+        .filter_map(|i| point(&a.rows[i]))
+        .collect();
+    series.push(Series {
+        name: "Pareto front".into(),
+        points: front,
+        dashed: true,
+    });
+    Figure::single(
+        "accuracy.svg",
+        Chart {
+            title: format!(
+                "{engine_name}: largest relative error of the key results against run time"
+            ),
+            x_label: "run time of one analysis (s)".into(),
+            y_label: "largest relative error (zero drawn at 1e-16)".into(),
+            series,
+            log: true,
+            equal: false,
+            angle_ticks: None,
+        },
+    )
+}
+
+/// What [`choose`] picked.
+#[derive(Debug, Clone)]
+pub struct Choice {
+    /// The method setting.
+    pub options: Options,
+    /// Its estimated largest relative error on the key results.
+    pub estimated: f64,
+    /// How the estimate was made.
+    pub notes: Vec<String>,
+}
+
+/// The cheapest setting whose estimated error on the key results stays
+/// within `tolerance` (relative), without any run of the reference:
+///
+/// - grid step: runs down the halving [`LADDER`] from the coarsest step
+///   that fits the engine, each compared with the one twice as coarse; the
+///   difference bounds the finer one's error (a Richardson-style estimate,
+///   conservative by about 3 for second-order convergence). The first step
+///   whose estimate is within half the tolerance is taken.
+/// - models: at that step, the cheaper kinematics (series 2, 4, 6) and rod
+///   models (two-mass, three-mass) are compared with exact kinematics and
+///   the most exact rod; the simplest whose difference plus the grid
+///   estimate stays within the tolerance is taken. The series truncation
+///   (a-priori: `lambda^(order+1)` terms) and the rod couple
+///   `(I_G - m l_A l_B) w^2 beta'' beta'` are what these differences measure.
+///
+/// Interpolation stays `auto` and integration the trapezoid rule (their
+/// effect is within the grid estimate). Each run uses `detail = false`; the
+/// caller repeats the chosen setting with its own outputs.
+pub fn choose(
+    engine: &Engine,
+    rpm: f64,
+    tolerance: f64,
+    resample: &dyn Fn(f64, Interp) -> Result<Resampled, AccuracyError>,
+) -> Result<Choice, AccuracyError> {
+    if !(1e-6..=0.5).contains(&tolerance) {
+        return Err(AccuracyError::BadTolerance(tolerance));
+    }
+    let run = |o: &Options| -> Result<Summary, AccuracyError> {
+        let r = resample(o.step_deg, o.interp)?;
+        run_grid(engine, &r, rpm, o)
+    };
+    let best = best_rod(engine);
+    let base = Options {
+        step_deg: 0.1,
+        kinematics: Model::Exact,
+        rod_model: Some(best),
+        interp: Interp::Auto,
+        integration: Rule::Trapezoid,
+        detail: false,
+    };
+    // A halving ladder, so that each estimate compares h with 2h.
+    let steps: Vec<f64> = LADDER
+        .into_iter()
+        .filter(|&s| step_fits(engine, s))
+        .collect();
+    let mut prev: Option<(f64, Summary)> = None;
+    let mut found = None;
+    let mut last = (f64::INFINITY, 0.0);
+    for &step in &steps {
+        let o = Options {
+            step_deg: step,
+            ..base
+        };
+        let s = run(&o)?;
+        if let Some((h2, p)) = &prev
+            && (h2 / step - 2.0).abs() < 1e-9
+        {
+            let est = max_error(&relative_errors(p, &s)).unwrap_or(0.0);
+            last = (est, step);
+            if est <= 0.5 * tolerance {
+                found = Some((step, est, s));
+                break;
+            }
+        }
+        prev = Some((step, s));
+    }
+    let Some((step, grid_est, best_summary)) = found else {
+        return Err(AccuracyError::Unreachable {
+            tolerance,
+            best: last.0,
+            step: last.1,
+        });
+    };
+    let mut candidates: Vec<(Model, RodModel)> = Vec::new();
+    let offset = engine.mechanism().phi_tdc() != 0.0;
+    for m in [Model::Series2, Model::Series4, Model::Series6, Model::Exact] {
+        if offset && matches!(m, Model::Series4 | Model::Series6) {
+            continue;
+        }
+        for r in [RodModel::TwoMass, RodModel::ThreeMass, RodModel::Rigid] {
+            if (r == RodModel::TwoMass || best == RodModel::Rigid)
+                && !(m == Model::Exact && r == best)
+            {
+                candidates.push((m, r));
+            }
+        }
+    }
+    let mut notes = vec![format!(
+        "--tolerance {tolerance}: grid {step}° (estimated {grid_est:.1e} from the step before)"
+    )];
+    for (m, r) in candidates {
+        let o = Options {
+            step_deg: step,
+            kinematics: m,
+            rod_model: Some(r),
+            ..base
+        };
+        let s = run(&o)?;
+        let model_est = max_error(&relative_errors(&s, &best_summary)).unwrap_or(0.0);
+        if grid_est + model_est <= tolerance {
+            notes.push(format!(
+                "{} kinematics and the {} rod differ by {model_est:.1e} from exact and {}",
+                m.name(),
+                r.name(),
+                best.name()
+            ));
+            return Ok(Choice {
+                options: o,
+                estimated: grid_est + model_est,
+                notes,
+            });
+        }
+    }
+    Ok(Choice {
+        options: Options {
+            step_deg: step,
+            ..base
+        },
+        estimated: grid_est,
+        notes,
+    })
+}

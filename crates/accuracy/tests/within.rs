@@ -1,0 +1,168 @@
+//! `--tolerance` on every bundled engine: the chosen setting's results stay
+//! within the tolerance of the reference run (exact kinematics, the most
+//! exact rod, the periodic spline, 0.01°, trapezoid), and it is cheaper
+//! than the default when the tolerance allows; and the accuracy study's
+//! errors fall as the methods get finer.
+
+use enginedyn_accuracy::{Input, KEYS, Study, choose, pareto, reference, relative_errors, study};
+use enginedyn_engine::Engine;
+use enginedyn_ingest::{Diagram, GridOptions, Interp, ParseOptions};
+use std::path::PathBuf;
+
+fn data() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data")
+}
+
+fn bundled() -> Vec<(Engine, Diagram)> {
+    let mut out = Vec::new();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(data())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    for f in files {
+        let engine = enginedyn_engine::file::read(&f).unwrap();
+        let Some(d) = engine.diagram() else { continue };
+        let opts = ParseOptions::new(engine.cycle().to_degrees());
+        let text = std::fs::read(d).unwrap();
+        let diagram = enginedyn_ingest::parse(text.as_slice(), &opts).unwrap();
+        out.push((engine, diagram));
+    }
+    assert!(out.len() >= 6, "the bundled engines with diagrams");
+    out
+}
+
+fn summary(
+    engine: &Engine,
+    d: &Diagram,
+    rpm: f64,
+    o: &enginedyn_pipeline::Options,
+) -> enginedyn_pipeline::Summary {
+    let g = GridOptions::new(o.step_deg, o.interp);
+    let r = enginedyn_ingest::resample_with(d, &g).unwrap();
+    enginedyn_pipeline::analyse(engine, &r, rpm, o)
+        .unwrap()
+        .summary
+}
+
+#[test]
+fn tolerance_is_kept_against_the_reference() {
+    for (engine, d) in bundled() {
+        let rpm = d.rpm.or(engine.operating().rpm).unwrap();
+        let reference = summary(&engine, &d, rpm, &reference(&engine));
+        for tol in [1e-2, 1e-3] {
+            let resample = |step: f64, interp: Interp| {
+                Ok(enginedyn_ingest::resample_with(
+                    &d,
+                    &GridOptions::new(step, interp),
+                )?)
+            };
+            let c = choose(&engine, rpm, tol, &resample).unwrap();
+            let got = summary(&engine, &d, rpm, &c.options);
+            let errors = relative_errors(&got, &reference);
+            for ((k, _), e) in KEYS.iter().zip(&errors) {
+                if let Some(e) = e {
+                    assert!(
+                        *e <= tol,
+                        "{}: --tolerance {tol}: {k} off by {e:.2e} with {:?}",
+                        engine.name(),
+                        c.options
+                    );
+                }
+            }
+            assert!(c.estimated <= tol);
+            if tol >= 1e-2 {
+                // Cheaper than the default 0.1° grid.
+                assert!(
+                    c.options.step_deg > 0.1,
+                    "{}: {:?}",
+                    engine.name(),
+                    c.options
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn unreachable_and_bad_tolerances_are_refused() {
+    let (engine, d) = bundled().remove(0);
+    let rpm = d.rpm.or(engine.operating().rpm).unwrap();
+    let resample = |step: f64, interp: Interp| {
+        Ok(enginedyn_ingest::resample_with(
+            &d,
+            &GridOptions::new(step, interp),
+        )?)
+    };
+    for bad in [0.0, -1.0, 0.9, f64::NAN] {
+        assert!(choose(&engine, rpm, bad, &resample).is_err());
+    }
+    // 1e-6 cannot be met: the finest ladder step still leaves more.
+    let e = choose(&engine, rpm, 1e-6, &resample).unwrap_err();
+    assert!(e.to_string().contains("loosen the tolerance"), "{e}");
+}
+
+#[test]
+fn errors_fall_as_methods_get_finer() {
+    let (engine, d) = bundled()
+        .into_iter()
+        .find(|(e, _)| e.name().contains("VAZ"))
+        .unwrap();
+    let rpm = d.rpm.or(engine.operating().rpm).unwrap();
+    let a = study(&Input {
+        engine: &engine,
+        diagram: &d,
+        grid: GridOptions::new(0.1, Interp::Spline),
+        rpm,
+    })
+    .unwrap();
+    let err = |study: Study, setting: &str| {
+        a.rows
+            .iter()
+            .find(|r| r.study == study && r.setting == setting)
+            .and_then(|r| r.max_relative_error())
+            .unwrap_or_else(|| panic!("{setting}"))
+    };
+    // Series truncation: each order about an order of magnitude better.
+    let (s2, s4, s6) = (
+        err(Study::Kinematics, "series2"),
+        err(Study::Kinematics, "series4"),
+        err(Study::Kinematics, "series6"),
+    );
+    assert!(
+        s2 > 10.0 * s4 && s4 > 10.0 * s6 && s6 > 0.0,
+        "{s2} {s4} {s6}"
+    );
+    assert!(err(Study::Kinematics, "exact") < 1e-14);
+    // The three-mass rod keeps the rod's inertia: as exact as the rigid rod.
+    assert!(err(Study::RodModel, "three-mass") < 1e-9);
+    assert!(err(Study::RodModel, "two-mass") > 1e-3);
+    // Grid step on the generated diagram: coarse steps worse, to second order.
+    let g10 = err(Study::GridStep, "10° (generated)");
+    let g1 = err(Study::GridStep, "1° (generated)");
+    let g01 = err(Study::GridStep, "0.1° (generated)");
+    assert!(g10 > 10.0 * g1 && g1 > 10.0 * g01, "{g10} {g1} {g01}");
+    // From 0.5° samples the spline beats linear interpolation by far.
+    let lin = a
+        .rows
+        .iter()
+        .find(|r| r.setting.starts_with("linear (generated"))
+        .and_then(|r| r.max_relative_error())
+        .unwrap();
+    let spl = a
+        .rows
+        .iter()
+        .find(|r| r.setting.starts_with("spline (generated"))
+        .and_then(|r| r.max_relative_error())
+        .unwrap();
+    assert!(spl < 0.1 * lin, "spline {spl:.2e} linear {lin:.2e}");
+    // The Pareto front is non-dominated and ordered by time.
+    let front = pareto(&a.rows);
+    assert!(!front.is_empty());
+    for w in front.windows(2) {
+        let (x, y) = (&a.rows[w[0]], &a.rows[w[1]]);
+        assert!(x.time_s <= y.time_s);
+        assert!(x.max_relative_error().unwrap() >= y.max_relative_error().unwrap());
+    }
+}
