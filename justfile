@@ -22,6 +22,13 @@ report:
     for engine in data/*.toml; do ./target/release/enginedyn run --engine "$engine" --out "reports/$(basename "$engine" .toml)" > /dev/null; done
     python3 .ci/check_reports.py reports/*
 
+# Accuracy against speed for every bundled engine: reports/<engine>/accuracy.csv
+# and accuracy.svg. They hold run times, so they differ from run to run and
+# are regenerated here, not by `just report`.
+accuracy:
+    cargo build --release
+    for engine in data/*.toml; do ./target/release/enginedyn accuracy --engine "$engine" --out "reports/$(basename "$engine" .toml)" > /dev/null; done
+
 # Render each report page to a PNG with headless Chromium (Debian's package) to look at.
 screenshots:
     for d in reports/*/; do chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run --disable-background-networking --disable-component-update --disable-sync --user-data-dir="$(mktemp -d)" --window-size=1300,5200 --screenshot="$d/report.png" "file://$(realpath "$d")/report.html"; done

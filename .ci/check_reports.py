@@ -35,6 +35,22 @@ def main():
             if not doc.getElementsByTagName("polyline") and not doc.getElementsByTagName("path"):
                 print(f"{p}: draws no curve")
                 problems += 1
+        acc = os.path.join(d, "accuracy.svg")
+        if os.path.exists(acc):
+            try:
+                doc = xml.dom.minidom.parse(acc)
+                words = " ".join(t.firstChild.data for t in doc.getElementsByTagName("text") if t.firstChild)
+                for t in ["Pareto front", "grid_step", "kinematics", "rod_model"]:
+                    if t not in words:
+                        print(f"{acc}: no series `{t}`")
+                        problems += 1
+            except Exception as e:
+                print(f"{acc}: does not parse: {e}")
+                problems += 1
+            head = open(os.path.join(d, "accuracy.csv"), encoding="utf-8").readline()
+            if not head.startswith("study,setting,time_s,max_relative_error,"):
+                print(f"{d}/accuracy.csv: header {head.strip()!r}")
+                problems += 1
         html = open(os.path.join(d, "report.html"), encoding="utf-8").read()
         ids = set(re.findall(r'id="([^"]+)"', html))
         for name in EXPECT:

@@ -479,8 +479,9 @@ fn one_file_per_cylinder() {
 
 /// `batch`: rows in input order whatever the scheduling, a bad file's error
 /// in its row and on stderr while the others finish, exit 1; the header is
-/// `file,error` then the summary keys in INTERFACE.md's order; `--tolerance`
-/// is refused with exit 2 until the accuracy study exists.
+/// `file,error` then the summary keys in INTERFACE.md's order; with
+/// `--tolerance` each row carries its estimated error, and a tolerance no
+/// setting meets is refused with exit 2.
 #[test]
 fn batch_rows_in_input_order() {
     let dir = tempfile::tempdir().unwrap();
@@ -522,6 +523,17 @@ fn batch_rows_in_input_order() {
     let index = std::fs::read_to_string(out_dir.join("index.html")).unwrap();
     assert!(index.contains("href=\"0003_good/report.html\""));
     let out = run(&["batch", "--engine", engine, g, "--tolerance", "0.01"]);
+    assert_eq!(out.status.code(), Some(0));
+    let csv = String::from_utf8_lossy(&out.stdout);
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let row: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
+    let col = header
+        .iter()
+        .position(|h| *h == "estimated_relative_error")
+        .expect("estimated_relative_error column");
+    let e: f64 = row[col].parse().unwrap();
+    assert!(e > 0.0 && e <= 0.01, "{e}");
+    let out = run(&["batch", "--engine", engine, g, "--tolerance", "0.9"]);
     assert_eq!(out.status.code(), Some(2));
 }
 

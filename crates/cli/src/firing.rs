@@ -1,11 +1,453 @@
-//! `enginedyn firing-orders` (INTERFACE.md).
+//! `enginedyn firing-orders` (INTERFACE.md): the even firing orders of the
+//! engine's crank (or of every crank with `--all-cranks`), ranked by the
+//! score of `enginedyn_balance::score`, with the diagram's journal torques
+//! when there is a diagram.
 
 use crate::Failure;
 use crate::args::FiringOrdersArgs;
+use crate::run::{check_step, diagram_options, load_diagram, load_engine, resolve_rpm};
+use enginedyn_balance::{
+    CrankStudy, CylinderTorque, FreeForces, OrderStudy, Setup, Study, Weights, study,
+};
+use enginedyn_engine::{Engine, Layout};
+use enginedyn_ingest::Quantity;
+use enginedyn_report::{Chart, Figure, Series};
+use serde_json::{Value, json};
+use std::fmt::Write as _;
+use std::path::Path;
 
 /// Runs `enginedyn firing-orders`.
-pub fn run(_a: &FiringOrdersArgs) -> Result<(), Failure> {
-    Err(Failure::usage(
-        "`enginedyn firing-orders` is not implemented yet",
-    ))
+pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
+    let weights = match &a.weights {
+        Some(w) => Weights::parse(w).map_err(|e| Failure::usage(e.to_string()))?,
+        None => Weights::default(),
+    };
+    let loaded = load_engine(Some(&a.engine))?;
+    let engine = &loaded.engine;
+    let step = a.method.step;
+    check_step(engine, step)?;
+    let opts = a.method.options();
+    let rod_model = opts.rod_model.unwrap_or(engine.rod_model());
+    let mut notes: Vec<String> = engine.notes().to_vec();
+    let diagram = a
+        .diagram
+        .clone()
+        .or_else(|| engine.diagram().map(Path::to_path_buf));
+    let (shown, rpm, analysis) = match &diagram {
+        Some(path) => {
+            let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
+            let resampled = load_diagram(Some(path), &parse, &grid)?;
+            let shown = path.display().to_string();
+            if resampled.quantity != Quantity::Pressure {
+                return Err(Failure::data(format!(
+                    "{shown}: a turning-moment (torque) file; firing-orders reads a pressure diagram"
+                )));
+            }
+            if !resampled.cylinders.is_empty() {
+                notes.push(
+                    "the diagram has one trace per cylinder: the journal torques use cylinder 1's torque for every cylinder"
+                        .to_string(),
+                );
+            }
+            notes.extend(resampled.notes.iter().cloned());
+            let rpm = resolve_rpm(a.rpm, resampled.rpm, engine)?;
+            let analysis = enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)
+                .map_err(|e| Failure::usage(e.to_string()))?;
+            (shown, rpm, Some(analysis))
+        }
+        None => ("none".to_string(), resolve_rpm(a.rpm, None, engine)?, None),
+    };
+    let omega = rpm * std::f64::consts::PI / 30.0;
+    let setup = Setup {
+        engine,
+        rod_model,
+        omega,
+        torque: analysis.as_ref().map(|an| CylinderTorque {
+            step: an.step,
+            torque: &an.cylinder_torque,
+        }),
+        weights,
+    };
+    let mut result = study(&setup, a.all_cranks).map_err(|e| Failure::usage(e.to_string()))?;
+    notes.append(&mut result.notes);
+    result.notes = notes;
+    for n in &result.notes {
+        eprintln!("warning: {n}");
+    }
+    if a.json {
+        let doc = if a.all_cranks {
+            json!({
+                "cranks": result.cranks.iter().map(crank_json).collect::<Vec<_>>(),
+                "notes": result.notes,
+            })
+        } else {
+            let mut doc = result
+                .cranks
+                .first()
+                .map(crank_json)
+                .unwrap_or_else(|| json!({}));
+            if let Value::Object(m) = &mut doc {
+                m.insert("notes".into(), json!(result.notes));
+            }
+            doc
+        };
+        crate::emit(&(serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"));
+    } else {
+        crate::emit(&table(engine, &shown, rpm, &weights, &result, a.all_cranks));
+    }
+    if let Some(dir) = &a.out {
+        let svg = end_view(engine, &result)
+            .render()
+            .map_err(|e| Failure::data(e.to_string()))?;
+        let files = vec![
+            ("firing_orders.csv".to_string(), csv(&result).into_bytes()),
+            ("crank_end_view.svg".to_string(), svg.into_bytes()),
+        ];
+        enginedyn_report::write_all(dir, &files).map_err(|e| Failure::data(e.to_string()))?;
+        if !a.json {
+            crate::emit(&format!(
+                "wrote {} files to {}\n",
+                files.len(),
+                dir.display()
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn free_json(f: &FreeForces) -> Value {
+    json!({
+        "free_force_1_n": f.free_force_1_n,
+        "free_force_2_n": f.free_force_2_n,
+        "free_moment_1_nm": f.free_moment_1_nm,
+        "free_moment_2_nm": f.free_moment_2_nm,
+        "free_moment_1_residual_nm": f.free_moment_1_residual_nm,
+    })
+}
+
+fn crank_json(c: &CrankStudy) -> Value {
+    json!({
+        "crank_angles_deg": c.crank_angles_deg,
+        "free_forces": free_json(&c.free),
+        "orders": c.orders.iter().map(order_json).collect::<Vec<_>>(),
+        "mirror_symmetric": c.mirror_symmetric,
+        "engine_crank": c.engine_crank,
+    })
+}
+
+fn order_json(o: &OrderStudy) -> Value {
+    let c = &o.criteria;
+    let j = o.journal.as_ref();
+    json!({
+        "firing_order": o.order.order,
+        "intervals_deg": c.intervals_deg,
+        "neighbour_consecutive": c.neighbour_consecutive,
+        "max_journal_torque_nm": j.map(|j| j.max_torque_nm),
+        "max_journal_harmonic_nm": j.map(|j| j.max_harmonic_nm),
+        "journal_harmonic_order": j.map(|j| j.harmonic_order),
+        "score": o.score,
+        "firing_angles_deg": o.order.angles_deg,
+        "bank_intervals_deg": c.bank_intervals_deg,
+        "scheme": c.scheme.map(|s| s.name()),
+        "neighbour_pairs": c.neighbour_pairs.iter().map(|&(a, b)| [a, b]).collect::<Vec<_>>(),
+        "journal_most_loaded": j.map(|j| j.max_torque_journal),
+        "score_terms": {
+            "intervals": o.terms.intervals,
+            "neighbours": o.terms.neighbours,
+            "journal": j.map(|_| o.terms.journal),
+            "balance": o.terms.balance,
+        },
+    })
+}
+
+/// `a-b-c` for a list of numbers (shortest round-trip form).
+fn dashed<T: std::fmt::Display>(v: &[T]) -> String {
+    v.iter()
+        .map(|x| x.to_string())
+        .collect::<Vec<_>>()
+        .join("-")
+}
+
+fn banks(iv: &[Vec<f64>]) -> String {
+    iv.iter().map(|b| dashed(b)).collect::<Vec<_>>().join(" | ")
+}
+
+fn opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or_else(|| "null".to_string(), |x| format!("{x:.digits$}"))
+}
+
+fn table(engine: &Engine, shown: &str, rpm: f64, w: &Weights, s: &Study, all: bool) -> String {
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "{} — {} {} {}-cylinder, {:.0} rpm",
+        engine.name(),
+        engine.stroke_kind().name(),
+        engine.layout().name(),
+        engine.cylinders(),
+        rpm
+    );
+    let _ = writeln!(o, "diagram: {shown}");
+    let _ = writeln!(
+        o,
+        "score (lower is better) = {} × intervals + {} × neighbours + {} × journal + {} × balance",
+        w.intervals, w.neighbours, w.journal, w.balance
+    );
+    if all {
+        let marked = |c: &CrankStudy| {
+            let mark = match (c.engine_crank, c.mirror_symmetric) {
+                (true, _) => " (engine's)",
+                (false, true) => " (mirror)",
+                _ => "",
+            };
+            format!("{}{mark}", dashed(&c.crank_angles_deg))
+        };
+        let wc = s
+            .cranks
+            .iter()
+            .map(|c| marked(c).chars().count())
+            .chain([23])
+            .max()
+            .unwrap_or(23);
+        let wo = s
+            .cranks
+            .iter()
+            .filter_map(|c| c.orders.first())
+            .map(|b| dashed(&b.order.order).len())
+            .chain([10])
+            .max()
+            .unwrap_or(10);
+        let _ = writeln!(
+            o,
+            "\n{:>4}  {:<wc$} {:>6} {:>10} {:>10} {:>10} {:>10} {:>10}  {:<wo$} {:>8}",
+            "rank",
+            "crank (throw lags, deg)",
+            "orders",
+            "F1 N",
+            "F2 N",
+            "M1 N m",
+            "M2 N m",
+            "M1 cw N m",
+            "best order",
+            "score"
+        );
+        for (k, c) in s.cranks.iter().enumerate() {
+            let f = &c.free;
+            let best = c.orders.first();
+            let _ = writeln!(
+                o,
+                "{:>4}  {:<wc$} {:>6} {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>10.1}  {:<wo$} {:>8.4}",
+                k + 1,
+                marked(c),
+                c.orders.len(),
+                f.free_force_1_n,
+                f.free_force_2_n,
+                f.free_moment_1_nm,
+                f.free_moment_2_nm,
+                f.free_moment_1_residual_nm,
+                best.map_or(String::new(), |b| dashed(&b.order.order)),
+                c.best_score()
+            );
+        }
+    } else if let Some(c) = s.cranks.first() {
+        let _ = writeln!(
+            o,
+            "crank: {} (throw lags, deg)",
+            dashed(&c.crank_angles_deg)
+        );
+        let f = &c.free;
+        let _ = writeln!(
+            o,
+            "\nfree forces of the reciprocating masses (before counterweights; the same for every order)"
+        );
+        for (label, v, unit) in [
+            ("first-order force", f.free_force_1_n, "N"),
+            ("second-order force", f.free_force_2_n, "N"),
+            ("first-order moment", f.free_moment_1_nm, "N m"),
+            ("second-order moment", f.free_moment_2_nm, "N m"),
+            (
+                "first-order moment after counterweights",
+                f.free_moment_1_residual_nm,
+                "N m",
+            ),
+        ] {
+            let _ = writeln!(o, "  {label:<42} {v:>12.2} {unit}");
+        }
+        let two_banks = !matches!(engine.layout(), Layout::Inline);
+        let wo = c
+            .orders
+            .iter()
+            .map(|x| dashed(&x.order.order).len())
+            .chain([12])
+            .max()
+            .unwrap_or(12);
+        let wb = c
+            .orders
+            .iter()
+            .map(|x| banks(&x.criteria.bank_intervals_deg).len())
+            .chain([20])
+            .max()
+            .unwrap_or(20);
+        let ws = if two_banks { 17 } else { 0 };
+        let _ = writeln!(
+            o,
+            "\n{:>4}  {:<wo$} {:<ws$} {:<wb$} {:>10} {:>12} {:>12} {:>6} {:>8}",
+            "rank",
+            "firing order",
+            if two_banks { "scheme" } else { "" },
+            "bank intervals (deg)",
+            "neighbours",
+            "journal N m",
+            "harmonic N m",
+            "order",
+            "score"
+        );
+        for (k, ord) in c.orders.iter().enumerate() {
+            let cr = &ord.criteria;
+            let j = ord.journal.as_ref();
+            let _ = writeln!(
+                o,
+                "{:>4}  {:<wo$} {:<ws$} {:<wb$} {:>10} {:>12} {:>12} {:>6} {:>8.4}",
+                k + 1,
+                dashed(&ord.order.order),
+                cr.scheme.map_or("", |s| s.name()),
+                banks(&cr.bank_intervals_deg),
+                cr.neighbour_consecutive,
+                opt(j.map(|j| j.max_torque_nm), 1),
+                opt(j.map(|j| j.max_harmonic_nm), 1),
+                opt(j.map(|j| j.harmonic_order), 1),
+                ord.score
+            );
+        }
+    }
+    for n in &s.notes {
+        let _ = writeln!(o, "note: {n}");
+    }
+    o
+}
+
+/// `firing_orders.csv`: one row per crank and order, best first.
+fn csv(s: &Study) -> String {
+    let mut o = String::from(
+        "crank_rank,crank_angles_deg,mirror_symmetric,engine_crank,order_rank,firing_order,\
+         firing_angles_deg,intervals_deg,bank_intervals_deg,scheme,neighbour_consecutive,\
+         neighbour_pairs,max_journal_torque_nm,journal_most_loaded,max_journal_harmonic_nm,\
+         journal_harmonic_order,free_force_1_n,free_force_2_n,free_moment_1_nm,\
+         free_moment_2_nm,free_moment_1_residual_nm,score\n",
+    );
+    let cell = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
+    for (ck, c) in s.cranks.iter().enumerate() {
+        for (ok, ord) in c.orders.iter().enumerate() {
+            let cr = &ord.criteria;
+            let j = ord.journal.as_ref();
+            let f = &c.free;
+            let pairs: Vec<String> = cr
+                .neighbour_pairs
+                .iter()
+                .map(|(a, b)| format!("{a}-{b}"))
+                .collect();
+            let row = [
+                (ck + 1).to_string(),
+                dashed(&c.crank_angles_deg),
+                c.mirror_symmetric.to_string(),
+                c.engine_crank.to_string(),
+                (ok + 1).to_string(),
+                dashed(&ord.order.order),
+                dashed(&ord.order.angles_deg),
+                dashed(&cr.intervals_deg),
+                banks(&cr.bank_intervals_deg),
+                cr.scheme.map_or(String::new(), |s| s.name().to_string()),
+                cr.neighbour_consecutive.to_string(),
+                pairs.join(" "),
+                cell(j.map(|j| j.max_torque_nm)),
+                j.map_or(String::new(), |j| j.max_torque_journal.to_string()),
+                cell(j.map(|j| j.max_harmonic_nm)),
+                cell(j.map(|j| j.harmonic_order)),
+                f.free_force_1_n.to_string(),
+                f.free_force_2_n.to_string(),
+                f.free_moment_1_nm.to_string(),
+                f.free_moment_2_nm.to_string(),
+                f.free_moment_1_residual_nm.to_string(),
+                ord.score.to_string(),
+            ];
+            o.push_str(&row.join(","));
+            o.push('\n');
+        }
+    }
+    o
+}
+
+/// The best crank seen from the free end (it turns clockwise), throw 1 on
+/// bank 1's axis at TDC; each throw at its lag counter-clockwise behind it,
+/// named with its cylinders and their places in the best firing order.
+fn end_view(engine: &Engine, s: &Study) -> Figure {
+    let deg = std::f64::consts::PI / 180.0;
+    let gamma = match engine.layout() {
+        Layout::Inline => 0.0,
+        Layout::Vee { bank_angle } => bank_angle.to_degrees(),
+        Layout::Boxer => 180.0,
+    };
+    let axis1 = 90.0 + gamma / 2.0;
+    let mut series = vec![Series {
+        name: "crank circle".into(),
+        points: (0..=72)
+            .map(|k| ((k as f64 * 5.0 * deg).cos(), (k as f64 * 5.0 * deg).sin()))
+            .collect(),
+        dashed: true,
+    }];
+    let bank_axes: Vec<f64> = if gamma > 0.0 {
+        vec![axis1, axis1 - gamma]
+    } else {
+        vec![axis1]
+    };
+    for (b, a) in bank_axes.iter().enumerate() {
+        series.push(Series {
+            name: format!("bank {} axis", b + 1),
+            points: vec![(0.0, 0.0), (1.3 * (a * deg).cos(), 1.3 * (a * deg).sin())],
+            dashed: true,
+        });
+    }
+    let title;
+    if let Some(c) = s.cranks.first() {
+        let best = c.orders.first();
+        title = match best {
+            Some(b) => format!(
+                "crank end view from the free end (turns clockwise); best order {}",
+                dashed(&b.order.order)
+            ),
+            None => "crank end view from the free end (turns clockwise); no even order".into(),
+        };
+        for (k, alpha) in c.crank_angles_deg.iter().enumerate() {
+            let a = (axis1 + alpha) * deg;
+            let cyls: Vec<String> = (0..engine.cylinders())
+                .filter(|&i| engine.throw_of(i) == k)
+                .map(|i| match best {
+                    Some(b) => {
+                        let place = b.order.order.iter().position(|&x| x == i + 1).unwrap_or(0);
+                        format!("cyl {} fires {}.", i + 1, place + 1)
+                    }
+                    None => format!("cyl {}", i + 1),
+                })
+                .collect();
+            series.push(Series {
+                name: format!("throw {} at {}°: {}", k + 1, alpha, cyls.join(", ")),
+                points: vec![(0.0, 0.0), (a.cos(), a.sin())],
+                dashed: false,
+            });
+        }
+    } else {
+        title = "crank end view: no crank".into();
+    }
+    Figure::single(
+        "crank_end_view.svg",
+        Chart {
+            title,
+            x_label: "crank radii".into(),
+            y_label: "crank radii".into(),
+            series,
+            log: false,
+            equal: true,
+            angle_ticks: None,
+        },
+    )
 }

@@ -1,11 +1,428 @@
-//! `enginedyn tolerance` (INTERFACE.md).
+//! `enginedyn tolerance` (INTERFACE.md): each tolerance's influence on the
+//! key results, their stack-up, and the Monte Carlo check; `--out DIR`
+//! writes `tolerance.csv`, `tolerance.json` and `tolerance.svg`.
 
 use crate::Failure;
 use crate::args::ToleranceArgs;
+use crate::run::{check_step, diagram_options, load_diagram, load_engine, resolve_rpm};
+use enginedyn_engine::Engine;
+use enginedyn_ingest::Quantity;
+use enginedyn_report::{TornadoBar, TornadoPanel};
+use enginedyn_tolerance::{Evaluator, Method, Output, Row, Stack, Study};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Monte Carlo runs on this grid (deg) unless the method step is coarser:
+/// every sample is a full pipeline run, and 0.5° keeps 10,000 samples of a
+/// four-cylinder engine within seconds.
+const MONTE_CARLO_STEP: f64 = 0.5;
+/// Contributions shown per result on standard output and per tornado panel.
+const SHOWN: usize = 6;
 
 /// Runs `enginedyn tolerance`.
-pub fn run(_a: &ToleranceArgs) -> Result<(), Failure> {
-    Err(Failure::usage(
-        "`enginedyn tolerance` is not implemented yet",
+pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
+    let loaded = load_engine(Some(&a.engine))?;
+    let engine = &loaded.engine;
+    let file = a.engine.display().to_string();
+    let text = std::fs::read_to_string(&a.engine)
+        .map_err(|e| Failure::usage(format!("{file}: cannot read: {e}")))?;
+    let tolerances = enginedyn_engine::file::tolerances(&text)
+        .map_err(|e| Failure::usage(format!("{file}: {e}")))?;
+    if tolerances.is_empty() {
+        return Err(Failure::usage(format!(
+            "{file}: no [tolerances] section: give the ± deviations to study, e.g.\n\
+             [tolerances]\nstroke_mm = 0.02\nrod_length_mm = 0.05\npiston_group_kg = 0.005\n\
+             throw_angle_deg = 0.2\ntdc_deg = 0.1"
+        )));
+    }
+    let (inputs, input_notes) = enginedyn_tolerance::inputs(engine, &tolerances)
+        .map_err(|e| Failure::usage(format!("{file}: {e}")))?;
+    let step = a.method.step;
+    check_step(engine, step)?;
+    let opts = a.method.options();
+    let diagram = match &a.diagram {
+        Some(d) => d.clone(),
+        None => engine.diagram().map(Path::to_path_buf).ok_or_else(|| {
+            Failure::usage(format!(
+                "no indicator diagram: give --diagram or `diagram =` in {file}"
+            ))
+        })?,
+    };
+    let shown = diagram.display().to_string();
+    let load = |step: f64| {
+        let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
+        let r = load_diagram(Some(&diagram), &parse, &grid)?;
+        if r.quantity != Quantity::Pressure {
+            return Err(Failure::data(format!(
+                "{shown}: a turning-moment file: the tolerance study needs a pressure diagram"
+            )));
+        }
+        Ok(r)
+    };
+    let table_diagram = load(step)?;
+    let rpm = resolve_rpm(a.rpm, table_diagram.rpm, engine)?;
+    let mc_step = step.max(MONTE_CARLO_STEP);
+    let mc_diagram = if (mc_step - step).abs() < 1e-12 {
+        table_diagram.clone()
+    } else {
+        load(mc_step)?
+    };
+    let failure = |e: enginedyn_tolerance::ToleranceError| Failure::usage(format!("{file}: {e}"));
+    let table = Evaluator::new(engine, &table_diagram, rpm, opts, &inputs).map_err(failure)?;
+    let mc_opts = enginedyn_pipeline::Options {
+        step_deg: mc_step,
+        ..opts
+    };
+    let mc = Evaluator::new(engine, &mc_diagram, rpm, mc_opts, &inputs).map_err(failure)?;
+    let mut study = enginedyn_tolerance::study(&table, &mc, a.samples, a.seed).map_err(failure)?;
+    study.notes.splice(0..0, input_notes);
+    study.notes.extend(offset_note(engine, &study));
+    for note in &study.notes {
+        eprintln!("warning: {note}");
+    }
+    crate::emit(&text_table(engine, &shown, rpm, &study));
+    if let Some(dir) = &a.out {
+        let title = format!(
+            "{} — tolerances at {rpm:.0} rpm: each parameter alone at ±t (linear model, {}° grid){}",
+            engine.name(),
+            study.step_deg,
+            match &study.monte_carlo {
+                Some(m) => format!(
+                    "; σ lines: RSS and Monte Carlo ({} samples, seed {}, {}° grid)",
+                    m.samples, m.seed, m.step_deg
+                ),
+                None => String::new(),
+            }
+        );
+        let svg = enginedyn_report::tornado_svg("tolerance.svg", &title, &panels(&study), 4)
+            .map_err(|e| Failure::data(e.to_string()))?;
+        let files = vec![
+            ("tolerance.csv".to_string(), csv(&study).into_bytes()),
+            (
+                "tolerance.json".to_string(),
+                (serde_json::to_string_pretty(&json(&study)).unwrap_or_default() + "\n")
+                    .into_bytes(),
+            ),
+            ("tolerance.svg".to_string(), svg.into_bytes()),
+        ];
+        enginedyn_report::write_all(dir, &files).map_err(|e| Failure::data(e.to_string()))?;
+        crate::emit(&format!(
+            "wrote tolerance.csv, tolerance.json and tolerance.svg to {}\n",
+            dir.display()
+        ));
+    }
+    Ok(())
+}
+
+/// A pin-offset tolerance moves TDC: say by how much, since a diagram whose
+/// TDC comes from the crank's geometry carries that as a TDC error.
+fn offset_note(engine: &Engine, study: &Study) -> Option<String> {
+    let input = study
+        .inputs
+        .iter()
+        .find(|i| i.parameter == enginedyn_tolerance::Parameter::PinOffset)?;
+    let enginedyn_kinematics::Mechanism::CrankSlider(cs) = engine.mechanism() else {
+        return None;
+    };
+    let shift = (input.tolerance * 1e-3 / (cs.l() + cs.r())).to_degrees();
+    Some(format!(
+        "pin_offset_mm ± {} moves TDC by ± {shift:.3}° (δe / (L + R)); the diagram is taken on \
+         its true firing TDC (PHYSICS.md); if its TDC comes from the crank's geometry instead, \
+         add that to tdc_deg",
+        input.tolerance
     ))
+}
+
+/// A number with about four significant digits, exponent form when tiny or huge.
+fn num(x: f64) -> String {
+    let a = x.abs();
+    if !x.is_finite() {
+        "—".into()
+    } else if a == 0.0 {
+        "0".into()
+    } else if !(1e-3..1e6).contains(&a) {
+        format!("{x:.3e}")
+    } else {
+        let digits = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
+        format!("{x:.digits$}")
+    }
+}
+
+fn opt(x: Option<f64>) -> String {
+    x.map(num).unwrap_or_else(|| "—".into())
+}
+
+/// A result's unit for a printed value (empty for a ratio).
+fn unit(o: Output) -> &'static str {
+    o.unit()
+}
+
+/// Rows of one result with a deviation, largest first.
+fn ranked(study: &Study, o: Output) -> Vec<&Row> {
+    let mut rows: Vec<&Row> = study.rows_of(o).filter(|r| r.deviation > 0.0).collect();
+    rows.sort_by(|a, b| b.deviation.total_cmp(&a.deviation));
+    rows
+}
+
+/// The readable table: stack-up per result, then each result's largest
+/// contributions with sensitivity, influence and deviation.
+fn text_table(engine: &Engine, diagram: &str, rpm: f64, s: &Study) -> String {
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "{} — tolerance study, {} {} {}-cylinder, {rpm:.0} rpm",
+        engine.name(),
+        engine.stroke_kind().name(),
+        engine.layout().name(),
+        engine.cylinders()
+    );
+    let _ = writeln!(o, "diagram: {diagram}");
+    let _ = writeln!(
+        o,
+        "sensitivities: full pipeline runs on the {}° grid (central differences, geometry analytic)",
+        s.step_deg
+    );
+    match &s.monte_carlo {
+        Some(m) => {
+            let _ = writeln!(
+                o,
+                "Monte Carlo: {} samples, seed {}, uniform on ±t, on the {}° grid",
+                m.samples, m.seed, m.step_deg
+            );
+        }
+        None => {
+            let _ = writeln!(o, "Monte Carlo: not run (--samples 0)");
+        }
+    }
+    let _ = writeln!(o, "\ntolerances (±)");
+    let mut seen = Vec::new();
+    for i in &s.inputs {
+        if seen.contains(&i.parameter) {
+            continue;
+        }
+        seen.push(i.parameter);
+        let per = match (i.per(), i.parameter) {
+            (Some(what), _) => format!(", each {what} on its own"),
+            (None, enginedyn_tolerance::Parameter::Tdc) => {
+                " (+: the true firing TDC lies after the declared one)".into()
+            }
+            _ => String::new(),
+        };
+        let _ = writeln!(
+            o,
+            "  {:<26} {} {}{per}",
+            i.parameter.key(),
+            num(i.tolerance),
+            i.parameter.unit()
+        );
+    }
+    let _ = writeln!(
+        o,
+        "\nstack-up: worst case Σ|s|t, RSS σ = sqrt(Σ(s t)²)/√3, Monte Carlo σ and largest |deviation|"
+    );
+    let _ = writeln!(
+        o,
+        "  {:<24} {:>12} {:>11} {:>11} {:>11} {:>11} {:>9}  unit",
+        "result", "nominal", "worst case", "RSS σ", "MC σ", "MC max", "lin. err"
+    );
+    for st in &s.stacks {
+        let lin = match (st.linearity_error, st.zero) {
+            (Some(e), false) => format!("{:.1} %", 100.0 * e),
+            (Some(_), true) => "kink".into(),
+            (None, _) => "—".into(),
+        };
+        let _ = writeln!(
+            o,
+            "  {:<24} {:>12} {:>11} {:>11} {:>11} {:>11} {:>9}  {}",
+            st.output.key(),
+            num(st.nominal),
+            num(st.worst_case),
+            num(st.rss),
+            opt(st.monte_carlo_std),
+            opt(st.monte_carlo_max_dev),
+            lin,
+            unit(st.output)
+        );
+    }
+    let _ = writeln!(
+        o,
+        "\ncontributions, largest first: sensitivity s (result unit per parameter unit), influence K = (dy/y)/(dx/x), deviation |s| t"
+    );
+    let mut untouched = Vec::new();
+    for st in &s.stacks {
+        let rows = ranked(s, st.output);
+        if rows.is_empty() {
+            untouched.push(st.output.key());
+            continue;
+        }
+        let shown = format!("{} {}", num(st.nominal), unit(st.output));
+        let _ = writeln!(
+            o,
+            "  {} = {}{}",
+            st.output.key(),
+            shown.trim_end(),
+            if st.zero {
+                " (0: it cancels; one-sided slopes)"
+            } else {
+                ""
+            }
+        );
+        let total: f64 = rows.iter().map(|r| r.deviation.powi(2)).sum();
+        for r in rows.iter().take(SHOWN) {
+            let per_unit = match unit(st.output) {
+                "" => format!("1/{}", r.input.parameter.unit()),
+                u => format!("{u}/{}", r.input.parameter.unit()),
+            };
+            let _ = writeln!(
+                o,
+                "    {:<24} ±{:<9} s {:>11} {:<10} K {:>9}  dev {:>10}  {:>3.0} % of variance{}",
+                r.input.name(),
+                num(r.input.tolerance),
+                num(r.sensitivity.value),
+                per_unit,
+                r.influence.map(num).unwrap_or_else(|| "—".into()),
+                num(r.deviation),
+                100.0 * r.deviation.powi(2) / total,
+                if r.sensitivity.method == Method::OneSided {
+                    " (kink)"
+                } else {
+                    ""
+                }
+            );
+        }
+        if rows.len() > SHOWN {
+            let _ = writeln!(o, "    … {} more in tolerance.csv", rows.len() - SHOWN);
+        }
+    }
+    if !untouched.is_empty() {
+        let _ = writeln!(o, "  not moved by any tolerance: {}", untouched.join(", "));
+    }
+    let notes: Vec<(&Stack, &String)> = s
+        .stacks
+        .iter()
+        .filter_map(|st| st.note.as_ref().map(|n| (st, n)))
+        .collect();
+    if !notes.is_empty() {
+        let _ = writeln!(o, "\nnotes");
+        for (st, n) in notes {
+            let _ = writeln!(o, "  {}: {n}", st.output.key());
+        }
+    }
+    o
+}
+
+/// `tolerance.csv`: one row per input and result.
+fn csv(s: &Study) -> String {
+    let mut o =
+        String::from("parameter,tolerance,result,nominal,sensitivity,influence,deviation\n");
+    let cell = |x: f64| {
+        if x.is_finite() {
+            format!("{x}")
+        } else {
+            String::new()
+        }
+    };
+    for r in &s.rows {
+        let _ = writeln!(
+            o,
+            "{},{},{},{},{},{},{}",
+            r.input.name(),
+            cell(r.input.tolerance),
+            r.output.key(),
+            cell(r.nominal),
+            cell(r.sensitivity.value),
+            r.influence.map(cell).unwrap_or_default(),
+            cell(r.deviation)
+        );
+    }
+    o
+}
+
+/// `tolerance.json`: per result, the stack-up and its Monte Carlo check.
+fn json(s: &Study) -> serde_json::Value {
+    let n = |x: Option<f64>| match x {
+        Some(v) if v.is_finite() => serde_json::Value::from(v),
+        _ => serde_json::Value::Null,
+    };
+    let mut map = serde_json::Map::new();
+    for st in &s.stacks {
+        let mut m = serde_json::Map::new();
+        m.insert("nominal".into(), n(Some(st.nominal)));
+        m.insert("worst_case".into(), n(Some(st.worst_case)));
+        m.insert("rss".into(), n(Some(st.rss)));
+        m.insert("monte_carlo_std".into(), n(st.monte_carlo_std));
+        m.insert("monte_carlo_max_dev".into(), n(st.monte_carlo_max_dev));
+        m.insert("linearity_error".into(), n(st.linearity_error));
+        m.insert("monte_carlo_mean".into(), n(st.monte_carlo_mean));
+        m.insert("zero_nominal".into(), st.zero.into());
+        m.insert("kink".into(), st.kink.into());
+        m.insert(
+            "note".into(),
+            st.note
+                .clone()
+                .map(serde_json::Value::from)
+                .unwrap_or(serde_json::Value::Null),
+        );
+        map.insert(st.output.key().into(), serde_json::Value::Object(m));
+    }
+    serde_json::Value::Object(map)
+}
+
+/// One tornado panel per result that some tolerance moves: bars in % of
+/// the nominal (absolute for a result whose nominal is 0), the side at
+/// `+t` and at `-t` from the one-sided slopes, so a kink shows.
+fn panels(s: &Study) -> Vec<TornadoPanel> {
+    let mut out = Vec::new();
+    for st in &s.stacks {
+        let rows = ranked(s, st.output);
+        if rows.is_empty() {
+            continue;
+        }
+        let (scale, x_label) = if st.zero {
+            (1.0, format!("change ({})", unit(st.output)))
+        } else {
+            (
+                100.0 / st.nominal.abs(),
+                "change (% of nominal)".to_string(),
+            )
+        };
+        let bar = |r: &Row| {
+            let (fwd, bwd) = if r.sensitivity.method == Method::OneSided {
+                r.sensitivity.one_sided
+            } else {
+                (r.sensitivity.value, r.sensitivity.value)
+            };
+            TornadoBar {
+                label: r.input.name(),
+                minus: -bwd * r.input.tolerance * scale,
+                plus: fwd * r.input.tolerance * scale,
+            }
+        };
+        let mut bars: Vec<TornadoBar> = rows.iter().take(SHOWN).map(|r| bar(r)).collect();
+        if rows.len() > SHOWN {
+            let rest = rows[SHOWN..]
+                .iter()
+                .map(|r| (r.deviation * scale).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            bars.push(TornadoBar {
+                label: format!("{} others (RSS)", rows.len() - SHOWN),
+                minus: -rest,
+                plus: rest,
+            });
+        }
+        let mut marks = vec![("RSS σ (linear)".to_string(), st.rss * scale)];
+        if let Some(m) = st.monte_carlo_std {
+            marks.push(("Monte Carlo σ".to_string(), m * scale));
+        }
+        let shown = if st.zero { 0.0 } else { st.nominal };
+        let nominal = format!("{} {}", num(shown), unit(st.output));
+        out.push(TornadoPanel {
+            title: format!("{} = {}", st.output.key(), nominal.trim_end()),
+            x_label,
+            bars,
+            marks,
+        });
+    }
+    out
 }

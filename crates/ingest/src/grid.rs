@@ -191,6 +191,16 @@ impl Accumulator {
         if on_grid && !in_place {
             self.buf.copy_from_slice(&tr.values);
         } else if !on_grid {
+            let spacing = self.cycle_deg / tr.angle_deg.len() as f64;
+            if spacing > 2.0 {
+                let note = format!(
+                    "the diagram has a point every {spacing:.1}° on average: between points the pressure is the {} interpolant's guess (its error grows with the spacing squared for linear, to the fourth power for the spline); peak pressure and torque extremes are uncertain, `enginedyn accuracy` measures by how much",
+                    kind.name()
+                );
+                if !self.notes.contains(&note) {
+                    self.notes.push(note);
+                }
+            }
             let f = Periodic::new(kind, &tr.angle_deg, &tr.values, self.cycle_deg)
                 .map_err(|e| IngestError::Data(format!("cycle {}: {e}", tr.cycle)))?;
             f.eval_uniform(0.0, self.opts.step_deg, &mut self.buf);

@@ -409,6 +409,24 @@ impl Mechanism {
         }
     }
 
+    /// The series' truncation error: the largest difference of its piston
+    /// acceleration from the exact one over a revolution (1° steps), as a
+    /// fraction of the largest exact acceleration. 0 for the exact model
+    /// and for the Scotch yoke (pure harmonic motion).
+    pub fn series_error(&self, model: Model) -> Result<f64, KinematicsError> {
+        if model == Model::Exact {
+            return Ok(0.0);
+        }
+        let (mut diff, mut peak) = (0.0_f64, 0.0_f64);
+        for k in 0..360 {
+            let phi = (k as f64).to_radians();
+            let (m, e) = (self.state(model, phi)?, self.exact(phi));
+            diff = diff.max((m.d2x - e.d2x).abs());
+            peak = peak.max(e.d2x.abs());
+        }
+        Ok(if peak > 0.0 { diff / peak } else { 0.0 })
+    }
+
     /// Checks that `model` is defined for this mechanism.
     pub fn check(&self, model: Model) -> Result<(), KinematicsError> {
         self.state(model, 0.0).map(|_| ())

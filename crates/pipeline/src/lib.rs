@@ -241,7 +241,16 @@ fn prepare(
             opts.step_deg
         )));
     }
-    let notes = engine.notes().to_vec();
+    let mut notes = engine.notes().to_vec();
+    let series = engine.mechanism().series_error(opts.kinematics)?;
+    if series > 0.01 {
+        notes.push(format!(
+            "{} kinematics misses the piston acceleration by up to {:.1} % here (lambda {:.3}): use --kinematics exact",
+            opts.kinematics.name(),
+            100.0 * series,
+            engine.mechanism().lambda()
+        ));
+    }
     Ok((engine, h, notes))
 }
 
@@ -493,6 +502,13 @@ fn complete(
         ));
     }
     let uniformity = Uniformity::new(&torque.total, h, opts.integration);
+    let swing = uniformity.max - uniformity.min;
+    if uniformity.mean > 0.0 && uniformity.mean < 0.05 * swing {
+        notes.push(format!(
+            "the mean torque ({:.3} N m) is under 5 % of the torque swing ({swing:.1} N m): near idle or motoring, mu and psi are large and follow every small error of the mean",
+            uniformity.mean
+        ));
+    }
     let z = engine.cylinders() as f64;
     let energy_balance_error = work.map(|w| {
         let mean_from_work = z * w / cycle;

@@ -16,8 +16,10 @@ use std::path::{Path, PathBuf};
 
 mod chart;
 mod html;
+mod tornado;
 pub use chart::{Chart, Figure, Series, kinematics_chart, run_figures};
 pub use html::report_html;
+pub use tornado::{TornadoBar, TornadoPanel, tornado_svg};
 
 /// Why output could not be produced.
 #[derive(Debug, thiserror::Error)]
