@@ -683,6 +683,48 @@ pub fn parse_stream(
         })
     };
     loop {
+        // Runs of plain rows that continue the current p–φ trace: a tight
+        // loop over the read buffer. Any other row (a new cycle or cylinder,
+        // a falling angle, anything unusual) leaves it for the general path
+        // below, which decides exactly as it would have without this loop.
+        if let (Some(sep), true, false, Some(tr)) = (
+            delim.and_then(Delim::byte),
+            have_cols,
+            cols.pv,
+            current.as_mut(),
+        ) {
+            let ncols = names.as_ref().map(Vec::len).unwrap_or(0);
+            let is_pressure = cols.quantity == Quantity::Pressure;
+            let offset = if opts.gauge && is_pressure { ATM } else { 0.0 };
+            let first = tr.angle_deg[0];
+            let mut last = *tr.angle_deg.last().unwrap_or(&first);
+            let (w, eof) = lines.window()?;
+            let mut used = 0;
+            while eof || used + 512 < w.len() {
+                let Some((k, n)) = plain_row(&w[used..], sep, sep != b',', eof, &mut vals) else {
+                    break;
+                };
+                let same = k >= ncols
+                    && cols.cycle.is_none_or(|i| vals[i] as i64 == tr.cycle)
+                    && cols.cylinder.is_none_or(|i| vals[i] as i64 == tr.cylinder);
+                let a = vals[cols.x] - opts.tdc_deg;
+                let p = vals[cols.value] * cols.scale + offset;
+                if !same
+                    || (is_pressure && p < 0.0)
+                    || a <= last
+                    || a - first >= opts.cycle_deg - 1e-9
+                {
+                    break;
+                }
+                tr.angle_deg.push(a);
+                tr.values.push(p);
+                last = a;
+                used += n;
+                lineno += 1;
+                rows += 1;
+            }
+            lines.consume(used);
+        }
         // Plain rows straight from the read buffer: no line search, one pass.
         let fast = match delim.and_then(Delim::byte) {
             Some(sep) if have_cols => {
