@@ -158,6 +158,47 @@ fn tick(v: &f64) -> String {
 
 type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 
+/// The corner of the plot with the fewest points, for the legend (upper
+/// right on a tie): a p–V loop leaves the upper right empty, an error
+/// against time chart the lower left.
+fn legend_corner(
+    series: &[Series],
+    log: bool,
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+) -> SeriesLabelPosition {
+    let unit = |v: f64, a: f64, b: f64| {
+        if log {
+            (v.ln() - a.ln()) / (b.ln() - a.ln())
+        } else {
+            (v - a) / (b - a)
+        }
+    };
+    // Upper right, upper left, lower left, lower right.
+    let mut count = [0usize; 4];
+    for s in series {
+        for &(x, y) in &s.points {
+            let (u, v) = (unit(x, x0, x1), unit(y, y0, y1));
+            if !(u.is_finite() && v.is_finite()) {
+                continue;
+            }
+            let (right, left, top, bottom) = (u > 0.55, u < 0.45, v > 0.6, v < 0.4);
+            for (k, hit) in [right && top, left && top, left && bottom, right && bottom]
+                .into_iter()
+                .enumerate()
+            {
+                count[k] += usize::from(hit);
+            }
+        }
+    }
+    match (0..4).min_by_key(|&k| (count[k], k)).unwrap_or(0) {
+        1 => SeriesLabelPosition::UpperLeft,
+        2 => SeriesLabelPosition::LowerLeft,
+        3 => SeriesLabelPosition::LowerRight,
+        _ => SeriesLabelPosition::UpperRight,
+    }
+}
+
 impl Chart {
     fn draw(&self, area: &Area, file: &str) -> Result<(), ReportError> {
         let err = |e: &dyn std::fmt::Display| ReportError::Chart {
@@ -226,12 +267,7 @@ impl Chart {
                     .background_style(WHITE.mix(0.85))
                     .border_style(RGBColor(200, 200, 200))
                     .label_font(("sans-serif", 13))
-                    .position(if self.log {
-                        // Log-log charts (p–V, error against time) leave the lower left empty.
-                        SeriesLabelPosition::LowerLeft
-                    } else {
-                        SeriesLabelPosition::UpperRight
-                    })
+                    .position(legend_corner(&self.series, self.log, (x0, x1), (y0, y1)))
                     .draw()
                     .map_err(|e| err(&e))?;
             }};
