@@ -10,9 +10,9 @@ use std::fmt::Write as _;
 
 /// Runs `enginedyn accuracy`.
 pub fn run(a: &AccuracyArgs) -> Result<(), Failure> {
-    let loaded = load_engine(Some(&a.engine))?;
+    let loaded = load_engine(Some(&a.input.engine))?;
     let engine = &loaded.engine;
-    let path = diagram_path(a.diagram.as_deref(), &loaded)?;
+    let path = diagram_path(a.input.diagram.as_deref(), &loaded)?;
     let (parse, grid) = diagram_options(engine, &a.diagram_args, 0.1, Interp::Spline)?;
     let diagram = parse_diagram(&path, &parse)?;
     if diagram.quantity != Quantity::Pressure {
@@ -21,7 +21,7 @@ pub fn run(a: &AccuracyArgs) -> Result<(), Failure> {
             path.display()
         )));
     }
-    let rpm = resolve_rpm(a.rpm, diagram.rpm, engine)?;
+    let rpm = resolve_rpm(a.input.rpm, diagram.rpm, engine)?;
     let input = Input {
         engine,
         diagram: &diagram,
@@ -80,8 +80,7 @@ pub fn run(a: &AccuracyArgs) -> Result<(), Failure> {
             ),
             ("accuracy.svg".to_string(), svg.into_bytes()),
         ];
-        enginedyn_report::write_all(dir, &files).map_err(|e| Failure::data(e.to_string()))?;
-        eprintln!("wrote {}", dir.display());
+        crate::write_out(dir, &files, false)?;
     }
     Ok(())
 }

@@ -253,12 +253,8 @@ pub struct SweepArgs {
 
 #[derive(Debug, Clone, Args)]
 pub struct FiringOrdersArgs {
-    /// Engine file (TOML).
-    #[arg(long, value_name = "FILE")]
-    pub engine: PathBuf,
-    /// Indicator diagram [default: the engine file's `diagram`; none: diagram-free criteria only].
-    #[arg(long, value_name = "FILE")]
-    pub diagram: Option<PathBuf>,
+    #[command(flatten)]
+    pub input: StudyInput,
     /// Every crank arrangement for the cylinder count, each with its orders.
     #[arg(long)]
     pub all_cranks: bool,
@@ -271,9 +267,6 @@ pub struct FiringOrdersArgs {
     /// Write firing_orders.csv and crank_end_view.svg into DIR.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Engine speed (rpm); overrides the diagram's `# rpm` line and the engine file.
-    #[arg(long, value_name = "N")]
-    pub rpm: Option<f64>,
     #[command(flatten)]
     pub diagram_args: DiagramArgs,
     #[command(flatten)]
@@ -282,12 +275,8 @@ pub struct FiringOrdersArgs {
 
 #[derive(Debug, Clone, Args)]
 pub struct ToleranceArgs {
-    /// Engine file (TOML) with a `[tolerances]` section.
-    #[arg(long, value_name = "FILE")]
-    pub engine: PathBuf,
-    /// Indicator diagram [default: the engine file's `diagram`].
-    #[arg(long, value_name = "FILE")]
-    pub diagram: Option<PathBuf>,
+    #[command(flatten)]
+    pub input: StudyInput,
     /// Monte Carlo samples over the tolerance box.
     #[arg(long, value_name = "N", default_value_t = 10000)]
     pub samples: usize,
@@ -297,9 +286,6 @@ pub struct ToleranceArgs {
     /// Write tolerance.csv, tolerance.json and tolerance.svg into DIR.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Engine speed (rpm); overrides the diagram's `# rpm` line and the engine file.
-    #[arg(long, value_name = "N")]
-    pub rpm: Option<f64>,
     #[command(flatten)]
     pub diagram_args: DiagramArgs,
     #[command(flatten)]
@@ -308,18 +294,25 @@ pub struct ToleranceArgs {
 
 #[derive(Debug, Clone, Args)]
 pub struct AccuracyArgs {
+    #[command(flatten)]
+    pub input: StudyInput,
+    /// Write accuracy.csv and accuracy.svg into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub diagram_args: DiagramArgs,
+}
+
+/// The engine, diagram and speed a study reads.
+#[derive(Debug, Clone, Args)]
+pub struct StudyInput {
     /// Engine file (TOML).
     #[arg(long, value_name = "FILE")]
     pub engine: PathBuf,
     /// Indicator diagram [default: the engine file's `diagram`].
     #[arg(long, value_name = "FILE")]
     pub diagram: Option<PathBuf>,
-    /// Write accuracy.csv and accuracy.svg into DIR.
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
     /// Engine speed (rpm); overrides the diagram's `# rpm` line and the engine file.
     #[arg(long, value_name = "N")]
     pub rpm: Option<f64>,
-    #[command(flatten)]
-    pub diagram_args: DiagramArgs,
 }

@@ -328,15 +328,7 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
         ..a.method.options()
     };
     let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
-    let path = match &a.diagram {
-        Some(p) => p.clone(),
-        None => engine.diagram().map(Path::to_path_buf).ok_or_else(|| {
-            Failure::usage(format!(
-                "no indicator diagram: give --diagram or `diagram =` in {}",
-                a.engine.display()
-            ))
-        })?,
-    };
+    let path = crate::run::diagram_path(a.diagram.as_deref(), &loaded)?;
     let resampled = load_diagram(Some(&path), &parse, &grid)?;
     let shown = path.display().to_string();
     // The pressures stay the same at every speed: gas load fixed, inertia growing with w^2.

@@ -22,7 +22,7 @@ pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
         Some(w) => Weights::parse(w).map_err(|e| Failure::usage(e.to_string()))?,
         None => Weights::default(),
     };
-    let loaded = load_engine(Some(&a.engine))?;
+    let loaded = load_engine(Some(&a.input.engine))?;
     let engine = &loaded.engine;
     let step = a.method.step;
     check_step(engine, step)?;
@@ -30,6 +30,7 @@ pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
     let rod_model = opts.rod_model.unwrap_or(engine.rod_model());
     let mut notes: Vec<String> = engine.notes().to_vec();
     let diagram = a
+        .input
         .diagram
         .clone()
         .or_else(|| engine.diagram().map(Path::to_path_buf));
@@ -50,12 +51,16 @@ pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
                 );
             }
             notes.extend(resampled.notes.iter().cloned());
-            let rpm = resolve_rpm(a.rpm, resampled.rpm, engine)?;
+            let rpm = resolve_rpm(a.input.rpm, resampled.rpm, engine)?;
             let analysis = enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)
                 .map_err(|e| Failure::usage(e.to_string()))?;
             (shown, rpm, Some(analysis))
         }
-        None => ("none".to_string(), resolve_rpm(a.rpm, None, engine)?, None),
+        None => (
+            "none".to_string(),
+            resolve_rpm(a.input.rpm, None, engine)?,
+            None,
+        ),
     };
     let omega = rpm * std::f64::consts::PI / 30.0;
     let setup = Setup {
@@ -103,14 +108,7 @@ pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
             ("firing_orders.csv".to_string(), csv(&result).into_bytes()),
             ("crank_end_view.svg".to_string(), svg.into_bytes()),
         ];
-        enginedyn_report::write_all(dir, &files).map_err(|e| Failure::data(e.to_string()))?;
-        if !a.json {
-            crate::emit(&format!(
-                "wrote {} files to {}\n",
-                files.len(),
-                dir.display()
-            ));
-        }
+        crate::write_out(dir, &files, a.json)?;
     }
     Ok(())
 }
@@ -177,17 +175,7 @@ fn opt(v: Option<f64>, digits: usize) -> String {
 }
 
 fn table(engine: &Engine, shown: &str, rpm: f64, w: &Weights, s: &Study, all: bool) -> String {
-    let mut o = String::new();
-    let _ = writeln!(
-        o,
-        "{} — {} {} {}-cylinder, {:.0} rpm",
-        engine.name(),
-        engine.stroke_kind().name(),
-        engine.layout().name(),
-        engine.cylinders(),
-        rpm
-    );
-    let _ = writeln!(o, "diagram: {shown}");
+    let mut o = crate::table::heading(engine, "", rpm, shown);
     let _ = writeln!(
         o,
         "score (lower is better) = {} × intervals + {} × neighbours + {} × journal + {} × balance",

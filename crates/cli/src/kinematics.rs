@@ -112,13 +112,7 @@ pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
             ("kinematics.csv".to_string(), csv().into_bytes()),
             ("kinematics.svg".to_string(), svg.into_bytes()),
         ];
-        enginedyn_report::write_all(dir, &files).map_err(|e| Failure::data(e.to_string()))?;
-        if !a.csv {
-            crate::emit(&format!(
-                "wrote kinematics.csv and kinematics.svg to {}\n",
-                dir.display()
-            ));
-        }
+        crate::write_out(dir, &files, a.csv)?;
     }
     Ok(())
 }

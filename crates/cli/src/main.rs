@@ -54,6 +54,24 @@ pub fn emit(text: &str) {
     }
 }
 
+/// Writes an output folder (each file whole or not at all) and, unless the
+/// standard output carries JSON, says so.
+pub fn write_out(
+    dir: &std::path::Path,
+    files: &[(String, Vec<u8>)],
+    quiet: bool,
+) -> Result<(), Failure> {
+    enginedyn_report::write_all(dir, files).map_err(|e| Failure::data(e.to_string()))?;
+    if !quiet {
+        emit(&format!(
+            "wrote {} files to {}\n",
+            files.len(),
+            dir.display()
+        ));
+    }
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let cli = args::Cli::parse();
     let result = match cli.command {

@@ -440,14 +440,7 @@ fn finish(
         let centered = a.angles.as_deref() == Some("centered");
         let files = enginedyn_report::run_files(engine, analysis, centered)
             .map_err(|e| Failure::data(e.to_string()))?;
-        enginedyn_report::write_all(dir, &files).map_err(|e| Failure::data(e.to_string()))?;
-        if !a.json {
-            crate::emit(&format!(
-                "wrote {} files to {}\n",
-                files.len(),
-                dir.display()
-            ));
-        }
+        crate::write_out(dir, &files, a.json)?;
     }
     Ok(())
 }

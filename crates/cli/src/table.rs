@@ -4,20 +4,22 @@ use enginedyn_engine::Engine;
 use enginedyn_pipeline::Summary;
 use std::fmt::Write as _;
 
-/// The summary as an aligned table, grouped as an engineer reads it (the
-/// rows are `report::summary_rows`, the same the HTML page shows).
-pub fn summary_table(engine: &Engine, diagram: &str, s: &Summary) -> String {
-    let mut o = String::new();
-    let _ = writeln!(
-        o,
-        "{} — {} {} {}-cylinder, {:.0} rpm",
+/// The first lines of every printed table: the engine, what was done
+/// (`what`, e.g. "tolerance study, "; may be empty), the speed and the diagram.
+pub fn heading(engine: &Engine, what: &str, rpm: f64, diagram: &str) -> String {
+    format!(
+        "{} — {what}{} {} {}-cylinder, {rpm:.0} rpm\ndiagram: {diagram}\n",
         engine.name(),
         engine.stroke_kind().name(),
         engine.layout().name(),
         engine.cylinders(),
-        s.rpm
-    );
-    let _ = writeln!(o, "diagram: {diagram}");
+    )
+}
+
+/// The summary as an aligned table, grouped as an engineer reads it (the
+/// rows are `report::summary_rows`, the same the HTML page shows).
+pub fn summary_table(engine: &Engine, diagram: &str, s: &Summary) -> String {
+    let mut o = heading(engine, "", s.rpm, diagram);
     let _ = writeln!(
         o,
         "models: kinematics {}, rod {}, interpolation {}, step {}°, integration {}",

@@ -10,7 +10,6 @@ use enginedyn_ingest::Quantity;
 use enginedyn_report::{TornadoBar, TornadoPanel};
 use enginedyn_tolerance::{Evaluator, Method, Output, Row, Stack, Study};
 use std::fmt::Write as _;
-use std::path::Path;
 
 /// Monte Carlo runs on this grid (deg) unless the method step is coarser:
 /// every sample is a full pipeline run, and 0.5° keeps 10,000 samples of a
@@ -21,10 +20,10 @@ const SHOWN: usize = 6;
 
 /// Runs `enginedyn tolerance`.
 pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
-    let loaded = load_engine(Some(&a.engine))?;
+    let loaded = load_engine(Some(&a.input.engine))?;
     let engine = &loaded.engine;
-    let file = a.engine.display().to_string();
-    let text = std::fs::read_to_string(&a.engine)
+    let file = a.input.engine.display().to_string();
+    let text = std::fs::read_to_string(&a.input.engine)
         .map_err(|e| Failure::usage(format!("{file}: cannot read: {e}")))?;
     let tolerances = enginedyn_engine::file::tolerances(&text)
         .map_err(|e| Failure::usage(format!("{file}: {e}")))?;
@@ -40,14 +39,7 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
     let step = a.method.step;
     check_step(engine, step)?;
     let opts = a.method.options();
-    let diagram = match &a.diagram {
-        Some(d) => d.clone(),
-        None => engine.diagram().map(Path::to_path_buf).ok_or_else(|| {
-            Failure::usage(format!(
-                "no indicator diagram: give --diagram or `diagram =` in {file}"
-            ))
-        })?,
-    };
+    let diagram = crate::run::diagram_path(a.input.diagram.as_deref(), &loaded)?;
     let shown = diagram.display().to_string();
     let load = |step: f64| {
         let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
@@ -60,7 +52,7 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
         Ok(r)
     };
     let table_diagram = load(step)?;
-    let rpm = resolve_rpm(a.rpm, table_diagram.rpm, engine)?;
+    let rpm = resolve_rpm(a.input.rpm, table_diagram.rpm, engine)?;
     let mc_step = step.max(MONTE_CARLO_STEP);
     let mc_diagram = if (mc_step - step).abs() < 1e-12 {
         table_diagram.clone()
@@ -105,11 +97,7 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
             ),
             ("tolerance.svg".to_string(), svg.into_bytes()),
         ];
-        enginedyn_report::write_all(dir, &files).map_err(|e| Failure::data(e.to_string()))?;
-        crate::emit(&format!(
-            "wrote tolerance.csv, tolerance.json and tolerance.svg to {}\n",
-            dir.display()
-        ));
+        crate::write_out(dir, &files, false)?;
     }
     Ok(())
 }
@@ -167,16 +155,7 @@ fn ranked(study: &Study, o: Output) -> Vec<&Row> {
 /// The readable table: stack-up per result, then each result's largest
 /// contributions with sensitivity, influence and deviation.
 fn text_table(engine: &Engine, diagram: &str, rpm: f64, s: &Study) -> String {
-    let mut o = String::new();
-    let _ = writeln!(
-        o,
-        "{} — tolerance study, {} {} {}-cylinder, {rpm:.0} rpm",
-        engine.name(),
-        engine.stroke_kind().name(),
-        engine.layout().name(),
-        engine.cylinders()
-    );
-    let _ = writeln!(o, "diagram: {diagram}");
+    let mut o = crate::table::heading(engine, "tolerance study, ", rpm, diagram);
     let _ = writeln!(
         o,
         "sensitivities: full pipeline runs on the {}° grid (central differences, geometry analytic)",

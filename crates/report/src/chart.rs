@@ -8,7 +8,7 @@ use enginedyn_pipeline::Analysis;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-const PALETTE: [RGBColor; 8] = [
+pub(crate) const PALETTE: [RGBColor; 8] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -18,7 +18,7 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(227, 119, 194),
     RGBColor(23, 190, 207),
 ];
-const GREY: RGBColor = RGBColor(90, 90, 90);
+pub(crate) const GREY: RGBColor = RGBColor(90, 90, 90);
 const PANEL: (u32, u32) = (900, 520);
 /// Most points drawn per series; finer curves are thinned (display only).
 const MAX_POINTS: usize = 1500;
@@ -145,7 +145,7 @@ fn bounds(series: &[Series], log: bool) -> ((f64, f64), (f64, f64)) {
 }
 
 /// Tick labels without trailing zeros: 0, 90, 1.5, 2e5.
-fn tick(v: &f64) -> String {
+pub(crate) fn tick(v: &f64) -> String {
     let a = v.abs();
     if a != 0.0 && !(1e-3..1e6).contains(&a) {
         format!("{v:.0e}")

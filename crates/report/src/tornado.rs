@@ -6,11 +6,12 @@ use crate::ReportError;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use crate::chart::{GREY, PALETTE, tick as chart_tick};
+
 /// The palette of `chart.rs`: blue for `+t`, red for `-t`, green for marks.
-const PLUS: RGBColor = RGBColor(31, 119, 180);
-const MINUS: RGBColor = RGBColor(214, 39, 40);
-const MARK: RGBColor = RGBColor(44, 160, 44);
-const GREY: RGBColor = RGBColor(90, 90, 90);
+const PLUS: RGBColor = PALETTE[0];
+const MINUS: RGBColor = PALETTE[1];
+const MARK: RGBColor = PALETTE[2];
 /// One panel (px).
 const PANEL: (u32, u32) = (520, 330);
 /// Height of the figure's title band (px).
@@ -82,14 +83,7 @@ pub fn tornado_svg(
 /// Tick labels as `chart.rs` writes them: no trailing zeros, exponents
 /// only for very small or large values.
 fn tick(v: f64) -> String {
-    let a = v.abs();
-    if a != 0.0 && !(1e-3..1e6).contains(&a) {
-        format!("{v:.0e}")
-    } else {
-        let s = format!("{v:.3}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        if s == "-0" { "0".into() } else { s.to_string() }
-    }
+    chart_tick(&v)
 }
 
 /// One legend for the figure, on the title band's second line: the two
