@@ -100,6 +100,12 @@ fn bundled_example_writes_everything() {
     }
     assert!(s["notes"].is_array());
     assert!(s["energy_balance_error"].as_f64().unwrap() < 1e-4);
+    // The example's engine file has [tolerances]: the page carries the table
+    // and the tornado chart.
+    let page = std::fs::read_to_string(dir.path().join("report.html")).unwrap();
+    assert!(page.contains("<h2>Tolerances</h2>") && page.contains("id=\"tolerance\""));
+    assert!(page.contains("<th>mean_torque_nm</th>"));
+    assert!(dir.path().join("tolerance.svg").exists());
     let curves = std::fs::read_to_string(dir.path().join("curves.csv")).unwrap();
     let header: Vec<&str> = curves.lines().next().unwrap().split(',').collect();
     for c in CURVE_COLUMNS {

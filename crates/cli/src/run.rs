@@ -271,11 +271,11 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
         let analysis =
             enginedyn_pipeline::analyse_torque(engine, &resampled, resampled.quantity, rpm, &opts)
                 .map_err(|e| Failure::usage(e.to_string()))?;
-        return finish(a, engine, &shown, &analysis);
+        return finish(a, &loaded, &shown, &analysis, &opts);
     }
     let (shown, files) = diagram_files(a, &loaded)?;
     if let Some(tolerance) = a.tolerance {
-        return run_within(a, engine, &shown, &files, &parse, &grid, tolerance);
+        return run_within(a, &loaded, &shown, &files, &parse, &grid, tolerance);
     }
     let loaded_files = files
         .iter()
@@ -295,7 +295,7 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let rpm = resolve_rpm(a.rpm, resampled.rpm, engine)?;
     let analysis = enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)
         .map_err(|e| Failure::usage(e.to_string()))?;
-    finish(a, engine, &shown, &analysis)
+    finish(a, &loaded, &shown, &analysis, &opts)
 }
 
 /// The diagram files of `run` (`None`: the bundled example) and how to
@@ -329,7 +329,7 @@ fn diagram_files(a: &RunArgs, loaded: &Loaded) -> Result<(String, Vec<Option<Pat
 /// with that setting.
 fn run_within(
     a: &RunArgs,
-    engine: &Engine,
+    loaded: &Loaded,
     shown: &str,
     files: &[Option<PathBuf>],
     parse: &ParseOptions,
@@ -355,12 +355,17 @@ fn run_within(
             Ok((name, d))
         })
         .collect::<Result<Vec<_>, Failure>>()?;
+    let engine = &loaded.engine;
     let rpm = resolve_rpm(a.rpm, diagrams[0].1.rpm, engine)?;
     let (analysis, choice) = within(engine, &diagrams, grid, rpm, tolerance)?;
     let mut analysis = analysis;
     analysis.summary.estimated_relative_error = Some(choice.estimated);
     analysis.summary.notes.extend(choice.notes);
-    finish(a, engine, shown, &analysis)
+    let opts = enginedyn_pipeline::Options {
+        detail: true,
+        ..choice.options
+    };
+    finish(a, loaded, shown, &analysis, &opts)
 }
 
 /// The cheapest setting within `tolerance` for these diagrams (one, or one
@@ -419,10 +424,12 @@ pub fn within(
 /// Prints and writes the results of one operating point.
 fn finish(
     a: &RunArgs,
-    engine: &Engine,
+    loaded: &Loaded,
     shown: &str,
     analysis: &enginedyn_pipeline::Analysis,
+    opts: &enginedyn_pipeline::Options,
 ) -> Result<(), Failure> {
+    let engine = &loaded.engine;
     for note in &analysis.summary.notes {
         eprintln!("warning: {note}");
     }
@@ -438,7 +445,15 @@ fn finish(
     }
     if let Some(dir) = &a.out {
         let centered = a.angles.as_deref() == Some("centered");
-        let files = enginedyn_report::run_files(engine, analysis, centered)
+        // With a [tolerances] section the page carries the tolerance table.
+        let text = match &loaded.path {
+            Some(p) => std::fs::read_to_string(p)
+                .map_err(|e| Failure::usage(format!("{}: cannot read: {e}", p.display())))?,
+            None => EXAMPLE_ENGINE.to_string(),
+        };
+        let extra =
+            crate::tolerance::report_extra(engine, &text, analysis, *opts)?.unwrap_or_default();
+        let files = enginedyn_report::run_files_with(engine, analysis, centered, &extra)
             .map_err(|e| Failure::data(e.to_string()))?;
         crate::write_out(dir, &files, a.json)?;
     }

@@ -405,3 +405,108 @@ fn panels(s: &Study) -> Vec<TornadoPanel> {
     }
     out
 }
+
+/// The tolerance table and tornado chart for `report.html` when the engine
+/// file has a `[tolerances]` section: the linear model only (sensitivities
+/// by the real pipeline, no Monte Carlo; `enginedyn tolerance` adds it), on
+/// the run's pressure trace at 0.5° (every n-th point of the run's grid)
+/// with the run's methods. `None` without tolerances or without pressure.
+pub fn report_extra(
+    engine: &Engine,
+    engine_text: &str,
+    analysis: &enginedyn_pipeline::Analysis,
+    opts: enginedyn_pipeline::Options,
+) -> Result<Option<enginedyn_report::Extra>, Failure> {
+    if analysis.pressure.is_empty() {
+        return Ok(None);
+    }
+    let file = engine.name().to_string();
+    let tolerances = enginedyn_engine::file::tolerances(engine_text)
+        .map_err(|e| Failure::usage(format!("{file}: {e}")))?;
+    if tolerances.is_empty() {
+        return Ok(None);
+    }
+    let (inputs, _) = enginedyn_tolerance::inputs(engine, &tolerances)
+        .map_err(|e| Failure::usage(format!("{file}: {e}")))?;
+    // Every n-th point: 0.5° when the run's grid divides it.
+    let every = (MONTE_CARLO_STEP / opts.step_deg).round().max(1.0) as usize;
+    let step = if ((every as f64) * opts.step_deg - MONTE_CARLO_STEP).abs() < 1e-9 {
+        MONTE_CARLO_STEP
+    } else {
+        opts.step_deg
+    };
+    let stride = if step == MONTE_CARLO_STEP { every } else { 1 };
+    let pressure: Vec<f64> = analysis.pressure.iter().step_by(stride).copied().collect();
+    let trace = enginedyn_ingest::Resampled::from_grid(step, pressure);
+    let o = enginedyn_pipeline::Options {
+        step_deg: step,
+        detail: false,
+        ..opts
+    };
+    let failure = |e: enginedyn_tolerance::ToleranceError| Failure::usage(format!("{file}: {e}"));
+    let ev = Evaluator::new(engine, &trace, analysis.summary.rpm, o, &inputs).map_err(failure)?;
+    let study = enginedyn_tolerance::study(&ev, &ev, 0, 1).map_err(failure)?;
+    let title = format!(
+        "{} — tolerances: each parameter alone at ±t (linear model, {step}° grid)",
+        engine.name()
+    );
+    let svg = enginedyn_report::tornado_svg("tolerance.svg", &title, &panels(&study), 4)
+        .map_err(|e| Failure::data(e.to_string()))?;
+    Ok(Some(enginedyn_report::Extra {
+        sections: vec![("Tolerances".to_string(), html_table(&study))],
+        charts: vec![("tolerance.svg".to_string(), svg)],
+    }))
+}
+
+/// The stack-up per result with its three largest contributions, as HTML.
+fn html_table(s: &Study) -> String {
+    let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;");
+    let mut o = String::from(
+        "<p>Each toleranced parameter alone at ±t, by the real pipeline (linear model; \
+         <code>enginedyn tolerance</code> adds the Monte Carlo check). Tolerances: ",
+    );
+    let mut list: Vec<String> = Vec::new();
+    for i in &s.inputs {
+        let item = format!("{} ±{}", i.parameter.key(), num(i.tolerance));
+        if !list.contains(&item) {
+            list.push(item);
+        }
+    }
+    o.push_str(&esc(&list.join(", ")));
+    o.push_str(
+        ".</p>\n<table><tr><th>result</th><th>nominal</th><th>worst case ±</th>\
+         <th>RSS σ</th><th>unit</th><th>largest contributions (share of variance)</th></tr>\n",
+    );
+    for st in &s.stacks {
+        let rows = ranked(s, st.output);
+        let total: f64 = rows.iter().map(|r| r.deviation * r.deviation).sum();
+        let top: Vec<String> = rows
+            .iter()
+            .take(3)
+            .map(|r| {
+                format!(
+                    "{} {:.0} %",
+                    r.input.name(),
+                    100.0 * r.deviation * r.deviation / total.max(f64::MIN_POSITIVE)
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            o,
+            "<tr><th>{}</th><td class=\"v\">{}</td><td class=\"v\">{}</td><td class=\"v\">{}</td><td>{}</td><td>{}{}</td></tr>",
+            st.output.key(),
+            num(if st.zero { 0.0 } else { st.nominal }),
+            num(st.worst_case),
+            num(st.rss),
+            esc(unit(st.output)),
+            esc(&top.join(", ")),
+            if st.zero || st.kink {
+                " (zero nominal or a kink: the linear model is only a bound)"
+            } else {
+                ""
+            }
+        );
+    }
+    o.push_str("</table>\n");
+    o
+}

@@ -13,8 +13,14 @@ fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// The page, with `charts` as (file name, SVG text) inlined in order.
-pub fn report_html(engine: &Engine, a: &Analysis, charts: &[(String, String)]) -> String {
+/// The page, with `charts` as (file name, SVG text) inlined in order and
+/// `sections` as (heading, HTML body) before the charts.
+pub fn report_html(
+    engine: &Engine,
+    a: &Analysis,
+    sections: &[(String, String)],
+    charts: &[(String, String)],
+) -> String {
     let s = &a.summary;
     let mut o = String::with_capacity(600_000);
     let title = format!("{} — {:.0} rpm", engine.name(), s.rpm);
@@ -24,7 +30,7 @@ pub fn report_html(engine: &Engine, a: &Analysis, charts: &[(String, String)]) -
 body{{font-family:sans-serif;margin:24px auto;max-width:1280px;color:#222}}\
 h1{{font-size:22px}}h2{{font-size:17px;margin-top:28px;border-bottom:1px solid #ddd}}\
 table{{border-collapse:collapse;font-size:14px}}td,th{{padding:3px 10px;border-bottom:1px solid #eee;text-align:left}}\
-td.v{{text-align:right;font-variant-numeric:tabular-nums}}.grid{{display:flex;gap:40px;flex-wrap:wrap}}\
+td.v{{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}}.grid{{display:flex;gap:40px;flex-wrap:wrap}}\
 figure{{margin:12px 0}}figure svg{{max-width:100%;height:auto}}figcaption{{font-size:13px;color:#555}}\
 </style></head><body>\n<h1>{}</h1>\n",
         esc(&title),
@@ -95,6 +101,9 @@ figure{{margin:12px 0}}figure svg{{max-width:100%;height:auto}}figcaption{{font-
             let _ = writeln!(o, "<li>{}</li>", esc(n));
         }
         let _ = writeln!(o, "</ul>");
+    }
+    for (heading, body) in sections {
+        let _ = writeln!(o, "<h2>{}</h2>\n{body}", esc(heading));
     }
     let _ = writeln!(o, "<h2>Charts</h2>");
     for (name, svg) in charts {

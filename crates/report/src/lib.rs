@@ -451,6 +451,27 @@ pub fn run_files(
     a: &Analysis,
     centered: bool,
 ) -> Result<Vec<(String, Vec<u8>)>, ReportError> {
+    run_files_with(engine, a, centered, &Extra::default())
+}
+
+/// What a run folder holds besides the standard files: page sections
+/// (heading, HTML body) and charts (file name, SVG text), such as the
+/// tolerance table and its tornado chart.
+#[derive(Debug, Clone, Default)]
+pub struct Extra {
+    /// (heading, HTML body) sections placed before the charts.
+    pub sections: Vec<(String, String)>,
+    /// (file name, SVG text) charts written and shown after the standard ones.
+    pub charts: Vec<(String, String)>,
+}
+
+/// [`run_files`] with extra sections and charts.
+pub fn run_files_with(
+    engine: &Engine,
+    a: &Analysis,
+    centered: bool,
+    extra: &Extra,
+) -> Result<Vec<(String, Vec<u8>)>, ReportError> {
     let json = serde_json::to_string_pretty(&summary_json(&a.summary)).unwrap_or_default() + "\n";
     let mut files = vec![
         ("summary.json".to_string(), json.into_bytes()),
@@ -464,9 +485,10 @@ pub fn run_files(
     for fig in chart::run_figures(engine, a) {
         charts.push((fig.file.clone(), fig.render()?));
     }
+    charts.extend(extra.charts.iter().cloned());
     files.push((
         "report.html".to_string(),
-        html::report_html(engine, a, &charts).into_bytes(),
+        html::report_html(engine, a, &extra.sections, &charts).into_bytes(),
     ));
     for (name, svg) in charts {
         files.push((name, svg.into_bytes()));
