@@ -601,10 +601,11 @@ pub struct Choice {
 ///   difference bounds the finer one's error (a Richardson-style estimate,
 ///   conservative by about 3 for second-order convergence). The first step
 ///   whose estimate is within half the tolerance is taken.
-/// - models: at that step, the cheaper kinematics (series 2, 4, 6) and rod
-///   models (two-mass, three-mass) are compared with exact kinematics and
-///   the most exact rod; the simplest whose difference plus the grid
-///   estimate stays within the tolerance is taken. The series truncation
+/// - models: on the ladder's 1° grid (the chosen one when coarser), the
+///   rod models (two-mass, three-mass) with exact kinematics, then the
+///   series (2, 4, 6) with the rod chosen are compared with exact
+///   kinematics and the most exact rod; the simplest whose difference plus
+///   the grid estimate stays within the tolerance is taken. The series truncation
 ///   (a-priori: `lambda^(order+1)` terms) and the rod couple
 ///   `(I_G - m l_A l_B) w^2 beta'' beta'` are what these differences measure.
 ///
@@ -620,9 +621,23 @@ pub fn choose(
     if !(1e-6..=0.5).contains(&tolerance) {
         return Err(AccuracyError::BadTolerance(tolerance));
     }
+    // Each grid is resampled once and kept for the model runs.
+    let cache: std::cell::RefCell<Vec<(f64, Resampled)>> = std::cell::RefCell::new(Vec::new());
     let run = |o: &Options| -> Result<Summary, AccuracyError> {
-        let r = resample(o.step_deg, o.interp)?;
-        run_grid(engine, &r, rpm, o)
+        let hit = cache
+            .borrow()
+            .iter()
+            .position(|(h, _)| (h - o.step_deg).abs() < 1e-12);
+        let k = match hit {
+            Some(k) => k,
+            None => {
+                let r = resample(o.step_deg, o.interp)?;
+                cache.borrow_mut().push((o.step_deg, r));
+                cache.borrow().len() - 1
+            }
+        };
+        let c = cache.borrow();
+        run_grid(engine, &c[k].1, rpm, o)
     };
     let best = best_rod(engine);
     let base = Options {
@@ -638,7 +653,7 @@ pub fn choose(
         .into_iter()
         .filter(|&s| step_fits(engine, s))
         .collect();
-    let mut prev: Option<(f64, Summary)> = None;
+    let mut ladder: Vec<(f64, Summary)> = Vec::new();
     let mut found = None;
     let mut last = (f64::INFINITY, 0.0);
     for &step in &steps {
@@ -647,60 +662,82 @@ pub fn choose(
             ..base
         };
         let s = run(&o)?;
-        if let Some((h2, p)) = &prev
+        if let Some((h2, p)) = ladder.last()
             && (h2 / step - 2.0).abs() < 1e-9
         {
             let est = max_error(&relative_errors(p, &s)).unwrap_or(0.0);
             last = (est, step);
             if est <= 0.5 * tolerance {
-                found = Some((step, est, s));
+                found = Some((step, est));
+                ladder.push((step, s));
                 break;
             }
         }
-        prev = Some((step, s));
+        ladder.push((step, s));
     }
-    let Some((step, grid_est, best_summary)) = found else {
+    let Some((step, grid_est)) = found else {
         return Err(AccuracyError::Unreachable {
             tolerance,
             best: last.0,
             step: last.1,
         });
     };
-    let mut candidates: Vec<(Model, RodModel)> = Vec::new();
+    // Model differences hardly depend on the grid: measured on the ladder's
+    // 1° grid when the chosen one is finer (cheaper), else on the chosen one.
+    let (model_step, reference_summary) = ladder
+        .iter()
+        .find(|(h, _)| (h - 1.0).abs() < 1e-12 && step < 1.0)
+        .or_else(|| ladder.last())
+        .map(|(h, s)| (*h, s.clone()))
+        .unwrap_or((step, Summary::empty()));
+    let model_error = |m: Model, r: RodModel| -> Result<f64, AccuracyError> {
+        let o = Options {
+            step_deg: model_step,
+            kinematics: m,
+            rod_model: Some(r),
+            ..base
+        };
+        Ok(max_error(&relative_errors(&run(&o)?, &reference_summary)).unwrap_or(0.0))
+    };
+    let mut notes = vec![format!(
+        "--tolerance {tolerance}: grid {step}° (estimated {grid_est:.1e} from the step before)"
+    )];
+    // The rod first (with exact kinematics), then the simplest kinematics
+    // with that rod; each pair's difference is measured as a whole.
+    let mut rod = best;
+    for r in [RodModel::TwoMass, RodModel::ThreeMass] {
+        if r == best || best != RodModel::Rigid && r == RodModel::ThreeMass {
+            continue;
+        }
+        if grid_est + model_error(Model::Exact, r)? <= tolerance {
+            rod = r;
+            break;
+        }
+    }
     let offset = engine.mechanism().phi_tdc() != 0.0;
     for m in [Model::Series2, Model::Series4, Model::Series6, Model::Exact] {
         if offset && matches!(m, Model::Series4 | Model::Series6) {
             continue;
         }
-        for r in [RodModel::TwoMass, RodModel::ThreeMass, RodModel::Rigid] {
-            if (r == RodModel::TwoMass || best == RodModel::Rigid)
-                && !(m == Model::Exact && r == best)
-            {
-                candidates.push((m, r));
-            }
-        }
-    }
-    let mut notes = vec![format!(
-        "--tolerance {tolerance}: grid {step}° (estimated {grid_est:.1e} from the step before)"
-    )];
-    for (m, r) in candidates {
-        let o = Options {
-            step_deg: step,
-            kinematics: m,
-            rod_model: Some(r),
-            ..base
+        let model_est = if m == Model::Exact && rod == best {
+            0.0
+        } else {
+            model_error(m, rod)?
         };
-        let s = run(&o)?;
-        let model_est = max_error(&relative_errors(&s, &best_summary)).unwrap_or(0.0);
         if grid_est + model_est <= tolerance {
             notes.push(format!(
-                "{} kinematics and the {} rod differ by {model_est:.1e} from exact and {}",
+                "{} kinematics and the {} rod differ by {model_est:.1e} from exact and {} (on the {model_step}° grid)",
                 m.name(),
-                r.name(),
+                rod.name(),
                 best.name()
             ));
             return Ok(Choice {
-                options: o,
+                options: Options {
+                    step_deg: step,
+                    kinematics: m,
+                    rod_model: Some(rod),
+                    ..base
+                },
                 estimated: grid_est + model_est,
                 notes,
             });

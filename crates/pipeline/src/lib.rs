@@ -639,29 +639,31 @@ fn kinematic_extremes(
     omega: f64,
 ) -> Result<Extremes, PipelineError> {
     let mech = engine.mechanism();
+    mech.check(model)?;
+    let st = |x: f64| mech.state(model, x).unwrap_or_default();
     let revolution = 2.0 * PI;
     let scan = 720;
     let h = revolution / scan as f64;
-    let refine = |f: &dyn Fn(f64) -> f64| -> f64 {
-        // Largest value of f over one revolution.
-        let (mut best, mut at) = (f64::NEG_INFINITY, 0.0);
-        for k in 0..scan {
-            let x = k as f64 * h;
-            let v = f(x);
-            if v > best {
-                best = v;
-                at = x;
+    // One scan for the three curves (speed, acceleration up and down),
+    // then each largest value refined by Brent's minimisation.
+    let mut best = [(f64::NEG_INFINITY, 0.0); 3];
+    for k in 0..scan {
+        let x = k as f64 * h;
+        let s = st(x);
+        for (b, v) in best.iter_mut().zip([s.dx.abs(), s.d2x, -s.d2x]) {
+            if v > b.0 {
+                *b = (v, x);
             }
         }
+    }
+    let refine = |f: &dyn Fn(f64) -> f64, (value, at): (f64, f64)| -> f64 {
         let (_, fmin) = roots::minimize(|x| -f(x), at - h, at + h, 1e-12);
-        (-fmin).max(best)
+        (-fmin).max(value)
     };
-    mech.check(model)?;
-    let st = |x: f64| mech.state(model, x).unwrap_or_default();
     let w2 = omega * omega;
     Ok(Extremes {
-        speed_max: refine(&|x| st(x).dx.abs()) * omega,
-        accel_max: refine(&|x| st(x).d2x) * w2,
-        accel_min: -refine(&|x| -st(x).d2x) * w2,
+        speed_max: refine(&|x| st(x).dx.abs(), best[0]) * omega,
+        accel_max: refine(&|x| st(x).d2x, best[1]) * w2,
+        accel_min: -refine(&|x| -st(x).d2x, best[2]) * w2,
     })
 }
