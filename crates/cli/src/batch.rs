@@ -233,8 +233,12 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
 fn parse_only(f: &Path, parse: &enginedyn_ingest::ParseOptions) -> Result<(), Failure> {
     let file = std::fs::File::open(f)
         .map_err(|e| Failure::data(format!("{}: cannot open: {e}", f.display())))?;
-    enginedyn_ingest::parse_stream(std::io::BufReader::new(file), parse, |_| Ok(()))
-        .map_err(|e| Failure::data(format!("{}: {e}", f.display())))?;
+    enginedyn_ingest::parse_stream(
+        std::io::BufReader::with_capacity(1 << 12, file),
+        parse,
+        |_| Ok(()),
+    )
+    .map_err(|e| Failure::data(format!("{}: {e}", f.display())))?;
     Ok(())
 }
 

@@ -118,7 +118,9 @@ pub fn load_diagram(
             let file = std::fs::File::open(p)
                 .map_err(|e| Failure::data(format!("{}: cannot open: {e}", p.display())))?;
             enginedyn_ingest::load(
-                std::io::BufReader::with_capacity(1 << 16, file),
+                // The reader keeps its own 64 KiB blocks: a small BufReader
+                // passes those reads straight through instead of copying.
+                std::io::BufReader::with_capacity(1 << 12, file),
                 parse,
                 grid,
             )
@@ -159,7 +161,7 @@ pub fn parse_diagram(
 ) -> Result<enginedyn_ingest::Diagram, Failure> {
     let file = std::fs::File::open(path)
         .map_err(|e| Failure::data(format!("{}: cannot open: {e}", path.display())))?;
-    enginedyn_ingest::parse(std::io::BufReader::with_capacity(1 << 16, file), parse)
+    enginedyn_ingest::parse(std::io::BufReader::with_capacity(1 << 12, file), parse)
         .map_err(|e| Failure::data(format!("{}: {e}", path.display())))
 }
 

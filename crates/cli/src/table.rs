@@ -33,10 +33,6 @@ pub fn summary_table(engine: &Engine, diagram: &str, s: &Summary) -> String {
         }
         let _ = writeln!(o, "  {:<34} {:>16} {}", row.label, row.shown(), row.unit);
     }
-    let _ = writeln!(
-        o,
-        "  {:<34} {:>16} (after throw)",
-        "most loaded journal", s.journal_most_loaded
-    );
+
     o
 }

@@ -87,11 +87,7 @@ figure{{margin:12px 0}}figure svg{{max-width:100%;height:auto}}figcaption{{font-
             esc(unit)
         );
     }
-    let _ = writeln!(
-        o,
-        "<tr><th>most loaded journal</th><td class=\"v\">{}</td><td>after throw</td></tr></table></div></div>",
-        s.journal_most_loaded
-    );
+    let _ = writeln!(o, "</table></div></div>");
     let _ = writeln!(o, "<h2>Notes</h2>");
     if s.notes.is_empty() {
         let _ = writeln!(o, "<p>None.</p>");

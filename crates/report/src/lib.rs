@@ -169,7 +169,7 @@ impl Row {
 /// one list both the printed table and `report.html` show.
 pub fn summary_rows(s: &Summary) -> Vec<Row> {
     let mm = |v: Option<f64>| v.map(|d| d * 1e3);
-    let table: [(&'static str, &'static str, Option<f64>, &'static str, usize); 29] = [
+    let table: [(&'static str, &'static str, Option<f64>, &'static str, usize); 30] = [
         ("Work and torque", "IMEP", s.imep_bar, "bar", 3),
         (
             "Work and torque",
@@ -313,9 +313,48 @@ pub fn summary_rows(s: &Summary) -> Vec<Row> {
             "N m",
             1,
         ),
+        (
+            "Forces (largest magnitude)",
+            "most loaded journal",
+            Some(s.journal_most_loaded as f64),
+            "after throw",
+            0,
+        ),
+    ];
+    // Rows that exist only for some runs: measured data, --tolerance.
+    let optional = [
+        (
+            "Data and method",
+            "measured cycles",
+            s.cycles.map(|c| c as f64),
+            "",
+            0,
+        ),
+        (
+            "Data and method",
+            "IMEP cycle-to-cycle CoV",
+            s.cycle_stats.and_then(|c| c.imep_cov).map(|c| 100.0 * c),
+            "%",
+            2,
+        ),
+        (
+            "Data and method",
+            "TDC offset the trace suggests",
+            s.tdc_offset_estimate_deg,
+            "deg",
+            2,
+        ),
+        (
+            "Data and method",
+            "estimated relative error (--tolerance)",
+            s.estimated_relative_error,
+            "",
+            6,
+        ),
     ];
     table
         .into_iter()
+        .chain(optional.into_iter().filter(|r| r.2.is_some()))
         .map(|(section, label, value, unit, digits)| Row {
             section,
             label,
