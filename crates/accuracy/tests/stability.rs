@@ -31,6 +31,15 @@ fn run(e: &Engine, p: &Resampled, o: Options) -> Result<Analysis, String> {
     analyse(e, p, 4900.0, &o).map_err(|e| e.to_string())
 }
 
+/// The default methods on the generated diagram at 0.5°.
+fn run_coarse(e: &Engine) -> Analysis {
+    let o = Options {
+        step_deg: 0.5,
+        ..Options::default()
+    };
+    run(e, &generated(e, 0.5), o).unwrap()
+}
+
 fn has_note(a: &Analysis, part: &str) -> bool {
     a.summary.notes.iter().any(|n| n.contains(part))
 }
@@ -215,15 +224,7 @@ fn noisy_data_and_spline_overshoot_at_the_peak() {
 fn very_small_speed_fluctuation() {
     let text = vaz_text().replace("speed_fluctuation = 0.01", "speed_fluctuation = 0.00001");
     let e = engine(&text).unwrap();
-    let a = run(
-        &e,
-        &generated(&e, 0.5),
-        Options {
-            step_deg: 0.5,
-            ..Options::default()
-        },
-    )
-    .unwrap();
+    let a = run_coarse(&e);
     let s = &a.summary;
     // The numbers stay exact (the speed trace gives the delta asked for) …
     let achieved = s.speed_fluctuation_achieved.unwrap();
@@ -238,15 +239,7 @@ fn single_cylinder() {
         .replace("cylinders = 4", "cylinders = 1")
         .replace("firing_order = [1, 3, 4, 2]", "");
     let e = engine(&text).unwrap();
-    let a = run(
-        &e,
-        &generated(&e, 0.5),
-        Options {
-            step_deg: 0.5,
-            ..Options::default()
-        },
-    )
-    .unwrap();
+    let a = run_coarse(&e);
     let s = &a.summary;
     // Large but finite and consistent: psi of a single four-stroke is several.
     assert!(s.excess_work_coefficient.unwrap() > 1.0);
