@@ -183,7 +183,7 @@ impl Accumulator {
     /// Adds one trace (angles in `[0, cycle)`, rising).
     pub fn add(&mut self, tr: &Trace) -> Result<(), IngestError> {
         let on_grid = self.on_grid(tr);
-        let kind = self.choose(tr, on_grid)?;
+        let (kind, tested) = self.choose(tr, on_grid)?;
         let pressure = self.quantity == Quantity::Pressure;
         // Every interpolant passes through its samples: data already on the
         // grid is its own interpolation (and, unpegged, is read in place).
@@ -201,8 +201,12 @@ impl Accumulator {
                     self.notes.push(note);
                 }
             }
-            let f = Periodic::new(kind, &tr.angle_deg, &tr.values, self.cycle_deg)
-                .map_err(|e| IngestError::Data(format!("cycle {}: {e}", tr.cycle)))?;
+            // `auto` already built the spline to test it: use that one.
+            let f = match tested {
+                Some(f) if kind == InterpKind::Spline => f,
+                _ => Periodic::new(kind, &tr.angle_deg, &tr.values, self.cycle_deg)
+                    .map_err(|e| IngestError::Data(format!("cycle {}: {e}", tr.cycle)))?,
+            };
             f.eval_uniform(0.0, self.opts.step_deg, &mut self.buf);
         }
         let peg_offset = if pressure && !in_place {
@@ -339,35 +343,38 @@ impl Accumulator {
                 .fold(true, |ok, (k, a)| ok & ((a - k as f64 * step).abs() < 1e-9))
     }
 
-    fn choose(&mut self, tr: &Trace, on_grid: bool) -> Result<InterpKind, IngestError> {
+    /// The interpolant for this trace, and the spline `auto` built to test
+    /// for overshoot (to be used, not built again, when it passes).
+    fn choose(
+        &mut self,
+        tr: &Trace,
+        on_grid: bool,
+    ) -> Result<(InterpKind, Option<Periodic>), IngestError> {
         Ok(match self.opts.interp {
-            Interp::Linear => InterpKind::Linear,
-            Interp::Spline => InterpKind::Spline,
-            Interp::Pchip => InterpKind::Pchip,
+            Interp::Linear => (InterpKind::Linear, None),
+            Interp::Spline => (InterpKind::Spline, None),
+            Interp::Pchip => (InterpKind::Pchip, None),
+            Interp::Auto if on_grid => (InterpKind::Linear, None),
             Interp::Auto => {
-                if on_grid {
-                    InterpKind::Linear
-                } else {
-                    let s = Periodic::new(
-                        InterpKind::Spline,
-                        &tr.angle_deg,
-                        &tr.values,
-                        self.cycle_deg,
-                    )
-                    .map_err(|e| IngestError::Data(e.to_string()))?;
-                    let peak = tr.values.iter().fold(0.0_f64, |a, &b| a.max(b.abs()));
-                    if s.max_overshoot() > 0.005 * peak {
-                        let note = format!(
-                            "the periodic spline overshoots the data by {:.2} % of the peak: pchip used instead",
-                            100.0 * s.max_overshoot() / peak
-                        );
-                        if !self.notes.contains(&note) {
-                            self.notes.push(note);
-                        }
-                        InterpKind::Pchip
-                    } else {
-                        InterpKind::Spline
+                let s = Periodic::new(
+                    InterpKind::Spline,
+                    &tr.angle_deg,
+                    &tr.values,
+                    self.cycle_deg,
+                )
+                .map_err(|e| IngestError::Data(e.to_string()))?;
+                let peak = tr.values.iter().fold(0.0_f64, |a, &b| a.max(b.abs()));
+                if s.max_overshoot() > 0.005 * peak {
+                    let note = format!(
+                        "the periodic spline overshoots the data by {:.2} % of the peak: pchip used instead",
+                        100.0 * s.max_overshoot() / peak
+                    );
+                    if !self.notes.contains(&note) {
+                        self.notes.push(note);
                     }
+                    (InterpKind::Pchip, None)
+                } else {
+                    (InterpKind::Spline, Some(s))
                 }
             }
         })

@@ -92,8 +92,10 @@ pub fn geometric(ev: &Evaluator, input: &Input, output: Output) -> Option<f64> {
     let (dy_top, ds) = match engine.mechanism() {
         Mechanism::CrankSlider(cs) => {
             let (r, l, e) = (cs.r(), cs.l(), cs.e());
-            let y_top = ((l + r).powi(2) - e * e).sqrt();
-            let y_bottom = ((l - r).powi(2) - e * e).sqrt();
+            // Pin heights at TDC and BDC from the kinematics crate; only
+            // their derivatives are written here.
+            let y_top = cs.y_tdc();
+            let y_bottom = y_top - cs.stroke();
             let dy_top = ((l + r) * (d_r + d_l) - e * d_e) / y_top;
             let dy_bottom = ((l - r) * (d_l - d_r) - e * d_e) / y_bottom;
             (dy_top, dy_top - dy_bottom)

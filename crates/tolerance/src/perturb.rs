@@ -308,15 +308,11 @@ impl Evaluator {
             let mech = engine.mechanism();
             let w = self.rpm * PI / 30.0;
             let per_pa = w * w / engine.cylinder().piston_area();
-            let mut d2x = vec![0.0; n];
-            for (k, a) in d2x.iter_mut().enumerate() {
-                *a = mech
-                    .state(self.options.kinematics, k as f64 * self.step)?
-                    .d2x;
-            }
+            let mut kin = enginedyn_kinematics::Table::default();
+            mech.fill(self.options.kinematics, 0.0, self.step, n, &mut kin)?;
             for (t, dm) in traces.iter_mut().zip(dm) {
                 if dm != 0.0 {
-                    for (p, a) in t.iter_mut().zip(&d2x) {
+                    for (p, a) in t.iter_mut().zip(&kin.d2x) {
                         *p -= dm * per_pa * a;
                     }
                 }
