@@ -597,10 +597,11 @@ pub struct Choice {
 /// within `tolerance` (relative), without any run of the reference:
 ///
 /// - grid step: runs down the halving [`LADDER`] from the coarsest step
-///   that fits the engine, each compared with the one twice as coarse; the
-///   difference bounds the finer one's error (a Richardson-style estimate,
-///   conservative by about 3 for second-order convergence). The first step
-///   whose estimate is within half the tolerance is taken.
+///   that fits the engine, each compared with the one twice as coarse (a
+///   Richardson-style estimate, conservative by about 3 for second-order
+///   convergence) and with the difference before it over 4, since nested
+///   grids can miss an extreme (a torque minimum) equally at h and 2h. The
+///   first step whose estimate is within half the tolerance is taken.
 /// - models: on the ladder's 1° grid (the chosen one when coarser), the
 ///   rod models (two-mass, three-mass) with exact kinematics, then the
 ///   series (2, 4, 6) with the rod chosen are compared with exact
@@ -656,6 +657,7 @@ pub fn choose(
     let mut ladder: Vec<(f64, Summary)> = Vec::new();
     let mut found = None;
     let mut last = (f64::INFINITY, 0.0);
+    let mut before = 0.0_f64;
     for &step in &steps {
         let o = Options {
             step_deg: step,
@@ -665,7 +667,13 @@ pub fn choose(
         if let Some((h2, p)) = ladder.last()
             && (h2 / step - 2.0).abs() < 1e-9
         {
-            let est = max_error(&relative_errors(p, &s)).unwrap_or(0.0);
+            // The difference from 2h, and the difference before it over 4
+            // (what second-order convergence leaves of it): nested grids
+            // can sample an extreme equally badly at h and 2h, and then
+            // the last difference alone says too little.
+            let diff = max_error(&relative_errors(p, &s)).unwrap_or(0.0);
+            let est = diff.max(before / 4.0);
+            before = diff;
             last = (est, step);
             if est <= 0.5 * tolerance {
                 found = Some((step, est));

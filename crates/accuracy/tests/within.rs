@@ -71,7 +71,14 @@ fn tolerance_is_kept_against_the_reference() {
                     );
                 }
             }
-            assert!(c.estimated <= tol);
+            // The estimate is an upper bound of the true error here.
+            let worst = errors.iter().flatten().fold(0.0_f64, |a, &e| a.max(e));
+            assert!(
+                worst <= c.estimated,
+                "{}: --tolerance {tol}: estimated {:.2e}, true {worst:.2e}",
+                engine.name(),
+                c.estimated
+            );
             if tol >= 1e-2 {
                 // Cheaper than the default 0.1° grid.
                 assert!(
