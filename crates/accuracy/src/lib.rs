@@ -50,7 +50,7 @@ use enginedyn_engine::{Engine, RodModel};
 use enginedyn_ingest::{Diagram, GridOptions, Interp, Resampled, Trace};
 use enginedyn_kinematics::Model;
 use enginedyn_numerics::integrate::Rule;
-use enginedyn_pipeline::{Options, Summary};
+use enginedyn_pipeline::{Options, Scope, Summary};
 use enginedyn_synth::{CycleModel, CycleSolution};
 use std::time::Instant;
 
@@ -217,7 +217,7 @@ pub fn reference(engine: &Engine) -> Options {
         rod_model: Some(best_rod(engine)),
         interp: Interp::Spline,
         integration: Rule::Trapezoid,
-        detail: false,
+        scope: Scope::Keys,
     }
 }
 
@@ -225,8 +225,33 @@ pub fn reference(engine: &Engine) -> Options {
 /// cycle and put every firing angle on the grid are used.
 pub const STEPS: [f64; 10] = [10.0, 5.0, 4.0, 2.0, 1.0, 0.5, 0.25, 0.2, 0.1, 0.05];
 
-/// The halving ladder of grid steps [`choose`] climbs down (deg).
-pub const LADDER: [f64; 9] = [16.0, 8.0, 4.0, 2.0, 1.0, 0.5, 0.25, 0.125, 0.0625];
+/// The halving ladders of grid steps [`choose`] climbs down (deg): powers
+/// of two, and 15° halved, whose steps divide the 90° and 60° firing
+/// intervals of V8s and V12s (and 180°, 120°) from 15° down.
+pub const LADDERS: [[f64; 9]; 2] = [
+    [16.0, 8.0, 4.0, 2.0, 1.0, 0.5, 0.25, 0.125, 0.0625],
+    [
+        15.0, 7.5, 3.75, 1.875, 0.9375, 0.46875, 0.234375, 0.1171875, 0.05859375,
+    ],
+];
+
+/// The ladder for `engine`: the steps of [`LADDERS`] that fit it, from the
+/// ladder whose coarsest fitting step is the coarsest (the powers of two
+/// on a tie).
+pub fn ladder(engine: &Engine) -> Vec<f64> {
+    let fitting = |l: &[f64; 9]| -> Vec<f64> {
+        l.iter()
+            .copied()
+            .filter(|&s| step_fits(engine, s))
+            .collect()
+    };
+    let (a, b) = (fitting(&LADDERS[0]), fitting(&LADDERS[1]));
+    if b.first().copied().unwrap_or(0.0) > a.first().copied().unwrap_or(0.0) {
+        b
+    } else {
+        a
+    }
+}
 
 /// True when `step` divides the cycle and every firing angle.
 pub fn step_fits(engine: &Engine, step: f64) -> bool {
@@ -596,13 +621,17 @@ pub struct Choice {
 /// The cheapest setting whose estimated error on the key results stays
 /// within `tolerance` (relative), without any run of the reference:
 ///
-/// - grid step: runs down the halving [`LADDER`] from the coarsest step
+/// - grid step: runs down the halving [`ladder`] from the coarsest step
 ///   that fits the engine, each compared with the one twice as coarse (a
 ///   Richardson-style estimate, conservative by about 3 for second-order
 ///   convergence) and with the difference before it over 4, since nested
-///   grids can miss an extreme (a torque minimum) equally at h and 2h. The
-///   first step whose estimate is within half the tolerance is taken.
-/// - models: on the ladder's 1° grid (the chosen one when coarser), the
+///   grids can miss an extreme (a torque minimum) equally at h and 2h. From
+///   the third grid on (two differences show whether the grids converge;
+///   one does not), the first step is taken whose estimate is within half
+///   the tolerance, or within the tolerance when its last difference alone
+///   is within a quarter of it (converged; only the conservative second
+///   term is large).
+/// - models: on the ladder's grid nearest 1° (the chosen one when coarser), the
 ///   rod models (two-mass, three-mass) with exact kinematics, then the
 ///   series (2, 4, 6) with the rod chosen are compared with exact
 ///   kinematics and the most exact rod; the simplest whose difference plus
@@ -610,9 +639,12 @@ pub struct Choice {
 ///   (a-priori: `lambda^(order+1)` terms) and the rod couple
 ///   `(I_G - m l_A l_B) w^2 beta'' beta'` are what these differences measure.
 ///
-/// Interpolation stays `auto` and integration the trapezoid rule (their
-/// effect is within the grid estimate). Each run uses `detail = false`; the
-/// caller repeats the chosen setting with its own outputs.
+/// Interpolation stays `auto` and integration is Simpson's rule (exact
+/// like the trapezoid for the periodic cycle integrals, fourth-order for
+/// the running integral `E(phi)` where the trapezoid is second-order: 80
+/// times less excess-work error at 1°); both effects are within the grid
+/// estimate. Each run uses [`Scope::Keys`]; the caller repeats the chosen
+/// setting with its own outputs.
 pub fn choose(
     engine: &Engine,
     rpm: f64,
@@ -646,18 +678,18 @@ pub fn choose(
         kinematics: Model::Exact,
         rod_model: Some(best),
         interp: Interp::Auto,
-        integration: Rule::Trapezoid,
-        detail: false,
+        integration: Rule::Simpson,
+        scope: Scope::Keys,
     };
     // A halving ladder, so that each estimate compares h with 2h.
-    let steps: Vec<f64> = LADDER
-        .into_iter()
-        .filter(|&s| step_fits(engine, s))
-        .collect();
+    let steps = ladder(engine);
     let mut ladder: Vec<(f64, Summary)> = Vec::new();
     let mut found = None;
     let mut last = (f64::INFINITY, 0.0);
-    let mut before = 0.0_f64;
+    // The previous difference, once there is one: a single difference (two
+    // grids) cannot show that the grids converge, so a step is taken only
+    // from the third grid on.
+    let mut before: Option<f64> = None;
     for &step in &steps {
         let o = Options {
             step_deg: step,
@@ -672,14 +704,23 @@ pub fn choose(
             // can sample an extreme equally badly at h and 2h, and then
             // the last difference alone says too little.
             let diff = max_error(&relative_errors(p, &s)).unwrap_or(0.0);
-            let est = diff.max(before / 4.0);
-            before = diff;
-            last = (est, step);
-            if est <= 0.5 * tolerance {
-                found = Some((step, est));
-                ladder.push((step, s));
-                break;
+            if let Some(b) = before {
+                let est = diff.max(b / 4.0);
+                last = (est, step);
+                // Within half the tolerance; or within it when the last
+                // difference alone is within a quarter (converged, and only
+                // the conservative second term is large).
+                if est <= 0.5 * tolerance || est <= tolerance && diff <= 0.25 * tolerance {
+                    found = Some((step, est));
+                    ladder.push((step, s));
+                    break;
+                }
+            } else {
+                last = (diff, step);
             }
+            before = Some(diff);
+        } else {
+            before = None;
         }
         ladder.push((step, s));
     }
@@ -691,11 +732,12 @@ pub fn choose(
         });
     };
     // Model differences hardly depend on the grid: measured on the ladder's
-    // 1° grid when the chosen one is finer (cheaper), else on the chosen one.
+    // grid nearest 1° no finer than the chosen one (cheaper than the chosen
+    // one when that is finer).
     let (model_step, reference_summary) = ladder
         .iter()
-        .find(|(h, _)| (h - 1.0).abs() < 1e-12 && step < 1.0)
-        .or_else(|| ladder.last())
+        .filter(|(h, _)| *h >= step)
+        .min_by(|a, b| a.0.ln().abs().total_cmp(&b.0.ln().abs()))
         .map(|(h, s)| (*h, s.clone()))
         .unwrap_or((step, Summary::empty()));
     let model_error = |m: Model, r: RodModel| -> Result<f64, AccuracyError> {

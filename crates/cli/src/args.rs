@@ -197,7 +197,7 @@ impl MethodArgs {
                 IntegrationArg::Trapezoid => Rule::Trapezoid,
                 IntegrationArg::Simpson => Rule::Simpson,
             },
-            detail: true,
+            scope: enginedyn_pipeline::Scope::Full,
         }
     }
 }

@@ -74,7 +74,11 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
     check_step(engine, step)?;
     let opts = enginedyn_pipeline::Options {
         // Without --detail only summary.csv is written: skip the report curves.
-        detail: a.detail,
+        scope: if a.detail {
+            enginedyn_pipeline::Scope::Full
+        } else {
+            enginedyn_pipeline::Scope::Summary
+        },
         ..a.method.options()
     };
     let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
@@ -328,7 +332,7 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
     let rpms = speeds(&a.rpm)?;
     let opts = enginedyn_pipeline::Options {
         // sweep.csv and sweep.svg need the summary figures only.
-        detail: false,
+        scope: enginedyn_pipeline::Scope::Summary,
         ..a.method.options()
     };
     let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;

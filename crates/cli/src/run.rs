@@ -364,7 +364,7 @@ fn run_within(
     analysis.summary.estimated_relative_error = Some(choice.estimated);
     analysis.summary.notes.extend(choice.notes);
     let opts = enginedyn_pipeline::Options {
-        detail: true,
+        scope: enginedyn_pipeline::Scope::Full,
         ..choice.options
     };
     finish(a, loaded, shown, &analysis, &opts)
@@ -414,7 +414,7 @@ pub fn within(
         other => Failure::data(other.to_string()),
     })?;
     let opts = enginedyn_pipeline::Options {
-        detail: true,
+        scope: enginedyn_pipeline::Scope::Full,
         ..choice.options
     };
     let resampled = resample(&full_refs, &on(opts.step_deg, opts.interp))?;

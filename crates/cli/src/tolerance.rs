@@ -440,7 +440,7 @@ pub fn report_extra(
     let trace = enginedyn_ingest::Resampled::from_grid(step, pressure);
     let o = enginedyn_pipeline::Options {
         step_deg: step,
-        detail: false,
+        scope: enginedyn_pipeline::Scope::Keys,
         ..opts
     };
     let failure = |e: enginedyn_tolerance::ToleranceError| Failure::usage(format!("{file}: {e}"));

@@ -18,7 +18,7 @@
 //! ```
 
 use enginedyn_engine::{FlywheelShape, FlywheelSpec};
-use enginedyn_numerics::{integrate, integrate::Rule, roots};
+use enginedyn_numerics::{extremes::periodic_min_max, integrate, integrate::Rule, roots};
 
 /// Standard gravity (m/s²), for GD².
 pub const G: f64 = 9.806_65;
@@ -47,8 +47,9 @@ impl Uniformity {
         let dev: Vec<f64> = torque.iter().map(|m| m - mean).collect();
         let mut e = vec![0.0; torque.len()];
         integrate::cumulative(rule, &dev, h, &mut e);
-        let (emin, emax) = min_max(&e);
-        let (min, max) = min_max(torque);
+        // Refined between samples: the extremes of the curves, not of the grid.
+        let (emin, emax) = periodic_min_max(&e);
+        let (min, max) = periodic_min_max(torque);
         Self {
             mean,
             max,
@@ -72,13 +73,6 @@ impl Uniformity {
     pub fn excess_work_coefficient(&self) -> Option<f64> {
         (!self.is_motoring()).then(|| self.excess_work / (self.mean * self.cycle))
     }
-}
-
-fn min_max(v: &[f64]) -> (f64, f64) {
-    v.iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-            (a.min(x), b.max(x))
-        })
 }
 
 /// Why no flywheel figures exist.
@@ -185,7 +179,7 @@ pub fn analyse(
 /// `w(phi) = sqrt(w_0^2 + 2 E(phi) / I)` with `w_0` such that
 /// `(w_max + w_min)/2 = omega`; returns the trace and its `delta`.
 pub fn speed_trace(e: &[f64], inertia: f64, omega: f64) -> (Vec<f64>, f64) {
-    let (emin, emax) = min_max(e);
+    let (emin, emax) = periodic_min_max(e);
     let mid = |w0: f64| {
         let hi = (w0 * w0 + 2.0 * emax / inertia).max(0.0).sqrt();
         let lo = (w0 * w0 + 2.0 * emin / inertia).max(0.0).sqrt();
@@ -198,6 +192,6 @@ pub fn speed_trace(e: &[f64], inertia: f64, omega: f64) -> (Vec<f64>, f64) {
         .iter()
         .map(|&x| (w0 * w0 + 2.0 * x / inertia).max(0.0).sqrt())
         .collect();
-    let (wmin, wmax) = min_max(&speed);
+    let (wmin, wmax) = periodic_min_max(&speed);
     (speed, (wmax - wmin) / (0.5 * (wmax + wmin)))
 }

@@ -6,6 +6,8 @@
 //!   evaluator and an analytic overshoot measure.
 //! - [`integrate`]: trapezoid and Simpson rules for periodic means, cycle
 //!   integrals and running integrals of uniformly sampled data.
+//! - [`extremes`]: extremes of a periodic sampled curve, refined between
+//!   samples by a parabola.
 //! - [`roots`]: Brent's root finder and minimiser.
 //! - [`fourier`]: amplitudes and phases of chosen harmonic orders, and the
 //!   inverse.
@@ -32,6 +34,7 @@
 //! ```
 
 mod error;
+pub mod extremes;
 pub mod fourier;
 pub mod integrate;
 pub mod interp;

@@ -16,7 +16,7 @@ use enginedyn_flywheel::{Flywheel, Uniformity};
 use enginedyn_forces::{Forces, Setup, cylinder_forces};
 use enginedyn_ingest::{Interp, Peg, Quantity, Resampled, mean_std};
 use enginedyn_kinematics::{Model, Table};
-use enginedyn_numerics::{integrate, integrate::Rule, roots};
+use enginedyn_numerics::{extremes::periodic_abs_max, integrate, integrate::Rule, roots};
 use enginedyn_torque::{EngineTorque, Harmonic};
 use std::f64::consts::PI;
 
@@ -53,10 +53,25 @@ pub struct Options {
     pub interp: Interp,
     /// Integration rule.
     pub integration: Rule,
-    /// Compute the curves only reports show (main-bearing loads, torque
-    /// harmonics); `false` computes what `summary.json` holds and no more
-    /// (a batch without `--detail`).
-    pub detail: bool,
+    /// How much to compute besides the key results.
+    pub scope: Scope,
+}
+
+/// How much of the analysis to compute. Every scope computes the key
+/// results (mean torque and power, torque extremes, excess work and the
+/// flywheel, force maxima, IMEP) the same way, so they agree bit for bit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Scope {
+    /// The key results only, for runs that are compared rather than shown
+    /// (method studies, the `--tolerance` ladder): no TDC-offset estimate,
+    /// no cycle statistics, and the piston speed and acceleration maxima
+    /// (which need a search of their own) left `NaN`.
+    Keys,
+    /// What `summary.json` holds and no more (a batch without `--detail`).
+    Summary,
+    /// Also the curves only reports show (main-bearing loads, torque
+    /// harmonics).
+    Full,
 }
 
 impl Default for Options {
@@ -67,7 +82,7 @@ impl Default for Options {
             rod_model: None,
             interp: Interp::Auto,
             integration: Rule::Trapezoid,
-            detail: true,
+            scope: Scope::Full,
         }
     }
 }
@@ -305,7 +320,7 @@ pub fn analyse(
         .collect();
     let of = |i: usize| &all[i.min(all.len() - 1)];
     let torque = enginedyn_torque::sum(engine, h, |i| &of(i).torque);
-    let bearings = if opts.detail {
+    let bearings = if opts.scope == Scope::Full {
         let pin_radial: Vec<Vec<f64>> = all
             .iter()
             .map(|f| {
@@ -342,11 +357,11 @@ pub fn analyse(
             "one trace per cylinder: forces and torque per cylinder; curves.csv shows cylinder 1, IMEP is the mean over the {z} cylinders"
         ));
     }
-    // Force extremes over every cylinder.
+    // Force extremes over every cylinder, refined between samples.
     let extreme = |get: fn(&Forces) -> &Vec<f64>| {
         all.iter()
-            .flat_map(|f| get(f).iter())
-            .fold(0.0_f64, |a, b| a.max(b.abs()))
+            .map(|f| periodic_abs_max(get(f)))
+            .fold(0.0_f64, f64::max)
     };
     let force_max = ForceMax {
         gas: extreme(|f| &f.gas),
@@ -354,9 +369,10 @@ pub fn analyse(
         rod: extreme(|f| &f.rod),
         pin: extreme(|f| &f.pin_load),
     };
-    let tdc_offset = (!pressure.pv && pressure.quantity == Quantity::Pressure)
-        .then(|| tdc_offset_estimate(traces[0], &volume, h))
-        .flatten();
+    let tdc_offset =
+        (opts.scope > Scope::Keys && !pressure.pv && pressure.quantity == Quantity::Pressure)
+            .then(|| tdc_offset_estimate(traces[0], &volume, h))
+            .flatten();
     if let Some(d) = tdc_offset
         && d.abs() > 0.3
     {
@@ -380,7 +396,9 @@ pub fn analyse(
         notes,
         interpolation: interp_name(opts, pressure),
         cycles: pressure.cycles,
-        stats: cycle_summary(pressure),
+        stats: (opts.scope > Scope::Keys)
+            .then(|| cycle_summary(pressure))
+            .flatten(),
         tdc_offset,
         pegging: pressure.pegging.map(|g| match g.method {
             Peg::Bar(_) => Pegging {
@@ -536,23 +554,31 @@ fn complete(
             }
         };
     let revs = cycle / (2.0 * PI);
-    let cylinder_harmonics = if cylinder_torque.is_empty() || !opts.detail {
+    let cylinder_harmonics = if cylinder_torque.is_empty() || opts.scope < Scope::Full {
         Vec::new()
     } else {
         enginedyn_torque::harmonics(&cylinder_torque, revs, MAX_ORDER)?
     };
-    let engine_harmonics = if opts.detail {
+    let engine_harmonics = if opts.scope == Scope::Full {
         enginedyn_torque::harmonics(&torque.total, revs, MAX_ORDER)?
     } else {
         Vec::new()
     };
-    let ext = kinematic_extremes(engine, opts.kinematics, omega)?;
+    let ext = if opts.scope > Scope::Keys {
+        kinematic_extremes(engine, opts.kinematics, omega)?
+    } else {
+        Extremes {
+            speed_max: f64::NAN,
+            accel_max: f64::NAN,
+            accel_min: f64::NAN,
+        }
+    };
     let eta = engine.operating().mechanical_efficiency;
     let (j_max, j_idx) = torque
         .journals
         .iter()
         .enumerate()
-        .map(|(k, j)| (j.iter().fold(0.0_f64, |a, b| a.max(b.abs())), k))
+        .map(|(k, j)| (periodic_abs_max(j), k))
         .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
     // Journal numbering: with engine-torque input only the last journal is known.
     let j_idx = if torque.journals.len() == 1 {

@@ -66,7 +66,7 @@ pub use keys::{Input, OUTPUTS, Output, Parameter, inputs};
 pub use linear::{Method, Sensitivity};
 pub use monte_carlo::MonteCarlo;
 pub use perturb::{Evaluator, Geometry, Outputs, geometry};
-pub use study::{NONLINEAR, Row, Stack, Study, study};
+pub use study::{NONLINEAR, RESOLUTION, Row, Stack, Study, study};
 
 /// Why a tolerance study cannot be made.
 #[derive(Debug, thiserror::Error)]

@@ -9,7 +9,7 @@ use enginedyn_engine::{Engine, EngineBuilder, RodModel};
 use enginedyn_ingest::Resampled;
 use enginedyn_kinematics::{CrankSlider, Mechanism, ScotchYoke};
 use enginedyn_numerics::{InterpKind, Periodic};
-use enginedyn_pipeline::Options;
+use enginedyn_pipeline::{Options, Scope};
 use std::f64::consts::PI;
 
 /// The key results of one evaluation, indexed like [`Output::ALL`]; `None`
@@ -141,7 +141,7 @@ impl Evaluator {
         // main-bearing loads, no full harmonic table (`run`); the two orders
         // it needs come from the same torque crate.
         let options = Options {
-            detail: false,
+            scope: Scope::Keys,
             ..options
         };
         let rod_model = options.rod_model.unwrap_or(engine.rod_model());
