@@ -33,6 +33,8 @@
 //! | one cylinder | large psi and flywheel | computed exactly; nothing is wrong |
 //! | mean torque under 5 % of the swing | mu and psi follow every small error of the mean | a note |
 //! | negative mean torque (motoring) | no flywheel can be sized | flywheel figures `null` with a note, exit 0 |
+//! | a pressure jump in the data | grid differences stay large down to the finest steps | `--tolerance` refuses a tolerance it cannot meet (exit 2; `tests/within.rs`) |
+//! | coarse grids (several degrees) | extremes fall between grid points | taken on the local cubic between samples ([`enginedyn_numerics::extremes`]); `--tolerance` takes a step only once three grids agree |
 //!
 //! ```
 //! use enginedyn_accuracy::{KEYS, relative_errors};
