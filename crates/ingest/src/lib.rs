@@ -368,7 +368,11 @@ fn plain_row(
         if digits == 0 || digits > 15 {
             return None;
         }
-        let v = m as f64 / POW10[frac & 15];
+        // m < 10^15 < 2^53: exact as an i64 (one instruction, where u64
+        // takes several) and as an f64; the division by an exact power of
+        // ten then rounds correctly (Clinger), and is skipped for integers.
+        let x = m as i64 as f64;
+        let v = if frac == 0 { x } else { x / POW10[frac & 15] };
         out[n & (PLAIN_CELLS - 1)] = if neg { -v } else { v };
         n += 1;
         match b.get(i) {
@@ -379,6 +383,53 @@ fn plain_row(
             _ => return None,
         }
     }
+}
+
+/// The tight loop of [`parse_stream`]: plain rows of `w` that continue
+/// trace `tr` (same cycle and cylinder, rising angle within one cycle, no
+/// negative pressure) are appended to it; returns the bytes and rows used.
+/// It stops at the first row that does anything else, which the general
+/// path then reads exactly as it would have without this loop. Its own
+/// function, so that its few variables live in registers.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn continue_trace(
+    w: &[u8],
+    eof: bool,
+    sep: u8,
+    ncols: usize,
+    cols: &Cols,
+    opts: &ParseOptions,
+    offset: f64,
+    tr: &mut Trace,
+) -> (usize, usize) {
+    let mut vals = [0.0; PLAIN_CELLS];
+    let is_pressure = cols.quantity == Quantity::Pressure;
+    let (x, value, scale) = (cols.x, cols.value, cols.scale);
+    let (tdc, cycle) = (opts.tdc_deg, opts.cycle_deg - 1e-9);
+    let decimal_comma = sep != b',';
+    let first = tr.angle_deg[0];
+    let mut last = *tr.angle_deg.last().unwrap_or(&first);
+    let (mut used, mut n) = (0, 0);
+    while eof || used + 512 < w.len() {
+        let Some((k, len)) = plain_row(&w[used..], sep, decimal_comma, eof, &mut vals) else {
+            break;
+        };
+        let same = k >= ncols
+            && cols.cycle.is_none_or(|i| vals[i] as i64 == tr.cycle)
+            && cols.cylinder.is_none_or(|i| vals[i] as i64 == tr.cylinder);
+        let a = vals[x] - tdc;
+        let p = vals[value] * scale + offset;
+        if !same || (is_pressure && p < 0.0) || a <= last || a - first >= cycle {
+            break;
+        }
+        tr.angle_deg.push(a);
+        tr.values.push(p);
+        last = a;
+        used += len;
+        n += 1;
+    }
+    (used, n)
 }
 
 /// Reads the decimal digits of `b` from `i` into `m` (`m = 10 m + d` for
@@ -694,35 +745,15 @@ pub fn parse_stream(
             current.as_mut(),
         ) {
             let ncols = names.as_ref().map(Vec::len).unwrap_or(0);
-            let is_pressure = cols.quantity == Quantity::Pressure;
-            let offset = if opts.gauge && is_pressure { ATM } else { 0.0 };
-            let first = tr.angle_deg[0];
-            let mut last = *tr.angle_deg.last().unwrap_or(&first);
+            let offset = if opts.gauge && cols.quantity == Quantity::Pressure {
+                ATM
+            } else {
+                0.0
+            };
             let (w, eof) = lines.window()?;
-            let mut used = 0;
-            while eof || used + 512 < w.len() {
-                let Some((k, n)) = plain_row(&w[used..], sep, sep != b',', eof, &mut vals) else {
-                    break;
-                };
-                let same = k >= ncols
-                    && cols.cycle.is_none_or(|i| vals[i] as i64 == tr.cycle)
-                    && cols.cylinder.is_none_or(|i| vals[i] as i64 == tr.cylinder);
-                let a = vals[cols.x] - opts.tdc_deg;
-                let p = vals[cols.value] * cols.scale + offset;
-                if !same
-                    || (is_pressure && p < 0.0)
-                    || a <= last
-                    || a - first >= opts.cycle_deg - 1e-9
-                {
-                    break;
-                }
-                tr.angle_deg.push(a);
-                tr.values.push(p);
-                last = a;
-                used += n;
-                lineno += 1;
-                rows += 1;
-            }
+            let (used, n) = continue_trace(w, eof, sep, ncols, &cols, opts, offset, tr);
+            lineno += n;
+            rows += n;
             lines.consume(used);
         }
         // Plain rows straight from the read buffer: no line search, one pass.
