@@ -332,6 +332,18 @@ impl ScotchYoke {
     pub fn r(&self) -> f64 {
         self.r
     }
+    /// Slot tilt `gamma_s` (rad).
+    pub fn slot_tilt(&self) -> f64 {
+        self.slot_tilt
+    }
+    /// Lowest and highest piston travel from its angle-0 position (m):
+    /// `x = R (1 - cos(phi + gamma_s) / cos gamma_s)` spans
+    /// `R (1 - 1/cos gamma_s)` to `R (1 + 1/cos gamma_s)`; a tilted slot
+    /// lifts the piston above its square-slot TDC and lengthens the stroke.
+    pub fn travel(&self) -> (f64, f64) {
+        let c = 1.0 / self.slot_tilt.cos();
+        (self.r * (1.0 - c), self.r * (1.0 + c))
+    }
     fn state(&self, phi: f64) -> State {
         let (s, c) = phi.sin_cos();
         let t = self.slot_tilt.tan();
@@ -380,9 +392,16 @@ impl Mechanism {
     }
     /// True stroke (m).
     pub fn stroke(&self) -> f64 {
+        let (lo, hi) = self.travel();
+        hi - lo
+    }
+    /// Lowest and highest piston travel `x` (m), counted from the piston's
+    /// position at firing TDC (cycle angle 0): `(0, stroke)` for the crank
+    /// slider, see [`ScotchYoke::travel`] for the yoke.
+    pub fn travel(&self) -> (f64, f64) {
         match self {
-            Mechanism::CrankSlider(m) => m.stroke(),
-            Mechanism::ScotchYoke(m) => 2.0 * m.r,
+            Mechanism::CrankSlider(m) => (0.0, m.stroke()),
+            Mechanism::ScotchYoke(m) => m.travel(),
         }
     }
     /// Cycle angle of BDC after firing TDC (rad): `pi` unless offset.

@@ -1,6 +1,6 @@
 //! Kinematics against the seed documents and closed forms.
 
-use enginedyn_kinematics::{CrankSlider, Mechanism, Model};
+use enginedyn_kinematics::{CrankSlider, Mechanism, Model, ScotchYoke};
 use std::f64::consts::PI;
 
 fn central(r: f64, lambda: f64) -> Mechanism {
@@ -189,5 +189,33 @@ fn documented_series_errors() {
         let (ex, ea) = worst(model);
         assert!((ex / dx - 1.0).abs() < 0.05, "{model:?} x: {ex}");
         assert!((ea / da - 1.0).abs() < 0.05, "{model:?} a: {ea}");
+    }
+}
+
+/// Scotch yoke with a tilted slot (PHYSICS.md):
+/// `x = R (1 - cos(phi + gamma)/cos gamma)`. The travel the kinematics
+/// crate states equals the extremes of the motion scanned every 0.01°
+/// (1e-9 of R), and the stroke is `2R / cos gamma`, exact to 1e-12.
+#[test]
+fn tilted_yoke_travel_and_stroke() {
+    let r = 0.05;
+    for deg in [0.0_f64, 0.5, 3.0, -10.0] {
+        let g = deg.to_radians();
+        let yoke = ScotchYoke::new(r, g).unwrap();
+        let mech = Mechanism::ScotchYoke(yoke);
+        let (lo, hi) = mech.travel();
+        let xs: Vec<f64> = (0..36_000)
+            .map(|k| mech.exact((k as f64 * 0.01).to_radians()).x)
+            .collect();
+        let min = xs.iter().cloned().fold(f64::INFINITY, f64::min);
+        let max = xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        assert!(
+            (lo - min).abs() < 1e-9 * r && (hi - max).abs() < 1e-9 * r,
+            "{deg}°"
+        );
+        assert!(
+            (mech.stroke() - 2.0 * r / g.cos()).abs() < 1e-12 * r,
+            "{deg}°"
+        );
     }
 }

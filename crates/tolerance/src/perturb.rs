@@ -53,20 +53,14 @@ fn top(mech: &Mechanism) -> f64 {
     }
 }
 
-/// The cylinder's geometry; `slot_tilt` (rad) of a Scotch yoke moves the
-/// piston `R (1 - cos(phi + gamma)/cos gamma)` (PHYSICS.md), so it travels
-/// from `R (1 - 1/cos gamma)` to `R (1 + 1/cos gamma)`.
-pub fn geometry(engine: &Engine, slot_tilt: f64) -> Geometry {
+/// The cylinder's geometry from the piston's travel
+/// ([`Mechanism::travel`]: a tilted yoke slot lifts the piston above its
+/// square-slot TDC and lengthens the stroke).
+pub fn geometry(engine: &Engine) -> Geometry {
     let cyl = engine.cylinder();
     let a = cyl.piston_area();
     let vc = cyl.clearance_volume();
-    let (x_min, x_max) = match engine.mechanism() {
-        Mechanism::CrankSlider(cs) => (0.0, cs.stroke()),
-        Mechanism::ScotchYoke(y) => {
-            let c = 1.0 / slot_tilt.cos();
-            (y.r() * (1.0 - c), y.r() * (1.0 + c))
-        }
-    };
+    let (x_min, x_max) = engine.mechanism().travel();
     Geometry {
         stroke: x_max - x_min,
         clearance: vc + a * x_min,
@@ -351,8 +345,7 @@ impl Evaluator {
         }
         let a = enginedyn_pipeline::analyse(&engine, &resampled, self.rpm, &self.options)?;
         let s = &a.summary;
-        let tilt = self.common(dev, Parameter::YokeSlotSquareness).to_radians();
-        let g = geometry(&engine, tilt);
+        let g = geometry(&engine);
         let omega = self.rpm * PI / 30.0;
         let z = engine.cylinders();
         let dm = self.each(dev, Parameter::PistonGroup, z);
