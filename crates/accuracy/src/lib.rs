@@ -643,9 +643,9 @@ pub struct Choice {
 ///
 /// Interpolation stays `auto` and integration is Simpson's rule (exact
 /// like the trapezoid for the periodic cycle integrals, fourth-order for
-/// the running integral `E(phi)` where the trapezoid is second-order: 80
-/// times less excess-work error at 1°); both effects are within the grid
-/// estimate. Each run uses [`Scope::Keys`]; the caller repeats the chosen
+/// the running integral `E(phi)` where the trapezoid is second-order; the
+/// `integration` rows of `accuracy.csv` show the difference at 1°); both
+/// effects are within the grid estimate. Each run uses [`Scope::Keys`]; the caller repeats the chosen
 /// setting with its own outputs.
 pub fn choose(
     engine: &Engine,

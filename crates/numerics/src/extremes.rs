@@ -58,11 +58,12 @@ fn hermite_max(p0: f64, p1: f64, m0: f64, m1: f64) -> f64 {
     best
 }
 
-/// The largest value of the periodic Catmull-Rom curve through `v` on the
-/// two steps beside sample `k`.
-fn max_near(v: &[f64], k: usize) -> f64 {
+/// The largest value of the periodic Catmull-Rom curve through `sign * v`
+/// on the two steps beside sample `k` (`sign` -1 finds the minimum of `v`,
+/// negated).
+fn max_near(v: &[f64], k: usize, sign: f64) -> f64 {
     let n = v.len();
-    let at = |j: isize| v[(k as isize + j).rem_euclid(n as isize) as usize];
+    let at = |j: isize| sign * v[(k as isize + j).rem_euclid(n as isize) as usize];
     let slope = |j: isize| 0.5 * (at(j + 1) - at(j - 1));
     let left = hermite_max(at(-1), at(0), slope(-1), slope(0));
     let right = hermite_max(at(0), at(1), slope(0), slope(1));
@@ -86,13 +87,7 @@ pub fn periodic_min_max(v: &[f64]) -> (f64, f64) {
     match v.len() {
         0 => (f64::INFINITY, f64::NEG_INFINITY),
         1..=3 => (v[kmin], v[kmax]),
-        _ => {
-            let neg: Vec<f64> = [-2isize, -1, 0, 1, 2]
-                .iter()
-                .map(|&j| -v[(kmin as isize + j).rem_euclid(v.len() as isize) as usize])
-                .collect();
-            (-max_near(&neg, 2), max_near(v, kmax))
-        }
+        _ => (-max_near(v, kmin, -1.0), max_near(v, kmax, 1.0)),
     }
 }
 
