@@ -72,7 +72,27 @@ pub fn write_out(
     Ok(())
 }
 
+/// glibc gives the top of the heap back to the system as soon as more than
+/// 128 KiB of it is free, and every analysis frees a few MB of curves: the
+/// next file then faults all those pages in again, which took half of
+/// `analyse` in a batch (1.7 against 0.8 ms a file). Keeping up to 64 MiB
+/// free for reuse costs no memory growth across files (each reuses what the
+/// previous one freed).
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[allow(unsafe_code)]
+fn keep_freed_memory() {
+    // SAFETY: mallopt only sets a malloc tuning parameter; it is called
+    // first thing in `main`, before any other thread exists.
+    unsafe {
+        libc::mallopt(libc::M_TRIM_THRESHOLD, 64 << 20);
+    }
+}
+
+#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+fn keep_freed_memory() {}
+
 fn main() -> ExitCode {
+    keep_freed_memory();
     let cli = args::Cli::parse();
     let result = match cli.command {
         args::Command::Run(a) => run::run(&a),

@@ -243,11 +243,8 @@ impl Accumulator {
             *s += p;
         }
         if pressure {
-            let p_max = src.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b));
-            let k_max = src
-                .iter()
-                .position(|p| p.to_bits() == p_max.to_bits())
-                .unwrap_or(0);
+            let (_, k_max) = enginedyn_numerics::scan::arg_min_max(src);
+            let p_max = src[k_max];
             let mut angle = k_max as f64 * self.opts.step_deg;
             if angle >= self.cycle_deg / 2.0 {
                 angle -= self.cycle_deg;

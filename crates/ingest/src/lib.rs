@@ -1119,13 +1119,7 @@ fn finish(mut tr: Trace, cycle: f64, quantity: Quantity) -> Result<Trace, Ingest
     let first = tr.angle_deg[0];
     let span = tr.angle_deg[n - 1] - first;
     // The median step; evenly spaced data (the usual case) needs no sort.
-    let (lo, hi) = tr
-        .angle_deg
-        .windows(2)
-        .map(|w| w[1] - w[0])
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), g| {
-            (lo.min(g), hi.max(g))
-        });
+    let (lo, hi) = enginedyn_numerics::scan::step_range(&tr.angle_deg);
     let median = if hi - lo <= 1e-9 * hi.abs() + 1e-12 {
         lo
     } else {
@@ -1143,7 +1137,8 @@ fn finish(mut tr: Trace, cycle: f64, quantity: Quantity) -> Result<Trace, Ingest
         )));
     }
     if quantity != Quantity::Pressure {
-        let peak = tr.values.iter().fold(0.0_f64, |a, &b| a.max(b.abs()));
+        let (lo, hi) = enginedyn_numerics::scan::min_max(&tr.values);
+        let peak = lo.abs().max(hi.abs()).max(0.0);
         // The largest engines make about 1e7 N m: beyond 1e9 is a unit mix-up.
         if peak > 1e9 {
             return Err(IngestError::Data(format!(
@@ -1153,7 +1148,7 @@ fn finish(mut tr: Trace, cycle: f64, quantity: Quantity) -> Result<Trace, Ingest
         }
     }
     if quantity == Quantity::Pressure {
-        let peak = tr.values.iter().fold(0.0_f64, |a, &b| a.max(b));
+        let peak = enginedyn_numerics::scan::min_max(&tr.values).1.max(0.0);
         // 5 kPa to 10 kbar absolute: anything outside is a unit mix-up.
         if !(5e3..=1e9).contains(&peak) {
             return Err(IngestError::Data(format!(

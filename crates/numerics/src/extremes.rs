@@ -75,15 +75,7 @@ fn max_near(v: &[f64], k: usize, sign: f64) -> f64 {
 /// says. `(inf, -inf)` for an empty slice; fewer than 4 samples are not
 /// refined.
 pub fn periodic_min_max(v: &[f64]) -> (f64, f64) {
-    let (mut kmin, mut kmax) = (0, 0);
-    for (k, &x) in v.iter().enumerate() {
-        if x < v[kmin] {
-            kmin = k;
-        }
-        if x > v[kmax] {
-            kmax = k;
-        }
-    }
+    let (kmin, kmax) = crate::scan::arg_min_max(v);
     match v.len() {
         0 => (f64::INFINITY, f64::NEG_INFINITY),
         1..=3 => (v[kmin], v[kmax]),

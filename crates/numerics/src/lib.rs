@@ -9,6 +9,7 @@
 //! - [`extremes`]: extremes of a periodic sampled curve, refined between
 //!   samples by a parabola.
 //! - [`roots`]: Brent's root finder and minimiser.
+//! - [`scan`]: extremes and step range of samples in vector lanes.
 //! - [`fourier`]: amplitudes and phases of chosen harmonic orders, and the
 //!   inverse.
 //!
@@ -39,6 +40,7 @@ pub mod fourier;
 pub mod integrate;
 pub mod interp;
 pub mod roots;
+pub mod scan;
 
 pub use error::NumericsError;
 pub use interp::{InterpKind, Periodic};
