@@ -82,6 +82,9 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
         ..a.method.options()
     };
     let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
+    // The motion and volume law on the grid, built once for every file.
+    let n = (engine.cycle().to_degrees() / step).round() as usize;
+    let tables = enginedyn_pipeline::Tables::new(engine, n, &opts).ok();
     let files = expand(&a.diagrams)?;
     let jobs = a.jobs.unwrap_or(0);
     let pool = rayon::ThreadPoolBuilder::new()
@@ -141,8 +144,14 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                                 ));
                             }
                             let rpm = resolve_rpm(None, resampled.rpm, engine)?;
-                            enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)
-                                .map_err(|e| Failure::usage(e.to_string()))?
+                            enginedyn_pipeline::analyse_with(
+                                tables.as_ref(),
+                                engine,
+                                &resampled,
+                                rpm,
+                                &opts,
+                            )
+                            .map_err(|e| Failure::usage(e.to_string()))?
                         }
                     };
                     let s = &an.summary;
@@ -339,10 +348,13 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
     let path = crate::run::diagram_path(a.diagram.as_deref(), &loaded)?;
     let resampled = load_diagram(Some(&path), &parse, &grid)?;
     let shown = path.display().to_string();
+    let tables = enginedyn_pipeline::Tables::new(engine, resampled.pressure.len(), &opts).ok();
     // The pressures stay the same at every speed: gas load fixed, inertia growing with w^2.
     let results: Vec<_> = rpms
         .par_iter()
-        .map(|&rpm| enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts))
+        .map(|&rpm| {
+            enginedyn_pipeline::analyse_with(tables.as_ref(), engine, &resampled, rpm, &opts)
+        })
         .collect::<Result<_, _>>()
         .map_err(|e| Failure::usage(e.to_string()))?;
     let table: Vec<enginedyn_report::CsvRow> = results

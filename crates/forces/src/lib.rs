@@ -136,9 +136,9 @@ pub struct Forces {
     pub tangential: Vec<f64>,
     /// Crank-pin load magnitude, `|(T, K - K_rB)|`.
     pub pin_load: Vec<f64>,
-    /// Crank-pin load direction (deg), `atan2(T, K - K_rB)`: 0 toward the
-    /// crank axis, positive in the direction of rotation.
-    pub pin_angle_deg: Vec<f64>,
+    /// Crank-pin load's radial part `K - K_rB` (positive toward the crank
+    /// axis); its direction is [`Forces::pin_angle_deg`].
+    pub pin_radial: Vec<f64>,
     /// Cylinder torque `M` (N m).
     pub torque: Vec<f64>,
     /// The part of `M` due to the crank train's inertia alone (N m).
@@ -146,6 +146,13 @@ pub struct Forces {
 }
 
 impl Forces {
+    /// Crank-pin load direction at sample `k` (deg), `atan2(T, K - K_rB)`:
+    /// 0 toward the crank axis, positive in the direction of rotation
+    /// (computed on demand: only reports show it).
+    pub fn pin_angle_deg(&self, k: usize) -> f64 {
+        self.tangential[k].atan2(self.pin_radial[k]).to_degrees()
+    }
+
     fn resize(&mut self, n: usize) {
         for v in [
             &mut self.gas,
@@ -156,7 +163,7 @@ impl Forces {
             &mut self.radial,
             &mut self.tangential,
             &mut self.pin_load,
-            &mut self.pin_angle_deg,
+            &mut self.pin_radial,
             &mut self.torque,
             &mut self.inertia_torque,
         ] {
@@ -214,10 +221,13 @@ pub fn cylinder_forces(
             }
             None => {
                 let radial = total * kin.k_factor[k];
-                let (sin_b, cos_b) = beta.sin_cos();
-                let rod = if has_rod { total / cos_b } else { 0.0 };
+                let rod = if has_rod {
+                    total * kin.sec_beta[k]
+                } else {
+                    0.0
+                };
                 (
-                    total * sin_b / cos_b,
+                    total * kin.tan_beta[k],
                     rod,
                     radial,
                     radial - k_rb,
@@ -234,7 +244,7 @@ pub fn cylinder_forces(
         f.tangential[k] = t;
         // Forces stay far below 1e150 N: no overflow for hypot to guard against.
         f.pin_load[k] = (t * t + kr * kr).sqrt();
-        f.pin_angle_deg[k] = t.atan2(kr).to_degrees();
+        f.pin_radial[k] = kr;
         f.torque[k] = torque;
         f.inertia_torque[k] = m_inertia;
     }

@@ -153,6 +153,10 @@ pub struct State {
     pub k_factor: f64,
     /// Tangential force factor `sin(phi_g + beta)/cos(beta)` = `(dx/dphi)/R` exactly.
     pub t_factor: f64,
+    /// `tan beta`: side thrust per unit piston force (0 without a rod).
+    pub tan_beta: f64,
+    /// `1/cos beta`: rod force per unit piston force (1 without a rod).
+    pub sec_beta: f64,
 }
 
 /// A crank-slider: crank radius `r`, rod length `l`, pin offset `e` (m).
@@ -245,6 +249,8 @@ impl CrankSlider {
             d2beta: -lambda * s / cos_b + dbeta * dbeta * sin_b / cos_b,
             k_factor: cp / cos_b,
             t_factor: sp / cos_b,
+            tan_beta: sin_b / cos_b,
+            sec_beta: 1.0 / cos_b,
         }
     }
 
@@ -354,6 +360,7 @@ impl ScotchYoke {
             d2x: r * (c - s * t),
             k_factor: c,
             t_factor: s,
+            sec_beta: 1.0,
             ..State::default()
         }
     }
@@ -485,6 +492,8 @@ impl Mechanism {
             out.d2beta[k] = s.d2beta;
             out.k_factor[k] = s.k_factor;
             out.t_factor[k] = s.t_factor;
+            out.tan_beta[k] = s.tan_beta;
+            out.sec_beta[k] = s.sec_beta;
         }
         for col in [
             &mut out.x,
@@ -495,6 +504,8 @@ impl Mechanism {
             &mut out.d2beta,
             &mut out.k_factor,
             &mut out.t_factor,
+            &mut out.tan_beta,
+            &mut out.sec_beta,
         ] {
             for k in per_rev..n {
                 col[k] = col[k - per_rev];
@@ -550,6 +561,10 @@ pub struct Table {
     pub k_factor: Vec<f64>,
     /// `sin(phi_g + beta)/cos(beta)`.
     pub t_factor: Vec<f64>,
+    /// `tan beta`.
+    pub tan_beta: Vec<f64>,
+    /// `1/cos beta`.
+    pub sec_beta: Vec<f64>,
 }
 
 impl Table {
@@ -563,6 +578,8 @@ impl Table {
             &mut self.d2beta,
             &mut self.k_factor,
             &mut self.t_factor,
+            &mut self.tan_beta,
+            &mut self.sec_beta,
         ] {
             v.resize(n, 0.0);
         }

@@ -19,6 +19,7 @@ use enginedyn_kinematics::{Model, Table};
 use enginedyn_numerics::{extremes::periodic_abs_max, integrate, integrate::Rule, roots};
 use enginedyn_torque::{EngineTorque, Harmonic};
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 mod summary;
 pub use summary::{CycleSummary, Pegging, Summary, Value};
@@ -94,10 +95,11 @@ pub struct Analysis {
     pub step: f64,
     /// Cylinder 1's pressure (Pa, absolute) on the grid; empty for torque input.
     pub pressure: Vec<f64>,
-    /// Cylinder 1's volume (m³); empty for torque input.
-    pub volume: Vec<f64>,
-    /// Cylinder 1's motion.
-    pub kinematics: Table,
+    /// Cylinder 1's volume (m³); empty for torque input (shared with
+    /// [`Tables`]).
+    pub volume: Arc<Vec<f64>>,
+    /// Cylinder 1's motion (shared with [`Tables`]).
+    pub kinematics: Arc<Table>,
     /// Cylinder 1's torque (N m); empty when only the engine torque is known.
     pub cylinder_torque: Vec<f64>,
     /// Cylinder 1's forces and torque (empty vectors without pressure).
@@ -126,8 +128,8 @@ struct Parts {
     h: f64,
     rod_model: RodModel,
     pressure: Vec<f64>,
-    volume: Vec<f64>,
-    kinematics: Table,
+    volume: Arc<Vec<f64>>,
+    kinematics: Arc<Table>,
     forces: Forces,
     cylinder_torque: Vec<f64>,
     torque: EngineTorque,
@@ -197,13 +199,24 @@ fn tdc_offset_estimate(p: &[f64], volume: &[f64], h: f64) -> Option<f64> {
     }
     // ln V at a shifted angle by linear interpolation of ln V on the grid
     // (smooth; the logarithms are taken once, not once per trial shift).
-    let ln_v: Vec<f64> = volume.iter().map(|v| v.ln()).collect();
+    // Only around the window: the trial shifts stay within ±6.5°.
+    let margin = (7.0_f64.to_radians() / h).ceil() as usize + 2;
+    let k_lo = window[0].saturating_sub(margin);
+    let k_hi = (window[window.len() - 1] + margin).min(n - 1);
+    let ln_v: Vec<f64> = volume[k_lo..=k_hi].iter().map(|v| v.ln()).collect();
+    let lv = |i: usize| {
+        if (k_lo..=k_hi).contains(&i) {
+            ln_v[i - k_lo]
+        } else {
+            volume[i].ln()
+        }
+    };
     let ln_p: Vec<f64> = window.iter().map(|&k| p[k].ln()).collect();
     let ln_v_at = |a: f64| {
         let x = (a / h).rem_euclid(n as f64);
         let i = x.floor() as usize % n;
         let f = x - x.floor();
-        ln_v[i] * (1.0 - f) + ln_v[(i + 1) % n] * f
+        lv(i) * (1.0 - f) + lv((i + 1) % n) * f
     };
     let residual = |delta_deg: f64| {
         let d = delta_deg.to_radians();
@@ -276,8 +289,68 @@ fn interp_name(opts: &Options, chosen: &Resampled) -> &'static str {
     }
 }
 
+/// The grid tables of an engine that depend on neither the speed nor the
+/// pressure: the piston motion and the volume law. A batch or a sweep
+/// builds them once and hands them to [`analyse_with`] for every diagram
+/// or speed (in a batch they cost about a third of the analysis).
+#[derive(Debug, Clone)]
+pub struct Tables {
+    mechanism: enginedyn_kinematics::Mechanism,
+    cylinder: enginedyn_kinematics::Cylinder,
+    model: Model,
+    n: usize,
+    h: f64,
+    kinematics: Arc<Table>,
+    volume: Arc<Vec<f64>>,
+    dvolume: Arc<Vec<f64>>,
+}
+
+impl Tables {
+    /// The tables of `engine` on a grid of `n` points over its cycle, with
+    /// the kinematics model of `opts`.
+    pub fn new(engine: &Engine, n: usize, opts: &Options) -> Result<Self, PipelineError> {
+        let h = engine.cycle() / n.max(1) as f64;
+        let mech = *engine.mechanism();
+        let cyl = *engine.cylinder();
+        let mut kin = Table::default();
+        mech.fill(opts.kinematics, 0.0, h, n, &mut kin)?;
+        let (volume, dvolume) = cyl.fill_volume(h, n);
+        Ok(Self {
+            mechanism: mech,
+            cylinder: cyl,
+            model: opts.kinematics,
+            n,
+            h,
+            kinematics: Arc::new(kin),
+            volume: Arc::new(volume),
+            dvolume: Arc::new(dvolume),
+        })
+    }
+
+    /// True when these are the tables `analyse` would build.
+    fn fit(&self, engine: &Engine, n: usize, h: f64, opts: &Options) -> bool {
+        self.mechanism == *engine.mechanism()
+            && self.cylinder == *engine.cylinder()
+            && self.model == opts.kinematics
+            && self.n == n
+            && self.h.to_bits() == h.to_bits()
+    }
+}
+
 /// Analyses one operating point at `rpm` from a resampled pressure trace.
 pub fn analyse(
+    engine: &Engine,
+    pressure: &Resampled,
+    rpm: f64,
+    opts: &Options,
+) -> Result<Analysis, PipelineError> {
+    analyse_with(None, engine, pressure, rpm, opts)
+}
+
+/// [`analyse`] with the engine's [`Tables`] built beforehand (tables that
+/// do not fit this engine, grid or model are ignored and built again).
+pub fn analyse_with(
+    tables: Option<&Tables>,
     engine: &Engine,
     pressure: &Resampled,
     rpm: f64,
@@ -290,9 +363,15 @@ pub fn analyse(
     notes.extend(pressure.notes.iter().cloned());
     let omega = rpm * PI / 30.0;
     let mech = engine.mechanism();
-    let cyl = engine.cylinder();
-    let mut kin = Table::default();
-    mech.fill(opts.kinematics, 0.0, h, n, &mut kin)?;
+    let built;
+    let tables = match tables {
+        Some(t) if t.fit(engine, n, h, opts) => t,
+        _ => {
+            built = Tables::new(engine, n, opts)?;
+            &built
+        }
+    };
+    let kin = &*tables.kinematics;
     let setup = Setup::new(engine, rod_model, omega);
     if setup.rod_centre.is_some_and(|(m0, _)| m0 < 0.0) {
         notes.push(format!(
@@ -316,38 +395,28 @@ pub fn analyse(
     };
     let all: Vec<Forces> = traces
         .iter()
-        .map(|p| cylinder_forces(&setup, &kin, p, 0.0, h))
+        .map(|p| cylinder_forces(&setup, kin, p, 0.0, h))
         .collect();
     let of = |i: usize| &all[i.min(all.len() - 1)];
     let torque = enginedyn_torque::sum(engine, h, |i| &of(i).torque);
     let bearings = if opts.scope == Scope::Full {
-        let pin_radial: Vec<Vec<f64>> = all
-            .iter()
-            .map(|f| {
-                f.pin_load
-                    .iter()
-                    .zip(&f.pin_angle_deg)
-                    .map(|(l, a)| l * a.to_radians().cos())
-                    .collect()
-            })
-            .collect();
         let unbalance = engine.masses().crank_unbalanced * mech.r() * omega * omega;
         enginedyn_torque::main_bearing_loads(
             engine,
             h,
             |i| &of(i).tangential,
-            |i| &pin_radial[i.min(pin_radial.len() - 1)],
+            |i| &of(i).pin_radial,
             unbalance,
         )
     } else {
         Vec::new()
     };
-    let (volume, dvolume) = cyl.fill_volume(h, n);
+    let (volume, dvolume) = (&tables.volume, &tables.dvolume);
     // Indicated work from the exact volume law, W = ∮ p dV, mean over cylinders.
     let work = traces
         .iter()
         .map(|p| {
-            let p_dv: Vec<f64> = p.iter().zip(&dvolume).map(|(p, dv)| p * dv).collect();
+            let p_dv: Vec<f64> = p.iter().zip(dvolume.iter()).map(|(p, dv)| p * dv).collect();
             integrate::periodic_integral(opts.integration, &p_dv, h)
         })
         .sum::<f64>()
@@ -371,7 +440,7 @@ pub fn analyse(
     };
     let tdc_offset =
         (opts.scope > Scope::Keys && !pressure.pv && pressure.quantity == Quantity::Pressure)
-            .then(|| tdc_offset_estimate(traces[0], &volume, h))
+            .then(|| tdc_offset_estimate(traces[0], volume, h))
             .flatten();
     if let Some(d) = tdc_offset
         && d.abs() > 0.3
@@ -385,8 +454,8 @@ pub fn analyse(
         h,
         rod_model,
         pressure: traces[0].to_vec(),
-        volume,
-        kinematics: kin,
+        volume: Arc::clone(volume),
+        kinematics: Arc::clone(&tables.kinematics),
         cylinder_torque: forces.torque.clone(),
         forces,
         force_max: Some(force_max),
@@ -466,8 +535,8 @@ pub fn analyse_torque(
         h,
         rod_model: engine.rod_model(),
         pressure: Vec::new(),
-        volume: Vec::new(),
-        kinematics: kin,
+        volume: Arc::default(),
+        kinematics: Arc::new(kin),
         forces: Forces::default(),
         cylinder_torque,
         torque: engine_torque,

@@ -355,3 +355,44 @@ fn crankpin_torques_are_between_journals() {
         }
     }
 }
+
+/// Tables built beforehand (as a batch or a sweep does) give the same
+/// analysis, bit for bit; tables of another grid or kinematics model are
+/// not used (the result is still the fresh one's).
+#[test]
+fn shared_tables_change_nothing() {
+    use enginedyn_pipeline::{Tables, analyse_with};
+    let e = engine("");
+    let p = pressure(0.5, 60.0);
+    for model in [Model::Exact, Model::Series2] {
+        let o = opts(0.5, model, RodModel::TwoMass);
+        let fresh = analyse(&e, &p, 4900.0, &o).unwrap();
+        let good = Tables::new(&e, 1440, &o).unwrap();
+        let wrong_grid = Tables::new(&e, 720, &o).unwrap();
+        let other = if model == Model::Exact {
+            Model::Series2
+        } else {
+            Model::Exact
+        };
+        let wrong_model = Tables::new(
+            &e,
+            1440,
+            &Options {
+                kinematics: other,
+                ..o
+            },
+        )
+        .unwrap();
+        for t in [&good, &wrong_grid, &wrong_model] {
+            let a = analyse_with(Some(t), &e, &p, 4900.0, &o).unwrap();
+            assert_eq!(a.forces, fresh.forces, "{model:?}");
+            assert_eq!(a.torque.total, fresh.torque.total);
+            assert_eq!(*a.kinematics, *fresh.kinematics);
+            assert_eq!(
+                format!("{:?}", a.summary),
+                format!("{:?}", fresh.summary),
+                "{model:?}"
+            );
+        }
+    }
+}

@@ -489,11 +489,7 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
     // Crank-pin load, crank-fixed axes.
     if has_pressure {
         let pin: Vec<(f64, f64)> = (0..n)
-            .map(|k| {
-                let t = f.pin_load[k] * f.pin_angle_deg[k].to_radians().sin();
-                let k_r = f.pin_load[k] * f.pin_angle_deg[k].to_radians().cos();
-                (t / 1e3, k_r / 1e3)
-            })
+            .map(|k| (f.tangential[k] / 1e3, f.pin_radial[k] / 1e3))
             .collect();
         let mut polar_pts = pin.clone();
         polar_pts.push(pin[0]);

@@ -428,7 +428,7 @@ pub fn curves_csv(a: &Analysis, centered: bool) -> String {
             at(&f.radial, k),
             at(&f.tangential, k),
             at(&f.pin_load, k),
-            at(&f.pin_angle_deg, k),
+            (k < f.pin_radial.len()).then(|| f.pin_angle_deg(k)),
             at(&a.cylinder_torque, k),
             at(&a.torque.total, k),
             at(&a.uniformity.excess_energy, k),
