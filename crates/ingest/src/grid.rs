@@ -141,6 +141,8 @@ pub struct Accumulator {
     interp: Option<InterpKind>,
     volume: Vec<f64>,
     dvolume: Vec<f64>,
+    /// The grid's angles `k step` (deg), for the on-grid test.
+    angles: Vec<f64>,
     notes: Vec<String>,
 }
 
@@ -176,6 +178,7 @@ impl Accumulator {
             interp: None,
             volume,
             dvolume,
+            angles: (0..n).map(|k| k as f64 * step).collect(),
             notes: Vec::new(),
         })
     }
@@ -243,7 +246,7 @@ impl Accumulator {
             *s += p;
         }
         if pressure {
-            let (_, k_max) = enginedyn_numerics::scan::arg_min_max(src);
+            let k_max = enginedyn_numerics::scan::arg_max(src);
             let p_max = src[k_max];
             let mut angle = k_max as f64 * self.opts.step_deg;
             if angle >= self.cycle_deg / 2.0 {
@@ -331,13 +334,12 @@ impl Accumulator {
 
     /// True when the trace's angles are the grid's, one for one.
     fn on_grid(&self, tr: &Trace) -> bool {
-        let step = self.opts.step_deg;
         tr.angle_deg.len() == self.n
             && tr
                 .angle_deg
                 .iter()
-                .enumerate()
-                .fold(true, |ok, (k, a)| ok & ((a - k as f64 * step).abs() < 1e-9))
+                .zip(&self.angles)
+                .fold(true, |ok, (a, g)| ok & ((a - g).abs() < 1e-9))
     }
 
     /// The interpolant for this trace, and the spline `auto` built to test

@@ -49,6 +49,13 @@ pub fn arg_min_max(v: &[f64]) -> (usize, usize) {
     )
 }
 
+/// The first index of the largest sample of `v` (NaN samples are skipped;
+/// index 0 when nothing else is there).
+pub fn arg_max(v: &[f64]) -> usize {
+    let hi = min_max(v).1;
+    v.iter().position(|&x| x >= hi).unwrap_or(0)
+}
+
 /// The smallest and largest step `v[k + 1] - v[k]`; `(inf, -inf)` for
 /// fewer than two samples.
 pub fn step_range(v: &[f64]) -> (f64, f64) {
@@ -115,6 +122,7 @@ mod tests {
                 prop_assert_eq!(v[kmax].to_bits(), phi.to_bits());
                 prop_assert!(v[..kmin].iter().all(|&x| x.is_nan() || x > plo));
                 prop_assert!(v[..kmax].iter().all(|&x| x.is_nan() || x < phi));
+                prop_assert_eq!(arg_max(&v), kmax);
             }
             if !v.iter().any(|x| x.is_nan()) {
                 let steps: Vec<f64> = v.windows(2).map(|w| w[1] - w[0]).collect();
