@@ -21,6 +21,14 @@ use std::io::BufRead;
 
 mod grid;
 mod pv;
+mod template;
+use template::{ROW, Template};
+
+/// Exact powers of ten: a decimal of at most 15 digits is an exact integer
+/// over one of these, so one division rounds it correctly (Clinger).
+const POW10: [f64; 16] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+];
 pub use grid::{Accumulator, CycleStats, GridOptions, Peg, PegReport, Resampled, mean_std};
 
 /// What went wrong, with the line and column where it did (1-based).
@@ -337,9 +345,6 @@ fn plain_row(
     eof: bool,
     out: &mut [f64; PLAIN_CELLS],
 ) -> Option<(usize, usize)> {
-    const POW10: [f64; 16] = [
-        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-    ];
     let (mut i, mut n) = (0usize, 0usize);
     loop {
         let neg = match b.get(i) {
@@ -389,8 +394,12 @@ fn plain_row(
 /// trace `tr` (same cycle and cylinder, rising angle within one cycle, no
 /// negative pressure) are appended to it; returns the bytes and rows used.
 /// It stops at the first row that does anything else, which the general
-/// path then reads exactly as it would have without this loop. Its own
-/// function, so that its few variables live in registers.
+/// path then reads exactly as it would have without this loop. A row that
+/// repeats the one before but for the angle's step is checked against a
+/// [`Template`] (one comparison for the cells before the value) and only
+/// its value is read; others are read by [`plain_row`] and may seed the
+/// next template. Its own function, so that its few variables live in
+/// registers.
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
 fn continue_trace(
@@ -411,7 +420,37 @@ fn continue_trace(
     let first = tr.angle_deg[0];
     let mut last = *tr.angle_deg.last().unwrap_or(&first);
     let (mut used, mut n) = (0, 0);
+    // Templates (template.rs) need the value last, after cells that are
+    // cycle, cylinder or the angle only.
+    let templates = value + 1 == ncols
+        && (0..value).all(|i| i == x || cols.cycle == Some(i) || cols.cylinder == Some(i));
+    let mut template: Option<Template> = None;
+    // Rows to wait before seeding again after a template that read nothing.
+    let mut backoff = 0usize;
     while eof || used + 512 < w.len() {
+        if let Some(t) = template.as_mut() {
+            if let Some(row) = w
+                .get(used..used + ROW)
+                .and_then(|r| <&[u8; ROW]>::try_from(r).ok())
+                && let Some((x_raw, v, len)) = t.next(row, decimal_comma)
+            {
+                let a = x_raw - tdc;
+                let p = v * scale + offset;
+                if (is_pressure && p < 0.0) || a <= last || a - first >= cycle {
+                    break;
+                }
+                tr.angle_deg.push(a);
+                tr.values.push(p);
+                last = a;
+                used += len;
+                n += 1;
+                continue;
+            }
+            if t.rows == 0 {
+                backoff = 32;
+            }
+            template = None;
+        }
         let Some((k, len)) = plain_row(&w[used..], sep, decimal_comma, eof, &mut vals) else {
             break;
         };
@@ -422,6 +461,13 @@ fn continue_trace(
         let p = vals[value] * scale + offset;
         if !same || (is_pressure && p < 0.0) || a <= last || a - first >= cycle {
             break;
+        }
+        if templates {
+            if backoff == 0 {
+                template = Template::seed(&w[used..used + len], sep, x, value, a - last);
+            } else {
+                backoff -= 1;
+            }
         }
         tr.angle_deg.push(a);
         tr.values.push(p);
@@ -542,9 +588,6 @@ impl<R: std::io::Read> Lines<R> {
 /// (the same value `str::parse` gives). Anything else returns `None`.
 #[inline]
 fn fast_decimal(b: &[u8]) -> Option<f64> {
-    const POW10: [f64; 16] = [
-        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-    ];
     let (neg, b) = match b.first() {
         Some(b'-') => (true, &b[1..]),
         Some(b'+') => (false, &b[1..]),

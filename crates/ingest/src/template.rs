@@ -1,0 +1,277 @@
+//! Rows that repeat the row before them but for the angle, one step on.
+//!
+//! In a measured or exported diagram the cells before the value (cycle,
+//! cylinder, angle) change from row to row only by the angle's step: after
+//! `3,127.4,` comes `3,127.5,`. A [`Template`] holds the text the next row
+//! must start with and the angle it stands for; a row that starts with
+//! exactly those bytes has those cells (one 16-byte comparison instead of
+//! reading them digit by digit), and only its value is read. Any other row
+//! fails the comparison and is read in full by the caller, which may then
+//! seed a new template. The angle is kept as the integer its digits spell,
+//! so the value it gives is bit for bit what reading the cell gives.
+
+use crate::POW10;
+
+/// Longest text a template holds: the cells before the value, with their
+/// separators.
+const PREFIX: usize = 16;
+/// Bytes of window a row on the template path needs (prefix, value, line
+/// end; longer rows fail and take the general path).
+pub(crate) const ROW: usize = 64;
+
+/// The expected start of the next row and the angle it stands for.
+pub(crate) struct Template {
+    /// The cells before the value, with separators, as the next row must
+    /// start: little-endian bytes in two words, zero beyond `len`. Words,
+    /// because byte stores followed by a wider load of the same bytes stall
+    /// on store forwarding.
+    text: [u64; 2],
+    /// Length of the text.
+    len: usize,
+    /// The first `len` bytes set.
+    mask: [u64; 2],
+    /// Where the angle cell's characters are in `text`.
+    x: (usize, usize),
+    /// The angle cell's digits as an integer.
+    m: u64,
+    /// The step, in units of the angle's last digit.
+    step: u64,
+    /// Fraction digits of the angle cell.
+    frac: usize,
+    /// The angle cell outgrew its width (`9.9` after `99.9`): no more rows.
+    dead: bool,
+    /// Rows read so far.
+    pub(crate) rows: usize,
+}
+
+impl Template {
+    /// A template from `row` (a plain row just read in full), whose cell
+    /// `x` is the angle, `step` (file units) after the angle of the row
+    /// before, and whose cell `value` (all cells before it being cycle,
+    /// cylinder or the angle) is the last. `None` when the row does not
+    /// fit: a prefix over 16 bytes, a signed or over-long angle, a step that
+    /// is not a whole number of the angle's last digit.
+    pub(crate) fn seed(row: &[u8], sep: u8, x: usize, value: usize, step: f64) -> Option<Self> {
+        let (mut cells, mut start, mut len, mut span) = (0, 0, 0, None);
+        for (i, &c) in row.iter().take(PREFIX).enumerate() {
+            if c == sep {
+                if cells == x {
+                    span = Some((start, i));
+                }
+                cells += 1;
+                start = i + 1;
+                if cells == value {
+                    len = i + 1;
+                    break;
+                }
+            }
+        }
+        let (s, e) = span?;
+        if len == 0 {
+            return None;
+        }
+        let (mut m, mut digits, mut frac) = (0u64, 0usize, None::<usize>);
+        for &c in &row[s..e] {
+            match c {
+                b'0'..=b'9' => {
+                    m = m * 10 + u64::from(c - b'0');
+                    digits += 1;
+                    if let Some(f) = frac.as_mut() {
+                        *f += 1;
+                    }
+                    if digits > 15 {
+                        return None;
+                    }
+                }
+                b'.' | b',' if frac.is_none() => frac = Some(0),
+                _ => return None,
+            }
+        }
+        let frac = frac.unwrap_or(0);
+        if digits == 0 {
+            return None;
+        }
+        let units = step * POW10[frac];
+        let whole = units.round();
+        if !(1.0..1e9).contains(&whole) || (units - whole).abs() > 1e-6 {
+            return None;
+        }
+        let mut text = [0; PREFIX];
+        text[..len].copy_from_slice(&row[..len]);
+        let mask = if len == PREFIX {
+            u128::MAX
+        } else {
+            (1u128 << (8 * len)) - 1
+        };
+        let text = u128::from_le_bytes(text);
+        let mut t = Self {
+            text: [text as u64, (text >> 64) as u64],
+            len,
+            mask: [mask as u64, (mask >> 64) as u64],
+            x: (s, e),
+            m,
+            step: whole as u64,
+            frac,
+            dead: false,
+            rows: 0,
+        };
+        t.advance();
+        (!t.dead).then_some(t)
+    }
+
+    /// The angle cell's value (file units) as reading it gives.
+    fn angle(&self) -> f64 {
+        let x = self.m as i64 as f64;
+        if self.frac == 0 {
+            x
+        } else {
+            x / POW10[self.frac]
+        }
+    }
+
+    /// Moves the text and the angle one step on.
+    fn advance(&mut self) {
+        self.m += self.step;
+        let (mut carry, mut j) = (self.step, self.x.1);
+        while carry > 0 {
+            if j == self.x.0 {
+                self.dead = true;
+                return;
+            }
+            j -= 1;
+            let (word, shift) = (&mut self.text[j / 8 % 2], 8 * (j % 8));
+            let c = (*word >> shift) as u8;
+            if !c.is_ascii_digit() {
+                continue;
+            }
+            let d = u64::from(c - b'0') + carry % 10;
+            carry = carry / 10 + d / 10;
+            *word = (*word & !(0xff << shift)) | ((u64::from(b'0') + d % 10) << shift);
+        }
+    }
+
+    /// The next row, when it starts with the template's text and its value
+    /// is a plain decimal ending the line: the angle and the value (file
+    /// units) and the row's length; the template then moves one step on.
+    #[inline(always)]
+    pub(crate) fn next(
+        &mut self,
+        row: &[u8; ROW],
+        decimal_comma: bool,
+    ) -> Option<(f64, f64, usize)> {
+        let word = |k: usize| {
+            let mut b = [0; 8];
+            b.copy_from_slice(&row[8 * k..8 * k + 8]);
+            u64::from_le_bytes(b)
+        };
+        let differ =
+            ((word(0) ^ self.text[0]) & self.mask[0]) | ((word(1) ^ self.text[1]) & self.mask[1]);
+        if self.dead || differ != 0 {
+            return None;
+        }
+        let (v, len) = value_cell(row, self.len, decimal_comma)?;
+        let a = self.angle();
+        self.advance();
+        self.rows += 1;
+        Some((a, v, len))
+    }
+}
+
+/// A plain decimal (`-12.5`, at most 15 digits) from `row[i]` up to the
+/// end of the line (`\n` or `\r\n`): its value, as `str::parse` gives it,
+/// and the index after the line end.
+#[inline(always)]
+fn value_cell(row: &[u8; ROW], mut i: usize, decimal_comma: bool) -> Option<(f64, usize)> {
+    let neg = row[i] == b'-';
+    i += usize::from(neg);
+    let digits = |i: &mut usize, m: &mut u64| {
+        let s = *i;
+        // At most 16 digits are looked at (over 15 is refused), so every
+        // index stays below 16 + 1 + 16 + 1 + 16 + 2 < ROW.
+        while *i < s + 16 {
+            let d = row[*i].wrapping_sub(b'0');
+            if d >= 10 {
+                break;
+            }
+            *m = m.wrapping_mul(10).wrapping_add(u64::from(d));
+            *i += 1;
+        }
+        *i - s
+    };
+    let mut m = 0u64;
+    let int = digits(&mut i, &mut m);
+    let mut frac = 0;
+    if row[i] == b'.' || (decimal_comma && row[i] == b',') {
+        i += 1;
+        frac = digits(&mut i, &mut m);
+    }
+    if int + frac == 0 || int + frac > 15 {
+        return None;
+    }
+    let x = m as i64 as f64;
+    let v = if frac == 0 { x } else { x / POW10[frac] };
+    let v = if neg { -v } else { v };
+    match row[i] {
+        b'\n' => Some((v, i + 1)),
+        b'\r' if row[i + 1] == b'\n' => Some((v, i + 2)),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn window(text: &str) -> [u8; ROW] {
+        let mut w = [b' '; ROW];
+        w[..text.len()].copy_from_slice(text.as_bytes());
+        w
+    }
+
+    /// The text moves on with carries across the decimal point; a row
+    /// that differs anywhere in the prefix, or an angle that needs one
+    /// more digit, ends the template.
+    #[test]
+    fn steps_carries_and_ends() {
+        let mut t = Template::seed(b"3,8.9,12.5\n", b',', 1, 2, 0.1).unwrap();
+        assert_eq!(t.next(&window("3,9.0,7\n"), false), Some((9.0, 7.0, 8)));
+        assert_eq!(
+            t.next(&window("3,9.1,-0.25\r\n"), false),
+            Some((9.1, -0.25, 13))
+        );
+        assert_eq!(t.next(&window("4,9.2,1\n"), false), None, "another cycle");
+        let mut t = Template::seed(b"3,9.8,1\n", b',', 1, 2, 0.1).unwrap();
+        assert_eq!(t.next(&window("3,9.9,1\n"), false), Some((9.9, 1.0, 8)));
+        assert!(t.dead, "10.0 does not fit the cell of 9.9");
+        assert_eq!(t.next(&window("3,10.0,1\n"), false), None);
+        // A step of 0.25 on two decimals, a decimal comma, a tab.
+        let mut t = Template::seed(b"1,75\t2\n", b'\t', 0, 1, 0.25).unwrap();
+        assert_eq!(t.next(&window("2,00\t3,5\n"), true), Some((2.0, 3.5, 9)));
+        assert_eq!(t.next(&window("2,25\t3,5 \n"), true), None, "a space");
+    }
+
+    /// Rows a template cannot stand for are refused at the seed.
+    #[test]
+    fn seeds_refused() {
+        assert!(
+            Template::seed(b"-1.0,2\n", b',', 0, 1, 0.1).is_none(),
+            "sign"
+        );
+        assert!(
+            Template::seed(b"1.0,2\n", b',', 0, 1, 0.05).is_none(),
+            "half a digit"
+        );
+        assert!(
+            Template::seed(b"1.0,2\n", b',', 0, 1, -0.1).is_none(),
+            "falling"
+        );
+        assert!(
+            Template::seed(b"12345678901234.5,2\n", b',', 0, 1, 0.1).is_none(),
+            "over 16 bytes"
+        );
+        assert!(
+            Template::seed(b"1.0e1,2\n", b',', 0, 1, 0.1).is_none(),
+            "exponent"
+        );
+    }
+}
