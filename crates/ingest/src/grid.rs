@@ -112,19 +112,38 @@ impl Resampled {
     }
 }
 
-/// `sum a_k b_k` in four lanes (vectorises; the order of the additions
-/// differs from a plain loop by rounding only).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let mut lanes = [0.0; 4];
-    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
-    let (ra, rb) = (ca.remainder(), cb.remainder());
-    for (x, y) in ca.zip(cb) {
+/// One pass over a cycle's samples `src` in four lanes (the compiler
+/// vectorises it): adds them to `sum`, and returns whether every sample is
+/// finite (and, for `pressure`, not negative), the largest sample, and
+/// `sum src_k dv_k` (`dv` as long as `src`, finite).
+fn accumulate(src: &[f64], sum: &mut [f64], dv: &[f64], pressure: bool) -> (bool, f64, f64) {
+    let mut dot = [0.0; 4];
+    let (mut lo, mut hi) = ([f64::INFINITY; 4], [f64::NEG_INFINITY; 4]);
+    let (cp, cd) = (src.chunks_exact(4), dv.chunks_exact(4));
+    let (rp, rd) = (cp.remainder(), cd.remainder());
+    let n4 = src.len() - rp.len();
+    for ((p, s), d) in cp.zip(sum[..n4].chunks_exact_mut(4)).zip(cd) {
         for j in 0..4 {
-            lanes[j] += x[j] * y[j];
+            let x = p[j];
+            s[j] += x;
+            dot[j] += x * d[j];
+            lo[j] = if x < lo[j] { x } else { lo[j] };
+            hi[j] = if x > hi[j] { x } else { hi[j] };
         }
     }
-    let tail: f64 = ra.iter().zip(rb).map(|(x, y)| x * y).sum();
-    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail
+    for (k, &x) in rp.iter().enumerate() {
+        sum[n4 + k] += x;
+        lo[k] = if x < lo[k] { x } else { lo[k] };
+        hi[k] = if x > hi[k] { x } else { hi[k] };
+    }
+    let tail: f64 = rp.iter().zip(rd).map(|(x, y)| x * y).sum();
+    let low = lo.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+    let high = hi.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b));
+    let p_dv = (dot[0] + dot[1]) + (dot[2] + dot[3]) + tail;
+    // A NaN or an infinity makes the products NaN or infinite (also where
+    // dv is 0); finite samples of any plausible size keep them finite.
+    let finite = p_dv.is_finite() && low.is_finite() && high.is_finite();
+    (finite && (!pressure || low >= 0.0), high, p_dv)
 }
 
 /// Interpolates traces onto the grid one at a time and keeps running sums.
@@ -218,10 +237,14 @@ impl Accumulator {
             0.0
         };
         let src: &[f64] = if in_place { &tr.values } else { &self.buf };
-        // Simple passes the compiler vectorises: the check, the peak, p dV, the sums.
-        let sane = src.iter().fold(true, |ok, &p| {
-            ok & (p.is_finite() & (!pressure | (p >= 0.0)))
-        });
+        // One pass: the check, the sums, the peak and p dV. A failed check
+        // ends the whole read, so the sums it touched are never used.
+        let dv: &[f64] = if self.dvolume.len() == src.len() {
+            &self.dvolume
+        } else {
+            &self.angles
+        };
+        let (sane, p_max, p_dv) = accumulate(src, &mut self.sum, dv, pressure);
         if !sane {
             let k = src
                 .iter()
@@ -242,12 +265,8 @@ impl Accumulator {
                 }
             )));
         }
-        for (s, p) in self.sum.iter_mut().zip(src) {
-            *s += p;
-        }
         if pressure {
-            let k_max = enginedyn_numerics::scan::arg_max(src);
-            let p_max = src[k_max];
+            let k_max = src.iter().position(|&p| p >= p_max).unwrap_or(0);
             let mut angle = k_max as f64 * self.opts.step_deg;
             if angle >= self.cycle_deg / 2.0 {
                 angle -= self.cycle_deg;
@@ -255,7 +274,7 @@ impl Accumulator {
             let imep_pa = (!self.volume.is_empty()).then(|| {
                 let h = self.opts.step_deg.to_radians();
                 let vd = self.opts.cylinder.map(|c| c.swept_volume()).unwrap_or(1.0);
-                dot(src, &self.dvolume) * h / vd
+                p_dv * h / vd
             });
             self.stats.push(CycleStats {
                 cylinder: tr.cylinder,

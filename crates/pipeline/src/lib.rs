@@ -144,6 +144,9 @@ struct Parts {
     stats: Option<CycleSummary>,
     tdc_offset: Option<f64>,
     pegging: Option<Pegging>,
+    /// Piston speed and acceleration extremes per unit crank speed, when
+    /// [`Tables`] hold them.
+    motion: Option<Extremes>,
 }
 
 /// Largest force magnitudes over every cylinder (N).
@@ -213,9 +216,13 @@ fn tdc_offset_estimate(p: &[f64], volume: &[f64], h: f64) -> Option<f64> {
     };
     let ln_p: Vec<f64> = window.iter().map(|&k| p[k].ln()).collect();
     let ln_v_at = |a: f64| {
-        let x = (a / h).rem_euclid(n as f64);
-        let i = x.floor() as usize % n;
-        let f = x - x.floor();
+        let mut x = a / h;
+        if !(0.0..n as f64).contains(&x) {
+            x = x.rem_euclid(n as f64);
+        }
+        // x >= 0: truncation is the floor.
+        let i = x as usize % n;
+        let f = x - i as f64;
         lv(i) * (1.0 - f) + lv((i + 1) % n) * f
     };
     let residual = |delta_deg: f64| {
@@ -303,6 +310,9 @@ pub struct Tables {
     kinematics: Arc<Table>,
     volume: Arc<Vec<f64>>,
     dvolume: Arc<Vec<f64>>,
+    /// Piston speed and acceleration extremes per unit crank speed (scopes
+    /// above [`Scope::Keys`] only).
+    motion: Option<Extremes>,
 }
 
 impl Tables {
@@ -315,6 +325,11 @@ impl Tables {
         let mut kin = Table::default();
         mech.fill(opts.kinematics, 0.0, h, n, &mut kin)?;
         let (volume, dvolume) = cyl.fill_volume(h, n);
+        let motion = if opts.scope > Scope::Keys {
+            Some(motion_extremes(engine, opts.kinematics)?)
+        } else {
+            None
+        };
         Ok(Self {
             mechanism: mech,
             cylinder: cyl,
@@ -324,6 +339,7 @@ impl Tables {
             kinematics: Arc::new(kin),
             volume: Arc::new(volume),
             dvolume: Arc::new(dvolume),
+            motion,
         })
     }
 
@@ -481,6 +497,7 @@ pub fn analyse_with(
                 polytropic_n: Some(n),
             },
         }),
+        motion: tables.motion,
     };
     complete(engine, parts, rpm, opts)
 }
@@ -549,6 +566,7 @@ pub fn analyse_torque(
         stats: None,
         tdc_offset: None,
         pegging: None,
+        motion: None,
     };
     complete(engine, parts, rpm, opts)
 }
@@ -578,6 +596,7 @@ fn complete(
         stats,
         tdc_offset,
         pegging,
+        motion,
     } = parts;
     let omega = rpm * PI / 30.0;
     let cycle = engine.cycle();
@@ -634,7 +653,16 @@ fn complete(
         Vec::new()
     };
     let ext = if opts.scope > Scope::Keys {
-        kinematic_extremes(engine, opts.kinematics, omega)?
+        let unit = match motion {
+            Some(m) => m,
+            None => motion_extremes(engine, opts.kinematics)?,
+        };
+        let w2 = omega * omega;
+        Extremes {
+            speed_max: unit.speed_max * omega,
+            accel_max: unit.accel_max * w2,
+            accel_min: unit.accel_min * w2,
+        }
     } else {
         Extremes {
             speed_max: f64::NAN,
@@ -720,19 +748,18 @@ fn complete(
     })
 }
 
+#[derive(Debug, Clone, Copy)]
 struct Extremes {
     speed_max: f64,
     accel_max: f64,
     accel_min: f64,
 }
 
-/// Extremes of piston speed and acceleration, searched for (a 0.5° scan
-/// refined by minimisation), not read at the dead centres.
-fn kinematic_extremes(
-    engine: &Engine,
-    model: Model,
-    omega: f64,
-) -> Result<Extremes, PipelineError> {
+/// Extremes of piston speed and acceleration per unit crank speed
+/// (`dx/dphi` and `d2x/dphi2`: multiply by `omega` and `omega²`),
+/// searched for (a 0.5° scan refined by minimisation), not read at the
+/// dead centres.
+fn motion_extremes(engine: &Engine, model: Model) -> Result<Extremes, PipelineError> {
     let mech = engine.mechanism();
     mech.check(model)?;
     let st = |x: f64| mech.state(model, x).unwrap_or_default();
@@ -755,10 +782,9 @@ fn kinematic_extremes(
         let (_, fmin) = roots::minimize(|x| -f(x), at - h, at + h, 1e-12);
         (-fmin).max(value)
     };
-    let w2 = omega * omega;
     Ok(Extremes {
-        speed_max: refine(&|x| st(x).dx.abs(), best[0]) * omega,
-        accel_max: refine(&|x| st(x).d2x, best[1]) * w2,
-        accel_min: -refine(&|x| -st(x).d2x, best[2]) * w2,
+        speed_max: refine(&|x| st(x).dx.abs(), best[0]),
+        accel_max: refine(&|x| st(x).d2x, best[1]),
+        accel_min: -refine(&|x| -st(x).d2x, best[2]),
     })
 }
