@@ -1,7 +1,11 @@
 //! Criterion benchmarks of each stage on the bundled VAZ-2108 example at the
 //! default 0.1° grid: parse, grid (interpolation), kinematics, forces,
-//! summation, flywheel, the whole analysis, and the charts.
-//! `cargo bench -p enginedyn-pipeline`.
+//! summation, flywheel, the whole analysis, and the charts; then one file
+//! of the issue-8 bench batch (inline-6, 50 cycles at 0.1°, the layout of
+//! `../shared/bench/make_batch.py`): read only, read and grid, and the
+//! analysis with shared `Tables` as `batch` runs it.
+//! `GLIBC_TUNABLES=glibc.malloc.trim_threshold=67108864 cargo bench -p
+//! enginedyn-pipeline` (the setting the CLI makes itself at start).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use enginedyn_engine::RodModel;
@@ -9,7 +13,7 @@ use enginedyn_forces::{Setup, cylinder_forces};
 use enginedyn_ingest::{GridOptions, Interp, ParseOptions, load, parse};
 use enginedyn_kinematics::{Model, Table};
 use enginedyn_numerics::integrate::Rule;
-use enginedyn_pipeline::{Options, analyse};
+use enginedyn_pipeline::{Options, Scope, Tables, analyse, analyse_with};
 use std::hint::black_box;
 
 const ENGINE: &str = include_str!("../../../data/vaz2108.toml");
@@ -66,9 +70,70 @@ fn stages(c: &mut Criterion) {
     });
 }
 
+const BENCH_ENGINE: &str = r#"name = "bench inline-6 diesel"
+cycle = "four-stroke"
+cylinders = 6
+layout = "inline"
+firing_order = [1, 5, 3, 6, 2, 4]
+bore_mm = 130.0
+stroke_mm = 150.0
+rod_length_mm = 265.0
+compression_ratio = 17.0
+[masses]
+piston_group_kg = 3.9
+rod_kg = 4.2
+[operating]
+rpm = 2200
+[flywheel]
+speed_fluctuation = 0.005
+"#;
+
+/// One file of the bench batch, per file as `batch` handles it: the
+/// compute after reading is (read and grid − read only) + analysis.
+fn batch_file(c: &mut Criterion) {
+    let engine = enginedyn_engine::file::parse(BENCH_ENGINE, "bench").unwrap();
+    let mut po = ParseOptions::new(720.0);
+    po.cylinder = Some(*engine.cylinder());
+    let mut grid = GridOptions::new(0.1, Interp::Auto);
+    grid.cylinder = Some(*engine.cylinder());
+    // The bundled VAZ trace on 0.1°, scaled per cycle, written like
+    // make_batch.py: cycle,crank_deg,pressure_bar with %d,%.1f,%.5f.
+    let vaz = load(
+        DIAGRAM.as_bytes(),
+        &po,
+        &GridOptions::new(0.1, Interp::Auto),
+    )
+    .unwrap();
+    let mut text = String::from("cycle,crank_deg,pressure_bar\n");
+    for cycle in 0..50 {
+        let f = 1.0 + 0.002 * f64::from(cycle % 7);
+        for (k, p) in vaz.pressure.iter().enumerate() {
+            let a = k as f64 * 0.1;
+            text.push_str(&format!("{cycle},{a:.1},{:.5}\n", p * f / 1e5));
+        }
+    }
+    let bytes = text.into_bytes();
+    c.bench_function("bench file: read only, 360000 rows", |b| {
+        b.iter(|| enginedyn_ingest::parse_stream(black_box(&bytes[..]), &po, |_| Ok(())).unwrap())
+    });
+    c.bench_function("bench file: read and grid (50 cycles)", |b| {
+        b.iter(|| load(black_box(&bytes[..]), &po, &grid).unwrap())
+    });
+    let r = load(&bytes[..], &po, &grid).unwrap();
+    let opts = Options {
+        scope: Scope::Summary,
+        ..Options::default()
+    };
+    let tables = Tables::new(&engine, 7200, &opts).unwrap();
+    c.bench_function(
+        "bench file: analysis, shared tables, 6 x 7200 cylinder-samples",
+        |b| b.iter(|| analyse_with(Some(&tables), &engine, black_box(&r), 2200.0, &opts).unwrap()),
+    );
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).warm_up_time(std::time::Duration::from_millis(300)).measurement_time(std::time::Duration::from_secs(1));
-    targets = stages
+    targets = stages, batch_file
 }
 criterion_main!(benches);
