@@ -74,8 +74,9 @@ pub fn write_out(
 
 /// glibc gives the top of the heap back to the system as soon as more than
 /// 128 KiB of it is free, and every analysis frees a few MB of curves: the
-/// next file then faults all those pages in again, which took half of
-/// `analyse` in a batch (1.7 against 0.8 ms a file). Keeping up to 64 MiB
+/// next file then faults all those pages in again (an ad-hoc profile, not
+/// in the tree, put that at half of `analyse` in a batch; criterion's loop
+/// does not trim, so its benches cannot show it). Keeping up to 64 MiB
 /// free for reuse costs no memory growth across files (each reuses what the
 /// previous one freed).
 #[cfg(all(target_os = "linux", target_env = "gnu"))]

@@ -253,25 +253,14 @@ mod tests {
     /// Rows a template cannot stand for are refused at the seed.
     #[test]
     fn seeds_refused() {
-        assert!(
-            Template::seed(b"-1.0,2\n", b',', 0, 1, 0.1).is_none(),
-            "sign"
-        );
-        assert!(
-            Template::seed(b"1.0,2\n", b',', 0, 1, 0.05).is_none(),
-            "half a digit"
-        );
-        assert!(
-            Template::seed(b"1.0,2\n", b',', 0, 1, -0.1).is_none(),
-            "falling"
-        );
-        assert!(
-            Template::seed(b"12345678901234.5,2\n", b',', 0, 1, 0.1).is_none(),
-            "over 16 bytes"
-        );
-        assert!(
-            Template::seed(b"1.0e1,2\n", b',', 0, 1, 0.1).is_none(),
-            "exponent"
-        );
+        for (row, step, why) in [
+            (&b"-1.0,2\n"[..], 0.1, "sign"),
+            (b"1.0,2\n", 0.05, "half a digit"),
+            (b"1.0,2\n", -0.1, "falling"),
+            (b"12345678901234.5,2\n", 0.1, "over 16 bytes"),
+            (b"1.0e1,2\n", 0.1, "exponent"),
+        ] {
+            assert!(Template::seed(row, b',', 0, 1, step).is_none(), "{why}");
+        }
     }
 }

@@ -13,30 +13,55 @@
 
 const LANES: usize = 8;
 
+/// Running smallest and largest values in independent lanes (NaN never
+/// wins a comparison, so it is skipped).
+struct Lanes {
+    lo: [f64; LANES],
+    hi: [f64; LANES],
+}
+
+impl Lanes {
+    fn new() -> Self {
+        Self {
+            lo: [f64::INFINITY; LANES],
+            hi: [f64::NEG_INFINITY; LANES],
+        }
+    }
+
+    #[inline(always)]
+    fn push(&mut self, j: usize, x: f64) {
+        self.lo[j] = if x < self.lo[j] { x } else { self.lo[j] };
+        self.hi[j] = if x > self.hi[j] { x } else { self.hi[j] };
+    }
+
+    fn finish(&self) -> (f64, f64) {
+        let lo = self
+            .lo
+            .iter()
+            .fold(f64::INFINITY, |a, &b| if b < a { b } else { a });
+        let hi = self
+            .hi
+            .iter()
+            .fold(f64::NEG_INFINITY, |a, &b| if b > a { b } else { a });
+        (lo, hi)
+    }
+}
+
 /// The smallest and largest of `v` (NaN samples are skipped); `(inf, -inf)`
 /// when there is nothing else.
 pub fn min_max(v: &[f64]) -> (f64, f64) {
-    let mut lo = [f64::INFINITY; LANES];
-    let mut hi = [f64::NEG_INFINITY; LANES];
+    let mut l = Lanes::new();
     let chunks = v.chunks_exact(LANES);
     let rest = chunks.remainder();
     for c in chunks {
         for j in 0..LANES {
-            lo[j] = if c[j] < lo[j] { c[j] } else { lo[j] };
-            hi[j] = if c[j] > hi[j] { c[j] } else { hi[j] };
+            l.push(j, c[j]);
         }
     }
     for (j, &x) in rest.iter().enumerate() {
-        lo[j] = if x < lo[j] { x } else { lo[j] };
-        hi[j] = if x > hi[j] { x } else { hi[j] };
+        l.push(j, x);
     }
-    let lo = lo
-        .iter()
-        .fold(f64::INFINITY, |a, &b| if b < a { b } else { a });
-    let hi = hi
-        .iter()
-        .fold(f64::NEG_INFINITY, |a, &b| if b > a { b } else { a });
-    (lo, hi)
+    l.finish()
 }
 
 /// The first index of the smallest and of the largest sample of `v` (NaN
@@ -49,43 +74,25 @@ pub fn arg_min_max(v: &[f64]) -> (usize, usize) {
     )
 }
 
-/// The first index of the largest sample of `v` (NaN samples are skipped;
-/// index 0 when nothing else is there).
-pub fn arg_max(v: &[f64]) -> usize {
-    let hi = min_max(v).1;
-    v.iter().position(|&x| x >= hi).unwrap_or(0)
-}
-
 /// The smallest and largest step `v[k + 1] - v[k]`; `(inf, -inf)` for
 /// fewer than two samples.
 pub fn step_range(v: &[f64]) -> (f64, f64) {
     if v.len() < 2 {
         return (f64::INFINITY, f64::NEG_INFINITY);
     }
-    let mut lo = [f64::INFINITY; LANES];
-    let mut hi = [f64::NEG_INFINITY; LANES];
+    let mut l = Lanes::new();
     let (a, b) = (&v[..v.len() - 1], &v[1..]);
     let (ca, cb) = (a.chunks_exact(LANES), b.chunks_exact(LANES));
     let (ra, rb) = (ca.remainder(), cb.remainder());
     for (x, y) in ca.zip(cb) {
         for j in 0..LANES {
-            let g = y[j] - x[j];
-            lo[j] = if g < lo[j] { g } else { lo[j] };
-            hi[j] = if g > hi[j] { g } else { hi[j] };
+            l.push(j, y[j] - x[j]);
         }
     }
     for (j, (x, y)) in ra.iter().zip(rb).enumerate() {
-        let g = y - x;
-        lo[j] = if g < lo[j] { g } else { lo[j] };
-        hi[j] = if g > hi[j] { g } else { hi[j] };
+        l.push(j, y - x);
     }
-    let lo = lo
-        .iter()
-        .fold(f64::INFINITY, |a, &b| if b < a { b } else { a });
-    let hi = hi
-        .iter()
-        .fold(f64::NEG_INFINITY, |a, &b| if b > a { b } else { a });
-    (lo, hi)
+    l.finish()
 }
 
 #[cfg(test)]
@@ -122,7 +129,6 @@ mod tests {
                 prop_assert_eq!(v[kmax].to_bits(), phi.to_bits());
                 prop_assert!(v[..kmin].iter().all(|&x| x.is_nan() || x > plo));
                 prop_assert!(v[..kmax].iter().all(|&x| x.is_nan() || x < phi));
-                prop_assert_eq!(arg_max(&v), kmax);
             }
             if !v.iter().any(|x| x.is_nan()) {
                 let steps: Vec<f64> = v.windows(2).map(|w| w[1] - w[0]).collect();

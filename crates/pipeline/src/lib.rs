@@ -299,7 +299,7 @@ fn interp_name(opts: &Options, chosen: &Resampled) -> &'static str {
 /// The grid tables of an engine that depend on neither the speed nor the
 /// pressure: the piston motion and the volume law. A batch or a sweep
 /// builds them once and hands them to [`analyse_with`] for every diagram
-/// or speed (in a batch they cost about a third of the analysis).
+/// or speed.
 #[derive(Debug, Clone)]
 pub struct Tables {
     mechanism: enginedyn_kinematics::Mechanism,
