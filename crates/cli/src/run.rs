@@ -98,12 +98,15 @@ pub fn diagram_options(
         cylinder,
         pv_start_bdc,
     };
-    let grid = GridOptions {
+    let mut grid = GridOptions {
         step_deg: step,
         interp,
         peg,
         cylinder,
+        volume_law: None,
     };
+    // Built once here for every file the command reads.
+    grid.share_volume_law(parse.cycle_deg);
     Ok((parse, grid))
 }
 

@@ -3,8 +3,9 @@
 //! length needs memory for one cycle only.
 
 use crate::{IngestError, Interp, Quantity, Trace};
-use enginedyn_kinematics::Cylinder;
+use enginedyn_kinematics::{Cylinder, VolumeGrid};
 use enginedyn_numerics::{InterpKind, Periodic};
+use std::sync::Arc;
 
 /// Pegging of relative (piezoelectric) traces, per cycle.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,6 +27,10 @@ pub struct GridOptions {
     pub peg: Option<Peg>,
     /// The volume law, for per-cycle IMEP and polytropic pegging.
     pub cylinder: Option<Cylinder>,
+    /// `cylinder`'s volume on this grid, built once by
+    /// [`GridOptions::share_volume_law`] for every file read with these
+    /// options; without it (or when it does not fit) each file builds its own.
+    pub volume_law: Option<Arc<VolumeGrid>>,
 }
 
 impl GridOptions {
@@ -36,8 +41,29 @@ impl GridOptions {
             interp,
             peg: None,
             cylinder: None,
+            volume_law: None,
         }
     }
+
+    /// Builds the volume law once for a cycle of `cycle_deg`, to be shared by
+    /// every file read with these options (nothing without a cylinder or
+    /// with a step that does not divide the cycle).
+    pub fn share_volume_law(&mut self, cycle_deg: f64) {
+        self.volume_law = match (self.cylinder, grid_points(self.step_deg, cycle_deg)) {
+            (Some(c), Some(n)) => {
+                Some(Arc::new(VolumeGrid::new(&c, self.step_deg.to_radians(), n)))
+            }
+            _ => None,
+        };
+    }
+}
+
+/// The number of grid points of `step_deg` in a cycle of `cycle_deg`, when
+/// the step divides it into at least 8.
+fn grid_points(step_deg: f64, cycle_deg: f64) -> Option<usize> {
+    let n = (cycle_deg / step_deg).round() as usize;
+    (step_deg > 0.0 && n >= 8 && ((n as f64) * step_deg - cycle_deg).abs() <= 1e-9 * cycle_deg)
+        .then_some(n)
 }
 
 /// Figures of one measured cycle.
@@ -112,38 +138,94 @@ impl Resampled {
     }
 }
 
-/// One pass over a cycle's samples `src` in four lanes (the compiler
-/// vectorises it): adds them to `sum`, and returns whether every sample is
-/// finite (and, for `pressure`, not negative), the largest sample, and
-/// `sum src_k dv_k` (`dv` as long as `src`, finite).
-fn accumulate(src: &[f64], sum: &mut [f64], dv: &[f64], pressure: bool) -> (bool, f64, f64) {
-    let mut dot = [0.0; 4];
-    let (mut lo, mut hi) = ([f64::INFINITY; 4], [f64::NEG_INFINITY; 4]);
-    let (cp, cd) = (src.chunks_exact(4), dv.chunks_exact(4));
-    let (rp, rd) = (cp.remainder(), cd.remainder());
-    let n4 = src.len() - rp.len();
-    for ((p, s), d) in cp.zip(sum[..n4].chunks_exact_mut(4)).zip(cd) {
-        for j in 0..4 {
-            let x = p[j];
-            s[j] += x;
-            dot[j] += x * d[j];
-            lo[j] = if x < lo[j] { x } else { lo[j] };
-            hi[j] = if x > hi[j] { x } else { hi[j] };
+/// Lanes of the accumulation pass: with four, every running value stays in
+/// a vector register (with eight, some were spilled to the stack).
+const LANES: usize = 4;
+/// Samples per block of the accumulation pass: each block's largest sample
+/// is compared once, so the peak's index is then looked for in one block
+/// (a search of the whole cycle cost as much as the pass itself).
+const BLOCK: usize = 64;
+
+/// What [`accumulate`] finds in one cycle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Pass {
+    /// Every sample finite (and, for pressure, not negative).
+    sane: bool,
+    /// The largest sample.
+    peak: f64,
+    /// Its first index.
+    at: usize,
+    /// `sum src_k dv_k`.
+    p_dv: f64,
+}
+
+/// One pass over a cycle's samples `src`: adds them to `sum`, checks them,
+/// and finds their peak and `sum src_k dv_k` (`dv` as long as `src`,
+/// finite). Not inlined: on its own the compiler keeps the lanes in
+/// registers and vectorises them.
+#[inline(never)]
+fn accumulate(src: &[f64], sum: &mut [f64], dv: &[f64], pressure: bool) -> Pass {
+    let n = src.len().min(sum.len()).min(dv.len());
+    let (src, sum, dv) = (&src[..n], &mut sum[..n], &dv[..n]);
+    let mut dot = [0.0; LANES];
+    let mut lo = [f64::INFINITY; LANES];
+    let (mut peak, mut peak_block) = (f64::NEG_INFINITY, 0);
+    let whole = n / BLOCK * BLOCK;
+    for (b, ((p, s), d)) in src[..whole]
+        .chunks_exact(BLOCK)
+        .zip(sum[..whole].chunks_exact_mut(BLOCK))
+        .zip(dv[..whole].chunks_exact(BLOCK))
+        .enumerate()
+    {
+        let mut hi = [f64::NEG_INFINITY; LANES];
+        for ((p, s), d) in p
+            .chunks_exact(LANES)
+            .zip(s.chunks_exact_mut(LANES))
+            .zip(d.chunks_exact(LANES))
+        {
+            for j in 0..LANES {
+                let x = p[j];
+                s[j] += x;
+                dot[j] += x * d[j];
+                lo[j] = if x < lo[j] { x } else { lo[j] };
+                hi[j] = if x > hi[j] { x } else { hi[j] };
+            }
+        }
+        let h = hi
+            .iter()
+            .fold(f64::NEG_INFINITY, |a, &b| if b > a { b } else { a });
+        if h > peak {
+            peak = h;
+            peak_block = b;
         }
     }
-    for (k, &x) in rp.iter().enumerate() {
-        sum[n4 + k] += x;
-        lo[k] = if x < lo[k] { x } else { lo[k] };
-        hi[k] = if x > hi[k] { x } else { hi[k] };
+    // The first index of the peak lies in the first block that holds it.
+    let mut at = src[peak_block * BLOCK..whole]
+        .iter()
+        .position(|&x| x >= peak)
+        .map_or(0, |k| peak_block * BLOCK + k);
+    let mut tail = 0.0;
+    for k in whole..n {
+        let x = src[k];
+        sum[k] += x;
+        tail += x * dv[k];
+        lo[0] = if x < lo[0] { x } else { lo[0] };
+        if x > peak {
+            peak = x;
+            at = k;
+        }
     }
-    let tail: f64 = rp.iter().zip(rd).map(|(x, y)| x * y).sum();
     let low = lo.iter().fold(f64::INFINITY, |a, &b| a.min(b));
-    let high = hi.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b));
     let p_dv = (dot[0] + dot[1]) + (dot[2] + dot[3]) + tail;
     // A NaN or an infinity makes the products NaN or infinite (also where
     // dv is 0); finite samples of any plausible size keep them finite.
-    let finite = p_dv.is_finite() && low.is_finite() && high.is_finite();
-    (finite && (!pressure || low >= 0.0), high, p_dv)
+    let finite = p_dv.is_finite() && low.is_finite() && peak.is_finite();
+    Pass {
+        sane: finite && (!pressure || low >= 0.0),
+        peak,
+        at,
+        p_dv,
+    }
 }
 
 /// Interpolates traces onto the grid one at a time and keeps running sums.
@@ -158,8 +240,8 @@ pub struct Accumulator {
     per_cylinder: Vec<(Vec<f64>, usize)>,
     stats: Vec<CycleStats>,
     interp: Option<InterpKind>,
-    volume: Vec<f64>,
-    dvolume: Vec<f64>,
+    /// The volume law on the grid, when the cylinder is known.
+    law: Option<Arc<VolumeGrid>>,
     /// The grid's angles `k step` (deg), for the on-grid test.
     angles: Vec<f64>,
     notes: Vec<String>,
@@ -169,17 +251,16 @@ impl Accumulator {
     /// A new accumulator for a cycle of `cycle_deg` and values of `quantity`.
     pub fn new(opts: GridOptions, cycle_deg: f64, quantity: Quantity) -> Result<Self, IngestError> {
         let step = opts.step_deg;
-        let n = (cycle_deg / step).round() as usize;
-        if !(step > 0.0) || n < 8 || ((n as f64) * step - cycle_deg).abs() > 1e-9 * cycle_deg {
+        let Some(n) = grid_points(step, cycle_deg) else {
             return Err(IngestError::Data(format!(
                 "grid step {step}° must divide the {cycle_deg}° cycle into at least 8 steps"
             )));
-        }
-        let (volume, dvolume) = match &opts.cylinder {
-            Some(c) => c.fill_volume(step.to_radians(), n),
-            None => (Vec::new(), Vec::new()),
         };
-        if matches!(opts.peg, Some(Peg::Polytropic(_))) && volume.is_empty() {
+        let law = opts.cylinder.map(|c| match &opts.volume_law {
+            Some(law) if law.fits(&c, step.to_radians(), n) => Arc::clone(law),
+            _ => Arc::new(VolumeGrid::new(&c, step.to_radians(), n)),
+        });
+        if matches!(opts.peg, Some(Peg::Polytropic(_))) && law.is_none() {
             return Err(IngestError::Data(
                 "--peg polytropic needs the engine's volume law".into(),
             ));
@@ -195,8 +276,7 @@ impl Accumulator {
             per_cylinder: Vec::new(),
             stats: Vec::new(),
             interp: None,
-            volume,
-            dvolume,
+            law,
             angles: (0..n).map(|k| k as f64 * step).collect(),
             notes: Vec::new(),
         })
@@ -239,13 +319,12 @@ impl Accumulator {
         let src: &[f64] = if in_place { &tr.values } else { &self.buf };
         // One pass: the check, the sums, the peak and p dV. A failed check
         // ends the whole read, so the sums it touched are never used.
-        let dv: &[f64] = if self.dvolume.len() == src.len() {
-            &self.dvolume
-        } else {
-            &self.angles
+        let dv: &[f64] = match &self.law {
+            Some(law) => law.dvolume(),
+            None => &self.angles,
         };
-        let (sane, p_max, p_dv) = accumulate(src, &mut self.sum, dv, pressure);
-        if !sane {
+        let pass = accumulate(src, &mut self.sum, dv, pressure);
+        if !pass.sane {
             let k = src
                 .iter()
                 .position(|p| !p.is_finite() || (pressure && *p < 0.0))
@@ -266,21 +345,19 @@ impl Accumulator {
             )));
         }
         if pressure {
-            let k_max = src.iter().position(|&p| p >= p_max).unwrap_or(0);
-            let mut angle = k_max as f64 * self.opts.step_deg;
+            let mut angle = pass.at as f64 * self.opts.step_deg;
             if angle >= self.cycle_deg / 2.0 {
                 angle -= self.cycle_deg;
             }
-            let imep_pa = (!self.volume.is_empty()).then(|| {
-                let h = self.opts.step_deg.to_radians();
-                let vd = self.opts.cylinder.map(|c| c.swept_volume()).unwrap_or(1.0);
-                p_dv * h / vd
-            });
+            let imep_pa = self
+                .opts
+                .cylinder
+                .map(|c| pass.p_dv * self.opts.step_deg.to_radians() / c.swept_volume());
             self.stats.push(CycleStats {
                 cylinder: tr.cylinder,
                 cycle: tr.cycle,
                 imep_pa,
-                p_max,
+                p_max: pass.peak,
                 p_max_angle_deg: angle,
                 peg_offset,
             });
@@ -323,11 +400,13 @@ impl Accumulator {
             }
             Some(Peg::Polytropic(n)) => {
                 // (p + d) V^n = C on 100°..30° BTDC: p V^n = C - d V^n, a line in V^n.
+                // `new` refuses polytropic pegging without the volume law.
+                let volume = self.law.as_deref().map_or(&[][..], VolumeGrid::volume);
                 let (mut sx, mut sy, mut sxx, mut sxy, mut m) = (0.0, 0.0, 0.0, 0.0, 0.0);
-                for (k, p) in self.buf.iter().enumerate() {
+                for (k, (p, v)) in self.buf.iter().zip(volume).enumerate() {
                     let a = k as f64 * step - self.cycle_deg;
                     if (-100.0..=-30.0).contains(&a) {
-                        let x = self.volume[k].powf(n);
+                        let x = v.powf(n);
                         let y = p * x;
                         sx += x;
                         sy += y;
@@ -464,4 +543,58 @@ pub fn mean_std(v: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
         0.0
     };
     (mean, var.sqrt())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The plain loops `accumulate` stands for.
+    fn reference(src: &[f64], sum: &mut [f64], dv: &[f64], pressure: bool) -> Pass {
+        for (s, x) in sum.iter_mut().zip(src) {
+            *s += x;
+        }
+        let peak = src.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b));
+        let bad = |x: f64| !x.is_finite() || (pressure && x < 0.0);
+        Pass {
+            sane: !src.iter().any(|&x| bad(x)),
+            peak,
+            at: src.iter().position(|&x| x >= peak).unwrap_or(0),
+            p_dv: src.iter().zip(dv).map(|(x, d)| x * d).sum(),
+        }
+    }
+
+    proptest! {
+        /// Any length (whole blocks or not), ties for the peak, negative
+        /// samples, a NaN or an infinity: the sums match to the bit, the
+        /// check, peak and its first index exactly, p dV to rounding.
+        #[test]
+        fn accumulate_is_the_plain_loops(
+            mut src in prop::collection::vec(prop_oneof![4 => 0.0..1e7f64, 1 => Just(1e7)], 1..300),
+            bad in prop::option::of((0..300usize, prop_oneof![
+                Just(f64::NAN), Just(f64::INFINITY), Just(f64::NEG_INFINITY), -1.0..0.0f64,
+            ])),
+            pressure in any::<bool>(),
+        ) {
+            if let Some((k, x)) = bad {
+                let k = k % src.len();
+                src[k] = x;
+            }
+            let dv: Vec<f64> = (0..src.len()).map(|k| (k as f64 * 0.37).sin()).collect();
+            let base: Vec<f64> = (0..src.len()).map(|k| k as f64).collect();
+            let (mut a, mut b) = (base.clone(), base);
+            let got = accumulate(&src, &mut a, &dv, pressure);
+            let want = reference(&src, &mut b, &dv, pressure);
+            prop_assert_eq!(got.sane, want.sane);
+            let same = |x: &[f64], y: &[f64]| x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits());
+            prop_assert!(same(&a, &b));
+            if want.sane {
+                prop_assert_eq!(got.peak.to_bits(), want.peak.to_bits());
+                prop_assert_eq!(got.at, want.at);
+                let scale: f64 = src.iter().zip(&dv).map(|(x, d)| (x * d).abs()).sum();
+                prop_assert!((got.p_dv - want.p_dv).abs() <= 1e-12 * scale.max(1.0));
+            }
+        }
+    }
 }

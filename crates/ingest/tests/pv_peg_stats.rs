@@ -205,3 +205,48 @@ fn cycles_without_a_cycle_column() {
     .unwrap();
     assert_eq!(r.cycles, 3);
 }
+
+/// A volume law built once for many files gives every file what its own
+/// would: the same curve, cycle statistics and pegging, bit for bit; a law
+/// for another grid or cylinder is not used.
+#[test]
+fn shared_volume_law_changes_nothing() {
+    let cyl = cylinder(0.0);
+    let mut s = String::from("cycle,crank_deg,pressure_bar\n");
+    for c in 0..3 {
+        for k in 0..1440 {
+            let a = k as f64 * 0.5;
+            s.push_str(&format!(
+                "{c},{a},{}\n",
+                p_of(a) * (1.0 + 0.01 * c as f64) / 1e5 - 0.4
+            ));
+        }
+    }
+    let mut o = ParseOptions::new(720.0);
+    o.cylinder = Some(cyl);
+    for peg in [None, Some(Peg::Polytropic(1.32))] {
+        let mut own = GridOptions::new(0.5, Interp::Auto);
+        own.cylinder = Some(cyl);
+        own.peg = peg;
+        let reference = load(s.as_bytes(), &o, &own).unwrap();
+        let mut shared = own.clone();
+        shared.share_volume_law(720.0);
+        assert!(shared.volume_law.is_some());
+        let mut other_step = GridOptions::new(1.0, Interp::Auto);
+        other_step.cylinder = Some(cyl);
+        other_step.share_volume_law(720.0);
+        let mut other_cylinder = GridOptions::new(0.5, Interp::Auto);
+        other_cylinder.cylinder = Some(cylinder(0.003));
+        other_cylinder.share_volume_law(720.0);
+        for law in [&shared, &other_step, &other_cylinder] {
+            let g = GridOptions {
+                volume_law: law.volume_law.clone(),
+                ..own.clone()
+            };
+            let r = load(s.as_bytes(), &o, &g).unwrap();
+            assert_eq!(r.pressure, reference.pressure, "{peg:?}");
+            assert_eq!(r.stats, reference.stats, "{peg:?}");
+            assert_eq!(r.pegging, reference.pegging, "{peg:?}");
+        }
+    }
+}

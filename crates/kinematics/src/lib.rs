@@ -670,6 +670,57 @@ impl Cylinder {
     }
 }
 
+/// A cylinder's volume law on the uniform grid `phi_k = k * step`, `k < n`
+/// ([`Cylinder::fill_volume`]), built once and shared by every diagram put
+/// on that grid (a batch reads many files with one engine).
+///
+/// ```
+/// use enginedyn_kinematics::{CrankSlider, Cylinder, Mechanism, VolumeGrid};
+/// let crank = CrankSlider::new(0.0355, 0.0355 / 0.26, 0.0)?;
+/// let cyl = Cylinder::new(Mechanism::CrankSlider(crank), 0.082, 9.9)?;
+/// let law = VolumeGrid::new(&cyl, 1f64.to_radians(), 720);
+/// assert!(law.fits(&cyl, 1f64.to_radians(), 720));
+/// assert!(!law.fits(&cyl, 0.5f64.to_radians(), 1440));
+/// // Largest at BDC (180°), the clearance volume at TDC.
+/// assert!((law.volume()[180] - cyl.volume(std::f64::consts::PI)).abs() < 1e-15);
+/// # Ok::<(), enginedyn_kinematics::KinematicsError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct VolumeGrid {
+    cylinder: Cylinder,
+    step: f64,
+    volume: Vec<f64>,
+    dvolume: Vec<f64>,
+}
+
+impl VolumeGrid {
+    /// The volume law of `cylinder` at `k * step` (rad), `k < n`.
+    pub fn new(cylinder: &Cylinder, step: f64, n: usize) -> Self {
+        let (volume, dvolume) = cylinder.fill_volume(step, n);
+        Self {
+            cylinder: *cylinder,
+            step,
+            volume,
+            dvolume,
+        }
+    }
+    /// True when this is the law [`Self::new`] would build from these
+    /// arguments (compared exactly).
+    pub fn fits(&self, cylinder: &Cylinder, step: f64, n: usize) -> bool {
+        self.cylinder == *cylinder
+            && self.step.to_bits() == step.to_bits()
+            && self.volume.len() == n
+    }
+    /// Volume (m³) at each grid point.
+    pub fn volume(&self) -> &[f64] {
+        &self.volume
+    }
+    /// `dV/dphi` (m³/rad) at each grid point.
+    pub fn dvolume(&self) -> &[f64] {
+        &self.dvolume
+    }
+}
+
 /// How many whole revolutions a grid of `n` steps of `step` (rad) covers
 /// with a whole number of steps in each (1 when it does not).
 fn revolutions(step: f64, n: usize) -> usize {

@@ -396,3 +396,44 @@ fn shared_tables_change_nothing() {
         }
     }
 }
+
+/// The TDC estimate finds a known shift of a polytropic compression, and
+/// scaling the pressure (a wrong gain) leaves it where it was: the fit is
+/// of ln p against ln V, and a gain only adds a constant to ln p.
+#[test]
+fn tdc_estimate_finds_the_shift_whatever_the_gain() {
+    let e = engine("");
+    let cyl = *e.cylinder();
+    let step = 0.1;
+    let n = 7200;
+    // Compression p V^1.32 = const with TDC 0.6° late, a Gaussian
+    // combustion peak, and a flat exhaust and intake.
+    let shift = 0.6_f64;
+    let p: Vec<f64> = (0..n)
+        .map(|k| {
+            let a = k as f64 * step;
+            let v = cyl.volume((a - shift).to_radians());
+            let comp = 1e5 * (cyl.volume(PI) / v).powf(1.32);
+            let d = (a + 360.0).rem_euclid(720.0) - 360.0;
+            comp + 40e5 * (-((d - 12.0) / 10.0).powi(2)).exp()
+        })
+        .collect();
+    let estimate = |gain: f64| {
+        let r = Resampled::from_grid(step, p.iter().map(|x| x * gain).collect());
+        analyse(&e, &r, 4900.0, &opts(step, Model::Exact, RodModel::TwoMass))
+            .unwrap()
+            .summary
+            .tdc_offset_estimate_deg
+            .unwrap()
+    };
+    let base = estimate(1.0);
+    // Linear interpolation of ln V between grid points: a small bias.
+    assert!((base - shift).abs() < 1e-3, "estimate {base}");
+    for gain in [0.71, 1.37, 3.0] {
+        let other = estimate(gain);
+        assert!(
+            (other - base).abs() < 1e-5,
+            "gain {gain}: {other} against {base}"
+        );
+    }
+}
