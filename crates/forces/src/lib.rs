@@ -153,22 +153,25 @@ impl Forces {
         self.tangential[k].atan2(self.pin_radial[k]).to_degrees()
     }
 
-    fn resize(&mut self, n: usize) {
+    /// Empty curves with room for `n` points (pushed, not zeroed first).
+    fn with_capacity(n: usize) -> Self {
+        let mut f = Self::default();
         for v in [
-            &mut self.gas,
-            &mut self.inertia,
-            &mut self.total,
-            &mut self.side,
-            &mut self.rod,
-            &mut self.radial,
-            &mut self.tangential,
-            &mut self.pin_load,
-            &mut self.pin_radial,
-            &mut self.torque,
-            &mut self.inertia_torque,
+            &mut f.gas,
+            &mut f.inertia,
+            &mut f.total,
+            &mut f.side,
+            &mut f.rod,
+            &mut f.radial,
+            &mut f.tangential,
+            &mut f.pin_load,
+            &mut f.pin_radial,
+            &mut f.torque,
+            &mut f.inertia_torque,
         ] {
-            v.resize(n, 0.0);
+            v.reserve_exact(n);
         }
+        f
     }
 }
 
@@ -191,8 +194,7 @@ pub fn cylinder_forces(
     let r = setup.mechanism.r();
     let k_rb = setup.m_big_end * r * w2;
     let has_rod = matches!(setup.mechanism, Mechanism::CrankSlider(_));
-    let mut f = Forces::default();
-    f.resize(n);
+    let mut f = Forces::with_capacity(n);
     for k in 0..n {
         let (dx, d2x, beta) = (kin.dx[k], kin.d2x[k], kin.beta[k]);
         let gas = (pressure[k] - setup.crankcase_pressure) * setup.area;
@@ -235,18 +237,18 @@ pub fn cylinder_forces(
                 )
             }
         };
-        f.gas[k] = gas;
-        f.inertia[k] = inertia;
-        f.total[k] = total;
-        f.side[k] = side;
-        f.rod[k] = rod;
-        f.radial[k] = radial;
-        f.tangential[k] = t;
+        f.gas.push(gas);
+        f.inertia.push(inertia);
+        f.total.push(total);
+        f.side.push(side);
+        f.rod.push(rod);
+        f.radial.push(radial);
+        f.tangential.push(t);
         // Forces stay far below 1e150 N: no overflow for hypot to guard against.
-        f.pin_load[k] = (t * t + kr * kr).sqrt();
-        f.pin_radial[k] = kr;
-        f.torque[k] = torque;
-        f.inertia_torque[k] = m_inertia;
+        f.pin_load.push((t * t + kr * kr).sqrt());
+        f.pin_radial.push(kr);
+        f.torque.push(torque);
+        f.inertia_torque.push(m_inertia);
     }
     f
 }

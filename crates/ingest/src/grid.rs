@@ -284,7 +284,17 @@ impl Accumulator {
 
     /// Adds one trace (angles in `[0, cycle)`, rising).
     pub fn add(&mut self, tr: &Trace) -> Result<(), IngestError> {
-        let on_grid = self.on_grid(tr);
+        self.add_with_steps(tr, None)
+    }
+
+    /// [`Self::add`], given the smallest and largest step between the
+    /// trace's successive angles when they are known ([`crate::Streamed`]).
+    pub fn add_with_steps(
+        &mut self,
+        tr: &Trace,
+        steps: Option<(f64, f64)>,
+    ) -> Result<(), IngestError> {
+        let on_grid = self.on_grid(tr, steps);
         let (kind, tested) = self.choose(tr, on_grid)?;
         let pressure = self.quantity == Quantity::Pressure;
         // Every interpolant passes through its samples: data already on the
@@ -430,14 +440,28 @@ impl Accumulator {
         Ok(offset)
     }
 
-    /// True when the trace's angles are the grid's, one for one.
-    fn on_grid(&self, tr: &Trace) -> bool {
-        tr.angle_deg.len() == self.n
-            && tr
-                .angle_deg
-                .iter()
-                .zip(&self.angles)
-                .fold(true, |ok, (a, g)| ok & ((a - g).abs() < 1e-9))
+    /// True when the trace's angles are the grid's, one for one (each
+    /// within 1e-9°).
+    fn on_grid(&self, tr: &Trace, steps: Option<(f64, f64)>) -> bool {
+        let (n, h) = (self.n, self.opts.step_deg);
+        if tr.angle_deg.len() != n {
+            return false;
+        }
+        // From the steps alone: a_k = a_0 + the k steps before it (each
+        // step's subtraction rounds by under 2^-53 of it: 1e-13 in all
+        // over a cycle), so |a_k - k h| <= |a_0| + k max|step - h|. Evenly
+        // spaced data passes at 0.1° (a bound of 8e-10°); otherwise, or
+        // without steps, every angle is compared.
+        if let Some((lo, hi)) = steps {
+            let worst = (lo - h).abs().max((hi - h).abs());
+            if tr.angle_deg[0].abs() + (n - 1) as f64 * worst < 0.9e-9 {
+                return true;
+            }
+        }
+        tr.angle_deg
+            .iter()
+            .zip(&self.angles)
+            .fold(true, |ok, (a, g)| ok & ((a - g).abs() < 1e-9))
     }
 
     /// The interpolant for this trace, and the spline `auto` built to test
@@ -565,7 +589,60 @@ mod tests {
         }
     }
 
+    fn on_grid_both_ways(step: f64, angles: Vec<f64>) -> (bool, bool) {
+        let n = angles.len();
+        let acc = Accumulator::new(
+            GridOptions::new(step, Interp::Linear),
+            n as f64 * step,
+            Quantity::Pressure,
+        )
+        .unwrap();
+        let steps = enginedyn_numerics::scan::step_range(&angles);
+        let tr = Trace {
+            cycle: 0,
+            cylinder: 0,
+            values: vec![1e5; n],
+            angle_deg: angles,
+        };
+        (acc.on_grid(&tr, Some(steps)), acc.on_grid(&tr, None))
+    }
+
+    /// Angles read from decimal text at 0.1° over 720° pass on their steps
+    /// alone; one angle 2e-9° off fails either way.
+    #[test]
+    fn on_grid_from_steps() {
+        let text: Vec<f64> = (0..7200)
+            .map(|k| format!("{}.{}", k / 10, k % 10).parse().unwrap())
+            .collect();
+        let steps = enginedyn_numerics::scan::step_range(&text);
+        let h = 0.1;
+        let worst = (steps.0 - h).abs().max((steps.1 - h).abs());
+        assert!(7199.0 * worst < 0.9e-9, "steps {steps:?}");
+        assert_eq!(on_grid_both_ways(0.1, text.clone()), (true, true));
+        let mut off = text;
+        off[3000] += 2e-9;
+        assert_eq!(on_grid_both_ways(0.1, off), (false, false));
+    }
+
     proptest! {
+        /// The test from the steps never says "on the grid" where comparing
+        /// every angle says not: angles off the grid by up to 3e-9° at a
+        /// few places, or drifting, at steps from 0.01° to 1°.
+        #[test]
+        fn on_grid_from_steps_is_never_wrong(
+            step in prop_oneof![Just(0.01), Just(0.1), Just(0.25), Just(0.5), Just(1.0)],
+            offs in prop::collection::vec((0..100_000usize, -3e-9..3e-9f64), 0..4),
+            drift in prop_oneof![Just(0.0), -1e-13..1e-13f64],
+        ) {
+            let n = (720.0 / step) as usize;
+            let mut angles: Vec<f64> = (0..n).map(|k| k as f64 * step + k as f64 * drift).collect();
+            for (k, d) in offs {
+                angles[k % n] += d;
+            }
+            let (fast, full) = on_grid_both_ways(step, angles);
+            prop_assert!(!fast || full);
+        }
+
         /// Any length (whole blocks or not), ties for the peak, negative
         /// samples, a NaN or an infinity: the sums match to the bit, the
         /// check, peak and its first index exactly, p dV to rounding.

@@ -693,7 +693,7 @@ pub fn load(
             acc = Some(Accumulator::new(grid.clone(), opts.cycle_deg, t.quantity)?);
         }
         match acc.as_mut() {
-            Some(a) => a.add(&t.trace),
+            Some(a) => a.add_with_steps(&t.trace, t.steps),
             None => Ok(()),
         }
     })?;
@@ -730,6 +730,11 @@ pub struct Streamed {
     pub trace: Trace,
     /// What its values are.
     pub quantity: Quantity,
+    /// The smallest and largest step between successive angles (deg) of
+    /// `trace` as handed over, when the reader's checks measured them (not
+    /// after wrapping into the cycle): lets [`Accumulator::add_with_steps`]
+    /// see that a trace lies on the grid without comparing every angle.
+    pub steps: Option<(f64, f64)>,
 }
 
 /// Reads the text and hands each finished trace to `sink`, in file order.
@@ -770,10 +775,11 @@ pub fn parse_stream(
         } else {
             tr
         };
-        let tr = finish(tr, opts.cycle_deg, q)?;
+        let (tr, steps) = finish(tr, opts.cycle_deg, q)?;
         sink(Streamed {
             trace: tr,
             quantity: q,
+            steps,
         })
     };
     loop {
@@ -1151,7 +1157,13 @@ fn similarity(a: &str, b: &str) -> f64 {
 }
 
 /// Moves a trace's angles into [0, cycle), rotating so they rise, and checks coverage.
-fn finish(mut tr: Trace, cycle: f64, quantity: Quantity) -> Result<Trace, IngestError> {
+/// Checks a trace and wraps its angles into `[0, cycle)`; with the smallest
+/// and largest step of the angles returned, when they were not moved.
+fn finish(
+    mut tr: Trace,
+    cycle: f64,
+    quantity: Quantity,
+) -> Result<(Trace, Option<(f64, f64)>), IngestError> {
     let n = tr.angle_deg.len();
     if n < 4 {
         return Err(IngestError::Data(format!(
@@ -1203,7 +1215,7 @@ fn finish(mut tr: Trace, cycle: f64, quantity: Quantity) -> Result<Trace, Ingest
     }
     // Already in [0, cycle) and rising (the usual case): nothing to move.
     if first >= 0.0 && tr.angle_deg[n - 1] < cycle && lo > 0.0 {
-        return Ok(tr);
+        return Ok((tr, Some((lo, hi))));
     }
     let wrapped: Vec<f64> = tr
         .angle_deg
@@ -1228,7 +1240,7 @@ fn finish(mut tr: Trace, cycle: f64, quantity: Quantity) -> Result<Trace, Ingest
             tr.cycle
         )));
     }
-    Ok(tr)
+    Ok((tr, None))
 }
 
 #[cfg(test)]
