@@ -1156,9 +1156,9 @@ fn similarity(a: &str, b: &str) -> f64 {
     common as f64 - 0.01 * (a.len() as f64 - b.len() as f64).abs()
 }
 
-/// Moves a trace's angles into [0, cycle), rotating so they rise, and checks coverage.
-/// Checks a trace and wraps its angles into `[0, cycle)`; with the smallest
-/// and largest step of the angles returned, when they were not moved.
+/// Checks a trace (points, coverage, plausible values) and moves its angles
+/// into `[0, cycle)`, rotating so they rise. Returns it with the smallest and
+/// largest step between its angles when they did not have to move.
 fn finish(
     mut tr: Trace,
     cycle: f64,
