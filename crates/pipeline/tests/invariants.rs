@@ -427,12 +427,13 @@ fn tdc_estimate_finds_the_shift_whatever_the_gain() {
             .unwrap()
     };
     let base = estimate(1.0);
-    // Linear interpolation of ln V between grid points: a small bias.
-    assert!((base - shift).abs() < 1e-3, "estimate {base}");
+    // Linear interpolation of ln V between grid points: a bias of 4e-6°.
+    assert!((base - shift).abs() < 2e-5, "estimate {base}");
     for gain in [0.71, 1.37, 3.0] {
         let other = estimate(gain);
         assert!(
-            (other - base).abs() < 1e-5,
+            // Brent's tolerance is 1e-6°.
+            (other - base).abs() < 3e-6,
             "gain {gain}: {other} against {base}"
         );
     }
