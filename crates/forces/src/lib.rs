@@ -152,27 +152,12 @@ impl Forces {
     pub fn pin_angle_deg(&self, k: usize) -> f64 {
         self.tangential[k].atan2(self.pin_radial[k]).to_degrees()
     }
+}
 
-    /// Empty curves with room for `n` points (pushed, not zeroed first).
-    fn with_capacity(n: usize) -> Self {
-        let mut f = Self::default();
-        for v in [
-            &mut f.gas,
-            &mut f.inertia,
-            &mut f.total,
-            &mut f.side,
-            &mut f.rod,
-            &mut f.radial,
-            &mut f.tangential,
-            &mut f.pin_load,
-            &mut f.pin_radial,
-            &mut f.torque,
-            &mut f.inertia_torque,
-        ] {
-            v.reserve_exact(n);
-        }
-        f
-    }
+/// `f(a, b)` for every pair: one loop over two slices that the compiler
+/// vectorises (no capacity check per element, unlike `push`).
+fn zip_map(a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) -> Vec<f64> {
+    a.iter().zip(b).map(|(&a, &b)| f(a, b)).collect()
 }
 
 /// Forces and torque of one cylinder. `pressure` (Pa, absolute) and `kin`
@@ -182,6 +167,9 @@ impl Forces {
 /// rod with exact kinematics it equals `T R` with
 /// `T = P sin(phi_g + beta)/cos(beta)` (a test). With series kinematics `dx`
 /// is the series' own, so the energy balance holds for every model.
+///
+/// Each curve is one loop over whole slices (vectorised); the rod models'
+/// extra terms are added in loops of their own, in the order of the formulas.
 pub fn cylinder_forces(
     setup: &Setup,
     kin: &Table,
@@ -193,64 +181,89 @@ pub fn cylinder_forces(
     let w2 = setup.omega * setup.omega;
     let r = setup.mechanism.r();
     let k_rb = setup.m_big_end * r * w2;
-    let has_rod = matches!(setup.mechanism, Mechanism::CrankSlider(_));
-    let mut f = Forces::with_capacity(n);
-    for k in 0..n {
-        let (dx, d2x, beta) = (kin.dx[k], kin.d2x[k], kin.beta[k]);
-        let gas = (pressure[k] - setup.crankcase_pressure) * setup.area;
-        let inertia = -setup.m_recip * d2x * w2;
-        let total = gas + inertia;
-        let mut m_inertia = inertia * dx;
-        if let Some(c) = setup.rod_couple {
-            // Rigid rod: the couple -(I_G - m l_A l_B) w^2 beta'' works through beta'.
-            m_inertia += -c * w2 * kin.d2beta[k] * kin.dbeta[k];
+    let (dx, d2x) = (&kin.dx[..n], &kin.d2x[..n]);
+    let (p0, area, m_recip) = (setup.crankcase_pressure, setup.area, setup.m_recip);
+    let gas: Vec<f64> = pressure[..n].iter().map(|p| (p - p0) * area).collect();
+    let inertia: Vec<f64> = d2x.iter().map(|a| -m_recip * a * w2).collect();
+    let total = zip_map(&gas, &inertia, |g, i| g + i);
+    let mut inertia_torque = zip_map(&inertia, dx, |i, d| i * d);
+    if let Some(c) = setup.rod_couple {
+        // Rigid rod: the couple -(I_G - m l_A l_B) w^2 beta'' works through beta'.
+        for (m, (b2, b1)) in inertia_torque
+            .iter_mut()
+            .zip(kin.d2beta.iter().zip(&kin.dbeta))
+        {
+            *m += -c * w2 * b2 * b1;
         }
-        if let Some((m0, ratio)) = setup.rod_centre {
+    }
+    if let Some((m0, ratio)) = setup.rod_centre {
+        for (k, m) in inertia_torque.iter_mut().enumerate() {
             let phi = start + step * k as f64;
-            m_inertia += -m0 * w2 * setup.mechanism.rod_point_dot(phi, ratio);
+            *m += -m0 * w2 * setup.mechanism.rod_point_dot(phi, ratio);
         }
-        let torque = gas * dx + m_inertia;
-        let (side, rod, radial, kr, t) = match &setup.rigid {
-            Some(body) => {
+    }
+    let mut torque = zip_map(&gas, dx, |g, d| g * d);
+    for (t, m) in torque.iter_mut().zip(&inertia_torque) {
+        *t += m;
+    }
+    let (side, rod, radial, pin_radial, tangential) = match &setup.rigid {
+        Some(body) => {
+            let mut out: [Vec<f64>; 5] = Default::default();
+            for v in &mut out {
+                v.reserve_exact(n);
+            }
+            let k_rb2 = body.m_big_end_two_mass * r * w2;
+            for k in 0..n {
                 let phi_g = start + step * k as f64 + setup.mechanism.phi_tdc();
-                let st = (d2x, beta, kin.dbeta[k], kin.d2beta[k]);
-                let ne = newton_euler(body, gas, st, phi_g, r, w2);
-                let k_rb2 = body.m_big_end_two_mass * r * w2;
+                let st = (d2x[k], kin.beta[k], kin.dbeta[k], kin.d2beta[k]);
+                let ne = newton_euler(body, gas[k], st, phi_g, r, w2);
                 // T from the Newton–Euler pin load; T R equals the virtual-work
                 // torque to rounding (a test), so the torque stays one curve.
-                let t = ne.pin_tangential;
-                (ne.side, ne.rod, ne.pin_radial + k_rb2, ne.pin_radial, t)
+                for (v, x) in out.iter_mut().zip([
+                    ne.side,
+                    ne.rod,
+                    ne.pin_radial + k_rb2,
+                    ne.pin_radial,
+                    ne.pin_tangential,
+                ]) {
+                    v.push(x);
+                }
             }
-            None => {
-                let radial = total * kin.k_factor[k];
-                let rod = if has_rod {
-                    total * kin.sec_beta[k]
-                } else {
-                    0.0
-                };
-                (
-                    total * kin.tan_beta[k],
-                    rod,
-                    radial,
-                    radial - k_rb,
-                    torque / r,
-                )
-            }
-        };
-        f.gas.push(gas);
-        f.inertia.push(inertia);
-        f.total.push(total);
-        f.side.push(side);
-        f.rod.push(rod);
-        f.radial.push(radial);
-        f.tangential.push(t);
-        // Forces stay far below 1e150 N: no overflow for hypot to guard against.
-        f.pin_load.push((t * t + kr * kr).sqrt());
-        f.pin_radial.push(kr);
-        f.torque.push(torque);
-        f.inertia_torque.push(m_inertia);
+            let [side, rod, radial, pin_radial, tangential] = out;
+            (side, rod, radial, pin_radial, tangential)
+        }
+        None => {
+            let radial = zip_map(&total, &kin.k_factor, |t, k| t * k);
+            let rod = if matches!(setup.mechanism, Mechanism::CrankSlider(_)) {
+                zip_map(&total, &kin.sec_beta, |t, s| t * s)
+            } else {
+                vec![0.0; n]
+            };
+            let pin_radial = radial.iter().map(|k| k - k_rb).collect();
+            (
+                zip_map(&total, &kin.tan_beta, |t, b| t * b),
+                rod,
+                radial,
+                pin_radial,
+                torque.iter().map(|m| m / r).collect(),
+            )
+        }
+    };
+    // Forces stay far below 1e150 N: no overflow for hypot to guard against.
+    let pin_load = zip_map(&tangential, &pin_radial, |t, k| (t * t + k * k).sqrt());
+    Forces {
+        gas,
+        inertia,
+        total,
+        side,
+        rod,
+        radial,
+        tangential,
+        pin_load,
+        pin_radial,
+        torque,
+        inertia_torque,
     }
-    f
 }
 
 impl Setup {
