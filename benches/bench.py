@@ -35,8 +35,9 @@ usage: benches/bench.py [--files 40] [--cycles 50] [--rounds 9] [--repeat 3] [--
 - And the machine's speed-up on work that shares nothing at all, not even
   memory traffic: a pure-Python loop run in one process alone, then in two
   processes at once (each timed inside the process, start-up excluded).
-  If the two vCPUs were two physical cores this would be 2.0; when they are
-  the two hardware threads of one core it is far less.
+  If the two vCPUs were two physical cores this would be 2.0 every time;
+  when they share a core (its two hardware threads, or with another guest)
+  it is less.
 
 Prints a Markdown report; --results FILE also writes it there.
 """
@@ -69,11 +70,17 @@ def yardstick(script, files):
     return float(out.split(" s per file")[0])
 
 
+def batch(files, dirname, out, *extra):
+    """The `enginedyn batch` command over `files` into a fresh folder `out`."""
+    shutil.rmtree(out, ignore_errors=True)
+    return [BIN, "batch", "--engine", os.path.join(dirname, "engine.toml"), *files, "--out", out, *extra]
+
+
 def ours(files, dirname, *extra):
     out = os.path.join(dirname, "out")
-    shutil.rmtree(out, ignore_errors=True)
+    cmd = batch(files, dirname, out, *extra)
     t0 = time.perf_counter()
-    sh([BIN, "batch", "--engine", os.path.join(dirname, "engine.toml"), *files, "--out", out, *extra])
+    sh(cmd)
     dt = time.perf_counter() - t0
     with open(os.path.join(out, "summary.csv"), "rb") as f:
         return dt / len(files), f.read()
@@ -110,7 +117,8 @@ def timed_spin(q, n):
 
 
 def cpu_probe(n=2_000_000):
-    """Speed-up of `k` processes spinning at once over one alone: 2 t1 / t2."""
+    """Two-core speed-up of a pure-Python loop: 2 t1 / t2, with t1 the loop's
+    time in one process alone and t2 the slower of two processes at once."""
     ctx = multiprocessing.get_context()
 
     def run(k):
@@ -128,14 +136,9 @@ def cpu_probe(n=2_000_000):
 
 def pair(files, dirname):
     """Two `batch --jobs 1` processes on alternate halves of the files, at once."""
+    cmds = [batch(files[half::2], dirname, os.path.join(dirname, f"out{half}"), "--jobs", "1") for half in (0, 1)]
     t0 = time.perf_counter()
-    procs = []
-    for half in (0, 1):
-        out = os.path.join(dirname, f"out{half}")
-        shutil.rmtree(out, ignore_errors=True)
-        procs.append(subprocess.Popen(
-            [BIN, "batch", "--engine", os.path.join(dirname, "engine.toml"), *files[half::2], "--out", out, "--jobs", "1"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+    procs = [subprocess.Popen(c, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL) for c in cmds]
     for p in procs:
         if p.wait() != 0:
             sys.exit(f"enginedyn batch failed (exit {p.returncode}) in the two-process run")
