@@ -543,6 +543,39 @@ fn batch_rows_in_input_order() {
     assert_eq!(out.status.code(), Some(2));
 }
 
+/// The hidden `--stage-times` of `batch` (the bench script reads it): one
+/// stderr line in the format the script parses, both stages measured
+/// (above zero) and together less than the whole process took.
+#[test]
+fn batch_stage_times() {
+    let g = concat!(env!("CARGO_MANIFEST_DIR"), "/../data/vaz2108.csv");
+    let engine = concat!(env!("CARGO_MANIFEST_DIR"), "/../data/vaz2108.toml");
+    let started = std::time::Instant::now();
+    let out = run(&[
+        "batch",
+        "--engine",
+        engine,
+        g,
+        g,
+        g,
+        "--jobs",
+        "1",
+        "--stage-times",
+    ]);
+    let wall = started.elapsed().as_secs_f64();
+    assert_eq!(out.status.code(), Some(0));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let line = err
+        .lines()
+        .find_map(|l| l.strip_prefix("stage times over 3 diagrams: grid "))
+        .unwrap_or_else(|| panic!("no stage-times line in {err}"));
+    let (grid, rest) = line.split_once(" s, analysis ").expect("analysis time");
+    let grid: f64 = grid.parse().unwrap();
+    let analysis: f64 = rest.strip_suffix(" s").unwrap().parse().unwrap();
+    assert!(grid > 0.0 && analysis > 0.0, "{line}");
+    assert!(grid + analysis < wall, "{line} against {wall} s");
+}
+
 /// `sweep`: one row per speed, TO included when on the step; the mean
 /// torque does not depend on speed (same pressures), the crank-pin load does.
 #[test]

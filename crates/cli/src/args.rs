@@ -222,6 +222,10 @@ pub struct BatchArgs {
     /// Benchmarks only: read and check every file, compute nothing (the parse floor).
     #[arg(long, hide = true)]
     pub parse_only: bool,
+    /// Benchmarks only: print to stderr the time spent after parsing (grid,
+    /// analysis, summary row), summed over every file and thread.
+    #[arg(long, hide = true)]
+    pub stage_times: bool,
     /// Pick the cheapest method setting whose estimated relative error is below REL.
     #[arg(long, value_name = "REL")]
     pub tolerance: Option<f64>,

@@ -4,7 +4,8 @@
 use crate::Failure;
 use crate::args::{BatchArgs, SweepArgs};
 use crate::run::{
-    check_step, diagram_options, load_diagram, load_engine, parse_diagram, resolve_rpm, within,
+    check_step, diagram_options, load_diagram, load_diagram_timed, load_engine, parse_diagram,
+    resolve_rpm, within,
 };
 use enginedyn_engine::Engine;
 use enginedyn_ingest::Quantity;
@@ -13,6 +14,8 @@ use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
 
 /// Files, folders (every `.csv` inside, sorted) and glob patterns, in the
 /// order given.
@@ -103,13 +106,18 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
     } else {
         indicatif::ProgressBar::hidden()
     };
-    let started = std::time::Instant::now();
+    let started = Instant::now();
+    // Time after parsing, every file and thread: putting the traces on the
+    // grid, and the analysis with its summary row.
+    let grid_ns = AtomicU64::new(0);
+    let analysis_ns = AtomicU64::new(0);
     let rows: Vec<Row> = pool.install(|| {
         files
             .par_iter()
             .enumerate()
             .map(|(i, f)| {
                 let shown = f.display().to_string();
+                let (mut on_grid, mut analysis) = (Duration::ZERO, Duration::ZERO);
                 let result = (|| -> Result<Row, Failure> {
                     if a.parse_only {
                         parse_only(f, &parse)?;
@@ -137,21 +145,25 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                             an
                         }
                         None => {
-                            let resampled = load_diagram(Some(f), &parse, &grid)?;
+                            let resampled =
+                                load_diagram_timed(Some(f), &parse, &grid, &mut on_grid)?;
+                            let analysed = Instant::now();
                             if resampled.quantity != Quantity::Pressure {
                                 return Err(Failure::data(
                                     "a turning-moment file, not a pressure diagram",
                                 ));
                             }
                             let rpm = resolve_rpm(None, resampled.rpm, engine)?;
-                            enginedyn_pipeline::analyse_with(
+                            let an = enginedyn_pipeline::analyse_with(
                                 tables.as_ref(),
                                 engine,
                                 &resampled,
                                 rpm,
                                 &opts,
                             )
-                            .map_err(|e| Failure::usage(e.to_string()))?
+                            .map_err(|e| Failure::usage(e.to_string()))?;
+                            analysis += analysed.elapsed();
+                            an
                         }
                     };
                     let s = &an.summary;
@@ -170,10 +182,13 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                             .map_err(|e| Failure::data(e.to_string()))?;
                         folder = Some(name);
                     }
+                    let flattened = Instant::now();
+                    let cells = enginedyn_report::flatten(s);
+                    analysis += flattened.elapsed();
                     Ok(Row {
                         file: shown.clone(),
                         error: String::new(),
-                        cells: enginedyn_report::flatten(s),
+                        cells,
                         key: Some([
                             s.imep_bar,
                             s.mean_torque_nm,
@@ -184,6 +199,8 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                     })
                 })();
                 bar.inc(1);
+                grid_ns.fetch_add(on_grid.as_nanos() as u64, Ordering::Relaxed);
+                analysis_ns.fetch_add(analysis.as_nanos() as u64, Ordering::Relaxed);
                 result.unwrap_or_else(|e| {
                     let msg = e
                         .message
@@ -203,6 +220,15 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
             .collect()
     });
     bar.finish_and_clear();
+    if a.stage_times {
+        let secs = |ns: AtomicU64| Duration::from_nanos(ns.into_inner()).as_secs_f64();
+        eprintln!(
+            "stage times over {} diagrams: grid {:.6} s, analysis {:.6} s",
+            rows.len(),
+            secs(grid_ns),
+            secs(analysis_ns)
+        );
+    }
     let failed = rows.iter().filter(|r| !r.error.is_empty()).count();
     let table: Vec<enginedyn_report::CsvRow> = rows
         .iter()

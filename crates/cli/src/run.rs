@@ -116,20 +116,33 @@ pub fn load_diagram(
     parse: &ParseOptions,
     grid: &GridOptions,
 ) -> Result<Resampled, Failure> {
+    let mut unused = std::time::Duration::ZERO;
+    load_diagram_timed(path, parse, grid, &mut unused)
+}
+
+/// [`load_diagram`], adding the time spent after parsing (putting the
+/// traces on the grid) to `on_grid`.
+pub fn load_diagram_timed(
+    path: Option<&Path>,
+    parse: &ParseOptions,
+    grid: &GridOptions,
+    on_grid: &mut std::time::Duration,
+) -> Result<Resampled, Failure> {
     match path {
         Some(p) => {
             let file = std::fs::File::open(p)
                 .map_err(|e| Failure::data(format!("{}: cannot open: {e}", p.display())))?;
-            enginedyn_ingest::load(
+            enginedyn_ingest::load_timed(
                 // The reader keeps its own 64 KiB blocks: a small BufReader
                 // passes those reads straight through instead of copying.
                 std::io::BufReader::with_capacity(1 << 12, file),
                 parse,
                 grid,
+                on_grid,
             )
             .map_err(|e| Failure::data(format!("{}: {e}", p.display())))
         }
-        None => enginedyn_ingest::load(EXAMPLE_DIAGRAM.as_bytes(), parse, grid)
+        None => enginedyn_ingest::load_timed(EXAMPLE_DIAGRAM.as_bytes(), parse, grid, on_grid)
             .map_err(|e| Failure::data(format!("data/vaz2108.csv (bundled): {e}"))),
     }
 }

@@ -687,25 +687,46 @@ pub fn load(
     opts: &ParseOptions,
     grid: &GridOptions,
 ) -> Result<Resampled, IngestError> {
+    let mut unused = std::time::Duration::ZERO;
+    load_timed(reader, opts, grid, &mut unused)
+}
+
+/// [`load`], adding to `on_grid` the time spent after the reader hands each
+/// trace over: putting it on the grid, its checks and statistics, and the
+/// averages at the end. What is left of the whole call is the reading and
+/// parsing (how `enginedyn batch` tells the compute stages from the parse).
+pub fn load_timed(
+    reader: impl BufRead,
+    opts: &ParseOptions,
+    grid: &GridOptions,
+    on_grid: &mut std::time::Duration,
+) -> Result<Resampled, IngestError> {
     let mut acc: Option<Accumulator> = None;
     let h = parse_stream(reader, opts, |t| {
+        let started = std::time::Instant::now();
         if acc.is_none() {
             acc = Some(Accumulator::new(grid.clone(), opts.cycle_deg, t.quantity)?);
         }
-        match acc.as_mut() {
+        let added = match acc.as_mut() {
             Some(a) => a.add_with_steps(&t.trace, t.steps),
             None => Ok(()),
-        }
+        };
+        *on_grid += started.elapsed();
+        added
     })?;
-    match acc {
+    let started = std::time::Instant::now();
+    let resampled = match acc {
         Some(a) => {
             let pv = h.pv;
-            let mut r = a.finish(h.rpm, h.notes)?;
-            r.pv = pv;
-            Ok(r)
+            a.finish(h.rpm, h.notes).map(|mut r| {
+                r.pv = pv;
+                r
+            })
         }
         None => Err(IngestError::Data("no data rows".into())),
-    }
+    };
+    *on_grid += started.elapsed();
+    resampled
 }
 
 /// Puts an in-memory diagram on the grid (the same path as [`load`]).

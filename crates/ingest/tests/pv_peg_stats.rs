@@ -1,6 +1,6 @@
 //! p–V data, pegging and cycle statistics against closed forms.
 
-use enginedyn_ingest::{GridOptions, Interp, ParseOptions, Peg, load};
+use enginedyn_ingest::{GridOptions, Interp, ParseOptions, Peg, load, load_timed};
 use enginedyn_kinematics::{CrankSlider, Cylinder, Mechanism};
 
 fn cylinder(offset: f64) -> Cylinder {
@@ -39,6 +39,49 @@ fn pv_round_trip() {
         assert!(
             worst < 0.002 * 51e5,
             "offset {offset} bdc {bdc}: worst {worst}"
+        );
+    }
+}
+
+/// `load_timed` is `load` (the same result to the bit, p–V and p–φ, pegged
+/// and not) and measures some time on the grid, less than the whole call.
+#[test]
+fn load_timed_is_load() {
+    let cyl = cylinder(0.0);
+    let mut pv = String::from("volume_cm3,pressure_bar\n");
+    let mut phi = String::from("cycle,crank_deg,pressure_bar\n");
+    for k in 0..720 {
+        let deg = k as f64;
+        pv.push_str(&format!(
+            "{:.9},{:.9}\n",
+            cyl.volume(deg.to_radians()) * 1e6,
+            p_of(deg) / 1e5
+        ));
+    }
+    for c in 0..3 {
+        for k in 0..720 {
+            let p = p_of(k as f64) / 1e5 + 0.01 * c as f64;
+            phi.push_str(&format!("{c},{k},{p:.6}\n"));
+        }
+    }
+    let mut o = ParseOptions::new(720.0);
+    o.cylinder = Some(cyl);
+    for (text, step, peg) in [
+        (&pv, 0.5, None),
+        (&phi, 1.0, None),
+        (&phi, 0.5, Some(Peg::Bar(1.0))),
+    ] {
+        let mut grid = GridOptions::new(step, Interp::Auto);
+        grid.cylinder = Some(cyl);
+        grid.peg = peg;
+        let mut on_grid = std::time::Duration::ZERO;
+        let started = std::time::Instant::now();
+        let timed = load_timed(text.as_bytes(), &o, &grid, &mut on_grid).unwrap();
+        let whole = started.elapsed();
+        assert_eq!(timed, load(text.as_bytes(), &o, &grid).unwrap());
+        assert!(
+            on_grid > std::time::Duration::ZERO && on_grid < whole,
+            "{on_grid:?} of {whole:?}"
         );
     }
 }
