@@ -77,7 +77,7 @@ pub fn journal_criteria(
     step: f64,
     cylinder_torque: &[f64],
 ) -> Result<JournalCriteria, BalanceError> {
-    let t = enginedyn_torque::sum(engine, step, |_| cylinder_torque);
+    let t = enginedyn_torque::sum(engine, step, |_| cylinder_torque, true);
     let revolutions = engine.cycle() / std::f64::consts::TAU;
     let mut c = JournalCriteria {
         max_torque_nm: 0.0,

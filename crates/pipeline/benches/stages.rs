@@ -52,9 +52,9 @@ fn stages(c: &mut Criterion) {
     });
     let f = cylinder_forces(&setup, &kin, &r.pressure, 0.0, h);
     c.bench_function("summation by firing order, 4 cylinders", |b| {
-        b.iter(|| enginedyn_torque::sum(&engine, h, |_| black_box(&f.torque)))
+        b.iter(|| enginedyn_torque::sum(&engine, h, |_| black_box(&f.torque), true))
     });
-    let t = enginedyn_torque::sum(&engine, h, |_| &f.torque);
+    let t = enginedyn_torque::sum(&engine, h, |_| &f.torque, true);
     c.bench_function("uniformity and flywheel", |b| {
         b.iter(|| {
             let u = enginedyn_flywheel::Uniformity::new(black_box(&t.total), h, Rule::Trapezoid);

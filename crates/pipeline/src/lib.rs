@@ -430,7 +430,7 @@ pub fn analyse_with(
         .map(|p| cylinder_forces(&setup, kin, p, 0.0, h))
         .collect();
     let of = |i: usize| &all[i.min(all.len() - 1)];
-    let torque = enginedyn_torque::sum(engine, h, |i| &of(i).torque);
+    let torque = enginedyn_torque::sum(engine, h, |i| &of(i).torque, opts.scope == Scope::Full);
     let bearings = if opts.scope == Scope::Full {
         let unbalance = engine.masses().crank_unbalanced * mech.r() * omega * omega;
         enginedyn_torque::main_bearing_loads(
@@ -542,21 +542,14 @@ pub fn analyse_torque(
     let m = torque.pressure.clone();
     let (cylinder_torque, engine_torque) = match quantity {
         Quantity::CylinderTorque => {
-            let t = enginedyn_torque::sum(engine, h, |_| &m);
+            let t = enginedyn_torque::sum(engine, h, |_| &m, opts.scope == Scope::Full);
             (m.clone(), t)
         }
         Quantity::EngineTorque => {
             notes.push(
                 "engine torque given: the torques of the other main journals are unknown; the last journal carries the engine torque".into(),
             );
-            (
-                Vec::new(),
-                EngineTorque {
-                    total: m.clone(),
-                    journals: vec![m.clone()],
-                    crankpins: Vec::new(),
-                },
-            )
+            (Vec::new(), EngineTorque::engine_only(m.clone()))
         }
         Quantity::Pressure => {
             return Err(PipelineError::Input(
@@ -688,13 +681,13 @@ fn complete(
     };
     let eta = engine.operating().mechanical_efficiency;
     let (j_max, j_idx) = torque
-        .journals
+        .journal_abs_max
         .iter()
         .enumerate()
-        .map(|(k, j)| (periodic_abs_max(j), k))
+        .map(|(k, &j)| (j, k))
         .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
     // Journal numbering: with engine-torque input only the last journal is known.
-    let j_idx = if torque.journals.len() == 1 {
+    let j_idx = if torque.journal_abs_max.len() == 1 {
         engine.throws() - 1
     } else {
         j_idx

@@ -397,6 +397,60 @@ fn shared_tables_change_nothing() {
     }
 }
 
+/// The summary a batch computes (`Scope::Summary`: no journal or crank-pin
+/// curves kept, only their extremes) is the full run's to the bit, for an
+/// inline four (one cylinder a throw) and a V8 (two a throw), one diagram
+/// for all cylinders and one trace each; journal curves are only kept in
+/// the full run.
+#[test]
+fn summary_scope_changes_no_figure() {
+    use enginedyn_pipeline::Scope;
+    let v8 = parse(
+        &std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../data/v8_crossplane.toml"
+        ))
+        .unwrap(),
+        "v8",
+    )
+    .unwrap();
+    for e in [engine(""), v8] {
+        let mut p = pressure(0.5, 60.0);
+        for per_cylinder in [false, true] {
+            if per_cylinder {
+                p.cylinders = (0..e.cylinders())
+                    .map(|i| {
+                        p.pressure
+                            .iter()
+                            .map(|x| x * (1.0 + 0.01 * i as f64))
+                            .collect()
+                    })
+                    .collect();
+            }
+            let full = Options {
+                step_deg: 0.5,
+                ..Options::default()
+            };
+            let summary = Options {
+                scope: Scope::Summary,
+                ..full
+            };
+            let a = analyse(&e, &p, 3000.0, &full).unwrap();
+            let b = analyse(&e, &p, 3000.0, &summary).unwrap();
+            assert_eq!(
+                format!("{:?}", a.summary),
+                format!("{:?}", b.summary),
+                "{}",
+                e.name()
+            );
+            assert_eq!(a.torque.total, b.torque.total);
+            assert_eq!(a.torque.journal_abs_max, b.torque.journal_abs_max);
+            assert_eq!(a.torque.journals.len(), e.throws());
+            assert!(b.torque.journals.is_empty() && b.torque.crankpins.is_empty());
+        }
+    }
+}
+
 /// The TDC estimate finds a known shift of a polytropic compression, and
 /// scaling the pressure (a wrong gain) leaves it where it was: the fit is
 /// of ln p against ln V, and a gain only adds a constant to ln p.

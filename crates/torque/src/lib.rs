@@ -15,6 +15,7 @@
 //! ```
 
 use enginedyn_engine::Engine;
+use enginedyn_numerics::extremes::periodic_abs_max;
 use enginedyn_numerics::{NumericsError, fourier};
 
 /// Adds `m(phi - theta)` to `out(phi)` on a periodic uniform grid of
@@ -63,49 +64,75 @@ pub struct EngineTorque {
     /// Engine torque `M(phi)` (N m) on the grid of cylinder 1's cycle angle.
     pub total: Vec<f64>,
     /// `journals[K]`: torque on the main journal after throw `K + 1`, counted
-    /// from the free end; the last equals `total`.
+    /// from the free end; the last equals `total`. Empty when [`sum`] was
+    /// asked for the extremes only.
     pub journals: Vec<Vec<f64>>,
     /// `crankpins[K]`: torque twisting the crank pin of throw `K + 1`: the
     /// journal torque before it plus the half of the throw's own torque that
     /// its free-end web passes on (the statically determinate split of the
     /// tangential force between the two webs). Empty when only the engine
-    /// torque is known.
+    /// torque is known, or when [`sum`] was asked for the extremes only.
     pub crankpins: Vec<Vec<f64>>,
+    /// `journal_abs_max[K]`: the largest magnitude of `journals[K]`, refined
+    /// between samples ([`periodic_abs_max`]); always there.
+    pub journal_abs_max: Vec<f64>,
+}
+
+impl EngineTorque {
+    /// Only the engine torque known: it is the last journal's.
+    pub fn engine_only(total: Vec<f64>) -> Self {
+        Self {
+            journal_abs_max: vec![periodic_abs_max(&total)],
+            journals: vec![total.clone()],
+            crankpins: Vec::new(),
+            total,
+        }
+    }
 }
 
 /// Sums cylinder torques by firing angle. `cylinder_torque(i)` gives
 /// cylinder `i`'s torque over its own cycle angle on the grid (the same curve
-/// for every cylinder with one diagram for all).
+/// for every cylinder with one diagram for all). With `curves` false the
+/// journal and crank-pin curves are not kept (their extremes are): the sum
+/// then touches two curves' worth of memory instead of `2 throws + 1`.
 pub fn sum<'a>(
     engine: &Engine,
     step: f64,
     cylinder_torque: impl Fn(usize) -> &'a [f64],
+    curves: bool,
 ) -> EngineTorque {
     let n = cylinder_torque(0).len();
     let throws = engine.throws();
-    let mut per_throw = vec![vec![0.0; n]; throws];
-    for i in 0..engine.cylinders() {
-        shift_add(
-            cylinder_torque(i),
-            engine.firing_angle(i),
-            step,
-            &mut per_throw[engine.throw_of(i)],
-        );
-    }
-    let mut journals = Vec::with_capacity(throws);
-    let mut crankpins = Vec::with_capacity(throws);
+    let (mut journals, mut crankpins) = if curves {
+        (Vec::with_capacity(throws), Vec::with_capacity(throws))
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    let mut journal_abs_max = Vec::with_capacity(throws);
     let mut acc = vec![0.0; n];
-    for t in &per_throw {
-        crankpins.push(acc.iter().zip(t).map(|(a, v)| a + 0.5 * v).collect());
-        for (a, v) in acc.iter_mut().zip(t) {
+    // One throw's torque at a time, its cylinders in firing-table order.
+    let mut throw = vec![0.0; n];
+    for t in 0..throws {
+        throw.fill(0.0);
+        for i in (0..engine.cylinders()).filter(|&i| engine.throw_of(i) == t) {
+            shift_add(cylinder_torque(i), engine.firing_angle(i), step, &mut throw);
+        }
+        if curves {
+            crankpins.push(acc.iter().zip(&throw).map(|(a, v)| a + 0.5 * v).collect());
+        }
+        for (a, v) in acc.iter_mut().zip(&throw) {
             *a += v;
         }
-        journals.push(acc.clone());
+        journal_abs_max.push(periodic_abs_max(&acc));
+        if curves {
+            journals.push(acc.clone());
+        }
     }
     EngineTorque {
         total: acc,
         journals,
         crankpins,
+        journal_abs_max,
     }
 }
 
