@@ -54,6 +54,10 @@ fn stages(c: &mut Criterion) {
     c.bench_function("summation by firing order, 4 cylinders", |b| {
         b.iter(|| enginedyn_torque::sum(&engine, h, |_| black_box(&f.torque), true))
     });
+    c.bench_function(
+        "summation by firing order, 4 cylinders, extremes only",
+        |b| b.iter(|| enginedyn_torque::sum(&engine, h, |_| black_box(&f.torque), false)),
+    );
     let t = enginedyn_torque::sum(&engine, h, |_| &f.torque, true);
     c.bench_function("uniformity and flywheel", |b| {
         b.iter(|| {
