@@ -26,12 +26,14 @@ usage: benches/bench.py [--files 40] [--cycles 50] [--rounds 9] [--repeat 3] [--
   (putting each file's traces on the grid, the analysis and its summary
   row), per cylinder-sample (one grid point of one cylinder). enginedyn
   measures it inside the timed runs, around those stages, with the
-  monotonic clock (the hidden --stage-times); the median over every run is
-  used. For comparison, the whole-process difference (full - parse floor,
-  back to back in alternating order, median of the paired differences) is
-  also reported: it is the same quantity as a small difference of two
-  large, noisy times, and single differences on this VM swing by more than
-  the compute itself (from -1.8 to +4.3 ms a file against about 0.6).
+  monotonic clock (the hidden --stage-times; the --jobs 2 runs carry it
+  too, so the two-core ratio compares like with like); the median over
+  every run is used. For comparison, the whole-process difference (full -
+  parse floor, back to back in alternating order, median of the paired
+  differences) is also reported: it is the same quantity as a small
+  difference of two large, noisy times, and single differences on this VM
+  swing by more than the compute itself (from -3.2 to +4.3 ms a file
+  against about 0.6).
 - Serial and parallel batches must give byte-identical summary.csv.
 - The machine's own two-core speed-up, for comparison: two independent
   `batch --jobs 1` processes started together, each on half the files

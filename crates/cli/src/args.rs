@@ -223,7 +223,8 @@ pub struct BatchArgs {
     #[arg(long, hide = true)]
     pub parse_only: bool,
     /// Benchmarks only: print to stderr the time spent after parsing (grid,
-    /// analysis, summary row), summed over every file and thread.
+    /// analysis, summary row), summed over every file and thread (not
+    /// measured with --tolerance, which reads each file whole first).
     #[arg(long, hide = true)]
     pub stage_times: bool,
     /// Pick the cheapest method setting whose estimated relative error is below REL.

@@ -93,8 +93,9 @@ impl EngineTorque {
 /// Sums cylinder torques by firing angle. `cylinder_torque(i)` gives
 /// cylinder `i`'s torque over its own cycle angle on the grid (the same curve
 /// for every cylinder with one diagram for all). With `curves` false the
-/// journal and crank-pin curves are not kept (their extremes are): the sum
-/// then touches two curves' worth of memory instead of `2 throws + 1`.
+/// journal and crank-pin curves are not kept (each journal's largest torque
+/// is): the sum then writes two curves, the running total and one throw's
+/// torque, whatever the number of throws.
 pub fn sum<'a>(
     engine: &Engine,
     step: f64,
