@@ -10,7 +10,7 @@
 //! seed a new template. The angle is kept as the integer its digits spell,
 //! so the value it gives is bit for bit what reading the cell gives.
 
-use crate::POW10;
+use crate::{POW10, decimal_value, digit_run};
 
 /// Longest text a template holds: the cells before the value, with their
 /// separators.
@@ -121,12 +121,7 @@ impl Template {
 
     /// The angle cell's value (file units) as reading it gives.
     fn angle(&self) -> f64 {
-        let x = self.m as i64 as f64;
-        if self.frac == 0 {
-            x
-        } else {
-            x / POW10[self.frac]
-        }
+        decimal_value(self.m, self.frac, false)
     }
 
     /// Moves the text and the angle one step on.
@@ -184,33 +179,22 @@ impl Template {
 fn value_cell(row: &[u8; ROW], mut i: usize, decimal_comma: bool) -> Option<(f64, usize)> {
     let neg = row[i] == b'-';
     i += usize::from(neg);
-    let digits = |i: &mut usize, m: &mut u64| {
-        let s = *i;
-        // At most 16 digits are looked at (over 15 is refused), so every
-        // index stays below 16 + 1 + 16 + 1 + 16 + 2 < ROW.
-        while *i < s + 16 {
-            let d = row[*i].wrapping_sub(b'0');
-            if d >= 10 {
-                break;
-            }
-            *m = m.wrapping_mul(10).wrapping_add(u64::from(d));
-            *i += 1;
-        }
-        *i - s
-    };
+    // At most 16 digits a run are looked at (over 15 is refused), so every
+    // index stays below 16 + 1 + 16 + 1 + 16 + 2 < ROW.
     let mut m = 0u64;
-    let int = digits(&mut i, &mut m);
+    let s = i;
+    i = digit_run(&row[..s + 16], s, &mut m);
+    let int = i - s;
     let mut frac = 0;
     if row[i] == b'.' || (decimal_comma && row[i] == b',') {
-        i += 1;
-        frac = digits(&mut i, &mut m);
+        let f = i + 1;
+        i = digit_run(&row[..f + 16], f, &mut m);
+        frac = i - f;
     }
     if int + frac == 0 || int + frac > 15 {
         return None;
     }
-    let x = m as i64 as f64;
-    let v = if frac == 0 { x } else { x / POW10[frac] };
-    let v = if neg { -v } else { v };
+    let v = decimal_value(m, frac, neg);
     match row[i] {
         b'\n' => Some((v, i + 1)),
         b'\r' if row[i + 1] == b'\n' => Some((v, i + 2)),
