@@ -7,7 +7,7 @@
 //! - [`integrate`]: trapezoid and Simpson rules for periodic means, cycle
 //!   integrals and running integrals of uniformly sampled data.
 //! - [`extremes`]: extremes of a periodic sampled curve, refined between
-//!   samples by a parabola.
+//!   samples by the local Catmull-Rom cubic.
 //! - [`roots`]: Brent's root finder and minimiser.
 //! - [`scan`]: extremes and step range of samples in vector lanes.
 //! - [`fourier`]: amplitudes and phases of chosen harmonic orders, and the
