@@ -577,7 +577,8 @@ fn batch_stage_times() {
 }
 
 /// `sweep`: one row per speed, TO included when on the step; the mean
-/// torque does not depend on speed (same pressures), the crank-pin load does.
+/// torque does not depend on speed (same pressures), the crank-pin load does;
+/// the chart has one unit per panel.
 #[test]
 fn sweep_over_speed() {
     let dir = tempfile::tempdir().unwrap();
@@ -614,5 +615,16 @@ fn sweep_over_speed() {
         let mi: f64 = row[m].parse().unwrap();
         assert!((mi - m0).abs() < 1e-9 * m0.abs());
     }
-    assert!(dir.path().join("sweep.svg").exists());
+    // One unit per panel (forces and the flywheel inertia were once one
+    // axis, the forces flattened by the inertia's numbers).
+    let svg = std::fs::read_to_string(dir.path().join("sweep.svg")).unwrap();
+    for label in [
+        "torque (N m)",
+        "force (kN)",
+        "required inertia I₀ (kg m²)",
+        "crank-pin load max",
+        "gas force max",
+    ] {
+        assert!(svg.contains(label), "sweep.svg lacks {label:?}");
+    }
 }

@@ -428,19 +428,23 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
                             s("min", get(|x| x.torque_min_nm)),
                         ],
                     ),
+                    // One unit per panel: the crank-pin load against the
+                    // peak gas force shows inertia taking over as speed rises.
                     panel(
-                        "crank-pin load and flywheel",
-                        "crank-pin load max (kN); required inertia (g m²)",
+                        "peak forces",
+                        "force (kN)",
                         vec![
                             s(
-                                "crank-pin load max (kN)",
+                                "crank-pin load max",
                                 get(|x| x.crankpin_load_max_n.map(|v| v / 1e3)),
                             ),
-                            s(
-                                "required inertia I₀ (g m²)",
-                                get(|x| x.required_inertia_kg_m2.map(|v| v * 1e3)),
-                            ),
+                            s("gas force max", get(|x| x.gas_force_max_n.map(|v| v / 1e3))),
                         ],
+                    ),
+                    panel(
+                        "flywheel",
+                        "required inertia I₀ (kg m²)",
+                        vec![s("required inertia I₀", get(|x| x.required_inertia_kg_m2))],
                     ),
                 ],
             };
