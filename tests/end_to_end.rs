@@ -528,6 +528,11 @@ fn batch_rows_in_input_order() {
     assert!(out_dir.join("0000_good/report.html").exists() && out_dir.join("index.html").exists());
     let index = std::fs::read_to_string(out_dir.join("index.html")).unwrap();
     assert!(index.contains("href=\"0003_good/report.html\""));
+    // Each row shows its speed (a campaign spans speeds); a failed row's
+    // error spans the figures' columns.
+    let rpm: f64 = lines[1].split(',').nth(2).unwrap().parse().unwrap();
+    assert!(index.contains(&format!("<td>{g}</td><td class=\"v\">{rpm:.0}</td>")));
+    assert!(index.contains("<th>speed (rpm)</th>") && index.contains("colspan=\"9\""));
     let out = run(&["batch", "--engine", engine, g, "--tolerance", "0.01"]);
     assert_eq!(out.status.code(), Some(0));
     let csv = String::from_utf8_lossy(&out.stdout);

@@ -58,8 +58,8 @@ struct Row {
     file: String,
     error: String,
     cells: Vec<(String, String)>,
-    /// Key figures for index.html: IMEP, mean torque, power, required inertia.
-    key: Option<[Option<f64>; 4]>,
+    /// Key figures for index.html, one per [`KEY_FIGURES`] column.
+    key: Option<Vec<Option<f64>>>,
     folder: Option<String>,
 }
 
@@ -189,12 +189,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                         file: shown.clone(),
                         error: String::new(),
                         cells,
-                        key: Some([
-                            s.imep_bar,
-                            s.mean_torque_nm,
-                            s.power_kw,
-                            s.required_inertia_kg_m2,
-                        ]),
+                        key: Some(KEY_FIGURES.iter().map(|(_, _, get)| get(s)).collect()),
                         folder,
                     })
                 })();
@@ -246,8 +241,8 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
             }
             enginedyn_report::write_all(dir, &out).map_err(|e| Failure::data(e.to_string()))?;
             eprintln!(
-                "{} diagrams ({} failed) in {:.2} s; wrote {}",
-                rows.len(),
+                "{} ({} failed) in {:.2} s; wrote {}",
+                diagrams(rows.len()),
                 failed,
                 started.elapsed().as_secs_f64(),
                 dir.join("summary.csv").display()
@@ -288,6 +283,31 @@ fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
+/// The columns of index.html: heading, decimals shown, the figure (in the
+/// heading's unit) from a diagram's summary.
+type KeyFigure = (
+    &'static str,
+    usize,
+    fn(&enginedyn_pipeline::Summary) -> Option<f64>,
+);
+const KEY_FIGURES: [KeyFigure; 8] = [
+    ("speed (rpm)", 0, |s| Some(s.rpm)),
+    ("IMEP (bar)", 3, |s| s.imep_bar),
+    ("mean torque (N m)", 2, |s| s.mean_torque_nm),
+    ("power (kW)", 2, |s| s.power_kw),
+    ("torque max (N m)", 1, |s| s.torque_max_nm),
+    ("torque min (N m)", 1, |s| s.torque_min_nm),
+    ("crank-pin load max (kN)", 2, |s| {
+        s.crankpin_load_max_n.map(|v| v / 1e3)
+    }),
+    ("required inertia (kg m²)", 5, |s| s.required_inertia_kg_m2),
+];
+
+/// "1 diagram", "2 diagrams".
+fn diagrams(n: usize) -> String {
+    format!("{n} diagram{}", if n == 1 { "" } else { "s" })
+}
+
 /// A table of every diagram with its key figures, linking to its report.
 fn index_html(engine: &Engine, rows: &[Row]) -> String {
     let mut o = String::new();
@@ -296,17 +316,20 @@ fn index_html(engine: &Engine, rows: &[Row]) -> String {
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{} — batch</title><style>\
 body{{font-family:sans-serif;margin:24px}}table{{border-collapse:collapse;font-size:14px}}\
 td,th{{padding:3px 10px;border-bottom:1px solid #eee;text-align:left}}td.v{{text-align:right}}.err{{color:#b00}}\
-</style></head><body><h1>{} — {} diagrams</h1>\n<table><tr><th>#</th><th>diagram</th><th>IMEP (bar)</th>\
-<th>mean torque (N m)</th><th>power (kW)</th><th>required inertia (kg m²)</th><th>report</th></tr>\n",
+</style></head><body><h1>{} — {}</h1>\n<table><tr><th>#</th><th>diagram</th>",
         esc(engine.name()),
         esc(engine.name()),
-        rows.len()
+        diagrams(rows.len())
     );
+    for (heading, _, _) in &KEY_FIGURES {
+        let _ = write!(o, "<th>{}</th>", esc(heading));
+    }
+    o.push_str("<th>report</th></tr>\n");
     for (i, r) in rows.iter().enumerate() {
         let _ = write!(o, "<tr><td>{i}</td><td>{}</td>", esc(&r.file));
         match (&r.key, &r.folder) {
             (Some(k), Some(folder)) => {
-                for (v, d) in k.iter().zip([3, 2, 2, 5]) {
+                for (v, (_, d, _)) in k.iter().zip(&KEY_FIGURES) {
                     let _ = write!(
                         o,
                         "<td class=\"v\">{}</td>",
@@ -322,7 +345,8 @@ td,th{{padding:3px 10px;border-bottom:1px solid #eee;text-align:left}}td.v{{text
             _ => {
                 let _ = writeln!(
                     o,
-                    "<td colspan=\"5\" class=\"err\">{}</td></tr>",
+                    "<td colspan=\"{}\" class=\"err\">{}</td></tr>",
+                    KEY_FIGURES.len() + 1,
                     esc(&r.error)
                 );
             }
