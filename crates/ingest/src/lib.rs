@@ -649,14 +649,31 @@ fn number(cell: &[u8], decimal_comma: bool, line: usize, col: usize) -> Result<f
     }
 }
 
-fn parse_rpm(comment: &str) -> Option<f64> {
+/// The speed a comment line gives: `None` when the comment is not a speed
+/// line (`# rpm = N` or `# rpm: N`, any case), an error when it is one
+/// whose value is not a positive number. Text after the number (a unit) is
+/// ignored. A comma is refused: `1,800` may be a thousands separator or a
+/// decimal comma, and either reading would go unnoticed.
+fn parse_rpm(comment: &str) -> Option<Result<f64, String>> {
     let c = comment.trim_start_matches('#').trim();
-    let rest = c.strip_prefix("rpm")?.trim_start();
+    let rest = c
+        .get(..3)
+        .filter(|k| k.eq_ignore_ascii_case("rpm"))
+        .map(|_| c[3..].trim_start())?;
     let rest = rest.strip_prefix('=').or_else(|| rest.strip_prefix(':'))?;
-    rest.trim()
-        .parse::<f64>()
-        .ok()
-        .filter(|v| *v > 0.0 && v.is_finite())
+    let value = rest.split_whitespace().next().unwrap_or("");
+    let hint = if value.contains(',') {
+        " (write 1800 or 1800.5: a comma may be a decimal or a thousands separator)"
+    } else {
+        ""
+    };
+    Some(match value.parse::<f64>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        _ => Err(format!(
+            "`{}`: the speed must be a positive number of rpm{hint}",
+            comment.trim()
+        )),
+    })
 }
 
 /// What a file says about itself besides its traces.
@@ -868,8 +885,20 @@ pub fn parse_stream(
                 continue;
             }
             if t[0] == b'#' {
-                if let Some(r) = std::str::from_utf8(t).ok().and_then(parse_rpm) {
-                    head.rpm = Some(r);
+                match std::str::from_utf8(t).ok().and_then(parse_rpm) {
+                    Some(Ok(r)) if head.rpm.is_some_and(|was| was.to_bits() != r.to_bits()) => {
+                        return Err(at(
+                            lineno,
+                            None,
+                            format!(
+                                "a second speed line says {r} rpm, an earlier one {} rpm",
+                                head.rpm.unwrap_or_default()
+                            ),
+                        ));
+                    }
+                    Some(Ok(r)) => head.rpm = Some(r),
+                    Some(Err(message)) => return Err(at(lineno, None, message)),
+                    None => {}
                 }
                 continue;
             }

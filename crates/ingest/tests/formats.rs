@@ -179,3 +179,43 @@ fn bad_input_is_a_clear_error() {
         Err(IngestError::At { .. })
     ));
 }
+
+/// A speed line is read in any case, with `=` or `:` and a unit after the
+/// number; one whose value is not a positive number is an error at its
+/// line (it once fell back to the engine's speed unnoticed), and so is a
+/// second line with another speed. Comments that only begin with "rpm"
+/// are comments.
+#[test]
+fn speed_lines() {
+    let body = "crank_deg,pressure_bar\n0,40\n180,2\n360,1\n540,1\n";
+    let read = |head: &str| parse(format!("{head}{body}").as_bytes(), &opts());
+    for (head, rpm) in [
+        ("# rpm = 2200\n", Some(2200.0)),
+        ("# RPM = 1800\n", Some(1800.0)),
+        ("#rpm:1500.5 1/min\n", Some(1500.5)),
+        ("# rpm = 2200\n# rpm = 2200.0\n", Some(2200.0)),
+        ("# rpms = 3\n", None),
+        ("# rpm_target = 3\n", None),
+        ("# speed in rpm = 3\n", None),
+    ] {
+        assert_eq!(read(head).unwrap().rpm, rpm, "{head:?}");
+    }
+    for (head, line, says) in [
+        ("# rpm = abc\n", 1, "positive number"),
+        ("# a comment\n# rpm = -5\n", 2, "positive number"),
+        ("# rpm =\n", 1, "positive number"),
+        ("# rpm = 1e999\n", 1, "positive number"),
+        ("# rpm = 1,800\n", 1, "thousands separator"),
+        ("# rpm = 2200\n# rpm = 2000\n", 2, "a second speed line"),
+    ] {
+        match read(head) {
+            Err(IngestError::At {
+                line: l, message, ..
+            }) => {
+                assert_eq!(l, line, "{head:?}");
+                assert!(message.contains(says), "{head:?}: {message}");
+            }
+            other => panic!("{head:?}: {other:?}"),
+        }
+    }
+}
