@@ -652,10 +652,15 @@ fn number(cell: &[u8], decimal_comma: bool, line: usize, col: usize) -> Result<f
 /// The speed a comment line gives: `None` when the comment is not a speed
 /// line (`# rpm = N` or `# rpm: N`, any case), an error when it is one
 /// whose value is not a positive number. Text after the number (a unit) is
-/// ignored. A comma is refused: `1,800` may be a thousands separator or a
+/// ignored, and so are delimiters at the end of the line. A comma inside
+/// the number is refused: `1,800` may be a thousands separator or a
 /// decimal comma, and either reading would go unnoticed.
 fn parse_rpm(comment: &str) -> Option<Result<f64, String>> {
-    let c = comment.trim_start_matches('#').trim();
+    // A spreadsheet export closes the line with empty cells: `# rpm = 2200,,`.
+    let c = comment
+        .trim_start_matches('#')
+        .trim_end_matches([',', ';', '\t', ' '])
+        .trim();
     let rest = c
         .get(..3)
         .filter(|k| k.eq_ignore_ascii_case("rpm"))
@@ -902,6 +907,26 @@ pub fn parse_stream(
                 }
                 continue;
             }
+            // Excel writes `sep=;` above the header to name the delimiter.
+            if delim.is_none() && !header_from_file && rows == 0 && sep_line(line) {
+                delim = Some(match line[4] {
+                    b',' => Delim::Comma,
+                    b';' => Delim::Semicolon,
+                    b'\t' => Delim::Tab,
+                    b' ' => Delim::Space,
+                    other => {
+                        return Err(at(
+                            lineno,
+                            None,
+                            format!(
+                                "`sep={}`: cells are delimited by commas, semicolons, tabs or spaces",
+                                other as char
+                            ),
+                        ));
+                    }
+                });
+                continue;
+            }
             let dl = *delim.get_or_insert_with(|| Delim::detect(t));
             let dc = dl.decimal_comma();
             {
@@ -913,15 +938,19 @@ pub fn parse_stream(
                     // A header row: it names the columns unless --columns replaces them.
                     header_from_file = true;
                     if names.is_none() {
-                        names = Some(
-                            (0..spans.len())
-                                .map(|i| {
-                                    String::from_utf8_lossy(cell(i))
-                                        .trim_matches('"')
-                                        .to_ascii_lowercase()
-                                })
-                                .collect(),
-                        );
+                        let mut named: Vec<String> = (0..spans.len())
+                            .map(|i| {
+                                String::from_utf8_lossy(cell(i))
+                                    .trim_matches('"')
+                                    .to_ascii_lowercase()
+                            })
+                            .collect();
+                        // A delimiter at the end of every row (spreadsheet
+                        // exports): the empty last columns are skipped.
+                        for n in named.iter_mut().rev().take_while(|n| n.is_empty()) {
+                            *n = "_".into();
+                        }
+                        names = Some(named);
                     }
                     let n = names.as_ref().map(Vec::len).unwrap_or(0);
                     if n != spans.len() && opts.columns.is_some() {
@@ -1092,6 +1121,13 @@ pub fn parse_stream(
     }
     head.notes.extend(pv_notes);
     Ok(head)
+}
+
+/// True for Excel's delimiter line `sep=X` (X one byte; any case, a
+/// carriage return after it allowed).
+fn sep_line(line: &[u8]) -> bool {
+    let line = line.strip_suffix(b"\r").unwrap_or(line);
+    line.len() == 5 && line[..4].eq_ignore_ascii_case(b"sep=")
 }
 
 /// Where the columns are and what they hold.

@@ -193,6 +193,7 @@ fn speed_lines() {
         ("# rpm = 2200\n", Some(2200.0)),
         ("# RPM = 1800\n", Some(1800.0)),
         ("#rpm:1500.5 1/min\n", Some(1500.5)),
+        ("# rpm = 2200;;\n", Some(2200.0)),
         ("# rpm = 2200\n# rpm = 2200.0\n", Some(2200.0)),
         ("# rpms = 3\n", None),
         ("# rpm_target = 3\n", None),
@@ -217,5 +218,39 @@ fn speed_lines() {
             }
             other => panic!("{head:?}: {other:?}"),
         }
+    }
+}
+
+/// Spreadsheet exports: Excel's `sep=;` line above the header (after a
+/// byte-order mark, with CRLF line ends) names the delimiter, and a
+/// delimiter closing every row leaves an empty last column that is
+/// skipped. Both read back the same pressures as the plain file (to the
+/// bit); an unknown `sep=` delimiter is an error at its line.
+#[test]
+fn spreadsheet_exports() {
+    let plain = table(1.0, ",", "bar", 1e5, false);
+    let want = parse(plain.as_bytes(), &opts()).unwrap();
+    let semicolon = table(1.0, ";", "bar", 1e5, true).replace('\n', "\r\n");
+    let tab = table(1.0, "\t", "bar", 1e5, true);
+    let trailing: String = plain.lines().map(|l| format!("{l},\n")).collect();
+    for text in [
+        format!("\u{feff}sep=;\r\n{semicolon}"),
+        format!("SEP=\t\n{tab}"),
+        trailing,
+    ] {
+        let got = parse(text.as_bytes(), &opts()).unwrap();
+        assert_eq!(
+            got.traces[0].values,
+            want.traces[0].values,
+            "{:?}",
+            &text[..40]
+        );
+        assert_eq!(got.rpm, Some(3000.0));
+    }
+    match parse(format!("sep=|\n{plain}").as_bytes(), &opts()) {
+        Err(IngestError::At {
+            line: 1, message, ..
+        }) => assert!(message.contains("sep=|")),
+        other => panic!("{other:?}"),
     }
 }
