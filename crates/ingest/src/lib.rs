@@ -1161,7 +1161,7 @@ fn columns(names: &[String], line: usize) -> Result<Cols, IngestError> {
                 line,
                 Some(i + 1),
                 format!(
-                    "unknown column `{n}`{hint} (known: {}; `_` skips a column)",
+                    "unknown column `{n}`{hint} (known: {}; `_` skips a column; --columns renames them all)",
                     KNOWN[..KNOWN.len() - 1].join(", ")
                 ),
             ));
