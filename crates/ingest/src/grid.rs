@@ -342,6 +342,9 @@ impl Accumulator {
         // ends the whole read, so the sums it touched are never used.
         let dv: &[f64] = match &self.law {
             Some(law) => law.dvolume(),
+            // No volume law: p dV is not wanted (no IMEP without the
+            // cylinder); any finite weights of cycle length keep the pass
+            // and its check (a NaN or an infinity makes p dV non-finite).
             None => &self.angles,
         };
         let pass = accumulate(src, &mut self.sum, dv, pressure);
