@@ -198,6 +198,29 @@ fn readable_table() {
     }
 }
 
+/// `enginedyn` with no arguments at all is `enginedyn run` (the README's
+/// `cargo run --release`): the bundled example's table, exit 0, and one
+/// line on stderr pointing to `--help`.
+#[test]
+fn bare_binary_runs_the_example() {
+    let out = run(&[]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.starts_with("VAZ-2108"), "{text}");
+    assert_eq!(text, String::from_utf8_lossy(&run(&["run"]).stdout));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        err.lines().filter(|l| l.contains("--help")).count(),
+        1,
+        "{err}"
+    );
+}
+
 /// `kinematics --csv` prints the seed table's columns; at 0° the exact
 /// acceleration coefficient is 1 + lambda = 1.26.
 #[test]

@@ -8,8 +8,9 @@ use std::path::PathBuf;
 #[derive(Debug, Parser)]
 #[command(name = "enginedyn", version, about, propagate_version = true)]
 pub struct Cli {
+    /// The command; none at all is `run` on the bundled example.
     #[command(subcommand)]
-    pub command: Command,
+    pub command: Option<Command>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -138,6 +139,16 @@ pub struct RunArgs {
     pub diagram_args: DiagramArgs,
     #[command(flatten)]
     pub method: MethodArgs,
+}
+
+impl RunArgs {
+    /// `run` with no flags at all: the bundled example with every default.
+    pub fn bare() -> Self {
+        match Cli::parse_from(["enginedyn", "run"]).command {
+            Some(Command::Run(a)) => a,
+            _ => unreachable!("`enginedyn run` parses as the run command"),
+        }
+    }
 }
 
 #[derive(Debug, Clone, Args)]

@@ -95,7 +95,14 @@ fn keep_freed_memory() {}
 fn main() -> ExitCode {
     keep_freed_memory();
     let cli = args::Cli::parse();
-    let result = match cli.command {
+    let command = cli.command.unwrap_or_else(|| {
+        // `enginedyn` alone is `enginedyn run`: the bundled example.
+        eprintln!(
+            "enginedyn: no command given, so running the bundled example (`enginedyn run`); `enginedyn --help` lists the commands"
+        );
+        args::Command::Run(args::RunArgs::bare())
+    });
+    let result = match command {
         args::Command::Run(a) => run::run(&a),
         args::Command::Batch(a) => batch::run(&a),
         args::Command::Sweep(a) => batch::sweep(&a),
