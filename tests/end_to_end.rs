@@ -548,15 +548,27 @@ fn batch_rows_in_input_order() {
     assert_eq!(lines.len(), 5);
     assert!(lines[1].starts_with(g) && lines[2].contains("bad.csv,") && lines[3].starts_with(g));
     assert!(lines[2].contains("is not a number"));
-    assert!(out_dir.join("0000_good/report.html").exists() && out_dir.join("index.html").exists());
+    // Run folders and index rows count from 1, the same way.
+    assert!(out_dir.join("0001_good/report.html").exists() && out_dir.join("index.html").exists());
+    assert!(!out_dir.join("0000_good").exists());
     let index = std::fs::read_to_string(out_dir.join("index.html")).unwrap();
-    assert!(index.contains("href=\"0003_good/report.html\""));
+    assert!(
+        index.contains("<tr><td>4</td><td>") && index.contains("href=\"0004_good/report.html\"")
+    );
     // Each row shows its speed (a campaign spans speeds); a failed row's
     // error spans the figures' columns.
     let rpm: f64 = lines[1].split(',').nth(2).unwrap().parse().unwrap();
     assert!(index.contains(&format!("<td>{g}</td><td class=\"v\">{rpm:.0}</td>")));
     assert!(index.contains("<th>speed (rpm)</th>") && index.contains("colspan=\"9\""));
-    let out = run(&["batch", "--engine", engine, g, "--tolerance", "0.01"]);
+    let out = run(&[
+        "batch",
+        "--engine",
+        engine,
+        g,
+        "--tolerance",
+        "0.01",
+        "--csv",
+    ]);
     assert_eq!(out.status.code(), Some(0));
     let csv = String::from_utf8_lossy(&out.stdout);
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
@@ -649,10 +661,214 @@ fn sweep_over_speed() {
     for label in [
         "torque (N m)",
         "force (kN)",
-        "required inertia I₀ (kg m²)",
+        "speed fluctuation δ with the flywheel sized once",
         "crank-pin load max",
         "gas force max",
     ] {
         assert!(svg.contains(label), "sweep.svg lacks {label:?}");
     }
+    // One flywheel for the sweep: its keys equal on every row, sized at the
+    // engine file's 4900 rpm; δ is what it gives at each speed.
+    let col = |k: &str| header.iter().position(|h| *h == k).unwrap();
+    for k in [
+        "required_inertia_kg_m2",
+        "flywheel_inertia_kg_m2",
+        "flywheel_outer_diameter_m",
+        "flywheel_mass_kg",
+        "flywheel_width_m",
+    ] {
+        assert!(
+            rows.iter().all(|r| r[col(k)] == rows[0][col(k)]),
+            "{k} differs between rows"
+        );
+    }
+    let delta: Vec<f64> = rows
+        .iter()
+        .map(|r| r[col("speed_fluctuation_achieved")].parse().unwrap())
+        .collect();
+    assert!(delta[0] > 10.0 * delta[3], "{delta:?}");
+    let at = run(&[
+        "sweep",
+        "--engine",
+        engine,
+        "--rpm",
+        "4900:4900:100",
+        "--csv",
+    ]);
+    let text = String::from_utf8_lossy(&at.stdout);
+    let head: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let row: Vec<&str> = text.lines().nth(1).unwrap().split(',').collect();
+    let k = head
+        .iter()
+        .position(|h| *h == "speed_fluctuation_achieved")
+        .unwrap();
+    let i0 = head
+        .iter()
+        .position(|h| *h == "required_inertia_kg_m2")
+        .unwrap();
+    assert!(
+        (row[k].parse::<f64>().unwrap() - 0.01).abs() < 1e-9,
+        "{text}"
+    );
+    assert_eq!(row[i0], rows[0][col("required_inertia_kg_m2")]);
+    // Without --out and --csv: a readable table, one row per speed.
+    let out = run(&["sweep", "--engine", engine, "--rpm", "1000:3000:1000"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("flywheel sized once at 4900 rpm"), "{text}");
+    assert!(text.lines().any(|l| l.starts_with("2000 ")), "{text}");
+    assert!(
+        text.contains("mean torque, effective (η_m = 0.80) (N m)"),
+        "{text}"
+    );
+    assert!(!text.contains("omega_rad_s"), "{text}");
+}
+
+/// `batch` without --out prints a readable table, one row per diagram with
+/// its key figures; `--csv` prints summary.csv instead.
+#[test]
+fn batch_readable_table() {
+    let engine = concat!(env!("CARGO_MANIFEST_DIR"), "/../data/vaz2108.toml");
+    let diagram = concat!(env!("CARGO_MANIFEST_DIR"), "/../data/vaz2108.csv");
+    let out = run(&["batch", "--engine", engine, diagram]);
+    assert_eq!(out.status.code(), Some(0));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("[2] IMEP (bar)") && text.contains("10.471"),
+        "{text}"
+    );
+    assert!(!text.contains("omega_rad_s"), "{text}");
+    let out = run(&["batch", "--engine", engine, diagram, "--csv"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.starts_with("file,error,rpm,omega_rad_s,"), "{text}");
+}
+
+/// Effective and indicated figures: `mean_torque_nm` is the indicated mean
+/// times η_m, μ follows from the printed indicated torques, and the table
+/// labels each figure.
+#[test]
+fn effective_and_indicated() {
+    let out = run(&["run", "--json"]);
+    let s: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let f = |k: &str| s[k].as_f64().unwrap_or_else(|| panic!("{k}"));
+    let eta = 0.80; // data/vaz2108.toml
+    assert!(
+        (f("mean_torque_nm") - eta * f("indicated_mean_torque_nm")).abs()
+            < 1e-12 * f("mean_torque_nm")
+    );
+    assert!((f("power_kw") - eta * f("indicated_power_kw")).abs() < 1e-12 * f("power_kw"));
+    let mu = (f("torque_max_nm") - f("torque_min_nm")) / f("indicated_mean_torque_nm");
+    assert!((mu - f("torque_nonuniformity")).abs() < 1e-12 * mu);
+    let text = String::from_utf8_lossy(&run(&["run"]).stdout).to_string();
+    let value = |label: &str| -> f64 {
+        let line = text
+            .lines()
+            .find(|l| l.trim_start().starts_with(label))
+            .unwrap_or_else(|| panic!("{label}\n{text}"));
+        line[label.len()..]
+            .split_whitespace()
+            .find_map(|t| t.parse().ok())
+            .unwrap()
+    };
+    let printed_mu = (value("torque max, indicated") - value("torque min, indicated"))
+        / value("mean torque, indicated");
+    assert!(
+        (printed_mu - value("non-uniformity μ")).abs() < 1e-3,
+        "{text}"
+    );
+    assert!(
+        text.contains("mean torque, effective (η_m = 0.80)"),
+        "{text}"
+    );
+    // Units stay in the unit column: the journal's number ends its line.
+    let journal = text
+        .lines()
+        .find(|l| l.contains("most loaded main journal"))
+        .unwrap();
+    assert!(
+        journal
+            .split_whitespace()
+            .last()
+            .unwrap()
+            .parse::<usize>()
+            .is_ok(),
+        "{journal}"
+    );
+}
+
+/// A speed other than the engine file's is said in the notes, with where it
+/// came from; a negative or absurd `--rpm` is refused with its reason.
+#[test]
+fn speed_notes_and_bounds() {
+    let out = run(&["run", "--rpm", "3000", "--json"]);
+    let s: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let notes = s["notes"].to_string();
+    assert!(
+        notes.contains("speed 3000 rpm from --rpm, not the engine file's operating.rpm = 4900 rpm"),
+        "{notes}"
+    );
+    let plain: serde_json::Value = serde_json::from_slice(&run(&["run", "--json"]).stdout).unwrap();
+    assert!(!plain["notes"].to_string().contains("speed"));
+    for (rpm, says) in [
+        ("-100", "above 0"),
+        ("1e12", "at most 100000 rpm"),
+        ("nan", "above 0"),
+    ] {
+        let out = run(&["run", "--rpm", rpm]);
+        assert_eq!(out.status.code(), Some(2), "{rpm}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("--rpm") && err.contains(says), "{rpm}: {err}");
+    }
+}
+
+/// Typed flags: each value of --peg, --pv-start and --angles is accepted
+/// and a wrong one is a usage error naming the flag.
+#[test]
+fn typed_flags() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let out = run(&["run", "--angles", "centered", "--out", d]);
+    assert_eq!(out.status.code(), Some(0));
+    let curves = std::fs::read_to_string(dir.path().join("curves.csv")).unwrap();
+    assert!(curves.lines().nth(1).unwrap().starts_with("-360,"));
+    // Every CSV number in shortest form, exponent only when tiny or huge.
+    for cell in curves.lines().skip(1).flat_map(|l| l.split(',')) {
+        let digits = cell.trim_start_matches('-');
+        assert!(!digits.starts_with("0.00000"), "{cell}");
+        assert!(digits.split('.').next().unwrap().len() <= 16, "{cell}");
+    }
+    for args in [
+        &["--peg", "polytropic"][..],
+        &["--peg", "polytropic=1.3"],
+        &["--peg-bar", "1.0"],
+        &["--pv-start", "tdc"],
+        &["--angles", "cycle"],
+    ] {
+        let out = run(&[&["run", "--json"][..], args].concat());
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let pegged: serde_json::Value =
+        serde_json::from_slice(&run(&["run", "--json", "--peg", "polytropic=1.3"]).stdout).unwrap();
+    assert_eq!(pegged["pegging"]["method"], "polytropic");
+    assert_eq!(pegged["pegging"]["polytropic_n"], 1.3);
+    for (flag, value) in [
+        ("--peg", "polytropic=3"),
+        ("--peg", "linear"),
+        ("--pv-start", "middle"),
+        ("--angles", "degrees"),
+        ("--kinematics", "series3"),
+    ] {
+        let out = run(&["run", flag, value]);
+        assert_eq!(out.status.code(), Some(2), "{flag} {value}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains(flag),
+            "{flag} {value}"
+        );
+    }
+    let out = run(&["run", "--peg", "polytropic", "--peg-bar", "1"]);
+    assert_eq!(out.status.code(), Some(2));
 }

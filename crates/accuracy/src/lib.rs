@@ -31,7 +31,7 @@
 //! | noisy data, a sharp peak | the spline rings (overshoot) | `auto` switches to pchip (never leaves the data range), with a note |
 //! | very small delta (1e-5) | the flywheel becomes impractical | exact figures (the speed trace gives delta to 1e-9) and a note |
 //! | one cylinder | large psi and flywheel | computed exactly; nothing is wrong |
-//! | mean torque under 5 % of the swing | mu and psi follow every small error of the mean | a note |
+//! | IMEP under 1.5 bar (near idle; mean torque under 5 % of the swing for turning-moment input) | mu and psi follow every small error of the mean | a note |
 //! | negative mean torque (motoring) | no flywheel can be sized | flywheel figures `null` with a note, exit 0 |
 //! | a pressure jump in the data | grid differences stay large down to the finest steps | `--tolerance` refuses a tolerance it cannot meet (exit 2; `tests/within.rs`) |
 //! | coarse grids (several degrees) | extremes fall between grid points | taken on the local cubic between samples ([`enginedyn_numerics::extremes`]); `--tolerance` takes a step only once three grids agree |
@@ -536,13 +536,13 @@ pub fn csv(a: &Accuracy) -> String {
         out.push_str(k);
     }
     out.push('\n');
-    let num = |v: Option<f64>| v.map(|x| format!("{x:e}")).unwrap_or_default();
+    let num = |v: Option<f64>| v.map(enginedyn_numerics::format::csv).unwrap_or_default();
     for r in &a.rows {
         out.push_str(&format!(
-            "{},\"{}\",{:e},{}",
+            "{},\"{}\",{},{}",
             r.study.name(),
             r.setting.replace('"', "\"\""),
-            r.time_s,
+            enginedyn_numerics::format::csv(r.time_s),
             num(r.max_relative_error())
         ));
         for e in &r.errors {

@@ -290,7 +290,7 @@ fn near_zero_and_negative_mean_torque() {
     let mean = idle.summary.mean_torque_nm.unwrap();
     assert!(mean > 0.0, "{mean}");
     assert!(
-        has_note(&idle, "under 5 % of the torque swing"),
+        has_note(&idle, "near idle or motoring (IMEP"),
         "{:?}",
         idle.summary.notes
     );

@@ -21,7 +21,9 @@ pub fn run(a: &AccuracyArgs) -> Result<(), Failure> {
             path.display()
         )));
     }
-    let rpm = resolve_rpm(a.input.rpm, diagram.rpm, engine)?;
+    let speed = resolve_rpm(a.input.rpm, diagram.rpm, engine)?;
+    speed.warn();
+    let rpm = speed.rpm;
     let input = Input {
         engine,
         diagram: &diagram,

@@ -60,6 +60,53 @@ pub enum IntegrationArg {
     Simpson,
 }
 
+/// Where p–V data starts (`--pv-start`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+pub enum PvStart {
+    /// At firing TDC.
+    #[default]
+    Tdc,
+    /// At the BDC before firing TDC.
+    Bdc,
+}
+
+/// How angles are written (`--angles`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+pub enum Angles {
+    /// [0, cycle) from firing TDC.
+    #[default]
+    Cycle,
+    /// [−cycle/2, cycle/2), as indicating software shows them.
+    Centered,
+}
+
+/// `--peg polytropic[=N]`: the offset fitted so that p V^N is constant on
+/// compression.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PegArg {
+    /// The polytropic exponent N (1 < N < 2).
+    Polytropic(f64),
+}
+
+/// The default polytropic exponent of `--peg polytropic`.
+pub const POLYTROPIC_N: f64 = 1.32;
+
+/// Parses `polytropic` or `polytropic=N` (1 < N < 2).
+fn parse_peg(s: &str) -> Result<PegArg, String> {
+    let t = s.trim();
+    let rest = t
+        .strip_prefix("polytropic")
+        .ok_or_else(|| format!("expected polytropic or polytropic=N, not `{t}`"))?;
+    if rest.is_empty() {
+        return Ok(PegArg::Polytropic(POLYTROPIC_N));
+    }
+    rest.strip_prefix('=')
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|n| n.is_finite() && *n > 1.0 && *n < 2.0)
+        .map(PegArg::Polytropic)
+        .ok_or_else(|| format!("expected polytropic=N with 1 < N < 2, not `{t}`"))
+}
+
 /// How the computation is done (INTERFACE.md's method options).
 #[derive(Debug, Clone, Args)]
 pub struct MethodArgs {
@@ -102,11 +149,11 @@ pub struct DiagramArgs {
     #[arg(long, value_name = "P")]
     pub peg_bar: Option<f64>,
     /// Peg each cycle so p V^N is constant on compression (N = 1.32 by default).
-    #[arg(long, value_name = "polytropic[=N]")]
-    pub peg: Option<String>,
+    #[arg(long, value_name = "polytropic[=N]", value_parser = parse_peg, conflicts_with = "peg_bar")]
+    pub peg: Option<PegArg>,
     /// Where p–V data starts: at firing TDC or at the BDC before it.
-    #[arg(long, value_name = "tdc|bdc")]
-    pub pv_start: Option<String>,
+    #[arg(long, value_enum, default_value = "tdc")]
+    pub pv_start: PvStart,
 }
 
 #[derive(Debug, Clone, Args)]
@@ -121,7 +168,7 @@ pub struct RunArgs {
     #[arg(long, value_name = "FILE", conflicts_with = "diagram")]
     pub torque: Option<PathBuf>,
     /// Engine speed (rpm); overrides the diagram's `# rpm` line and the engine file.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub rpm: Option<f64>,
     /// Write summary.json, curves.csv, harmonics.csv and charts into DIR.
     #[arg(long, value_name = "DIR")]
@@ -133,8 +180,8 @@ pub struct RunArgs {
     #[arg(long, value_name = "REL")]
     pub tolerance: Option<f64>,
     /// Angles in the output: `cycle` [0, cycle) or `centered` [-cycle/2, cycle/2).
-    #[arg(long, value_name = "centered")]
-    pub angles: Option<String>,
+    #[arg(long, value_enum, default_value = "cycle")]
+    pub angles: Angles,
     #[command(flatten)]
     pub diagram_args: DiagramArgs,
     #[command(flatten)]
@@ -163,7 +210,7 @@ pub struct KinematicsArgs {
     #[arg(long, value_enum, default_value = "exact")]
     pub kinematics: KinematicsArg,
     /// Engine speed (rpm) [default: the engine file's].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub rpm: Option<f64>,
     /// Write kinematics.csv and kinematics.svg into DIR.
     #[arg(long, value_name = "DIR")]
@@ -230,6 +277,9 @@ pub struct BatchArgs {
     /// One run folder per diagram, DIR/NNNN_STEM/, and index.html.
     #[arg(long, requires = "out")]
     pub detail: bool,
+    /// Without --out: print summary.csv instead of the readable table.
+    #[arg(long, conflicts_with = "out")]
+    pub csv: bool,
     /// Benchmarks only: read and check every file, compute nothing (the parse floor).
     #[arg(long, hide = true)]
     pub parse_only: bool,
@@ -256,11 +306,14 @@ pub struct SweepArgs {
     #[arg(long, value_name = "FILE")]
     pub diagram: Option<PathBuf>,
     /// Speeds FROM:TO:STEP (rpm); TO is included when it falls on the step.
-    #[arg(long, value_name = "FROM:TO:STEP")]
+    #[arg(long, value_name = "FROM:TO:STEP", allow_hyphen_values = true)]
     pub rpm: String,
     /// Write sweep.csv and sweep.svg into DIR.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Without --out: print sweep.csv instead of the readable table.
+    #[arg(long, conflicts_with = "out")]
+    pub csv: bool,
     #[command(flatten)]
     pub diagram_args: DiagramArgs,
     #[command(flatten)]
@@ -329,6 +382,6 @@ pub struct StudyInput {
     #[arg(long, value_name = "FILE")]
     pub diagram: Option<PathBuf>,
     /// Engine speed (rpm); overrides the diagram's `# rpm` line and the engine file.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub rpm: Option<f64>,
 }

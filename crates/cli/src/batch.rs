@@ -7,11 +7,8 @@ use crate::run::{
     check_step, diagram_options, load_diagram, load_diagram_timed, load_engine, parse_diagram,
     resolve_rpm, within,
 };
-use enginedyn_engine::Engine;
 use enginedyn_ingest::Quantity;
-use enginedyn_report::{Chart, Figure, Series};
 use rayon::prelude::*;
-use std::fmt::Write as _;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -58,7 +55,7 @@ struct Row {
     file: String,
     error: String,
     cells: Vec<(String, String)>,
-    /// Key figures for index.html, one per [`KEY_FIGURES`] column.
+    /// Key figures for the tables, one per `report::KEY_FIGURES` column.
     key: Option<Vec<Option<f64>>>,
     folder: Option<String>,
 }
@@ -137,11 +134,12 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                                     "a turning-moment file, not a pressure diagram",
                                 ));
                             }
-                            let rpm = resolve_rpm(None, d.rpm, engine)?;
+                            let speed = resolve_rpm(None, d.rpm, engine)?;
                             let (mut an, choice) =
-                                within(engine, &[(shown.clone(), d)], &grid, rpm, t)?;
+                                within(engine, &[(shown.clone(), d)], &grid, speed.rpm, t)?;
                             an.summary.estimated_relative_error = Some(choice.estimated);
                             an.summary.notes.extend(choice.notes);
+                            an.summary.notes.extend(speed.note);
                             an
                         }
                         None => {
@@ -153,15 +151,16 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                                     "a turning-moment file, not a pressure diagram",
                                 ));
                             }
-                            let rpm = resolve_rpm(None, resampled.rpm, engine)?;
-                            let an = enginedyn_pipeline::analyse_with(
+                            let speed = resolve_rpm(None, resampled.rpm, engine)?;
+                            let mut an = enginedyn_pipeline::analyse_with(
                                 tables.as_ref(),
                                 engine,
                                 &resampled,
-                                rpm,
+                                speed.rpm,
                                 &opts,
                             )
                             .map_err(|e| Failure::usage(e.to_string()))?;
+                            an.summary.notes.extend(speed.note);
                             analysis += analysed.elapsed();
                             an
                         }
@@ -175,12 +174,20 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                             .file_stem()
                             .map(|s| s.to_string_lossy().into_owned())
                             .unwrap_or_else(|| "diagram".into());
-                        let name = format!("{i:04}_{stem}");
+                        // Numbered from 1, as index.html's rows are.
+                        let name = format!("{:04}_{stem}", i + 1);
                         let files = enginedyn_report::run_files(engine, &an, false)
                             .map_err(|e| Failure::data(e.to_string()))?;
                         enginedyn_report::write_all(&dir.join(&name), &files)
                             .map_err(|e| Failure::data(e.to_string()))?;
                         folder = Some(name);
+                    }
+                    if !s.notes.is_empty() {
+                        bar.suspend(|| {
+                            for n in &s.notes {
+                                eprintln!("warning: {shown}: {n}");
+                            }
+                        });
                     }
                     let flattened = Instant::now();
                     let cells = enginedyn_report::flatten(s);
@@ -189,7 +196,10 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                         file: shown.clone(),
                         error: String::new(),
                         cells,
-                        key: Some(KEY_FIGURES.iter().map(|(_, _, get)| get(s)).collect()),
+                        key: Some(enginedyn_report::key_figures(
+                            &enginedyn_report::KEY_FIGURES,
+                            s,
+                        )),
                         folder,
                     })
                 })();
@@ -230,25 +240,51 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
         .map(|r| (r.file.clone(), r.error.clone(), r.cells.clone()))
         .collect();
     let csv = enginedyn_report::summary_csv(&table);
+    let eta = engine.operating().mechanical_efficiency;
+    let key_rows: Vec<enginedyn_report::KeyRow> = rows
+        .iter()
+        .map(|r| enginedyn_report::KeyRow {
+            name: r.file.clone(),
+            figures: r.key.clone(),
+            error: r.error.clone(),
+            folder: r.folder.clone(),
+        })
+        .collect();
     match &a.out {
         Some(dir) => {
             let mut out = vec![("summary.csv".to_string(), csv.into_bytes())];
             if a.detail {
                 out.push((
                     "index.html".to_string(),
-                    index_html(engine, &rows).into_bytes(),
+                    enginedyn_report::index_html(engine.name(), &key_rows, eta).into_bytes(),
                 ));
             }
             enginedyn_report::write_all(dir, &out).map_err(|e| Failure::data(e.to_string()))?;
             eprintln!(
                 "{} ({} failed) in {:.2} s; wrote {}",
-                diagrams(rows.len()),
+                enginedyn_report::count(rows.len(), "diagram"),
                 failed,
                 started.elapsed().as_secs_f64(),
                 dir.join("summary.csv").display()
             );
         }
-        None => crate::emit(&csv),
+        None if a.csv || a.parse_only => crate::emit(&csv),
+        None => {
+            let mut text = crate::table::heading(
+                engine,
+                "batch, ",
+                f64::NAN,
+                &enginedyn_report::count(rows.len(), "diagram"),
+            );
+            text.push('\n');
+            text.push_str(&enginedyn_report::key_table(
+                "diagram",
+                &enginedyn_report::KEY_FIGURES,
+                &key_rows,
+                eta,
+            ));
+            crate::emit(&text);
+        }
     }
     if failed > 0 {
         return Err(Failure {
@@ -276,91 +312,15 @@ fn parse_only(f: &Path, parse: &enginedyn_ingest::ParseOptions) -> Result<(), Fa
     Ok(())
 }
 
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
-
-/// The columns of index.html: heading, decimals shown, the figure (in the
-/// heading's unit) from a diagram's summary.
-type KeyFigure = (
-    &'static str,
-    usize,
-    fn(&enginedyn_pipeline::Summary) -> Option<f64>,
-);
-const KEY_FIGURES: [KeyFigure; 8] = [
-    ("speed (rpm)", 0, |s| Some(s.rpm)),
-    ("IMEP (bar)", 3, |s| s.imep_bar),
-    ("mean torque (N m)", 2, |s| s.mean_torque_nm),
-    ("power (kW)", 2, |s| s.power_kw),
-    ("torque max (N m)", 1, |s| s.torque_max_nm),
-    ("torque min (N m)", 1, |s| s.torque_min_nm),
-    ("crank-pin load max (kN)", 2, |s| {
-        s.crankpin_load_max_n.map(|v| v / 1e3)
-    }),
-    ("required inertia (kg m²)", 5, |s| s.required_inertia_kg_m2),
-];
-
-/// "1 diagram", "2 diagrams".
-fn diagrams(n: usize) -> String {
-    format!("{n} diagram{}", if n == 1 { "" } else { "s" })
-}
-
-/// A table of every diagram with its key figures, linking to its report.
-fn index_html(engine: &Engine, rows: &[Row]) -> String {
-    let mut o = String::new();
-    let _ = write!(
-        o,
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{} — batch</title><style>\
-body{{font-family:sans-serif;margin:24px}}table{{border-collapse:collapse;font-size:14px}}\
-td,th{{padding:3px 10px;border-bottom:1px solid #eee;text-align:left}}td.v{{text-align:right}}.err{{color:#b00}}\
-</style></head><body><h1>{} — {}</h1>\n<table><tr><th>#</th><th>diagram</th>",
-        esc(engine.name()),
-        esc(engine.name()),
-        diagrams(rows.len())
-    );
-    for (heading, _, _) in &KEY_FIGURES {
-        let _ = write!(o, "<th>{}</th>", esc(heading));
-    }
-    o.push_str("<th>report</th></tr>\n");
-    for (i, r) in rows.iter().enumerate() {
-        let _ = write!(o, "<tr><td>{i}</td><td>{}</td>", esc(&r.file));
-        match (&r.key, &r.folder) {
-            (Some(k), Some(folder)) => {
-                for (v, (_, d, _)) in k.iter().zip(&KEY_FIGURES) {
-                    let _ = write!(
-                        o,
-                        "<td class=\"v\">{}</td>",
-                        v.map_or("—".to_string(), |x| format!("{x:.d$}"))
-                    );
-                }
-                let _ = writeln!(
-                    o,
-                    "<td><a href=\"{}/report.html\">report</a></td></tr>",
-                    esc(folder)
-                );
-            }
-            _ => {
-                let _ = writeln!(
-                    o,
-                    "<td colspan=\"{}\" class=\"err\">{}</td></tr>",
-                    KEY_FIGURES.len() + 1,
-                    esc(&r.error)
-                );
-            }
-        }
-    }
-    o.push_str("</table></body></html>\n");
-    o
-}
+/// The most speeds one sweep computes (INTERFACE.md, "Limits").
+pub const MAX_SPEEDS: usize = 10_000;
 
 /// Parses FROM:TO:STEP; TO is included when it falls on the step.
 fn speeds(spec: &str) -> Result<Vec<f64>, Failure> {
     let bad = || {
         Failure::usage(format!(
-            "--rpm {spec}: expected FROM:TO:STEP with 0 < FROM <= TO and STEP > 0"
+            "--rpm {spec}: expected FROM:TO:STEP with 0 < FROM <= TO <= {} rpm and STEP > 0",
+            crate::run::MAX_RPM
         ))
     };
     let parts: Vec<f64> = spec
@@ -371,16 +331,17 @@ fn speeds(spec: &str) -> Result<Vec<f64>, Failure> {
     let [from, to, step] = parts[..] else {
         return Err(bad());
     };
-    if !(from > 0.0 && to >= from && step > 0.0 && to.is_finite()) {
+    if !(from > 0.0 && to >= from && step > 0.0 && to <= crate::run::MAX_RPM) {
         return Err(bad());
     }
-    let n = ((to - from) / step + 1e-9).floor() as usize;
-    if n > 100_000 {
+    let n = ((to - from) / step + 1e-9).floor();
+    if n + 1.0 > MAX_SPEEDS as f64 {
         return Err(Failure::usage(format!(
-            "--rpm {spec}: {n} speeds is too many"
+            "--rpm {spec}: {} speeds; a sweep computes at most {MAX_SPEEDS}",
+            n + 1.0
         )));
     }
-    Ok((0..=n).map(|k| from + k as f64 * step).collect())
+    Ok((0..=n as usize).map(|k| from + k as f64 * step).collect())
 }
 
 pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
@@ -399,14 +360,56 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
     let resampled = load_diagram(Some(&path), &parse, &grid)?;
     let shown = path.display().to_string();
     let tables = enginedyn_pipeline::Tables::new(engine, resampled.pressure.len(), &opts).ok();
+    let analyse = |rpm: f64| {
+        enginedyn_pipeline::analyse_with(tables.as_ref(), engine, &resampled, rpm, &opts)
+            .map_err(|e| Failure::usage(e.to_string()))
+    };
+    // One flywheel for the whole sweep: sized at the engine file's speed
+    // (else the diagram's), the same part on every row.
+    let (sized_at, source) = match (engine.operating().rpm, resampled.rpm) {
+        (Some(r), _) => (r, "the engine file's operating.rpm"),
+        (None, Some(r)) => (r, "the diagram's `# rpm` line"),
+        (None, None) => (
+            rpms[rpms.len() / 2],
+            "the middle of the sweep (no speed in the engine file or diagram)",
+        ),
+    };
+    let part = analyse(sized_at)?.flywheel;
     // The pressures stay the same at every speed: gas load fixed, inertia growing with w^2.
-    let results: Vec<_> = rpms
+    let mut results: Vec<enginedyn_pipeline::Analysis> = rpms
         .par_iter()
-        .map(|&rpm| {
-            enginedyn_pipeline::analyse_with(tables.as_ref(), engine, &resampled, rpm, &opts)
-        })
-        .collect::<Result<_, _>>()
-        .map_err(|e| Failure::usage(e.to_string()))?;
+        .map(|&rpm| analyse(rpm))
+        .collect::<Result<_, _>>()?;
+    let file_rpm = engine.operating().rpm;
+    for an in &mut results {
+        if let Some(part) = &part {
+            enginedyn_pipeline::with_flywheel(an, part);
+        }
+        let rpm = an.summary.rpm;
+        let notes = &mut an.summary.notes;
+        if file_rpm.is_none_or(|f| f.to_bits() != rpm.to_bits()) {
+            notes.push(format!(
+                "speed {} rpm from --rpm {}{}",
+                crate::human(rpm),
+                a.rpm,
+                file_rpm.map_or(
+                    " (the engine file gives no operating.rpm)".to_string(),
+                    |f| {
+                        format!(
+                            ", not the engine file's operating.rpm = {} rpm",
+                            crate::human(f)
+                        )
+                    }
+                )
+            ));
+        }
+        if part.is_some() {
+            notes.push(format!(
+                "flywheel sized once at {} rpm ({source}): the same part at every speed; speed_fluctuation_achieved is the δ it gives here",
+                crate::human(sized_at)
+            ));
+        }
+    }
     let table: Vec<enginedyn_report::CsvRow> = results
         .iter()
         .map(|an| {
@@ -420,58 +423,9 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
     let csv = enginedyn_report::summary_csv(&table);
     match &a.out {
         Some(dir) => {
-            let get = |f: fn(&enginedyn_pipeline::Summary) -> Option<f64>| -> Vec<(f64, f64)> {
-                results
-                    .iter()
-                    .filter_map(|an| f(&an.summary).map(|v| (an.summary.rpm, v)))
-                    .collect()
-            };
-            let panel = |title: &str, y: &str, series: Vec<Series>| Chart {
-                title: title.into(),
-                x_label: "engine speed (rpm)".into(),
-                y_label: y.into(),
-                series,
-                log: false,
-                equal: false,
-                angle_ticks: None,
-            };
-            let s = |name: &str, pts: Vec<(f64, f64)>| Series {
-                name: name.into(),
-                points: pts,
-                dashed: false,
-            };
-            let fig = Figure {
-                file: "sweep.svg".into(),
-                panels: vec![
-                    panel(
-                        &format!("{} — torque against speed", engine.name()),
-                        "torque (N m)",
-                        vec![
-                            s("mean", get(|x| x.mean_torque_nm)),
-                            s("max", get(|x| x.torque_max_nm)),
-                            s("min", get(|x| x.torque_min_nm)),
-                        ],
-                    ),
-                    // One unit per panel: the crank-pin load against the
-                    // peak gas force shows inertia taking over as speed rises.
-                    panel(
-                        "peak forces",
-                        "force (kN)",
-                        vec![
-                            s(
-                                "crank-pin load max",
-                                get(|x| x.crankpin_load_max_n.map(|v| v / 1e3)),
-                            ),
-                            s("gas force max", get(|x| x.gas_force_max_n.map(|v| v / 1e3))),
-                        ],
-                    ),
-                    panel(
-                        "flywheel",
-                        "required inertia I₀ (kg m²)",
-                        vec![s("required inertia I₀", get(|x| x.required_inertia_kg_m2))],
-                    ),
-                ],
-            };
+            let summaries: Vec<&enginedyn_pipeline::Summary> =
+                results.iter().map(|an| &an.summary).collect();
+            let fig = enginedyn_report::sweep_figure(engine.name(), &summaries);
             let svg = fig.render().map_err(|e| Failure::data(e.to_string()))?;
             enginedyn_report::write_all(
                 dir,
@@ -487,7 +441,36 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
                 dir.display()
             );
         }
-        None => crate::emit(&csv),
+        None if a.csv => crate::emit(&csv),
+        None => {
+            let rows: Vec<enginedyn_report::KeyRow> = results
+                .iter()
+                .map(|an| enginedyn_report::KeyRow {
+                    name: crate::human(an.summary.rpm),
+                    figures: Some(enginedyn_report::key_figures(
+                        &enginedyn_report::SWEEP_FIGURES,
+                        &an.summary,
+                    )),
+                    error: String::new(),
+                    folder: None,
+                })
+                .collect();
+            let mut text = crate::table::heading(engine, "sweep, ", f64::NAN, &shown);
+            if part.is_some() {
+                text.push_str(&format!(
+                    "flywheel sized once at {} rpm ({source}); δ is what it gives at each speed\n",
+                    crate::human(sized_at)
+                ));
+            }
+            text.push('\n');
+            text.push_str(&enginedyn_report::key_table(
+                "rpm",
+                &enginedyn_report::SWEEP_FIGURES,
+                &rows,
+                engine.operating().mechanical_efficiency,
+            ));
+            crate::emit(&text);
+        }
     }
     Ok(())
 }

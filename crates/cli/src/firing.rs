@@ -51,16 +51,18 @@ pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
                 );
             }
             notes.extend(resampled.notes.iter().cloned());
-            let rpm = resolve_rpm(a.input.rpm, resampled.rpm, engine)?;
+            let speed = resolve_rpm(a.input.rpm, resampled.rpm, engine)?;
+            notes.extend(speed.note);
+            let rpm = speed.rpm;
             let analysis = enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)
                 .map_err(|e| Failure::usage(e.to_string()))?;
             (shown, rpm, Some(analysis))
         }
-        None => (
-            "none".to_string(),
-            resolve_rpm(a.input.rpm, None, engine)?,
-            None,
-        ),
+        None => {
+            let speed = resolve_rpm(a.input.rpm, None, engine)?;
+            notes.extend(speed.note);
+            ("none".to_string(), speed.rpm, None)
+        }
     };
     let omega = rpm * std::f64::consts::PI / 30.0;
     let setup = Setup {

@@ -13,7 +13,9 @@ const HEADER: &str =
 pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
     let loaded = crate::run::load_engine(Some(&a.engine))?;
     let engine = &loaded.engine;
-    let rpm = crate::run::resolve_rpm(a.rpm, None, engine)?;
+    let speed = crate::run::resolve_rpm(a.rpm, None, engine)?;
+    speed.warn();
+    let rpm = speed.rpm;
     let omega = rpm * PI / 30.0;
     let model = a.kinematics.model();
     let mech = engine.mechanism();
@@ -47,9 +49,7 @@ pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
         let mut s = String::from(HEADER);
         s.push('\n');
         for k in 0..rows {
-            let _ = writeln!(
-                s,
-                "{},{},{},{},{},{},{},{}",
+            let cells = [
                 (k as f64 * step * 1e9).round() / 1e9,
                 t.x[k] / r,
                 t.dx[k] / r,
@@ -57,8 +57,13 @@ pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
                 t.x[k],
                 t.dx[k] * omega,
                 t.d2x[k] * omega * omega,
-                t.beta[k].to_degrees()
-            );
+                t.beta[k].to_degrees(),
+            ];
+            let cells: Vec<String> = cells
+                .into_iter()
+                .map(enginedyn_numerics::format::csv)
+                .collect();
+            let _ = writeln!(s, "{}", cells.join(","));
         }
         s
     };

@@ -40,6 +40,13 @@ impl Failure {
     }
 }
 
+/// A number as people write it in a message: up to six significant
+/// digits, no trailing zeros, no exponent between 1e-4 and 1e9 (`4900`,
+/// `0.086`, `1.5e-7`).
+pub fn human(x: f64) -> String {
+    enginedyn_numerics::format::human(x)
+}
+
 /// Writes to standard output; a closed pipe (`enginedyn run | head`) ends the
 /// program quietly instead of panicking.
 pub fn emit(text: &str) {

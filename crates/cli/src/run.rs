@@ -43,47 +43,15 @@ pub fn diagram_options(
     step: f64,
     interp: enginedyn_ingest::Interp,
 ) -> Result<(ParseOptions, GridOptions), Failure> {
-    let pv_start_bdc = match d.pv_start.as_deref() {
-        None | Some("tdc") => false,
-        Some("bdc") => true,
-        Some(other) => {
-            return Err(Failure::usage(format!(
-                "--pv-start {other}: expected tdc or bdc"
-            )));
-        }
-    };
-    let peg = match (d.peg_bar, d.peg.as_deref()) {
-        (Some(_), Some(_)) => {
-            return Err(Failure::usage(
-                "--peg-bar and --peg: give one pegging method",
-            ));
-        }
-        (Some(p), None) if p.is_finite() && p > 0.0 => Some(Peg::Bar(p * 1e5)),
-        (Some(p), None) => {
+    let pv_start_bdc = d.pv_start == crate::args::PvStart::Bdc;
+    let peg = match (d.peg_bar, d.peg) {
+        (Some(p), _) if p.is_finite() && p > 0.0 => Some(Peg::Bar(p * 1e5)),
+        (Some(p), _) => {
             return Err(Failure::usage(format!(
                 "--peg-bar {p}: an absolute pressure in bar above 0 is needed"
             )));
         }
-        (None, Some(spec)) => {
-            let n = match spec.strip_prefix("polytropic") {
-                Some("") => 1.32,
-                Some(rest) => rest
-                    .strip_prefix('=')
-                    .and_then(|v| v.parse::<f64>().ok())
-                    .filter(|n| n.is_finite() && *n > 1.0 && *n < 2.0)
-                    .ok_or_else(|| {
-                        Failure::usage(format!(
-                            "--peg {spec}: expected polytropic or polytropic=N with 1 < N < 2"
-                        ))
-                    })?,
-                None => {
-                    return Err(Failure::usage(format!(
-                        "--peg {spec}: expected polytropic[=N]"
-                    )));
-                }
-            };
-            Some(Peg::Polytropic(n))
-        }
+        (None, Some(crate::args::PegArg::Polytropic(n))) => Some(Peg::Polytropic(n)),
         (None, None) => None,
     };
     let cylinder = Some(*engine.cylinder());
@@ -236,37 +204,77 @@ pub fn check_step(engine: &Engine, step: f64) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The highest speed a user may give (INTERFACE.md, "Limits").
+pub const MAX_RPM: f64 = 100_000.0;
+
+/// The speed a command runs at, and the note saying where it came from
+/// when it is not the engine file's `operating.rpm`.
+#[derive(Debug, Clone)]
+pub struct Speed {
+    /// rpm.
+    pub rpm: f64,
+    /// "speed 2200 rpm from the diagram's `# rpm` line (…)", when it
+    /// differs from the engine file's.
+    pub note: Option<String>,
+}
+
+impl Speed {
+    /// Says the note on standard error, for commands whose output carries
+    /// no notes of its own.
+    pub fn warn(&self) {
+        if let Some(n) = &self.note {
+            eprintln!("warning: {n}");
+        }
+    }
+}
+
 /// The speed: `--rpm`, else the diagram's `# rpm` line, else the engine file's.
 pub fn resolve_rpm(
     flag: Option<f64>,
     diagram: Option<f64>,
     engine: &Engine,
-) -> Result<f64, Failure> {
-    let rpm = flag
-        .or(diagram)
-        .or(engine.operating().rpm)
-        .ok_or_else(|| {
-            Failure::usage(
+) -> Result<Speed, Failure> {
+    let file = engine.operating().rpm;
+    let (rpm, source) = match (flag, diagram, file) {
+        (Some(r), _, _) => (r, "--rpm"),
+        (None, Some(r), _) => (r, "the diagram's `# rpm` line"),
+        (None, None, Some(r)) => (r, "operating.rpm"),
+        (None, None, None) => {
+            return Err(Failure::usage(
                 "no engine speed: give --rpm, a `# rpm = N` line in the diagram, or `rpm` in [operating]",
-            )
-        })?;
-    if !(rpm.is_finite() && rpm > 0.0) {
-        return Err(Failure::usage(format!(
-            "--rpm {rpm}: a positive speed is needed"
-        )));
+            ));
+        }
+    };
+    if !(rpm.is_finite() && rpm > 0.0 && rpm <= MAX_RPM) {
+        let why = if rpm.is_finite() && rpm <= 0.0 {
+            "the engine speed must be above 0 (a reversed engine is the same engine turning forward)"
+        } else {
+            "the engine speed must be above 0 and at most 100000 rpm"
+        };
+        return Err(match source {
+            "--rpm" => Failure::usage(format!("--rpm {}: {why}", crate::human(rpm))),
+            "operating.rpm" => {
+                Failure::usage(format!("operating.rpm = {}: {why}", crate::human(rpm)))
+            }
+            _ => Failure::data(format!("`# rpm` line: {} rpm: {why}", crate::human(rpm))),
+        });
     }
-    Ok(rpm)
+    let note = match file {
+        Some(f) if f.to_bits() == rpm.to_bits() => None,
+        Some(f) => Some(format!(
+            "speed {} rpm from {source}, not the engine file's operating.rpm = {} rpm",
+            crate::human(rpm),
+            crate::human(f)
+        )),
+        None => Some(format!(
+            "speed {} rpm from {source} (the engine file gives no operating.rpm)",
+            crate::human(rpm)
+        )),
+    };
+    Ok(Speed { rpm, note })
 }
 
 pub fn run(a: &RunArgs) -> Result<(), Failure> {
-    match a.angles.as_deref() {
-        None | Some("cycle") | Some("centered") => {}
-        Some(other) => {
-            return Err(Failure::usage(format!(
-                "--angles {other}: expected centered (or cycle, the default)"
-            )));
-        }
-    };
     let step = a.method.step;
     let loaded = load_engine(a.engine.as_deref())?;
     let engine = &loaded.engine;
@@ -285,10 +293,16 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
                 "{shown}: a pressure diagram; --torque reads `crank_deg` with `torque_cylinder_nm` or `torque_engine_nm` (use --diagram for pressure)"
             )));
         }
-        let rpm = resolve_rpm(a.rpm, resampled.rpm, engine)?;
-        let analysis =
-            enginedyn_pipeline::analyse_torque(engine, &resampled, resampled.quantity, rpm, &opts)
-                .map_err(|e| Failure::usage(e.to_string()))?;
+        let speed = resolve_rpm(a.rpm, resampled.rpm, engine)?;
+        let mut analysis = enginedyn_pipeline::analyse_torque(
+            engine,
+            &resampled,
+            resampled.quantity,
+            speed.rpm,
+            &opts,
+        )
+        .map_err(|e| Failure::usage(e.to_string()))?;
+        analysis.summary.notes.extend(speed.note);
         return finish(a, &loaded, &shown, &analysis, &opts);
     }
     let (shown, files) = diagram_files(a, &loaded)?;
@@ -310,9 +324,10 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
             "{shown}: a turning-moment (torque) file: give it with --torque"
         )));
     }
-    let rpm = resolve_rpm(a.rpm, resampled.rpm, engine)?;
-    let analysis = enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)
+    let speed = resolve_rpm(a.rpm, resampled.rpm, engine)?;
+    let mut analysis = enginedyn_pipeline::analyse(engine, &resampled, speed.rpm, &opts)
         .map_err(|e| Failure::usage(e.to_string()))?;
+    analysis.summary.notes.extend(speed.note);
     finish(a, &loaded, &shown, &analysis, &opts)
 }
 
@@ -374,11 +389,12 @@ fn run_within(
         })
         .collect::<Result<Vec<_>, Failure>>()?;
     let engine = &loaded.engine;
-    let rpm = resolve_rpm(a.rpm, diagrams[0].1.rpm, engine)?;
-    let (analysis, choice) = within(engine, &diagrams, grid, rpm, tolerance)?;
+    let speed = resolve_rpm(a.rpm, diagrams[0].1.rpm, engine)?;
+    let (analysis, choice) = within(engine, &diagrams, grid, speed.rpm, tolerance)?;
     let mut analysis = analysis;
     analysis.summary.estimated_relative_error = Some(choice.estimated);
     analysis.summary.notes.extend(choice.notes);
+    analysis.summary.notes.extend(speed.note);
     let opts = enginedyn_pipeline::Options {
         scope: enginedyn_pipeline::Scope::Full,
         ..choice.options
@@ -462,7 +478,7 @@ fn finish(
         ));
     }
     if let Some(dir) = &a.out {
-        let centered = a.angles.as_deref() == Some("centered");
+        let centered = a.angles == crate::args::Angles::Centered;
         // With a [tolerances] section the page carries the tolerance table.
         let text = match &loaded.path {
             Some(p) => std::fs::read_to_string(p)

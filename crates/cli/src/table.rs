@@ -7,8 +7,13 @@ use std::fmt::Write as _;
 /// The first lines of every printed table: the engine, what was done
 /// (`what`, e.g. "tolerance study, "; may be empty), the speed and the diagram.
 pub fn heading(engine: &Engine, what: &str, rpm: f64, diagram: &str) -> String {
+    let speed = if rpm.is_finite() {
+        format!(", {} rpm", crate::human(rpm.round()))
+    } else {
+        String::new()
+    };
     format!(
-        "{} — {what}{} {} {}-cylinder, {rpm:.0} rpm\ndiagram: {diagram}\n",
+        "{} — {what}{} {} {}-cylinder{speed}\ndiagram: {diagram}\n",
         engine.name(),
         engine.stroke_kind().name(),
         engine.layout().name(),
@@ -25,13 +30,20 @@ pub fn summary_table(engine: &Engine, diagram: &str, s: &Summary) -> String {
         "models: kinematics {}, rod {}, interpolation {}, step {}°, integration {}",
         s.kinematics, s.rod_model, s.interpolation, s.grid_step_deg, s.integration
     );
+    let rows = enginedyn_report::summary_rows(s);
+    let width = rows
+        .iter()
+        .map(|r| r.label.chars().count())
+        .max()
+        .unwrap_or(0);
     let mut section = "";
-    for row in enginedyn_report::summary_rows(s) {
+    for row in rows {
         if row.section != section {
             section = row.section;
             let _ = writeln!(o, "\n{section}");
         }
-        let _ = writeln!(o, "  {:<34} {:>16} {}", row.label, row.shown(), row.unit);
+        let line = format!("  {:<width$} {:>12} {}", row.label, row.shown(), row.unit);
+        let _ = writeln!(o, "{}", line.trim_end());
     }
 
     o

@@ -52,7 +52,9 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
         Ok(r)
     };
     let table_diagram = load(step)?;
-    let rpm = resolve_rpm(a.input.rpm, table_diagram.rpm, engine)?;
+    let speed = resolve_rpm(a.input.rpm, table_diagram.rpm, engine)?;
+    speed.warn();
+    let rpm = speed.rpm;
     let mc_step = step.max(MONTE_CARLO_STEP);
     let mc_diagram = if (mc_step - step).abs() < 1e-12 {
         table_diagram.clone()
@@ -294,13 +296,7 @@ fn text_table(engine: &Engine, diagram: &str, rpm: f64, s: &Study) -> String {
 fn csv(s: &Study) -> String {
     let mut o =
         String::from("parameter,tolerance,result,nominal,sensitivity,influence,deviation\n");
-    let cell = |x: f64| {
-        if x.is_finite() {
-            format!("{x}")
-        } else {
-            String::new()
-        }
-    };
+    let cell = enginedyn_numerics::format::csv;
     for r in &s.rows {
         let _ = writeln!(
             o,

@@ -176,6 +176,20 @@ pub fn analyse(
     })
 }
 
+/// The flywheel `part` (sized at another speed) on this torque curve at the
+/// mean speed `omega`: the same part and figures, with the speed trace and
+/// the `delta` it gives here (total inertia: the part plus the engine's own).
+pub fn same_part(u: &Uniformity, part: &Flywheel, omega: f64) -> Flywheel {
+    let total = part.inertia + part.engine_inertia;
+    let (speed, achieved) = speed_trace(&u.excess_energy, total, omega);
+    Flywheel {
+        speed,
+        speed_fluctuation_achieved: achieved,
+        notes: Vec::new(),
+        ..part.clone()
+    }
+}
+
 /// `w(phi) = sqrt(w_0^2 + 2 E(phi) / I)` with `w_0` such that
 /// `(w_max + w_min)/2 = omega`; returns the trace and its `delta`.
 pub fn speed_trace(e: &[f64], inertia: f64, omega: f64) -> (Vec<f64>, f64) {
@@ -194,4 +208,33 @@ pub fn speed_trace(e: &[f64], inertia: f64, omega: f64) -> (Vec<f64>, f64) {
         .collect();
     let (wmin, wmax) = periodic_min_max(&speed);
     (speed, (wmax - wmin) / (0.5 * (wmax + wmin)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The part sized at one speed gives that speed's δ there, and about a
+    /// quarter of it at twice the speed (δ ≈ ΔE / (I ω²), to O(δ²)); its
+    /// figures stay the part's.
+    #[test]
+    fn same_part_over_speed() {
+        let n = 3600;
+        let h = 2.0 * std::f64::consts::PI / n as f64;
+        let m: Vec<f64> = (0..n)
+            .map(|k| 100.0 + 50.0 * (2.0 * k as f64 * h).cos())
+            .collect();
+        let u = Uniformity::new(&m, h, Rule::Trapezoid);
+        let spec = FlywheelSpec::default();
+        let part = analyse(&u, &spec, 300.0, 0.0).unwrap();
+        let here = same_part(&u, &part, 300.0);
+        assert!((here.speed_fluctuation_achieved - 0.01).abs() < 1e-12);
+        let fast = same_part(&u, &part, 600.0);
+        assert!((fast.speed_fluctuation_achieved / 0.0025 - 1.0).abs() < 1e-4);
+        assert_eq!(fast.outer_diameter, part.outer_diameter);
+        assert_eq!(
+            fast.required_inertia.to_bits(),
+            part.required_inertia.to_bits()
+        );
+    }
 }

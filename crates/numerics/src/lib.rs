@@ -10,6 +10,7 @@
 //!   samples by the local Catmull-Rom cubic.
 //! - [`roots`]: Brent's root finder and minimiser.
 //! - [`scan`]: extremes and step range of samples in vector lanes.
+//! - [`format`]: numbers as people write them (notes, tables, CSV cells).
 //! - [`fourier`]: amplitudes and phases of chosen harmonic orders, and the
 //!   inverse.
 //!
@@ -36,6 +37,7 @@
 
 mod error;
 pub mod extremes;
+pub mod format;
 pub mod fourier;
 pub mod integrate;
 pub mod interp;

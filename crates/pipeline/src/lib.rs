@@ -22,7 +22,7 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 mod summary;
-pub use summary::{CycleSummary, Pegging, Summary, Value};
+pub use summary::{Basis, CycleSummary, KEYS, Key, Pegging, Shown, Summary, Value};
 
 /// Why an operating point cannot be analysed.
 #[derive(Debug, thiserror::Error)]
@@ -119,6 +119,10 @@ pub struct Analysis {
     /// The summary figures.
     pub summary: Summary,
 }
+
+/// Below this IMEP (Pa) an engine runs near idle: idle IMEP is about
+/// 1–2 bar gross.
+pub const IDLE_IMEP_PA: f64 = 1.5e5;
 
 /// Highest engine order in `harmonics.csv`.
 pub const MAX_ORDER: f64 = 24.0;
@@ -617,11 +621,22 @@ fn complete(
         ));
     }
     let uniformity = Uniformity::new(&torque.total, h, opts.integration);
+    // Idle is judged by the load (IMEP), not by the torque swing: a fired
+    // single cylinder swings far more than its mean at full load.
     let swing = uniformity.max - uniformity.min;
-    if uniformity.mean > 0.0 && uniformity.mean < 0.05 * swing {
+    let imep = work.map(|w| w / engine.cylinder().swept_volume());
+    let idle = match imep {
+        Some(p) => uniformity.mean > 0.0 && p < IDLE_IMEP_PA,
+        None => uniformity.mean > 0.0 && uniformity.mean < 0.05 * swing,
+    };
+    if idle {
+        let load = imep.map_or(String::new(), |p| {
+            format!("IMEP {} bar, ", enginedyn_numerics::format::human(p / 1e5))
+        });
         notes.push(format!(
-            "the mean torque ({:.3} N m) is under 5 % of the torque swing ({swing:.1} N m): near idle or motoring, mu and psi are large and follow every small error of the mean",
-            uniformity.mean
+            "near idle or motoring ({load}mean torque {} N m against a swing of {} N m): mu and psi are large and follow every small error of the mean",
+            enginedyn_numerics::format::human(uniformity.mean),
+            enginedyn_numerics::format::human(swing)
         ));
     }
     let z = engine.cylinders() as f64;
@@ -701,6 +716,8 @@ fn complete(
         indicated_work_per_cylinder_j: work,
         mean_torque_nm: Some(uniformity.mean * eta),
         power_kw: Some(uniformity.mean * eta * omega / 1e3),
+        indicated_mean_torque_nm: Some(uniformity.mean),
+        indicated_power_kw: Some(uniformity.mean * omega / 1e3),
         torque_max_nm: Some(uniformity.max),
         torque_min_nm: Some(uniformity.min),
         torque_nonuniformity: uniformity.nonuniformity(),
@@ -738,6 +755,7 @@ fn complete(
         pegging,
         tdc_offset_estimate_deg: tdc_offset,
         estimated_relative_error: None,
+        mechanical_efficiency: eta,
         notes,
     };
     Ok(Analysis {
@@ -755,6 +773,31 @@ fn complete(
         engine_harmonics,
         summary,
     })
+}
+
+/// Puts the flywheel `part` (sized at another speed, as `sweep` does: one
+/// part for every speed) on this operating point: its figures replace the
+/// ones sized here, and `speed_fluctuation_achieved` becomes the δ the part
+/// gives at this speed. Nothing changes without a flywheel here (motoring).
+pub fn with_flywheel(a: &mut Analysis, part: &enginedyn_flywheel::Flywheel) {
+    if a.flywheel.is_none() {
+        return;
+    }
+    let f = enginedyn_flywheel::same_part(&a.uniformity, part, a.summary.omega_rad_s);
+    let s = &mut a.summary;
+    // The notes about the flywheel sized here are about another part.
+    if let Some(here) = &a.flywheel {
+        s.notes.retain(|n| !here.notes.contains(n));
+    }
+    s.notes.extend(part.notes.iter().cloned());
+    s.required_inertia_kg_m2 = Some(f.required_inertia);
+    s.flywheel_inertia_kg_m2 = Some(f.inertia);
+    s.flywheel_gd2_n_m2 = f.gd2;
+    s.flywheel_outer_diameter_m = f.outer_diameter;
+    s.flywheel_mass_kg = Some(f.mass);
+    s.flywheel_width_m = f.width;
+    s.speed_fluctuation_achieved = Some(f.speed_fluctuation_achieved);
+    a.flywheel = Some(f);
 }
 
 #[derive(Debug, Clone, Copy)]

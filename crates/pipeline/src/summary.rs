@@ -10,6 +10,8 @@ pub struct Summary {
     pub indicated_work_per_cylinder_j: Option<f64>,
     pub mean_torque_nm: Option<f64>,
     pub power_kw: Option<f64>,
+    pub indicated_mean_torque_nm: Option<f64>,
+    pub indicated_power_kw: Option<f64>,
     pub torque_max_nm: Option<f64>,
     pub torque_min_nm: Option<f64>,
     pub torque_nonuniformity: Option<f64>,
@@ -57,6 +59,9 @@ pub struct Summary {
     /// With `--tolerance`: the largest estimated relative error of the key
     /// results for the methods chosen.
     pub estimated_relative_error: Option<f64>,
+    /// The mechanical efficiency η_m the effective figures carry (not a
+    /// key: the labels of the readable tables show it).
+    pub mechanical_efficiency: f64,
     pub notes: Vec<String>,
 }
 
@@ -110,6 +115,8 @@ impl Summary {
             indicated_work_per_cylinder_j: None,
             mean_torque_nm: None,
             power_kw: None,
+            indicated_mean_torque_nm: None,
+            indicated_power_kw: None,
             torque_max_nm: None,
             torque_min_nm: None,
             torque_nonuniformity: None,
@@ -146,95 +153,416 @@ impl Summary {
             pegging: None,
             tdc_offset_estimate_deg: None,
             estimated_relative_error: None,
+            mechanical_efficiency: 1.0,
             notes: Vec::new(),
         }
     }
 
-    /// Every key in INTERFACE.md's order, then the optional keys present.
+    /// Every key in INTERFACE.md's order, then the optional keys present
+    /// (built from [`KEYS`]).
     pub fn fields(&self) -> Vec<(&'static str, Value)> {
-        use Value::{Int, Num};
-        let s = |v: f64| Num(Some(v));
-        let mut f = vec![
-            ("rpm", s(self.rpm)),
-            ("omega_rad_s", s(self.omega_rad_s)),
-            ("imep_bar", Num(self.imep_bar)),
-            (
-                "indicated_work_per_cylinder_j",
-                Num(self.indicated_work_per_cylinder_j),
-            ),
-            ("mean_torque_nm", Num(self.mean_torque_nm)),
-            ("power_kw", Num(self.power_kw)),
-            ("torque_max_nm", Num(self.torque_max_nm)),
-            ("torque_min_nm", Num(self.torque_min_nm)),
-            ("torque_nonuniformity", Num(self.torque_nonuniformity)),
-            ("excess_work_j", Num(self.excess_work_j)),
-            ("excess_work_coefficient", Num(self.excess_work_coefficient)),
-            ("required_inertia_kg_m2", Num(self.required_inertia_kg_m2)),
-            ("flywheel_inertia_kg_m2", Num(self.flywheel_inertia_kg_m2)),
-            ("flywheel_gd2_n_m2", Num(self.flywheel_gd2_n_m2)),
-            (
-                "flywheel_outer_diameter_m",
-                Num(self.flywheel_outer_diameter_m),
-            ),
-            ("flywheel_mass_kg", Num(self.flywheel_mass_kg)),
-            ("flywheel_width_m", Num(self.flywheel_width_m)),
-            (
-                "speed_fluctuation_achieved",
-                Num(self.speed_fluctuation_achieved),
-            ),
-            ("stroke_m", s(self.stroke_m)),
-            ("lambda", s(self.lambda)),
-            ("piston_speed_mean_m_s", s(self.piston_speed_mean_m_s)),
-            ("piston_speed_max_m_s", s(self.piston_speed_max_m_s)),
-            ("piston_accel_max_m_s2", s(self.piston_accel_max_m_s2)),
-            ("piston_accel_min_m_s2", s(self.piston_accel_min_m_s2)),
-            ("gas_force_max_n", Num(self.gas_force_max_n)),
-            ("side_force_max_n", Num(self.side_force_max_n)),
-            ("rod_force_max_n", Num(self.rod_force_max_n)),
-            ("crankpin_load_max_n", Num(self.crankpin_load_max_n)),
-            ("crankpin_load_mean_n", Num(self.crankpin_load_mean_n)),
-            ("journal_torque_max_nm", s(self.journal_torque_max_nm)),
-            ("journal_most_loaded", Int(self.journal_most_loaded)),
-            ("energy_balance_error", Num(self.energy_balance_error)),
-            (
-                "models",
-                Value::Map(vec![
-                    ("kinematics", Value::Text(self.kinematics)),
-                    ("rod_model", Value::Text(self.rod_model)),
-                    ("interpolation", Value::Text(self.interpolation)),
-                    ("grid_step_deg", s(self.grid_step_deg)),
-                    ("integration", Value::Text(self.integration)),
-                ]),
-            ),
-            ("notes", Value::List(self.notes.clone())),
-        ];
-        if let Some(c) = self.cycles {
-            f.push(("cycles", Int(c)));
-        }
-        if let Some(c) = &self.cycle_stats {
-            f.push(("imep_std_bar", Num(c.imep_std_bar)));
-            f.push(("imep_cov", Num(c.imep_cov)));
-            f.push(("p_max_mean_bar", Num(Some(c.p_max_mean_bar))));
-            f.push(("p_max_cov", Num(Some(c.p_max_cov))));
-            f.push(("p_max_angle_mean_deg", Num(Some(c.p_max_angle_mean_deg))));
-            f.push(("p_max_angle_std_deg", Num(Some(c.p_max_angle_std_deg))));
-        }
-        if let Some(p) = &self.pegging {
-            f.push((
-                "pegging",
-                Value::Map(vec![
-                    ("method", Value::Text(p.method)),
-                    ("offset_bar", Num(Some(p.offset_bar))),
-                    ("polytropic_n", Num(p.polytropic_n)),
-                ]),
-            ));
-        }
-        if let Some(t) = self.tdc_offset_estimate_deg {
-            f.push(("tdc_offset_estimate_deg", Num(Some(t))));
-        }
-        if let Some(e) = self.estimated_relative_error {
-            f.push(("estimated_relative_error", Num(Some(e))));
-        }
-        f
+        KEYS.iter()
+            .filter_map(|k| (k.get)(self).map(|v| (k.key, v)))
+            .collect()
+    }
+
+    /// The descriptor of `key`, if it is a summary key.
+    pub fn key(key: &str) -> Option<&'static Key> {
+        KEYS.iter().find(|k| k.key == key)
     }
 }
+
+/// Whether a torque or power figure is indicated or effective (times the
+/// mechanical efficiency): the readable tables label it so.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Basis {
+    /// Neither: a figure of another kind.
+    None,
+    /// Before the mechanical efficiency.
+    Indicated,
+    /// Times `operating.mechanical_efficiency`.
+    Effective,
+}
+
+/// How a figure is shown in the readable tables (the printed table,
+/// `report.html`, batch's `index.html`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shown {
+    /// The section it is listed under.
+    pub section: &'static str,
+    /// What it is, as an engineer names it.
+    pub label: &'static str,
+    /// Display unit (empty for a pure number).
+    pub unit: &'static str,
+    /// Display value = SI value × `scale`.
+    pub scale: f64,
+    /// Decimals shown; 10 and more: scientific notation with two decimals.
+    pub digits: usize,
+    /// Indicated or effective, for torque and power.
+    pub basis: Basis,
+}
+
+/// One summary key: its name in `summary.json` (and `summary.csv`), how it
+/// is shown, and its value in a summary (`None`: absent, for the optional
+/// keys). [`KEYS`] is the one list every writer and table is built from.
+#[derive(Debug, Clone, Copy)]
+pub struct Key {
+    /// The key, as INTERFACE.md names it.
+    pub key: &'static str,
+    /// How it is shown in readable tables; `None` for keys shown otherwise
+    /// (`rpm` in the heading, `models`, `notes`).
+    pub shown: Option<Shown>,
+    /// The value; `None` when the key is absent from this summary.
+    pub get: fn(&Summary) -> Option<Value>,
+}
+
+impl Key {
+    /// The key's number in SI units, when it is one and present.
+    pub fn number(&self, s: &Summary) -> Option<f64> {
+        match (self.get)(s)? {
+            Value::Num(x) => x,
+            Value::Int(i) => Some(i as f64),
+            _ => None,
+        }
+    }
+}
+
+const fn shown(
+    section: &'static str,
+    label: &'static str,
+    unit: &'static str,
+    scale: f64,
+    digits: usize,
+    basis: Basis,
+) -> Option<Shown> {
+    Some(Shown {
+        section,
+        label,
+        unit,
+        scale,
+        digits,
+        basis,
+    })
+}
+
+const WORK: &str = "Work and torque";
+const FLY: &str = "Flywheel";
+const KIN: &str = "Kinematics";
+const FORCES: &str = "Forces (largest magnitude over the cylinders)";
+const DATA: &str = "Data and method";
+
+macro_rules! num {
+    ($field:ident) => {
+        |s: &Summary| Some(Value::Num(s.$field))
+    };
+}
+macro_rules! always {
+    ($field:ident) => {
+        |s: &Summary| Some(Value::Num(Some(s.$field)))
+    };
+}
+macro_rules! stat {
+    ($field:ident) => {
+        |s: &Summary| s.cycle_stats.map(|c| Value::Num(c.$field.into()))
+    };
+}
+
+/// Every summary key in INTERFACE.md's order: the fixed keys, `models` and
+/// `notes`, then the optional keys (present when they apply).
+pub const KEYS: &[Key] = &[
+    Key {
+        key: "rpm",
+        shown: None,
+        get: always!(rpm),
+    },
+    Key {
+        key: "omega_rad_s",
+        shown: None,
+        get: always!(omega_rad_s),
+    },
+    Key {
+        key: "imep_bar",
+        shown: shown(WORK, "IMEP", "bar", 1.0, 3, Basis::None),
+        get: num!(imep_bar),
+    },
+    Key {
+        key: "indicated_work_per_cylinder_j",
+        shown: shown(
+            WORK,
+            "indicated work per cylinder",
+            "J",
+            1.0,
+            2,
+            Basis::None,
+        ),
+        get: num!(indicated_work_per_cylinder_j),
+    },
+    Key {
+        key: "mean_torque_nm",
+        shown: shown(WORK, "mean torque", "N m", 1.0, 2, Basis::Effective),
+        get: num!(mean_torque_nm),
+    },
+    Key {
+        key: "power_kw",
+        shown: shown(WORK, "power", "kW", 1.0, 2, Basis::Effective),
+        get: num!(power_kw),
+    },
+    Key {
+        key: "indicated_mean_torque_nm",
+        shown: shown(WORK, "mean torque", "N m", 1.0, 2, Basis::Indicated),
+        get: num!(indicated_mean_torque_nm),
+    },
+    Key {
+        key: "indicated_power_kw",
+        shown: shown(WORK, "power", "kW", 1.0, 2, Basis::Indicated),
+        get: num!(indicated_power_kw),
+    },
+    Key {
+        key: "torque_max_nm",
+        shown: shown(WORK, "torque max", "N m", 1.0, 2, Basis::Indicated),
+        get: num!(torque_max_nm),
+    },
+    Key {
+        key: "torque_min_nm",
+        shown: shown(WORK, "torque min", "N m", 1.0, 2, Basis::Indicated),
+        get: num!(torque_min_nm),
+    },
+    Key {
+        key: "torque_nonuniformity",
+        shown: shown(
+            WORK,
+            "non-uniformity μ = (max − min) / mean",
+            "",
+            1.0,
+            3,
+            Basis::None,
+        ),
+        get: num!(torque_nonuniformity),
+    },
+    Key {
+        key: "excess_work_j",
+        shown: shown(FLY, "excess work ΔE", "J", 1.0, 2, Basis::None),
+        get: num!(excess_work_j),
+    },
+    Key {
+        key: "excess_work_coefficient",
+        shown: shown(FLY, "excess work coefficient ψ", "", 1.0, 4, Basis::None),
+        get: num!(excess_work_coefficient),
+    },
+    Key {
+        key: "required_inertia_kg_m2",
+        shown: shown(FLY, "required inertia I₀", "kg m²", 1.0, 5, Basis::None),
+        get: num!(required_inertia_kg_m2),
+    },
+    Key {
+        key: "flywheel_inertia_kg_m2",
+        shown: shown(FLY, "flywheel inertia I_f", "kg m²", 1.0, 5, Basis::None),
+        get: num!(flywheel_inertia_kg_m2),
+    },
+    Key {
+        key: "flywheel_gd2_n_m2",
+        shown: shown(FLY, "flywheel GD²", "N m²", 1.0, 3, Basis::None),
+        get: num!(flywheel_gd2_n_m2),
+    },
+    Key {
+        key: "flywheel_outer_diameter_m",
+        shown: shown(FLY, "flywheel outer diameter", "mm", 1e3, 1, Basis::None),
+        get: num!(flywheel_outer_diameter_m),
+    },
+    Key {
+        key: "flywheel_mass_kg",
+        shown: shown(FLY, "flywheel mass", "kg", 1.0, 2, Basis::None),
+        get: num!(flywheel_mass_kg),
+    },
+    Key {
+        key: "flywheel_width_m",
+        shown: shown(FLY, "flywheel width", "mm", 1e3, 1, Basis::None),
+        get: num!(flywheel_width_m),
+    },
+    Key {
+        key: "speed_fluctuation_achieved",
+        shown: shown(FLY, "speed fluctuation achieved δ", "", 1.0, 5, Basis::None),
+        get: num!(speed_fluctuation_achieved),
+    },
+    Key {
+        key: "stroke_m",
+        shown: shown(KIN, "stroke", "mm", 1e3, 3, Basis::None),
+        get: always!(stroke_m),
+    },
+    Key {
+        key: "lambda",
+        shown: shown(KIN, "λ = R/L", "", 1.0, 4, Basis::None),
+        get: always!(lambda),
+    },
+    Key {
+        key: "piston_speed_mean_m_s",
+        shown: shown(KIN, "mean piston speed", "m/s", 1.0, 2, Basis::None),
+        get: always!(piston_speed_mean_m_s),
+    },
+    Key {
+        key: "piston_speed_max_m_s",
+        shown: shown(KIN, "max piston speed", "m/s", 1.0, 2, Basis::None),
+        get: always!(piston_speed_max_m_s),
+    },
+    Key {
+        key: "piston_accel_max_m_s2",
+        shown: shown(KIN, "max piston acceleration", "m/s²", 1.0, 0, Basis::None),
+        get: always!(piston_accel_max_m_s2),
+    },
+    Key {
+        key: "piston_accel_min_m_s2",
+        shown: shown(KIN, "min piston acceleration", "m/s²", 1.0, 0, Basis::None),
+        get: always!(piston_accel_min_m_s2),
+    },
+    Key {
+        key: "gas_force_max_n",
+        shown: shown(FORCES, "gas force max", "N", 1.0, 0, Basis::None),
+        get: num!(gas_force_max_n),
+    },
+    Key {
+        key: "side_force_max_n",
+        shown: shown(FORCES, "side thrust max", "N", 1.0, 0, Basis::None),
+        get: num!(side_force_max_n),
+    },
+    Key {
+        key: "rod_force_max_n",
+        shown: shown(FORCES, "rod force max", "N", 1.0, 0, Basis::None),
+        get: num!(rod_force_max_n),
+    },
+    Key {
+        key: "crankpin_load_max_n",
+        shown: shown(FORCES, "crank-pin load max", "N", 1.0, 0, Basis::None),
+        get: num!(crankpin_load_max_n),
+    },
+    Key {
+        key: "crankpin_load_mean_n",
+        shown: shown(FORCES, "crank-pin load mean", "N", 1.0, 0, Basis::None),
+        get: num!(crankpin_load_mean_n),
+    },
+    Key {
+        key: "journal_torque_max_nm",
+        shown: shown(
+            FORCES,
+            "main-journal torque max",
+            "N m",
+            1.0,
+            1,
+            Basis::None,
+        ),
+        get: always!(journal_torque_max_nm),
+    },
+    Key {
+        key: "journal_most_loaded",
+        shown: shown(
+            FORCES,
+            "most loaded main journal (after throw K)",
+            "",
+            1.0,
+            0,
+            Basis::None,
+        ),
+        get: |s| Some(Value::Int(s.journal_most_loaded)),
+    },
+    Key {
+        key: "energy_balance_error",
+        shown: shown(DATA, "energy balance error", "", 1.0, 12, Basis::None),
+        get: num!(energy_balance_error),
+    },
+    Key {
+        key: "models",
+        shown: None,
+        get: |s| {
+            Some(Value::Map(vec![
+                ("kinematics", Value::Text(s.kinematics)),
+                ("rod_model", Value::Text(s.rod_model)),
+                ("interpolation", Value::Text(s.interpolation)),
+                ("grid_step_deg", Value::Num(Some(s.grid_step_deg))),
+                ("integration", Value::Text(s.integration)),
+            ]))
+        },
+    },
+    Key {
+        key: "notes",
+        shown: None,
+        get: |s| Some(Value::List(s.notes.clone())),
+    },
+    Key {
+        key: "cycles",
+        shown: shown(DATA, "measured cycles averaged", "", 1.0, 0, Basis::None),
+        get: |s| s.cycles.map(Value::Int),
+    },
+    Key {
+        key: "imep_std_bar",
+        shown: shown(DATA, "IMEP standard deviation", "bar", 1.0, 4, Basis::None),
+        get: stat!(imep_std_bar),
+    },
+    Key {
+        key: "imep_cov",
+        shown: shown(DATA, "IMEP cycle-to-cycle CoV", "%", 100.0, 2, Basis::None),
+        get: stat!(imep_cov),
+    },
+    Key {
+        key: "p_max_mean_bar",
+        shown: shown(DATA, "peak pressure, mean", "bar", 1.0, 2, Basis::None),
+        get: stat!(p_max_mean_bar),
+    },
+    Key {
+        key: "p_max_cov",
+        shown: shown(DATA, "peak pressure CoV", "%", 100.0, 2, Basis::None),
+        get: stat!(p_max_cov),
+    },
+    Key {
+        key: "p_max_angle_mean_deg",
+        shown: shown(
+            DATA,
+            "peak pressure angle, mean",
+            "deg",
+            1.0,
+            2,
+            Basis::None,
+        ),
+        get: stat!(p_max_angle_mean_deg),
+    },
+    Key {
+        key: "p_max_angle_std_deg",
+        shown: shown(DATA, "peak pressure angle, std", "deg", 1.0, 2, Basis::None),
+        get: stat!(p_max_angle_std_deg),
+    },
+    Key {
+        key: "pegging",
+        shown: None,
+        get: |s| {
+            s.pegging.map(|p| {
+                Value::Map(vec![
+                    ("method", Value::Text(p.method)),
+                    ("offset_bar", Value::Num(Some(p.offset_bar))),
+                    ("polytropic_n", Value::Num(p.polytropic_n)),
+                ])
+            })
+        },
+    },
+    Key {
+        key: "tdc_offset_estimate_deg",
+        shown: shown(
+            DATA,
+            "TDC offset the trace suggests",
+            "deg",
+            1.0,
+            2,
+            Basis::None,
+        ),
+        get: |s| s.tdc_offset_estimate_deg.map(|t| Value::Num(Some(t))),
+    },
+    Key {
+        key: "estimated_relative_error",
+        shown: shown(
+            DATA,
+            "estimated relative error (--tolerance)",
+            "",
+            1.0,
+            10,
+            Basis::None,
+        ),
+        get: |s| s.estimated_relative_error.map(|e| Value::Num(Some(e))),
+    },
+];

@@ -6,11 +6,53 @@ use enginedyn_engine::Engine;
 use enginedyn_pipeline::Analysis;
 use std::fmt::Write as _;
 
-fn esc(s: &str) -> String {
+/// `s` escaped for HTML text and attribute values: the one escaping
+/// every page of the project uses.
+pub fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")
+}
+
+/// A relative link's path percent-encoded (RFC 3986): every byte but the
+/// unreserved ones and `/` is written `%XX`, so `run#1` and `a?b` stay path.
+pub fn percent_encode(path: &str) -> String {
+    let mut o = String::with_capacity(path.len());
+    for b in path.bytes() {
+        if b.is_ascii_alphanumeric() || matches!(b, b'-' | b'.' | b'_' | b'~' | b'/') {
+            o.push(b as char);
+        } else {
+            o.push_str(&format!("%{b:02X}"));
+        }
+    }
+    o
+}
+
+/// An HTML table: `head` cells, then `rows` of cells already in HTML;
+/// `numeric` columns are right-aligned. Text is escaped by the caller with
+/// [`esc`].
+pub fn table(head: &[&str], rows: &[Vec<String>], numeric: &[bool]) -> String {
+    let mut o = String::from("<table><tr>");
+    for h in head {
+        let _ = write!(o, "<th>{}</th>", esc(h));
+    }
+    o.push_str("</tr>\n");
+    for r in rows {
+        o.push_str("<tr>");
+        for (k, c) in r.iter().enumerate() {
+            if numeric.get(k).copied().unwrap_or(false) {
+                let _ = write!(o, "<td class=\"v\">{c}</td>");
+            } else if k == 0 {
+                let _ = write!(o, "<th>{c}</th>");
+            } else {
+                let _ = write!(o, "<td>{c}</td>");
+            }
+        }
+        o.push_str("</tr>\n");
+    }
+    o.push_str("</table>\n");
+    o
 }
 
 /// The page, with `charts` as (file name, SVG text) inlined in order and
@@ -79,7 +121,7 @@ figure{{margin:12px 0}}figure svg{{max-width:100%;height:auto}}figcaption{{font-
     }
     let _ = writeln!(o, "</table></div><div><h2>Summary</h2><table>");
     for row in crate::summary_rows(&a.summary) {
-        let (label, unit, v) = (row.label, row.unit, row.shown());
+        let (label, unit, v) = (&row.label, row.unit, row.shown());
         let _ = writeln!(
             o,
             "<tr><th>{}</th><td class=\"v\">{v}</td><td>{}</td></tr>",

@@ -16,9 +16,13 @@ use std::path::{Path, PathBuf};
 
 mod chart;
 mod html;
+mod tables;
 mod tornado;
 pub use chart::{Chart, Figure, Series, kinematics_chart, run_figures};
-pub use html::report_html;
+pub use html::{esc, percent_encode, report_html, table as html_table};
+pub use tables::{
+    KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_table, sweep_figure,
+};
 pub use tornado::{TornadoBar, TornadoPanel, tornado_svg};
 
 /// Why output could not be produced.
@@ -80,7 +84,7 @@ pub fn summary_columns() -> Vec<String> {
 pub fn flatten(s: &Summary) -> Vec<(String, String)> {
     fn cell(v: &Value) -> String {
         match v {
-            Value::Num(Some(x)) if x.is_finite() => format!("{x}"),
+            Value::Num(Some(x)) if x.is_finite() => enginedyn_numerics::format::csv(*x),
             Value::Num(_) => String::new(),
             Value::Int(i) => i.to_string(),
             Value::Text(t) => t.to_string(),
@@ -140,10 +144,13 @@ pub fn summary_csv(rows: &[CsvRow]) -> String {
 /// One line of the readable summary (the printed table and the HTML page).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
+    /// The summary key it shows.
+    pub key: &'static str,
     /// Section heading the row belongs to.
     pub section: &'static str,
-    /// What it is, as an engineer names it.
-    pub label: &'static str,
+    /// What it is, as an engineer names it, with "indicated" or
+    /// "effective (η_m = 0.80)" for torque and power.
+    pub label: String,
     /// The value in `unit`, `None` when it does not exist for the case.
     pub value: Option<f64>,
     /// Display unit.
@@ -153,221 +160,62 @@ pub struct Row {
 }
 
 impl Row {
-    /// The value as shown: fixed decimals, or scientific for the tiny
-    /// energy-balance error; `—` when absent.
+    /// The value as shown: fixed decimals (never `-0.00`), or scientific
+    /// for the tiny energy-balance error; `—` when absent.
     pub fn shown(&self) -> String {
-        let digits = self.digits;
         match self.value {
             None => "—".to_string(),
-            Some(x) if digits >= 10 => format!("{x:.2e}"),
-            Some(x) => format!("{x:.digits$}"),
+            Some(x) => fixed(x, self.digits),
         }
     }
 }
 
+pub use enginedyn_numerics::format::{fixed, human};
+
+/// The label of a shown key: "mean torque, effective (η_m = 0.80)" and
+/// "mean torque, indicated" for torque and power, the plain label else.
+pub fn label(shown: &enginedyn_pipeline::Shown, s: &Summary) -> String {
+    use enginedyn_pipeline::Basis;
+    match shown.basis {
+        Basis::None => shown.label.to_string(),
+        Basis::Indicated => format!("{}, indicated", shown.label),
+        Basis::Effective => format!(
+            "{}, effective (η_m = {:.2})",
+            shown.label, s.mechanical_efficiency
+        ),
+    }
+}
+
 /// The summary as labelled rows in display units, grouped by section: the
-/// one list both the printed table and `report.html` show.
+/// one list both the printed table and `report.html` show, built from
+/// [`enginedyn_pipeline::KEYS`] (optional keys only when present).
 pub fn summary_rows(s: &Summary) -> Vec<Row> {
-    let mm = |v: Option<f64>| v.map(|d| d * 1e3);
-    let table: [(&'static str, &'static str, Option<f64>, &'static str, usize); 30] = [
-        ("Work and torque", "IMEP", s.imep_bar, "bar", 3),
-        (
-            "Work and torque",
-            "indicated work per cylinder",
-            s.indicated_work_per_cylinder_j,
-            "J",
-            2,
-        ),
-        ("Work and torque", "mean torque", s.mean_torque_nm, "N m", 2),
-        ("Work and torque", "power", s.power_kw, "kW", 2),
-        ("Work and torque", "torque max", s.torque_max_nm, "N m", 1),
-        ("Work and torque", "torque min", s.torque_min_nm, "N m", 1),
-        (
-            "Work and torque",
-            "torque non-uniformity μ",
-            s.torque_nonuniformity,
-            "",
-            3,
-        ),
-        (
-            "Work and torque",
-            "energy balance error",
-            s.energy_balance_error,
-            "",
-            12,
-        ),
-        ("Flywheel", "excess work ΔE", s.excess_work_j, "J", 2),
-        (
-            "Flywheel",
-            "excess work coefficient ψ",
-            s.excess_work_coefficient,
-            "",
-            4,
-        ),
-        (
-            "Flywheel",
-            "required inertia I₀",
-            s.required_inertia_kg_m2,
-            "kg m²",
-            5,
-        ),
-        (
-            "Flywheel",
-            "flywheel inertia I_f",
-            s.flywheel_inertia_kg_m2,
-            "kg m²",
-            5,
-        ),
-        ("Flywheel", "flywheel GD²", s.flywheel_gd2_n_m2, "N m²", 3),
-        (
-            "Flywheel",
-            "flywheel outer diameter",
-            mm(s.flywheel_outer_diameter_m),
-            "mm",
-            1,
-        ),
-        (
-            "Flywheel",
-            "flywheel width",
-            mm(s.flywheel_width_m),
-            "mm",
-            1,
-        ),
-        ("Flywheel", "flywheel mass", s.flywheel_mass_kg, "kg", 2),
-        (
-            "Flywheel",
-            "speed fluctuation achieved δ",
-            s.speed_fluctuation_achieved,
-            "",
-            5,
-        ),
-        ("Kinematics", "stroke", Some(s.stroke_m * 1e3), "mm", 3),
-        ("Kinematics", "λ = R/L", Some(s.lambda), "", 4),
-        (
-            "Kinematics",
-            "mean piston speed",
-            Some(s.piston_speed_mean_m_s),
-            "m/s",
-            2,
-        ),
-        (
-            "Kinematics",
-            "max piston speed",
-            Some(s.piston_speed_max_m_s),
-            "m/s",
-            2,
-        ),
-        (
-            "Kinematics",
-            "max piston acceleration",
-            Some(s.piston_accel_max_m_s2),
-            "m/s²",
-            0,
-        ),
-        (
-            "Kinematics",
-            "min piston acceleration",
-            Some(s.piston_accel_min_m_s2),
-            "m/s²",
-            0,
-        ),
-        (
-            "Forces (largest magnitude)",
-            "gas force",
-            s.gas_force_max_n,
-            "N",
-            0,
-        ),
-        (
-            "Forces (largest magnitude)",
-            "side thrust",
-            s.side_force_max_n,
-            "N",
-            0,
-        ),
-        (
-            "Forces (largest magnitude)",
-            "rod force",
-            s.rod_force_max_n,
-            "N",
-            0,
-        ),
-        (
-            "Forces (largest magnitude)",
-            "crank-pin load max",
-            s.crankpin_load_max_n,
-            "N",
-            0,
-        ),
-        (
-            "Forces (largest magnitude)",
-            "crank-pin load mean",
-            s.crankpin_load_mean_n,
-            "N",
-            0,
-        ),
-        (
-            "Forces (largest magnitude)",
-            "main-journal torque max",
-            Some(s.journal_torque_max_nm),
-            "N m",
-            1,
-        ),
-        (
-            "Forces (largest magnitude)",
-            "most loaded journal",
-            Some(s.journal_most_loaded as f64),
-            "after throw",
-            0,
-        ),
-    ];
-    // Rows that exist only for some runs: measured data, --tolerance.
-    let optional = [
-        (
-            "Data and method",
-            "measured cycles",
-            s.cycles.map(|c| c as f64),
-            "",
-            0,
-        ),
-        (
-            "Data and method",
-            "IMEP cycle-to-cycle CoV",
-            s.cycle_stats.and_then(|c| c.imep_cov).map(|c| 100.0 * c),
-            "%",
-            2,
-        ),
-        (
-            "Data and method",
-            "TDC offset the trace suggests",
-            s.tdc_offset_estimate_deg,
-            "deg",
-            2,
-        ),
-        (
-            "Data and method",
-            "estimated relative error (--tolerance)",
-            s.estimated_relative_error,
-            "",
-            6,
-        ),
-    ];
-    table
-        .into_iter()
-        .chain(optional.into_iter().filter(|r| r.2.is_some()))
-        .map(|(section, label, value, unit, digits)| Row {
-            section,
-            label,
-            value,
-            unit,
-            digits,
+    enginedyn_pipeline::KEYS
+        .iter()
+        .filter_map(|k| {
+            let shown = k.shown.as_ref()?;
+            let value = (k.get)(s)?;
+            let value = match value {
+                Value::Num(x) => x,
+                Value::Int(i) => Some(i as f64),
+                _ => return None,
+            };
+            Some(Row {
+                key: k.key,
+                section: shown.section,
+                label: label(shown, s),
+                value: value.map(|v| v * shown.scale),
+                unit: shown.unit,
+                digits: shown.digits,
+            })
         })
         .collect()
 }
 
-/// Formats a number for CSV: shortest round-trip form.
+/// Formats a number for CSV: shortest round-trip form, exponent notation
+/// only for tiny and huge magnitudes.
 fn num(out: &mut String, x: f64) {
-    let _ = write!(out, "{x}");
+    enginedyn_numerics::format::csv_into(out, x);
 }
 
 /// `curves.csv`: one row per grid angle of cylinder 1 over the cycle. Columns

@@ -1,0 +1,120 @@
+//! Numbers written as people write them: in notes and messages (`human`),
+//! in tables (`fixed`, never `-0.00`) and in CSV files (`csv`, shortest
+//! round-trip, exponent notation only for tiny and huge magnitudes). The
+//! one home of number formatting; every crate that writes text calls it.
+
+/// `x` with `digits` decimals: no `-0.00` (a value that rounds to zero has
+/// no sign); 10 digits and more ask for scientific notation with two
+/// decimals (`3.31e-15`).
+pub fn fixed(x: f64, digits: usize) -> String {
+    let s = if digits >= 10 {
+        format!("{x:.2e}")
+    } else {
+        format!("{x:.digits$}")
+    };
+    match s.strip_prefix('-') {
+        Some(rest) if rest.bytes().all(|b| matches!(b, b'0' | b'.')) => rest.to_string(),
+        _ => s,
+    }
+}
+
+/// A number in a note or message: six significant digits at most, trailing
+/// zeros dropped, plain between 1e-4 and 1e9 and `1.5e-7` outside
+/// (`-7.66`, `4900`, `0.086`; never `-7.662e0`).
+pub fn human(x: f64) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let a = x.abs();
+    if !(1e-4..1e9).contains(&a) {
+        let s = format!("{x:.5e}");
+        let (m, e) = s.split_once('e').unwrap_or((&s, "0"));
+        return format!("{}e{e}", trim_zeros(m));
+    }
+    let digits = (5 - a.log10().floor() as i32).clamp(0, 10) as usize;
+    trim_zeros(&fixed(x, digits))
+}
+
+fn trim_zeros(s: &str) -> String {
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s.to_string()
+    }
+}
+
+/// A number in a CSV cell (INTERFACE.md): the shortest form that reads back
+/// to the same `f64`, in exponent notation below 1e-5 and from 1e16 in
+/// magnitude (`1e-7`, `2.5e20`), plain between (`0.00012`, `4900`); never
+/// 30 digits of zeros. Non-finite values are empty cells.
+pub fn csv(x: f64) -> String {
+    let mut s = String::new();
+    csv_into(&mut s, x);
+    s
+}
+
+/// [`csv`], appended to `out`.
+pub fn csv_into(out: &mut String, x: f64) {
+    use std::fmt::Write as _;
+    if !x.is_finite() {
+        return;
+    }
+    let a = x.abs();
+    let _ = if a != 0.0 && !(1e-5..1e16).contains(&a) {
+        write!(out, "{x:e}")
+    } else {
+        write!(out, "{x}")
+    };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fixed_has_no_negative_zero() {
+        assert_eq!(fixed(-0.001, 2), "0.00");
+        assert_eq!(fixed(-0.0, 0), "0");
+        assert_eq!(fixed(-0.006, 2), "-0.01");
+        assert_eq!(fixed(3.31e-15, 12), "3.31e-15");
+    }
+
+    #[test]
+    fn human_numbers() {
+        assert_eq!(human(-7.662), "-7.662");
+        assert_eq!(human(-7.66), "-7.66");
+        assert_eq!(human(4900.0), "4900");
+        assert_eq!(human(0.086), "0.086");
+        assert_eq!(human(1e300), "1e300");
+        assert_eq!(human(1.5e-7), "1.5e-7");
+        assert_eq!(human(123456.789), "123457");
+        assert_eq!(human(0.0), "0");
+    }
+
+    /// Exponent form only outside [1e-5, 1e16), and every cell reads back
+    /// to the same number.
+    #[test]
+    fn csv_cells_round_trip() {
+        assert_eq!(csv(1e-7), "1e-7");
+        assert_eq!(csv(-2.5e-12), "-2.5e-12");
+        assert_eq!(csv(0.00012), "0.00012");
+        assert_eq!(csv(1e20), "1e20");
+        assert_eq!(csv(4900.0), "4900");
+        assert_eq!(csv(0.0), "0");
+        assert_eq!(csv(f64::NAN), "");
+        for x in [
+            1e-7,
+            3.0e-300,
+            1.2345678901234567e-6,
+            9.99e15,
+            1e16,
+            -0.1,
+            123.456,
+        ] {
+            assert_eq!(csv(x).parse::<f64>().unwrap().to_bits(), x.to_bits(), "{x}");
+        }
+    }
+}

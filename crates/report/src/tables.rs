@@ -1,0 +1,339 @@
+//! What `batch` and `sweep` show: batch's `index.html`, the readable table
+//! of key figures (one row per diagram or speed) printed without `--out`,
+//! and the sweep chart. The key figures' labels, units and decimals come
+//! from [`enginedyn_pipeline::KEYS`].
+
+use crate::html::{esc, percent_encode};
+use crate::{Chart, Figure, Series, fixed};
+use enginedyn_pipeline::{KEYS, Summary};
+use std::fmt::Write as _;
+
+/// The key figures of a batch or sweep row, in this order.
+pub const KEY_FIGURES: [&str; 8] = [
+    "rpm",
+    "imep_bar",
+    "mean_torque_nm",
+    "power_kw",
+    "torque_max_nm",
+    "torque_min_nm",
+    "crankpin_load_max_n",
+    "required_inertia_kg_m2",
+];
+
+/// The key figures of a sweep's printed table (the speed is the row).
+pub const SWEEP_FIGURES: [&str; 8] = [
+    "mean_torque_nm",
+    "power_kw",
+    "indicated_mean_torque_nm",
+    "torque_max_nm",
+    "torque_min_nm",
+    "crankpin_load_max_n",
+    "gas_force_max_n",
+    "speed_fluctuation_achieved",
+];
+
+/// A key figure's column: heading, unit, SI-to-display scale and decimals.
+struct Column {
+    heading: String,
+    unit: &'static str,
+    scale: f64,
+    digits: usize,
+}
+
+fn columns(keys: &[&str], s: &Summary) -> Vec<Column> {
+    keys.iter()
+        .map(
+            |key| match Summary::key(key).and_then(|k| k.shown.as_ref()) {
+                Some(shown) => Column {
+                    heading: crate::label(shown, s),
+                    unit: shown.unit,
+                    scale: shown.scale,
+                    digits: shown.digits,
+                },
+                None => Column {
+                    heading: "speed".into(),
+                    unit: "rpm",
+                    scale: 1.0,
+                    digits: 0,
+                },
+            },
+        )
+        .collect()
+}
+
+/// A summary's figures of `keys` ([`KEY_FIGURES`], [`SWEEP_FIGURES`]) in
+/// SI units.
+pub fn key_figures(keys: &[&str], s: &Summary) -> Vec<Option<f64>> {
+    keys.iter()
+        .map(|key| {
+            KEYS.iter()
+                .find(|k| k.key == *key)
+                .and_then(|k| k.number(s))
+        })
+        .collect()
+}
+
+/// One diagram (or speed) of a batch (or sweep) as the tables show it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KeyRow {
+    /// The diagram's file, or the speed.
+    pub name: String,
+    /// Its key figures ([`key_figures`]), or `None` when it failed.
+    pub figures: Option<Vec<Option<f64>>>,
+    /// Why it failed (empty when it ran).
+    pub error: String,
+    /// Its run folder under the batch folder, with `--detail`.
+    pub folder: Option<String>,
+}
+
+/// "1 diagram", "2 diagrams".
+pub fn count(n: usize, what: &str) -> String {
+    format!("{n} {what}{}", if n == 1 { "" } else { "s" })
+}
+
+/// The readable table of a batch or sweep (standard output without
+/// `--out`): one row per diagram or speed, the figures of `keys` (numbered
+/// columns, their labels and units listed below), failed rows with their
+/// error. `eta` is the mechanical efficiency the effective figures carry.
+pub fn key_table(first: &str, keys: &[&str], rows: &[KeyRow], eta: f64) -> String {
+    let mut s = Summary::empty();
+    s.mechanical_efficiency = eta;
+    let cols = columns(keys, &s);
+    let head: Vec<String> = std::iter::once(first.to_string())
+        .chain(cols.iter().map(|c| {
+            if c.unit.is_empty() {
+                c.heading.clone()
+            } else {
+                format!("{} ({})", c.heading, c.unit)
+            }
+        }))
+        .collect();
+    let body: Vec<Vec<String>> =
+        rows.iter()
+            .map(|r| {
+                let mut cells = vec![r.name.clone()];
+                match &r.figures {
+                    Some(f) => cells.extend(f.iter().zip(&cols).map(|(v, c)| {
+                        v.map_or("—".to_string(), |x| fixed(x * c.scale, c.digits))
+                    })),
+                    None => cells.push(format!("error: {}", r.error)),
+                }
+                cells
+            })
+            .collect();
+    // Each heading on its own line above its column would be too wide: the
+    // headings are numbered and listed under the table instead.
+    let mut width = vec![0usize; head.len()];
+    width[0] = head[0].chars().count();
+    for row in &body {
+        if row.len() == head.len() {
+            for (w, c) in width.iter_mut().zip(row) {
+                *w = (*w).max(c.chars().count());
+            }
+        } else {
+            width[0] = width[0].max(row[0].chars().count());
+        }
+    }
+    for (k, w) in width.iter_mut().enumerate().skip(1) {
+        *w = (*w).max(format!("[{k}]").len());
+    }
+    let mut o = String::new();
+    let mut line = format!("{:<w$}", head[0], w = width[0]);
+    for (k, w) in width.iter().enumerate().skip(1) {
+        let _ = write!(line, "  {:>w$}", format!("[{k}]"));
+    }
+    let _ = writeln!(o, "{}", line.trim_end());
+    for row in &body {
+        let mut line = format!("{:<w$}", row[0], w = width[0]);
+        if row.len() == head.len() {
+            for (c, w) in row.iter().zip(&width).skip(1) {
+                let _ = write!(line, "  {c:>w$}");
+            }
+        } else {
+            let _ = write!(line, "  {}", row[1]);
+        }
+        let _ = writeln!(o, "{}", line.trim_end());
+    }
+    o.push('\n');
+    for (k, h) in head.iter().enumerate().skip(1) {
+        let _ = writeln!(o, "[{k}] {h}");
+    }
+    o
+}
+
+/// Batch's `index.html`: every diagram with its key figures, linking to its
+/// report (links percent-encoded), failed rows with their error.
+pub fn index_html(title: &str, rows: &[KeyRow], eta: f64) -> String {
+    let mut s = Summary::empty();
+    s.mechanical_efficiency = eta;
+    let cols = columns(&KEY_FIGURES, &s);
+    let mut o = String::new();
+    let _ = write!(
+        o,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{} — batch</title><style>\
+body{{font-family:sans-serif;margin:24px}}table{{border-collapse:collapse;font-size:14px}}\
+td,th{{padding:3px 10px;border-bottom:1px solid #eee;text-align:left}}td.v{{text-align:right}}.err{{color:#b00}}\
+</style></head><body><h1>{} — {}</h1>\n<table><tr><th>#</th><th>diagram</th>",
+        esc(title),
+        esc(title),
+        count(rows.len(), "diagram")
+    );
+    for c in &cols {
+        let heading = if c.unit.is_empty() {
+            c.heading.clone()
+        } else {
+            format!("{} ({})", c.heading, c.unit)
+        };
+        let _ = write!(o, "<th>{}</th>", esc(&heading));
+    }
+    o.push_str("<th>report</th></tr>\n");
+    for (i, r) in rows.iter().enumerate() {
+        // Rows count from 1, as the run folders NNNN_STEM do.
+        let _ = write!(o, "<tr><td>{}</td><td>{}</td>", i + 1, esc(&r.name));
+        match (&r.figures, &r.folder) {
+            (Some(k), Some(folder)) => {
+                for (v, c) in k.iter().zip(&cols) {
+                    let _ = write!(
+                        o,
+                        "<td class=\"v\">{}</td>",
+                        v.map_or("—".to_string(), |x| fixed(x * c.scale, c.digits))
+                    );
+                }
+                let _ = writeln!(
+                    o,
+                    "<td><a href=\"{}/report.html\">report</a></td></tr>",
+                    esc(&percent_encode(folder))
+                );
+            }
+            _ => {
+                let _ = writeln!(
+                    o,
+                    "<td colspan=\"{}\" class=\"err\">{}</td></tr>",
+                    cols.len() + 1,
+                    esc(&r.error)
+                );
+            }
+        }
+    }
+    o.push_str("</table></body></html>\n");
+    o
+}
+
+/// `sweep.svg`: torque, peak forces and the required inertia against speed,
+/// one unit per panel.
+pub fn sweep_figure(engine_name: &str, summaries: &[&Summary]) -> Figure {
+    let get = |f: fn(&Summary) -> Option<f64>| -> Vec<(f64, f64)> {
+        summaries
+            .iter()
+            .filter_map(|s| f(s).map(|v| (s.rpm, v)))
+            .collect()
+    };
+    let panel = |title: &str, y: &str, series: Vec<Series>| Chart {
+        title: title.into(),
+        x_label: "engine speed (rpm)".into(),
+        y_label: y.into(),
+        series,
+        log: false,
+        equal: false,
+        angle_ticks: None,
+    };
+    let s = |name: &str, pts: Vec<(f64, f64)>| Series {
+        name: name.into(),
+        points: pts,
+        dashed: false,
+    };
+    let eta = summaries.first().map_or(1.0, |s| s.mechanical_efficiency);
+    Figure {
+        file: "sweep.svg".into(),
+        panels: vec![
+            panel(
+                &format!("{engine_name} — torque against speed"),
+                "torque (N m)",
+                vec![
+                    s(
+                        &format!("mean, effective (η_m = {eta:.2})"),
+                        get(|x| x.mean_torque_nm),
+                    ),
+                    s("mean, indicated", get(|x| x.indicated_mean_torque_nm)),
+                    s("max, indicated", get(|x| x.torque_max_nm)),
+                    s("min, indicated", get(|x| x.torque_min_nm)),
+                ],
+            ),
+            // One unit per panel: the crank-pin load against the peak gas
+            // force shows inertia taking over as speed rises.
+            panel(
+                "peak forces",
+                "force (kN)",
+                vec![
+                    s(
+                        "crank-pin load max",
+                        get(|x| x.crankpin_load_max_n.map(|v| v / 1e3)),
+                    ),
+                    s("gas force max", get(|x| x.gas_force_max_n.map(|v| v / 1e3))),
+                ],
+            ),
+            panel(
+                "flywheel",
+                "speed fluctuation δ with the flywheel sized once",
+                vec![s("δ achieved", get(|x| x.speed_fluctuation_achieved))],
+            ),
+        ],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The columns' headings come from KEYS, with units, and failed rows
+    /// carry their error.
+    #[test]
+    fn key_table_rows() {
+        let mut s = Summary::empty();
+        s.rpm = 1500.0;
+        s.mean_torque_nm = Some(-0.0001);
+        s.imep_bar = Some(10.4714);
+        let rows = [
+            KeyRow {
+                name: "a.csv".into(),
+                figures: Some(key_figures(&KEY_FIGURES, &s)),
+                error: String::new(),
+                folder: None,
+            },
+            KeyRow {
+                name: "b.csv".into(),
+                figures: None,
+                error: "line 3: bad".into(),
+                folder: None,
+            },
+        ];
+        let t = key_table("diagram", &KEY_FIGURES, &rows, 0.8);
+        assert!(t.contains("[2] IMEP (bar)"), "{t}");
+        assert!(
+            t.contains("[3] mean torque, effective (η_m = 0.80) (N m)"),
+            "{t}"
+        );
+        assert!(t.contains("10.471"), "{t}");
+        assert!(t.contains("1500"), "{t}");
+        assert!(!t.contains("-0.00"), "{t}");
+        assert!(t.contains("error: line 3: bad"), "{t}");
+    }
+
+    /// Links are percent-encoded (`run#1` and `a?b` are path characters
+    /// there) and rows count from 1.
+    #[test]
+    fn index_links_and_numbers() {
+        let rows = [KeyRow {
+            name: "run#1.csv".into(),
+            figures: Some(key_figures(&KEY_FIGURES, &Summary::empty())),
+            error: String::new(),
+            folder: Some("0001_run#1 a?b".into()),
+        }];
+        let html = index_html("E", &rows, 1.0);
+        assert!(
+            html.contains("href=\"0001_run%231%20a%3Fb/report.html\""),
+            "{html}"
+        );
+        assert!(html.contains("<tr><td>1</td>"), "{html}");
+    }
+}
