@@ -44,7 +44,7 @@
 //! let mut b = a.clone();
 //! b.mean_torque_nm = Some(101.0);
 //! let e = relative_errors(&b, &a);
-//! assert_eq!(KEYS[0].0, "mean_torque_nm");
+//! assert_eq!(KEYS[0], "mean_torque_nm");
 //! assert!((e[0].unwrap() - 0.01).abs() < 1e-12);
 //! ```
 
@@ -80,38 +80,77 @@ pub enum AccuracyError {
         /// Finest step tried (deg).
         step: f64,
     },
+    /// An option kept beside `--tolerance` cannot meet it.
+    #[error(
+        "{option} cannot meet --tolerance {tolerance}: with it the key results are estimated {estimated:.2e} off; drop {option} to let --tolerance choose, or loosen the tolerance"
+    )]
+    KeptUnreachable {
+        /// Asked for.
+        tolerance: f64,
+        /// The option, as given.
+        option: String,
+        /// The estimated error with it.
+        estimated: f64,
+    },
     /// A bad tolerance value.
     #[error("--tolerance {0}: a relative error between 1e-6 and 0.5 is needed")]
     BadTolerance(f64),
 }
 
-/// Reads one key result from a summary.
-pub type Getter = fn(&Summary) -> Option<f64>;
-
-/// The key results whose errors are measured, with their `summary.json` names.
-pub const KEYS: [(&str, Getter); 7] = [
-    ("mean_torque_nm", |s| s.mean_torque_nm),
-    ("torque_max_nm", |s| s.torque_max_nm),
-    ("torque_min_nm", |s| s.torque_min_nm),
-    ("excess_work_j", |s| s.excess_work_j),
-    ("required_inertia_kg_m2", |s| s.required_inertia_kg_m2),
-    ("crankpin_load_max_n", |s| s.crankpin_load_max_n),
-    ("imep_bar", |s| s.imep_bar),
+/// The key results whose errors are measured: every `summary.json` figure
+/// a method setting can move, kinematic extremes included (the speed, the
+/// geometry, the mean piston speed, the journal's number and the energy
+/// balance's own round-off are not results of a method).
+pub const KEYS: &[&str] = &[
+    "mean_torque_nm",
+    "power_kw",
+    "indicated_mean_torque_nm",
+    "indicated_power_kw",
+    "torque_max_nm",
+    "torque_min_nm",
+    "torque_nonuniformity",
+    "excess_work_j",
+    "excess_work_coefficient",
+    "required_inertia_kg_m2",
+    "flywheel_inertia_kg_m2",
+    "flywheel_gd2_n_m2",
+    "flywheel_outer_diameter_m",
+    "flywheel_mass_kg",
+    "flywheel_width_m",
+    "speed_fluctuation_achieved",
+    "piston_speed_max_m_s",
+    "piston_accel_max_m_s2",
+    "piston_accel_min_m_s2",
+    "gas_force_max_n",
+    "side_force_max_n",
+    "rod_force_max_n",
+    "crankpin_load_max_n",
+    "crankpin_load_mean_n",
+    "journal_torque_max_nm",
+    "imep_bar",
+    "indicated_work_per_cylinder_j",
 ];
 
-/// Relative errors of `got` against `reference`, key by key (`None` where
-/// either lacks the figure). Torque figures are relative to the larger of
-/// their own size and a tenth of the torque swing, so that a torque minimum
-/// near zero does not turn a small absolute error into a huge relative one.
+/// A key result's value in a summary (`None` when absent or not computed:
+/// the kinematic extremes are `NaN` in [`Scope::Keys`]).
+pub fn key_value(s: &Summary, key: &str) -> Option<f64> {
+    Summary::key(key)?.number(s).filter(|x| x.is_finite())
+}
+
+/// Relative errors of `got` against `reference`, key by key of [`KEYS`]
+/// (`None` where either lacks the figure). Torque figures are relative to
+/// the larger of their own size and a tenth of the torque swing, so that a
+/// torque minimum near zero does not turn a small absolute error into a
+/// huge relative one.
 pub fn relative_errors(got: &Summary, reference: &Summary) -> Vec<Option<f64>> {
     let swing = match (reference.torque_max_nm, reference.torque_min_nm) {
         (Some(a), Some(b)) => 0.1 * (a - b).abs(),
         _ => 0.0,
     };
     KEYS.iter()
-        .map(|(name, get)| {
-            let (g, r) = (get(got)?, get(reference)?);
-            let floor = if name.starts_with("torque_") || name.starts_with("mean_torque") {
+        .map(|name| {
+            let (g, r) = (key_value(got, name)?, key_value(reference, name)?);
+            let floor = if name.contains("torque_") && !name.contains("nonuniformity") {
                 swing
             } else {
                 0.0
@@ -241,6 +280,10 @@ pub const LADDERS: [[f64; 9]; 2] = [
 /// ladder whose coarsest fitting step is the coarsest (the powers of two
 /// on a tie).
 pub fn ladder(engine: &Engine) -> Vec<f64> {
+    ladder_steps(engine)
+}
+
+fn ladder_steps(engine: &Engine) -> Vec<f64> {
     let fitting = |l: &[f64; 9]| -> Vec<f64> {
         l.iter()
             .copied()
@@ -531,7 +574,7 @@ pub fn pareto(rows: &[Row]) -> Vec<usize> {
 /// then one error column per key (empty where the figure does not exist).
 pub fn csv(a: &Accuracy) -> String {
     let mut out = String::from("study,setting,time_s,max_relative_error");
-    for (k, _) in KEYS {
+    for k in KEYS {
         out.push(',');
         out.push_str(k);
     }
@@ -616,12 +659,31 @@ pub struct Choice {
     pub options: Options,
     /// Its estimated largest relative error on the key results.
     pub estimated: f64,
-    /// How the estimate was made.
+    /// How the estimate was made, and each model that differs from the
+    /// engine file's and the defaults, with why it may.
     pub notes: Vec<String>,
 }
 
-/// The cheapest setting whose estimated error on the key results stays
-/// within `tolerance` (relative), without any run of the reference:
+/// Method options given explicitly beside `--tolerance`: [`choose`] keeps
+/// them and chooses the rest around them.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Kept {
+    /// `--step`.
+    pub step_deg: Option<f64>,
+    /// `--kinematics`.
+    pub kinematics: Option<Model>,
+    /// `--rod-model`.
+    pub rod_model: Option<RodModel>,
+    /// `--interp`.
+    pub interp: Option<Interp>,
+    /// `--integration`.
+    pub integration: Option<Rule>,
+}
+
+/// The cheapest setting whose estimated error on every key result
+/// ([`KEYS`], kinematic extremes included) stays within `tolerance`
+/// (relative), without any run of the reference; the options in `kept`
+/// are kept as given and the rest chosen around them:
 ///
 /// - grid step: runs down the halving [`ladder`] from the coarsest step
 ///   that fits the engine, each compared with the one twice as coarse (a
@@ -632,25 +694,32 @@ pub struct Choice {
 ///   one does not), the first step is taken whose estimate is within half
 ///   the tolerance, or within the tolerance when its last difference alone
 ///   is within a quarter of it (converged; only the conservative second
-///   term is large).
+///   term is large). A kept step is estimated the same way from the two
+///   steps above it (or, when they do not fit the engine, as twice its
+///   difference from the step half as large).
 /// - models: on the ladder's grid nearest 1° (the chosen one when coarser), the
 ///   rod models (two-mass, three-mass) with exact kinematics, then the
 ///   series (2, 4, 6) with the rod chosen are compared with exact
-///   kinematics and the most exact rod; the simplest whose difference plus
-///   the grid estimate stays within the tolerance is taken. The series truncation
-///   (a-priori: `lambda^(order+1)` terms) and the rod couple
-///   `(I_G - m l_A l_B) w^2 beta'' beta'` are what these differences measure.
+///   kinematics and the most exact rod, every key result and the piston
+///   speed and acceleration extremes included; the simplest whose
+///   difference plus the grid estimate stays within the tolerance is taken.
+///   The series truncation (a-priori: `lambda^(order+1)` terms) and the rod
+///   couple `(I_G - m l_A l_B) w^2 beta'' beta'` are what these differences
+///   measure.
 ///
-/// Interpolation stays `auto` and integration is Simpson's rule (exact
-/// like the trapezoid for the periodic cycle integrals, fourth-order for
-/// the running integral `E(phi)` where the trapezoid is second-order; the
-/// `integration` rows of `accuracy.csv` show the difference at 1°); both
-/// effects are within the grid estimate. Each run uses [`Scope::Keys`]; the caller repeats the chosen
-/// setting with its own outputs.
+/// Interpolation stays `auto` and integration is Simpson's rule unless
+/// kept (exact like the trapezoid for the periodic cycle integrals,
+/// fourth-order for the running integral `E(phi)` where the trapezoid is
+/// second-order; the `integration` rows of `accuracy.csv` show the
+/// difference at 1°); both effects are within the grid estimate, which is
+/// made with them. Each grid run uses [`Scope::Keys`], each model run
+/// [`Scope::Summary`] (the kinematic extremes); the caller repeats the
+/// chosen setting with its own outputs.
 pub fn choose(
     engine: &Engine,
     rpm: f64,
     tolerance: f64,
+    kept: &Kept,
     resample: &dyn Fn(f64, Interp) -> Result<Resampled, AccuracyError>,
 ) -> Result<Choice, AccuracyError> {
     if !(1e-6..=0.5).contains(&tolerance) {
@@ -678,129 +747,249 @@ pub fn choose(
     let base = Options {
         step_deg: 0.1,
         kinematics: Model::Exact,
-        rod_model: Some(best),
-        interp: Interp::Auto,
-        integration: Rule::Simpson,
+        rod_model: Some(kept.rod_model.unwrap_or(best)),
+        interp: kept.interp.unwrap_or(Interp::Auto),
+        integration: kept.integration.unwrap_or(Rule::Simpson),
         scope: Scope::Keys,
     };
-    // A halving ladder, so that each estimate compares h with 2h.
-    let steps = ladder(engine);
+    let at = |step: f64| Options {
+        step_deg: step,
+        ..base
+    };
+    let diff = |a: &Summary, b: &Summary| max_error(&relative_errors(a, b)).unwrap_or(0.0);
     let mut ladder: Vec<(f64, Summary)> = Vec::new();
-    let mut found = None;
-    let mut last = (f64::INFINITY, 0.0);
-    // The previous difference, once there is one: a single difference (two
-    // grids) cannot show that the grids converge, so a step is taken only
-    // from the third grid on.
-    let mut before: Option<f64> = None;
-    for &step in &steps {
-        let o = Options {
-            step_deg: step,
-            ..base
-        };
-        let s = run(&o)?;
-        if let Some((h2, p)) = ladder.last()
-            && (h2 / step - 2.0).abs() < 1e-9
-        {
-            // The difference from 2h, and the difference before it over 4
-            // (what second-order convergence leaves of it): nested grids
-            // can sample an extreme equally badly at h and 2h, and then
-            // the last difference alone says too little.
-            let diff = max_error(&relative_errors(p, &s)).unwrap_or(0.0);
-            if let Some(b) = before {
-                let est = diff.max(b / 4.0);
-                last = (est, step);
-                // Within half the tolerance; or within it when the last
-                // difference alone is within a quarter (converged, and only
-                // the conservative second term is large).
-                if est <= 0.5 * tolerance || est <= tolerance && diff <= 0.25 * tolerance {
-                    found = Some((step, est));
-                    ladder.push((step, s));
-                    break;
-                }
+    let (step, grid_est) = match kept.step_deg {
+        Some(h) => {
+            // From the two steps above it when they fit, else from the step
+            // half as large.
+            let est = if step_fits(engine, 2.0 * h) && step_fits(engine, 4.0 * h) {
+                let (s4, s2, s1) = (run(&at(4.0 * h))?, run(&at(2.0 * h))?, run(&at(h))?);
+                let est = diff(&s1, &s2).max(diff(&s2, &s4) / 4.0);
+                ladder.extend([(4.0 * h, s4), (2.0 * h, s2), (h, s1)]);
+                est
+            } else if step_fits(engine, 0.5 * h) {
+                let (s1, s_half) = (run(&at(h))?, run(&at(0.5 * h))?);
+                let est = 2.0 * diff(&s1, &s_half);
+                ladder.extend([(h, s1), (0.5 * h, s_half)]);
+                est
             } else {
-                last = (diff, step);
+                return Err(AccuracyError::KeptUnreachable {
+                    tolerance,
+                    option: format!("--step {h}"),
+                    estimated: f64::INFINITY,
+                });
+            };
+            if est > tolerance {
+                return Err(AccuracyError::KeptUnreachable {
+                    tolerance,
+                    option: format!("--step {h}"),
+                    estimated: est,
+                });
             }
-            before = Some(diff);
-        } else {
-            before = None;
+            (h, est)
         }
-        ladder.push((step, s));
-    }
-    let Some((step, grid_est)) = found else {
-        return Err(AccuracyError::Unreachable {
-            tolerance,
-            best: last.0,
-            step: last.1,
-        });
+        None => {
+            // A halving ladder, so that each estimate compares h with 2h.
+            let steps = ladder_steps(engine);
+            let mut found = None;
+            let mut last = (f64::INFINITY, 0.0);
+            // The previous difference, once there is one: a single
+            // difference (two grids) cannot show that the grids converge,
+            // so a step is taken only from the third grid on.
+            let mut before: Option<f64> = None;
+            for &step in &steps {
+                let s = run(&at(step))?;
+                if let Some((h2, p)) = ladder.last()
+                    && (h2 / step - 2.0).abs() < 1e-9
+                {
+                    // The difference from 2h, and the difference before it
+                    // over 4 (what second-order convergence leaves of it):
+                    // nested grids can sample an extreme equally badly at h
+                    // and 2h, and then the last difference alone says too
+                    // little.
+                    let d = diff(p, &s);
+                    if let Some(b) = before {
+                        let est = d.max(b / 4.0);
+                        last = (est, step);
+                        // Within half the tolerance; or within it when the
+                        // last difference alone is within a quarter
+                        // (converged, and only the conservative second term
+                        // is large).
+                        if est <= 0.5 * tolerance || est <= tolerance && d <= 0.25 * tolerance {
+                            found = Some((step, est));
+                            ladder.push((step, s));
+                            break;
+                        }
+                    } else {
+                        last = (d, step);
+                    }
+                    before = Some(d);
+                } else {
+                    before = None;
+                }
+                ladder.push((step, s));
+            }
+            found.ok_or(AccuracyError::Unreachable {
+                tolerance,
+                best: last.0,
+                step: last.1,
+            })?
+        }
     };
     // Model differences hardly depend on the grid: measured on the ladder's
     // grid nearest 1° no finer than the chosen one (cheaper than the chosen
-    // one when that is finer).
-    let (model_step, reference_summary) = ladder
+    // one when that is finer), against exact kinematics and the most exact
+    // rod, with the kinematic extremes (Scope::Summary).
+    let model_step = ladder
         .iter()
-        .filter(|(h, _)| *h >= step)
-        .min_by(|a, b| a.0.ln().abs().total_cmp(&b.0.ln().abs()))
-        .map(|(h, s)| (*h, s.clone()))
-        .unwrap_or((step, Summary::empty()));
-    let model_error = |m: Model, r: RodModel| -> Result<f64, AccuracyError> {
-        let o = Options {
+        .map(|(h, _)| *h)
+        .filter(|h| *h >= step)
+        .min_by(|a, b| a.ln().abs().total_cmp(&b.ln().abs()))
+        .unwrap_or(step);
+    let model_run = |m: Model, r: RodModel| {
+        run(&Options {
             step_deg: model_step,
             kinematics: m,
             rod_model: Some(r),
+            scope: Scope::Summary,
             ..base
-        };
-        Ok(max_error(&relative_errors(&run(&o)?, &reference_summary)).unwrap_or(0.0))
+        })
     };
-    let mut notes = vec![format!(
-        "--tolerance {tolerance}: grid {step}° (estimated {grid_est:.1e} from the step before)"
-    )];
+    let reference_summary = model_run(Model::Exact, best)?;
+    let model_error = |m: Model, r: RodModel| -> Result<f64, AccuracyError> {
+        if m == Model::Exact && r == best {
+            return Ok(0.0);
+        }
+        Ok(diff(&model_run(m, r)?, &reference_summary))
+    };
+    let mut notes = vec![match kept.step_deg {
+        Some(h) => format!(
+            "--tolerance {tolerance}: grid {h}° kept as given (estimated {} from the steps beside it)",
+            human(grid_est)
+        ),
+        None => format!(
+            "--tolerance {tolerance}: grid {step}° (estimated {} from the step before)",
+            human(grid_est)
+        ),
+    }];
     // The rod first (with exact kinematics), then the simplest kinematics
     // with that rod; each pair's difference is measured as a whole.
-    let mut rod = best;
-    for r in [RodModel::TwoMass, RodModel::ThreeMass] {
-        if r == best || best != RodModel::Rigid && r == RodModel::ThreeMass {
-            continue;
+    let rod = match kept.rod_model {
+        Some(r) => r,
+        None => {
+            let mut rod = best;
+            for r in [RodModel::TwoMass, RodModel::ThreeMass] {
+                if r == best || best != RodModel::Rigid && r == RodModel::ThreeMass {
+                    continue;
+                }
+                if grid_est + model_error(Model::Exact, r)? <= tolerance {
+                    rod = r;
+                    break;
+                }
+            }
+            rod
         }
-        if grid_est + model_error(Model::Exact, r)? <= tolerance {
-            rod = r;
-            break;
-        }
-    }
+    };
     let offset = engine.mechanism().phi_tdc() != 0.0;
-    for m in [Model::Series2, Model::Series4, Model::Series6, Model::Exact] {
-        if offset && matches!(m, Model::Series4 | Model::Series6) {
+    let candidates: Vec<Model> = match kept.kinematics {
+        Some(m) => vec![m],
+        None => [Model::Series2, Model::Series4, Model::Series6, Model::Exact]
+            .into_iter()
+            .filter(|m| !(offset && matches!(m, Model::Series4 | Model::Series6)))
+            .collect(),
+    };
+    for m in candidates {
+        let model_est = model_error(m, rod)?;
+        if grid_est + model_est > tolerance {
             continue;
         }
-        let model_est = if m == Model::Exact && rod == best {
-            0.0
-        } else {
-            model_error(m, rod)?
-        };
-        if grid_est + model_est <= tolerance {
-            notes.push(format!(
-                "{} kinematics and the {} rod differ by {model_est:.1e} from exact and {} (on the {model_step}° grid)",
-                m.name(),
-                rod.name(),
-                best.name()
-            ));
-            return Ok(Choice {
-                options: Options {
-                    step_deg: step,
-                    kinematics: m,
-                    rod_model: Some(rod),
-                    ..base
-                },
-                estimated: grid_est + model_est,
-                notes,
-            });
-        }
-    }
-    Ok(Choice {
-        options: Options {
+        let options = Options {
             step_deg: step,
+            kinematics: m,
+            rod_model: Some(rod),
             ..base
-        },
-        estimated: grid_est,
-        notes,
+        };
+        notes.extend(why_models(engine, kept, &options, model_est, model_step));
+        return Ok(Choice {
+            options,
+            estimated: grid_est + model_est,
+            notes,
+        });
+    }
+    // Only a kept option can leave nothing (exact kinematics with the most
+    // exact rod adds no model error).
+    let (option, estimated) = match (kept.kinematics, kept.rod_model) {
+        (Some(m), _) => (
+            format!("--kinematics {}", m.name()),
+            grid_est + model_error(m, rod)?,
+        ),
+        (None, Some(r)) => (
+            format!("--rod-model {}", r.name()),
+            grid_est + model_error(Model::Exact, r)?,
+        ),
+        (None, None) => (format!("--step {step}"), grid_est),
+    };
+    Err(AccuracyError::KeptUnreachable {
+        tolerance,
+        option,
+        estimated,
     })
+}
+
+/// The notes of a choice: each model that differs from the engine file's
+/// and the defaults, and why it may.
+fn why_models(
+    engine: &Engine,
+    kept: &Kept,
+    o: &Options,
+    model_est: f64,
+    model_step: f64,
+) -> Vec<String> {
+    let mut notes = Vec::new();
+    let rod = o.rod_model.unwrap_or(engine.rod_model());
+    let best = best_rod(engine);
+    let mut differ = Vec::new();
+    if rod != engine.rod_model() {
+        differ.push(format!(
+            "the {} rod, not the engine file's {}{}",
+            rod.name(),
+            engine.rod_model().name(),
+            if kept.rod_model.is_some() {
+                " (kept as given)"
+            } else {
+                ""
+            }
+        ));
+    }
+    if o.kinematics != Model::Exact {
+        differ.push(format!(
+            "{} kinematics, not exact (the default){}",
+            o.kinematics.name(),
+            if kept.kinematics.is_some() {
+                " (kept as given)"
+            } else {
+                ""
+            }
+        ));
+    }
+    if !differ.is_empty() {
+        notes.push(format!(
+            "--tolerance: {}: together {} off exact kinematics with the {} rod on the {model_step}° grid",
+            differ.join("; "),
+            if model_est == 0.0 { "nothing".to_string() } else { human(model_est) },
+            best.name()
+        ));
+    }
+    if o.integration != Rule::Trapezoid && kept.integration.is_none() {
+        notes.push(
+            "--tolerance: Simpson's rule, not the trapezoid (the default): fourth order for E(φ), the same cycle integrals"
+                .to_string(),
+        );
+    }
+    notes
+}
+
+/// An estimate in a note: two significant digits.
+fn human(x: f64) -> String {
+    enginedyn_numerics::format::sig(x, 2)
 }

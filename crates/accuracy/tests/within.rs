@@ -4,7 +4,9 @@
 //! than the default when the tolerance allows; and the accuracy study's
 //! errors fall as the methods get finer.
 
-use enginedyn_accuracy::{Input, KEYS, Study, choose, pareto, reference, relative_errors, study};
+use enginedyn_accuracy::{
+    Input, KEYS, Kept, Study, choose, pareto, reference, relative_errors, study,
+};
 use enginedyn_engine::Engine;
 use enginedyn_ingest::{Diagram, GridOptions, Interp, ParseOptions};
 use std::path::PathBuf;
@@ -50,7 +52,12 @@ fn summary(
 fn tolerance_is_kept_against_the_reference() {
     for (engine, d) in bundled() {
         let rpm = d.rpm.or(engine.operating().rpm).unwrap();
-        let reference = summary(&engine, &d, rpm, &reference(&engine));
+        // The kinematic extremes are key results too (Scope::Summary).
+        let full = |o: enginedyn_pipeline::Options| enginedyn_pipeline::Options {
+            scope: enginedyn_pipeline::Scope::Summary,
+            ..o
+        };
+        let reference = summary(&engine, &d, rpm, &full(reference(&engine)));
         for tol in [3e-2, 1e-2, 3e-3, 1e-3, 1e-4, 1e-5] {
             let resample = |step: f64, interp: Interp| {
                 Ok(enginedyn_ingest::resample_with(
@@ -58,10 +65,10 @@ fn tolerance_is_kept_against_the_reference() {
                     &GridOptions::new(step, interp),
                 )?)
             };
-            let c = choose(&engine, rpm, tol, &resample).unwrap();
-            let got = summary(&engine, &d, rpm, &c.options);
+            let c = choose(&engine, rpm, tol, &Kept::default(), &resample).unwrap();
+            let got = summary(&engine, &d, rpm, &full(c.options));
             let errors = relative_errors(&got, &reference);
-            for ((k, _), e) in KEYS.iter().zip(&errors) {
+            for (k, e) in KEYS.iter().zip(&errors) {
                 if let Some(e) = e {
                     assert!(
                         *e <= tol,
@@ -103,11 +110,11 @@ fn unreachable_and_bad_tolerances_are_refused() {
         )?)
     };
     for bad in [0.0, -1.0, 0.9, f64::NAN] {
-        assert!(choose(&engine, rpm, bad, &resample).is_err());
+        assert!(choose(&engine, rpm, bad, &Kept::default(), &resample).is_err());
     }
     // The bundled smooth diagram meets even 1e-6 (Simpson's rule and
     // extremes refined between samples) ...
-    let c = choose(&engine, rpm, 1e-6, &resample).unwrap();
+    let c = choose(&engine, rpm, 1e-6, &Kept::default(), &resample).unwrap();
     assert!(c.estimated <= 1e-6, "{c:?}");
     // ... a pressure jump does not: the interpolant's 0.1° ramp is what the
     // finest ladder steps resolve, and their differences stay large.
@@ -125,7 +132,7 @@ fn unreachable_and_bad_tolerances_are_refused() {
             &GridOptions::new(step, interp),
         )?)
     };
-    let e = choose(&engine, rpm, 1e-6, &resample).unwrap_err();
+    let e = choose(&engine, rpm, 1e-6, &Kept::default(), &resample).unwrap_err();
     assert!(e.to_string().contains("loosen the tolerance"), "{e}");
 }
 

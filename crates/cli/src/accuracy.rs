@@ -53,10 +53,9 @@ pub fn run(a: &AccuracyArgs) -> Result<(), Failure> {
             .errors
             .iter()
             .zip(KEYS)
-            .filter_map(|(e, (k, _))| Some((e.as_ref()?, k)))
+            .filter_map(|(e, k)| Some((e.as_ref()?, k)))
             .max_by(|a, b| a.0.total_cmp(b.0))
-            .map(|(_, k)| k)
-            .unwrap_or("");
+            .map_or("", |(_, k)| *k);
         let _ = writeln!(
             t,
             "{:<14} {:<52} {:>10.3} {:>10}  {}{}",

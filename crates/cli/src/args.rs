@@ -107,25 +107,27 @@ fn parse_peg(s: &str) -> Result<PegArg, String> {
         .ok_or_else(|| format!("expected polytropic=N with 1 < N < 2, not `{t}`"))
 }
 
-/// How the computation is done (INTERFACE.md's method options).
+/// How the computation is done (INTERFACE.md's method options). Each is
+/// `None` unless given, so that `--tolerance` can keep the ones given.
 #[derive(Debug, Clone, Args)]
 pub struct MethodArgs {
-    /// Grid step of the crank-angle grid (deg); must divide the cycle.
-    #[arg(long, value_name = "DEG", default_value_t = 0.1)]
-    pub step: f64,
-    /// Piston kinematics.
-    #[arg(long, value_enum, default_value = "exact")]
-    pub kinematics: KinematicsArg,
+    /// Grid step of the crank-angle grid (deg); must divide the cycle [default: 0.1].
+    #[arg(long, value_name = "DEG")]
+    pub step: Option<f64>,
+    /// Piston kinematics [default: exact].
+    #[arg(long, value_enum)]
+    pub kinematics: Option<KinematicsArg>,
     /// Connecting-rod mass model [default: the engine file's `rod_model`].
     #[arg(long, value_enum)]
     pub rod_model: Option<RodModelArg>,
     /// Interpolation onto the grid (`auto`: linear on grid data, else the
-    /// periodic spline unless it overshoots by > 0.5 % of the peak, then pchip).
-    #[arg(long, value_enum, default_value = "auto")]
-    pub interp: InterpArg,
-    /// Integration rule for means and the running integral E(φ).
-    #[arg(long, value_enum, default_value = "trapezoid")]
-    pub integration: IntegrationArg,
+    /// periodic spline unless it overshoots by > 0.5 % of the peak, then
+    /// pchip) [default: auto].
+    #[arg(long, value_enum)]
+    pub interp: Option<InterpArg>,
+    /// Integration rule for means and the running integral E(φ) [default: trapezoid].
+    #[arg(long, value_enum)]
+    pub integration: Option<IntegrationArg>,
 }
 
 /// How the diagram file is read.
@@ -232,30 +234,66 @@ impl KinematicsArg {
     }
 }
 
-impl MethodArgs {
-    pub fn options(&self) -> enginedyn_pipeline::Options {
+impl RodModelArg {
+    pub fn model(self) -> enginedyn_engine::RodModel {
         use enginedyn_engine::RodModel;
+        match self {
+            RodModelArg::TwoMass => RodModel::TwoMass,
+            RodModelArg::ThreeMass => RodModel::ThreeMass,
+            RodModelArg::Rigid => RodModel::Rigid,
+        }
+    }
+}
+
+impl InterpArg {
+    pub fn interp(self) -> enginedyn_ingest::Interp {
         use enginedyn_ingest::Interp;
+        match self {
+            InterpArg::Auto => Interp::Auto,
+            InterpArg::Linear => Interp::Linear,
+            InterpArg::Spline => Interp::Spline,
+            InterpArg::Pchip => Interp::Pchip,
+        }
+    }
+}
+
+impl IntegrationArg {
+    pub fn rule(self) -> enginedyn_numerics::integrate::Rule {
         use enginedyn_numerics::integrate::Rule;
+        match self {
+            IntegrationArg::Trapezoid => Rule::Trapezoid,
+            IntegrationArg::Simpson => Rule::Simpson,
+        }
+    }
+}
+
+impl MethodArgs {
+    /// The grid step (deg): the flag or the default 0.1.
+    pub fn step(&self) -> f64 {
+        self.step.unwrap_or(0.1)
+    }
+
+    /// The options, defaults where a flag is not given.
+    pub fn options(&self) -> enginedyn_pipeline::Options {
+        let d = enginedyn_pipeline::Options::default();
         enginedyn_pipeline::Options {
-            step_deg: self.step,
-            kinematics: self.kinematics.model(),
-            rod_model: self.rod_model.map(|r| match r {
-                RodModelArg::TwoMass => RodModel::TwoMass,
-                RodModelArg::ThreeMass => RodModel::ThreeMass,
-                RodModelArg::Rigid => RodModel::Rigid,
-            }),
-            interp: match self.interp {
-                InterpArg::Auto => Interp::Auto,
-                InterpArg::Linear => Interp::Linear,
-                InterpArg::Spline => Interp::Spline,
-                InterpArg::Pchip => Interp::Pchip,
-            },
-            integration: match self.integration {
-                IntegrationArg::Trapezoid => Rule::Trapezoid,
-                IntegrationArg::Simpson => Rule::Simpson,
-            },
+            step_deg: self.step(),
+            kinematics: self.kinematics.map_or(d.kinematics, KinematicsArg::model),
+            rod_model: self.rod_model.map(RodModelArg::model),
+            interp: self.interp.map_or(d.interp, InterpArg::interp),
+            integration: self.integration.map_or(d.integration, IntegrationArg::rule),
             scope: enginedyn_pipeline::Scope::Full,
+        }
+    }
+
+    /// The options given explicitly, which `--tolerance` keeps.
+    pub fn kept(&self) -> enginedyn_accuracy::Kept {
+        enginedyn_accuracy::Kept {
+            step_deg: self.step,
+            kinematics: self.kinematics.map(KinematicsArg::model),
+            rod_model: self.rod_model.map(RodModelArg::model),
+            interp: self.interp.map(InterpArg::interp),
+            integration: self.integration.map(IntegrationArg::rule),
         }
     }
 }

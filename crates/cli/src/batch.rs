@@ -70,7 +70,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
     }
     let loaded = load_engine(Some(&a.engine))?;
     let engine = &loaded.engine;
-    let step = a.method.step;
+    let step = a.method.step();
     check_step(engine, step)?;
     let opts = enginedyn_pipeline::Options {
         // Without --detail only summary.csv is written: skip the report curves.
@@ -135,8 +135,14 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                                 ));
                             }
                             let speed = resolve_rpm(None, d.rpm, engine)?;
-                            let (mut an, choice) =
-                                within(engine, &[(shown.clone(), d)], &grid, speed.rpm, t)?;
+                            let (mut an, choice) = within(
+                                engine,
+                                &[(shown.clone(), d)],
+                                &grid,
+                                speed.rpm,
+                                t,
+                                &a.method.kept(),
+                            )?;
                             an.summary.estimated_relative_error = Some(choice.estimated);
                             an.summary.notes.extend(choice.notes);
                             an.summary.notes.extend(speed.note);
@@ -347,7 +353,7 @@ fn speeds(spec: &str) -> Result<Vec<f64>, Failure> {
 pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
     let loaded = load_engine(Some(&a.engine))?;
     let engine = &loaded.engine;
-    let step = a.method.step;
+    let step = a.method.step();
     check_step(engine, step)?;
     let rpms = speeds(&a.rpm)?;
     let opts = enginedyn_pipeline::Options {

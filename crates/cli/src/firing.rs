@@ -24,7 +24,7 @@ pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
     };
     let loaded = load_engine(Some(&a.input.engine))?;
     let engine = &loaded.engine;
-    let step = a.method.step;
+    let step = a.method.step();
     check_step(engine, step)?;
     let opts = a.method.options();
     let rod_model = opts.rod_model.unwrap_or(engine.rod_model());

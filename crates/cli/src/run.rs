@@ -275,7 +275,7 @@ pub fn resolve_rpm(
 }
 
 pub fn run(a: &RunArgs) -> Result<(), Failure> {
-    let step = a.method.step;
+    let step = a.method.step();
     let loaded = load_engine(a.engine.as_deref())?;
     let engine = &loaded.engine;
     check_step(engine, step)?;
@@ -390,7 +390,14 @@ fn run_within(
         .collect::<Result<Vec<_>, Failure>>()?;
     let engine = &loaded.engine;
     let speed = resolve_rpm(a.rpm, diagrams[0].1.rpm, engine)?;
-    let (analysis, choice) = within(engine, &diagrams, grid, speed.rpm, tolerance)?;
+    let (analysis, choice) = within(
+        engine,
+        &diagrams,
+        grid,
+        speed.rpm,
+        tolerance,
+        &a.method.kept(),
+    )?;
     let mut analysis = analysis;
     analysis.summary.estimated_relative_error = Some(choice.estimated);
     analysis.summary.notes.extend(choice.notes);
@@ -410,6 +417,7 @@ pub fn within(
     grid: &GridOptions,
     rpm: f64,
     tolerance: f64,
+    kept: &enginedyn_accuracy::Kept,
 ) -> Result<(enginedyn_pipeline::Analysis, enginedyn_accuracy::Choice), Failure> {
     let resample = |ds: &[(String, &enginedyn_ingest::Diagram)], g: &GridOptions| {
         let each = ds
@@ -436,12 +444,13 @@ pub fn within(
         interp,
         ..grid.clone()
     };
-    let choice = enginedyn_accuracy::choose(engine, rpm, tolerance, &|step, interp| {
+    let choice = enginedyn_accuracy::choose(engine, rpm, tolerance, kept, &|step, interp| {
         resample(&avg_refs, &on(step, interp))
             .map_err(|f| enginedyn_accuracy::AccuracyError::Synth(f.message))
     })
     .map_err(|e| match e {
         enginedyn_accuracy::AccuracyError::Unreachable { .. }
+        | enginedyn_accuracy::AccuracyError::KeptUnreachable { .. }
         | enginedyn_accuracy::AccuracyError::BadTolerance(_) => Failure::usage(e.to_string()),
         other => Failure::data(other.to_string()),
     })?;

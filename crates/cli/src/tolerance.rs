@@ -36,7 +36,7 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
     }
     let (inputs, input_notes) = enginedyn_tolerance::inputs(engine, &tolerances)
         .map_err(|e| Failure::usage(format!("{file}: {e}")))?;
-    let step = a.method.step;
+    let step = a.method.step();
     check_step(engine, step)?;
     let opts = a.method.options();
     let diagram = crate::run::diagram_path(a.input.diagram.as_deref(), &loaded)?;

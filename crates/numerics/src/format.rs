@@ -22,6 +22,14 @@ pub fn fixed(x: f64, digits: usize) -> String {
 /// zeros dropped, plain between 1e-4 and 1e9 and `1.5e-7` outside
 /// (`-7.66`, `4900`, `0.086`; never `-7.662e0`).
 pub fn human(x: f64) -> String {
+    sig(x, 6)
+}
+
+/// A number with at most `n` significant digits (1 to 15), written as
+/// [`human`] writes it (`sig(0.0019677, 2)` is `0.002`, `sig(1.61e-2, 2)`
+/// is `0.016`).
+pub fn sig(x: f64, n: usize) -> String {
+    let n = n.clamp(1, 15);
     if !x.is_finite() {
         return format!("{x}");
     }
@@ -30,11 +38,11 @@ pub fn human(x: f64) -> String {
     }
     let a = x.abs();
     if !(1e-4..1e9).contains(&a) {
-        let s = format!("{x:.5e}");
+        let s = format!("{x:.p$e}", p = n - 1);
         let (m, e) = s.split_once('e').unwrap_or((&s, "0"));
         return format!("{}e{e}", trim_zeros(m));
     }
-    let digits = (5 - a.log10().floor() as i32).clamp(0, 10) as usize;
+    let digits = (n as i32 - 1 - a.log10().floor() as i32).clamp(0, 15) as usize;
     trim_zeros(&fixed(x, digits))
 }
 
@@ -92,6 +100,10 @@ mod tests {
         assert_eq!(human(1.5e-7), "1.5e-7");
         assert_eq!(human(123456.789), "123457");
         assert_eq!(human(0.0), "0");
+        assert_eq!(sig(0.0019677, 2), "0.002");
+        assert_eq!(sig(1.61e-2, 2), "0.016");
+        assert_eq!(sig(3.3e-7, 2), "3.3e-7");
+        assert_eq!(sig(375.347, 3), "375");
     }
 
     /// Exponent form only outside [1e-5, 1e16), and every cell reads back
