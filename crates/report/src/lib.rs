@@ -17,7 +17,10 @@ use std::path::{Path, PathBuf};
 mod chart;
 mod html;
 mod tornado;
-pub use chart::{Chart, Figure, Series, kinematics_chart, run_figures};
+pub use chart::{
+    Chart, Figure, ScatterChart, ScatterGroup, ScatterPoint, Series, kinematics_chart, run_figures,
+    tick_label,
+};
 pub use html::report_html;
 pub use tornado::{TornadoBar, TornadoPanel, tornado_svg};
 
