@@ -149,12 +149,6 @@ fn bounds(series: &[Series], log: bool) -> ((f64, f64), (f64, f64)) {
     (x, widen(yr, 0.06))
 }
 
-/// Tick labels without trailing zeros: 0, 90, 1.5, 2e5 (the old formatter,
-/// kept for callers that know no tick spacing).
-pub(crate) fn tick(v: &f64) -> String {
-    tick_label(*v, 0.0)
-}
-
 /// Decimals that write `step` exactly (0.25 → 2, 5 → 0), at most 12.
 fn decimals(step: f64) -> usize {
     let mut d = 0;
@@ -249,7 +243,7 @@ fn nice_step(span: f64, n: f64) -> f64 {
 /// value on a log axis): labelled (bold) positions with their labels, and
 /// the light grid between them.
 #[derive(Debug, Clone, Default)]
-struct Ticks {
+pub(crate) struct Ticks {
     bold: Vec<f64>,
     labels: Vec<String>,
     light: Vec<f64>,
@@ -257,7 +251,7 @@ struct Ticks {
 
 impl Ticks {
     /// The label of the bold tick at `v` (the nearest one).
-    fn label(&self, v: f64) -> String {
+    pub(crate) fn label(&self, v: f64) -> String {
         self.bold
             .iter()
             .zip(&self.labels)
@@ -268,7 +262,7 @@ impl Ticks {
 
     /// Linear ticks over `[lo, hi]`, about `n` intervals, multiples of
     /// the step (at most a few dozen whatever the range).
-    fn linear(lo: f64, hi: f64, n: f64, step: Option<f64>) -> Self {
+    pub(crate) fn linear(lo: f64, hi: f64, n: f64, step: Option<f64>) -> Self {
         let span = hi - lo;
         if !(span.is_finite() && span > 0.0) {
             return Self {
@@ -589,7 +583,7 @@ fn series_keys(series: &[Series]) -> Vec<(String, Key)> {
 
 /// A linear coordinate over `[lo, hi]` whose grid is the given ticks
 /// (plotters' own key points round badly and crowd on log ranges).
-struct AxisRange {
+pub(crate) struct AxisRange {
     lo: f64,
     hi: f64,
     bold: Vec<f64>,
@@ -597,7 +591,7 @@ struct AxisRange {
 }
 
 impl AxisRange {
-    fn new((lo, hi): (f64, f64), t: &Ticks) -> Self {
+    pub(crate) fn new((lo, hi): (f64, f64), t: &Ticks) -> Self {
         Self {
             lo,
             hi,
