@@ -189,7 +189,7 @@ pub fn tick_label(v: f64, step: f64) -> String {
     let s = if !(1e-4..1e6).contains(&a) {
         // Significant digits enough to tell neighbouring ticks apart.
         let digits = if known {
-            ((a / step).log10().floor().max(0.0) as usize).min(6)
+            ((a.log10().floor() - step.log10().floor()).max(0.0) as usize).min(6)
         } else {
             2
         };
