@@ -557,7 +557,7 @@ pub fn csv(a: &Accuracy) -> String {
 /// `accuracy.svg`: every method setting as a labelled marker ("series2",
 /// "1°", "pchip"), time per analysis (ms) against the largest relative
 /// error of the key results, log-log. Studies are told apart by marker
-/// shape and colour; filled markers are errors against the reference or
+/// shape and colour (named as in `accuracy.csv`); filled markers are errors against the reference or
 /// the generated diagram's truth, hollow ones differences on this diagram.
 /// The Pareto front is a step line, and faint guides at the tolerances
 /// 1e-2, 1e-3 and 1e-4 name the cheapest setting within each.
@@ -579,7 +579,7 @@ pub fn figure(a: &Accuracy, engine_name: &str) -> enginedyn_report::ScatterChart
         } else {
             ""
         };
-        let name = format!("{}{basis}", r.study.name().replace('_', " "));
+        let name = format!("{}{basis}", r.study.name());
         // The setting without its basis: "1°", "pchip", "simpson 1°".
         let label = r
             .setting
@@ -610,7 +610,7 @@ pub fn figure(a: &Accuracy, engine_name: &str) -> enginedyn_report::ScatterChart
             let text = match best {
                 Some(r) => format!(
                     "tolerance {tol:.0e}: cheapest {} {}, {:.3} ms",
-                    r.study.name().replace('_', " "),
+                    r.study.name(),
                     r.setting.split(" (").next().unwrap_or(&r.setting),
                     r.time_s * 1e3
                 ),

@@ -57,7 +57,7 @@ fn every_setting_is_a_labelled_marker() {
     let grid: Vec<_> = chart
         .groups
         .iter()
-        .filter(|g| g.name.starts_with("grid step"))
+        .filter(|g| g.name.starts_with("grid_step"))
         .collect();
     assert_eq!(grid.len(), 2);
     assert!(grid.iter().all(|g| g.style != kin.style));
