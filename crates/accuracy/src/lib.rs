@@ -597,59 +597,90 @@ pub fn csv(a: &Accuracy) -> String {
     out
 }
 
-/// `accuracy.svg`: largest relative error against run time, log-log, one
-/// line per study and basis, the Pareto front dashed.
-pub fn figure(a: &Accuracy, engine_name: &str) -> enginedyn_report::Figure {
-    use enginedyn_report::{Chart, Figure, Series};
+/// `accuracy.svg`: every method setting as a labelled marker ("series2",
+/// "1°", "pchip"), time per analysis (ms) against the largest relative
+/// error of the key results, log-log. Studies are told apart by marker
+/// shape and colour (named as in `accuracy.csv`); filled markers are errors against the reference or
+/// the generated diagram's truth, hollow ones differences on this diagram.
+/// The Pareto front is a step line, and faint guides at the tolerances
+/// 1e-2, 1e-3 and 1e-4 name the cheapest setting within each.
+pub fn figure(a: &Accuracy, engine_name: &str) -> enginedyn_report::ScatterChart {
+    use enginedyn_report::{ScatterChart, ScatterGroup, ScatterPoint};
     // A zero error cannot sit on log axes: drawn at a floor instead.
     const FLOOR: f64 = 1e-12;
-    let point = |r: &Row| Some((r.time_s, r.max_relative_error()?.max(FLOOR)));
-    let mut groups: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    let point = |r: &Row| Some((r.time_s * 1e3, r.max_relative_error()?.max(FLOOR)));
+    let mut groups: Vec<ScatterGroup> = Vec::new();
+    let mut floored = false;
     for r in &a.rows {
+        let Some((x, y)) = point(r) else { continue };
+        floored |= y <= FLOOR;
+        let differences = r.setting.contains("difference");
         let basis = if r.setting.contains("generated") {
-            " (generated)"
-        } else if r.setting.contains("difference") {
-            " (this diagram, differences)"
+            " (generated diagram)"
+        } else if differences {
+            " (this diagram, difference)"
         } else {
             ""
         };
         let name = format!("{}{basis}", r.study.name());
-        let Some(p) = point(r) else { continue };
-        match groups.iter_mut().find(|(n, _)| *n == name) {
-            Some((_, v)) => v.push(p),
-            None => groups.push((name, vec![p])),
+        // The setting without its basis: "1°", "pchip", "simpson 1°".
+        let label = r
+            .setting
+            .split(" (")
+            .next()
+            .unwrap_or(&r.setting)
+            .replace(" at ", " ");
+        let p = ScatterPoint { x, y, label };
+        match groups.iter_mut().find(|g| g.name == name) {
+            Some(g) => g.points.push(p),
+            None => groups.push(ScatterGroup {
+                name,
+                style: r.study as usize,
+                filled: !differences,
+                points: vec![p],
+            }),
         }
     }
-    let mut series: Vec<Series> = groups
+    let front: Vec<usize> = pareto(&a.rows);
+    let corners = front.iter().filter_map(|&i| point(&a.rows[i])).collect();
+    let guides = [1e-2, 1e-3, 1e-4]
         .into_iter()
-        .map(|(n, mut pts)| {
-            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-            Series::from_points(n, pts.into_iter())
+        .map(|tol| {
+            let best = front
+                .iter()
+                .map(|&i| &a.rows[i])
+                .find(|r| r.max_relative_error().is_some_and(|e| e <= tol));
+            let text = match best {
+                Some(r) => format!(
+                    "tolerance {tol:.0e}: cheapest {} {}, {:.3} ms",
+                    r.study.name(),
+                    r.setting.split(" (").next().unwrap_or(&r.setting),
+                    r.time_s * 1e3
+                ),
+                None => format!("tolerance {tol:.0e}: no setting"),
+            };
+            (tol, text)
         })
         .collect();
-    let front: Vec<(f64, f64)> = pareto(&a.rows)
-        .into_iter()
-        .filter_map(|i| point(&a.rows[i]))
-        .collect();
-    series.push(Series {
-        name: "Pareto front".into(),
-        points: front,
-        dashed: true,
-    });
-    Figure::single(
-        "accuracy.svg",
-        Chart {
-            title: format!(
-                "{engine_name}: largest relative error of the key results against run time"
-            ),
-            x_label: "run time of one analysis (s)".into(),
-            y_label: "largest relative error (zero drawn at 1e-12)".into(),
-            series,
-            log: true,
-            equal: false,
-            angle_ticks: None,
-        },
-    )
+    ScatterChart {
+        file: "accuracy.svg".into(),
+        title: format!(
+            "{engine_name}: accuracy against cost of each method setting{}",
+            if floored {
+                " (a zero error drawn at 1e-12)"
+            } else {
+                ""
+            }
+        ),
+        x_label: "time per analysis (ms)".into(),
+        y_label: "largest relative error of the key results".into(),
+        groups,
+        steps: Some((
+            "Pareto front (nothing both faster and more exact)".into(),
+            corners,
+        )),
+        guides,
+    }
 }
 
 /// What [`choose`] picked.

@@ -6,6 +6,7 @@ use enginedyn_engine::Engine;
 use enginedyn_kinematics::Table;
 use enginedyn_pipeline::Analysis;
 use plotters::coord::Shift;
+use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint};
 use plotters::prelude::*;
 
 pub(crate) const PALETTE: [RGBColor; 8] = [
@@ -127,7 +128,11 @@ fn bounds(series: &[Series], log: bool) -> ((f64, f64), (f64, f64)) {
         }
     }
     if !xr.0.is_finite() {
-        return ((0.0, 1.0), (0.0, 1.0));
+        return if log {
+            ((0.1, 10.0), (0.1, 10.0))
+        } else {
+            ((0.0, 1.0), (0.0, 1.0))
+        };
     }
     if log {
         return ((xr.0 / 1.1, xr.1 * 1.1), (yr.0 / 1.2, yr.1 * 1.2));
@@ -144,164 +149,600 @@ fn bounds(series: &[Series], log: bool) -> ((f64, f64), (f64, f64)) {
     (x, widen(yr, 0.06))
 }
 
-/// Tick labels without trailing zeros: 0, 90, 1.5, 2e5.
-pub(crate) fn tick(v: &f64) -> String {
+/// Decimals that write `step` exactly (0.25 → 2, 5 → 0), at most 12.
+fn decimals(step: f64) -> usize {
+    let mut d = 0;
+    while d < 12 {
+        let s = step * 10f64.powi(d as i32);
+        if (s - s.round()).abs() <= 1e-6 * s.abs().max(1e-300) {
+            break;
+        }
+        d += 1;
+    }
+    d
+}
+
+/// A tick label for `v` on an axis whose ticks are `step` apart: a value
+/// within a millionth of the step of zero is written `0` (no `-2e-16`),
+/// others with as many decimals as the step needs and no trailing zeros
+/// (`0.3`, not `0.30000000000000004`); magnitudes of a million and more,
+/// or under 1e-4, in exponent form (`2.5e6`, `-3e-5`). A `step` of 0 (or
+/// not finite) means unknown: three decimals at most.
+///
+/// ```
+/// use enginedyn_report::tick_label;
+/// assert_eq!(tick_label(-2e-16, 0.5), "0");
+/// assert_eq!(tick_label(0.1 + 0.2, 0.1), "0.3");
+/// assert_eq!(tick_label(250.0, 50.0), "250");
+/// assert_eq!(tick_label(2.5e6, 5e5), "2.5e6");
+/// ```
+pub fn tick_label(v: f64, step: f64) -> String {
+    if !v.is_finite() {
+        return v.to_string();
+    }
+    let step = step.abs();
+    let known = step.is_finite() && step > 0.0;
+    if v == 0.0 || (known && v.abs() < step * 1e-6) {
+        return "0".into();
+    }
     let a = v.abs();
-    if a != 0.0 && !(1e-3..1e6).contains(&a) {
-        format!("{v:.0e}")
+    let s = if !(1e-4..1e6).contains(&a) {
+        // Significant digits enough to tell neighbouring ticks apart.
+        let digits = if known {
+            ((a.log10().floor() - step.log10().floor()).max(0.0) as usize).min(6)
+        } else {
+            2
+        };
+        let s = format!("{v:.digits$e}");
+        match s.split_once('e') {
+            Some((m, e)) => {
+                let m = if m.contains('.') {
+                    m.trim_end_matches('0').trim_end_matches('.')
+                } else {
+                    m
+                };
+                format!("{m}e{e}")
+            }
+            None => s,
+        }
     } else {
-        let s = format!("{v:.3}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        if s == "-0" { "0".into() } else { s.to_string() }
+        let d = if known { decimals(step) } else { 3 };
+        let s = format!("{v:.d$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    };
+    if s.chars().all(|c| matches!(c, '-' | '0' | '.')) {
+        "0".into()
+    } else {
+        s
+    }
+}
+
+/// A step of 1, 2 or 5 times a power of ten giving about `n` intervals
+/// over `span`.
+fn nice_step(span: f64, n: f64) -> f64 {
+    let raw = span / n;
+    let p = 10f64.powf(raw.log10().floor());
+    let m = raw / p;
+    let k = if m < 1.5 {
+        1.0
+    } else if m < 3.5 {
+        2.0
+    } else if m < 7.5 {
+        5.0
+    } else {
+        10.0
+    };
+    k * p
+}
+
+/// An axis's ticks, in the coordinates the chart is built on (log10 of the
+/// value on a log axis): labelled (bold) positions with their labels, and
+/// the light grid between them.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Ticks {
+    bold: Vec<f64>,
+    labels: Vec<String>,
+    light: Vec<f64>,
+}
+
+impl Ticks {
+    /// The label of the bold tick at `v` (the nearest one).
+    pub(crate) fn label(&self, v: f64) -> String {
+        self.bold
+            .iter()
+            .zip(&self.labels)
+            .min_by(|a, b| (a.0 - v).abs().total_cmp(&(b.0 - v).abs()))
+            .map(|(_, l)| l.clone())
+            .unwrap_or_default()
+    }
+
+    /// Linear ticks over `[lo, hi]`, about `n` intervals, multiples of
+    /// the step (at most a few dozen whatever the range).
+    pub(crate) fn linear(lo: f64, hi: f64, n: f64, step: Option<f64>) -> Self {
+        let span = hi - lo;
+        if !(span.is_finite() && span > 0.0) {
+            return Self {
+                bold: vec![lo],
+                labels: vec![tick_label(lo, 0.0)],
+                light: Vec::new(),
+            };
+        }
+        let step = step
+            .filter(|s| s.is_finite() && *s > 0.0 && span / s <= 24.0)
+            .unwrap_or_else(|| nice_step(span, n));
+        let k0 = (lo / step).ceil();
+        let k1 = (hi / step).floor();
+        if !(k0.is_finite() && k1.is_finite()) || k1 - k0 > 60.0 {
+            return Self {
+                bold: vec![lo, hi],
+                labels: vec![tick_label(lo, span), tick_label(hi, span)],
+                light: Vec::new(),
+            };
+        }
+        let bold: Vec<f64> = (0..=(k1 - k0).max(0.0) as usize)
+            .map(|k| (k0 + k as f64) * step)
+            .filter(|v| (lo..=hi).contains(v))
+            .collect();
+        let labels = bold.iter().map(|&v| tick_label(v, step)).collect();
+        let sub = step / 5.0;
+        let j0 = (lo / sub).ceil();
+        let j1 = (hi / sub).floor();
+        let light = (0..=(j1 - j0).clamp(0.0, 400.0) as usize)
+            .map(|j| (j0 + j as f64) * sub)
+            .collect();
+        Self {
+            bold,
+            labels,
+            light,
+        }
+    }
+
+    /// Log ticks over `[lo, hi]` (values, both positive), positions in
+    /// log10: decades, and 2 and 5 times a decade on short ranges; a light
+    /// line at each integer multiple of a decade when the range spans few
+    /// decades. Labels are distinct: each position is labelled once.
+    fn log(lo: f64, hi: f64) -> Self {
+        let (l0, l1) = (lo.log10(), hi.log10());
+        if !(l0.is_finite() && l1.is_finite() && l1 > l0) {
+            return Self::linear(l0, l0 + 1.0, 1.0, None);
+        }
+        let d0 = l0.floor() as i64;
+        let d1 = l1.ceil() as i64;
+        let decades = (d1 - d0).max(1);
+        // Every `stride`-th decade labelled on very long ranges.
+        let stride = (decades as f64 / 10.0).ceil().max(1.0) as i64;
+        let mantissas: &[f64] = if l1 - l0 < 0.7 {
+            &[1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
+        } else if l1 - l0 < 2.2 {
+            &[1.0, 2.0, 5.0]
+        } else {
+            &[1.0]
+        };
+        let mut t = Self::default();
+        for d in d0..=d1 {
+            let base = 10f64.powi(d as i32);
+            if decades <= 8 {
+                for m in 2..=9 {
+                    let v = (m as f64 * base).log10();
+                    if (l0..=l1).contains(&v) {
+                        t.light.push(v);
+                    }
+                }
+            }
+            if d.rem_euclid(stride) != 0 {
+                continue;
+            }
+            for &m in mantissas {
+                let value = m * base;
+                let v = value.log10();
+                if (l0..=l1).contains(&v) {
+                    t.bold.push(v);
+                    t.labels.push(log_label(value));
+                }
+            }
+        }
+        if t.bold.len() < 3 {
+            // A range within one decade: plain linear ticks, placed in log10.
+            let lin = Self::linear(lo, hi, 5.0, None);
+            let keep: Vec<usize> = (0..lin.bold.len()).filter(|&k| lin.bold[k] > 0.0).collect();
+            t.bold = keep.iter().map(|&k| lin.bold[k].log10()).collect();
+            t.labels = keep.iter().map(|&k| lin.labels[k].clone()).collect();
+            t.light.clear();
+        }
+        t
+    }
+}
+
+/// A label for a round value on a log axis: `0.01`, `0.5`, `20`, `1e-3`,
+/// `2e5`.
+fn log_label(v: f64) -> String {
+    let v: f64 = format!("{v:.2e}").parse().unwrap_or(v);
+    if (0.01..1e4).contains(&v) {
+        tick_label(v, v / 100.0)
+    } else {
+        let s = format!("{v:.1e}");
+        match s.split_once('e') {
+            Some((m, e)) => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
+            None => s,
+        }
     }
 }
 
 type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 
-/// The corner of the plot with the fewest points, for the legend (upper
-/// right on a tie): a p–V loop leaves the upper right empty, an error
-/// against time chart the lower left.
-fn legend_corner(
-    series: &[Series],
-    log: bool,
-    (x0, x1): (f64, f64),
-    (y0, y1): (f64, f64),
-) -> SeriesLabelPosition {
-    let unit = |v: f64, a: f64, b: f64| {
-        if log {
-            (v.ln() - a.ln()) / (b.ln() - a.ln())
-        } else {
-            (v - a) / (b - a)
+/// Font sizes as given to plotters (its SVG writes them 1/1.24 smaller).
+const TITLE_FONT: u32 = 20;
+const LABEL_FONT: u32 = 16;
+const DESC_FONT: u32 = 17;
+const LEGEND_FONT: u32 = 16;
+/// The colour of the legend's frame (tests find the legend by it).
+pub(crate) const LEGEND_FRAME: RGBColor = RGBColor(200, 200, 200);
+
+/// Width of `text` in pixels at plotters font size `size` (an estimate for
+/// a sans-serif face; SVG cannot measure).
+pub(crate) fn text_width(text: &str, size: u32) -> i32 {
+    (text.chars().count() as f64 * size as f64 / 1.24 * 0.58).ceil() as i32
+}
+
+/// How a legend key is drawn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Key {
+    /// A line in the series' colour, width and dash.
+    Line {
+        color: RGBColor,
+        width: u32,
+        dashed: bool,
+    },
+    /// A marker of a [`ScatterChart`] group.
+    Marker {
+        shape: usize,
+        color: RGBColor,
+        filled: bool,
+    },
+}
+
+const KEY_W: i32 = 28;
+const ITEM_GAP: i32 = 22;
+const ROW_H: i32 = 22;
+
+/// Lays legend items out in rows of at most `width` pixels: each item's
+/// row and x offset, and the number of rows.
+fn legend_layout(items: &[(String, Key)], width: i32) -> (Vec<(usize, i32)>, usize) {
+    let mut out = Vec::with_capacity(items.len());
+    let (mut row, mut x) = (0usize, 0i32);
+    for (name, _) in items {
+        let w = KEY_W + 6 + text_width(name, LEGEND_FONT);
+        if x > 0 && x + w > width {
+            row += 1;
+            x = 0;
         }
+        out.push((row, x));
+        x += w + ITEM_GAP;
+    }
+    (out, if items.is_empty() { 0 } else { row + 1 })
+}
+
+/// Draws a marker of shape `shape` (circle, square, triangle, diamond,
+/// inverted triangle, cross, repeating) centred at pixel `(x, y)`.
+pub(crate) fn draw_marker(
+    area: &Area,
+    (x, y): (i32, i32),
+    shape: usize,
+    color: RGBColor,
+    filled: bool,
+    r: i32,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let style = if filled {
+        color.filled()
+    } else {
+        color.stroke_width(2)
     };
-    // Upper right, upper left, lower left, lower right.
-    let mut count = [0usize; 4];
-    for s in series {
-        for &(x, y) in &s.points {
-            let (u, v) = (unit(x, x0, x1), unit(y, y0, y1));
-            if !(u.is_finite() && v.is_finite()) {
-                continue;
-            }
-            let (right, left, top, bottom) = (u > 0.55, u < 0.45, v > 0.6, v < 0.4);
-            for (k, hit) in [right && top, left && top, left && bottom, right && bottom]
-                .into_iter()
-                .enumerate()
-            {
-                count[k] += usize::from(hit);
-            }
+    let poly = |pts: Vec<(i32, i32)>| -> Result<(), Box<dyn std::error::Error>> {
+        if filled {
+            area.draw(&Polygon::new(pts, style))?;
+        } else {
+            let mut closed = pts.clone();
+            closed.push(pts[0]);
+            area.draw(&PathElement::new(closed, style))?;
+        }
+        Ok(())
+    };
+    match shape % 6 {
+        0 => area.draw(&Circle::new((x, y), r, style))?,
+        1 => {
+            let s = r * 9 / 10;
+            area.draw(&Rectangle::new([(x - s, y - s), (x + s, y + s)], style))?
+        }
+        2 => poly(vec![(x, y - r - 1), (x + r + 1, y + r), (x - r - 1, y + r)])?,
+        3 => poly(vec![
+            (x, y - r - 2),
+            (x + r + 1, y),
+            (x, y + r + 2),
+            (x - r - 1, y),
+        ])?,
+        4 => poly(vec![(x, y + r + 1), (x + r + 1, y - r), (x - r - 1, y - r)])?,
+        _ => {
+            let s = color.stroke_width(2);
+            area.draw(&PathElement::new(vec![(x - r, y - r), (x + r, y + r)], s))?;
+            area.draw(&PathElement::new(vec![(x - r, y + r), (x + r, y - r)], s))?;
         }
     }
-    match (0..4).min_by_key(|&k| (count[k], k)).unwrap_or(0) {
-        1 => SeriesLabelPosition::UpperLeft,
-        2 => SeriesLabelPosition::LowerLeft,
-        3 => SeriesLabelPosition::LowerRight,
-        _ => SeriesLabelPosition::UpperRight,
+    Ok(())
+}
+
+/// The band above a plot: the title, centred, and under it the legend in
+/// rows, framed, outside the plot area so that it never covers data.
+/// Returns the band's height for `items` at `width`.
+fn head_height(items: &[(String, Key)], width: i32) -> u32 {
+    let (_, rows) = legend_layout(items, width - 40);
+    (34 + if rows > 0 {
+        rows as i32 * ROW_H + 10
+    } else {
+        0
+    }) as u32
+}
+
+fn draw_head(
+    head: &Area,
+    title: &str,
+    items: &[(String, Key)],
+) -> Result<(), Box<dyn std::error::Error>> {
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    let (w, _) = head.dim_in_pixel();
+    let w = w as i32;
+    head.draw(&Text::new(
+        title.to_string(),
+        (w / 2, 10),
+        ("sans-serif", TITLE_FONT)
+            .into_font()
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Center, VPos::Top)),
+    ))?;
+    if items.is_empty() {
+        return Ok(());
+    }
+    let (place, rows) = legend_layout(items, w - 40);
+    // Each row centred.
+    let mut row_w = vec![0i32; rows];
+    for ((name, _), &(row, x)) in items.iter().zip(&place) {
+        row_w[row] = row_w[row].max(x + KEY_W + 6 + text_width(name, LEGEND_FONT));
+    }
+    let widest = row_w.iter().copied().max().unwrap_or(0);
+    let top = 36;
+    let left = (w - widest) / 2;
+    head.draw(&Rectangle::new(
+        [
+            (left - 8, top - 3),
+            (left + widest + 8, top + rows as i32 * ROW_H + 3),
+        ],
+        LEGEND_FRAME.stroke_width(1),
+    ))?;
+    let font = ("sans-serif", LEGEND_FONT)
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Left, VPos::Center));
+    for ((name, key), &(row, x)) in items.iter().zip(&place) {
+        let x = (w - row_w[row]) / 2 + x;
+        let y = top + row as i32 * ROW_H + ROW_H / 2;
+        match *key {
+            Key::Line {
+                color,
+                width,
+                dashed,
+            } => {
+                let style = color.stroke_width(width);
+                if dashed {
+                    // The series' own dash: 6 on, 4 off.
+                    for k in 0..3 {
+                        let a = x + k * 10;
+                        head.draw(&PathElement::new(vec![(a, y), (a + 6, y)], style))?;
+                    }
+                } else {
+                    head.draw(&PathElement::new(vec![(x, y), (x + KEY_W - 2, y)], style))?;
+                }
+            }
+            Key::Marker {
+                shape,
+                color,
+                filled,
+            } => draw_marker(head, (x + KEY_W / 2 - 1, y), shape, color, filled, 5)?,
+        }
+        head.draw(&Text::new(name.clone(), (x + KEY_W + 6, y), font.clone()))?;
+    }
+    Ok(())
+}
+
+/// How a series is drawn: colour, width, dash (the legend key repeats it).
+fn series_keys(series: &[Series]) -> Vec<(String, Key)> {
+    let mut solid = 0;
+    series
+        .iter()
+        .map(|s| {
+            let key = if s.dashed {
+                Key::Line {
+                    color: GREY,
+                    width: 1,
+                    dashed: true,
+                }
+            } else {
+                solid += 1;
+                Key::Line {
+                    color: PALETTE[(solid - 1) % PALETTE.len()],
+                    width: 2,
+                    dashed: false,
+                }
+            };
+            (s.name.clone(), key)
+        })
+        .collect()
+}
+
+/// A linear coordinate over `[lo, hi]` whose grid is the given ticks
+/// (plotters' own key points round badly and crowd on log ranges).
+pub(crate) struct AxisRange {
+    lo: f64,
+    hi: f64,
+    bold: Vec<f64>,
+    light: Vec<f64>,
+}
+
+impl AxisRange {
+    pub(crate) fn new((lo, hi): (f64, f64), t: &Ticks) -> Self {
+        Self {
+            lo,
+            hi,
+            bold: t.bold.clone(),
+            light: t.light.clone(),
+        }
     }
 }
 
+impl Ranged for AxisRange {
+    type FormatOption = DefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, v: &f64, limit: (i32, i32)) -> i32 {
+        let span = self.hi - self.lo;
+        if span == 0.0 || !span.is_finite() {
+            return (limit.0 + limit.1) / 2;
+        }
+        let u = ((v - self.lo) / span).clamp(-10.0, 10.0);
+        if !u.is_finite() {
+            return limit.0;
+        }
+        limit.0 + ((limit.1 - limit.0) as f64 * u + 1e-3).floor() as i32
+    }
+
+    fn key_points<H: KeyPointHint>(&self, hint: H) -> Vec<f64> {
+        if hint.weight().allow_light_points() {
+            self.light.clone()
+        } else {
+            self.bold.clone()
+        }
+    }
+
+    fn range(&self) -> std::ops::Range<f64> {
+        self.lo..self.hi
+    }
+}
+
+type Plot<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<AxisRange, AxisRange>>;
+
+/// Axes on `body`: ticks from [`Ticks`], the grid, axis labels.
+fn axes<'a, 'b>(
+    body: &'a Area<'b>,
+    (x, xt): ((f64, f64), &Ticks),
+    (y, yt): ((f64, f64), &Ticks),
+    (x_label, y_label): (&str, &str),
+) -> Result<Plot<'a, 'b>, Box<dyn std::error::Error>> {
+    let y_width = yt
+        .labels
+        .iter()
+        .map(|l| text_width(l, LABEL_FONT))
+        .max()
+        .unwrap_or(20);
+    let mut chart = ChartBuilder::on(body)
+        .margin(14)
+        .margin_top(6)
+        .x_label_area_size(48)
+        .y_label_area_size(y_width as u32 + 44)
+        .build_cartesian_2d(AxisRange::new(x, xt), AxisRange::new(y, yt))?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .x_label_formatter(&|v| xt.label(*v))
+        .y_label_formatter(&|v| yt.label(*v))
+        .label_style(("sans-serif", LABEL_FONT))
+        .axis_desc_style(("sans-serif", DESC_FONT))
+        .light_line_style(RGBColor(240, 240, 240))
+        .bold_line_style(RGBColor(215, 215, 215))
+        .draw()?;
+    Ok(chart)
+}
+
 impl Chart {
-    fn draw(&self, area: &Area, file: &str) -> Result<(), ReportError> {
-        let err = |e: &dyn std::fmt::Display| ReportError::Chart {
-            name: file.to_string(),
-            message: e.to_string(),
-        };
+    fn draw(&self, area: &Area) -> Result<(), Box<dyn std::error::Error>> {
         let ((mut x0, mut x1), (mut y0, mut y1)) = bounds(&self.series, self.log);
+        let keys = series_keys(&self.series);
+        let (w, _) = area.dim_in_pixel();
+        let (head, body) = area.split_vertically(head_height(&keys, w as i32));
+        draw_head(&head, &self.title, &keys)?;
         if self.equal {
             let r = [x0.abs(), x1.abs(), y0.abs(), y1.abs()]
                 .into_iter()
                 .fold(0.0_f64, f64::max);
-            let (w, h) = area.dim_in_pixel();
-            let aspect = (w as f64 - 100.0) / (h as f64 - 100.0);
+            let (w, h) = body.dim_in_pixel();
+            let aspect = (w as f64 - 110.0) / (h as f64 - 70.0);
             (x0, x1, y0, y1) = (-r * aspect, r * aspect, -r, r);
         }
-        let mut builder = ChartBuilder::on(area);
-        builder
-            .caption(&self.title, ("sans-serif", 18))
-            .margin(14)
-            .x_label_area_size(42)
-            .y_label_area_size(70);
-        macro_rules! finish {
-            ($chart:expr) => {{
-                let mut chart = $chart;
-                chart
-                    .configure_mesh()
-                    .x_desc(self.x_label.as_str())
-                    .y_desc(self.y_label.as_str())
-                    .x_label_formatter(&tick)
-                    .y_label_formatter(&tick)
-                    .label_style(("sans-serif", 13))
-                    .axis_desc_style(("sans-serif", 14))
-                    .light_line_style(RGBColor(238, 238, 238))
-                    .bold_line_style(RGBColor(215, 215, 215))
-                    .draw()
-                    .map_err(|e| err(&e))?;
-                let mut solid = 0;
-                for s in &self.series {
-                    let color = if s.dashed {
-                        GREY
-                    } else {
-                        solid += 1;
-                        PALETTE[(solid - 1) % PALETTE.len()]
-                    };
-                    let style = color.stroke_width(if s.dashed { 1 } else { 2 });
-                    let pts: Vec<(f64, f64)> = s
-                        .points
-                        .iter()
-                        .copied()
-                        .filter(|(x, y)| {
-                            x.is_finite() && y.is_finite() && (!self.log || (*x > 0.0 && *y > 0.0))
-                        })
-                        .collect();
-                    let drawn = if s.dashed {
-                        chart.draw_series(DashedLineSeries::new(pts, 6, 4, style))
-                    } else {
-                        chart.draw_series(LineSeries::new(pts, style))
-                    }
-                    .map_err(|e| err(&e))?;
-                    drawn.label(s.name.as_str()).legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                    });
-                }
-                chart
-                    .configure_series_labels()
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(RGBColor(200, 200, 200))
-                    .label_font(("sans-serif", 13))
-                    .position(legend_corner(&self.series, self.log, (x0, x1), (y0, y1)))
-                    .draw()
-                    .map_err(|e| err(&e))?;
-            }};
-        }
-        if self.log {
-            finish!(
-                builder
-                    .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-                    .map_err(|e| err(&e))?
-            );
-        } else if let Some(step) = self.angle_ticks {
-            let mut chart = builder
-                .build_cartesian_2d(x0..x1, y0..y1)
-                .map_err(|e| err(&e))?;
+        let (xt, yt, xr, yr) = if self.log {
+            (
+                Ticks::log(x0, x1),
+                Ticks::log(y0, y1),
+                (x0.log10(), x1.log10()),
+                (y0.log10(), y1.log10()),
+            )
+        } else {
+            let angle_step = self
+                .angle_ticks
+                .map(|s| if x1 - x0 <= 1080.0 { s / 2.0 } else { s });
+            let (_, h) = body.dim_in_pixel();
+            (
+                Ticks::linear(x0, x1, 9.0, angle_step),
+                Ticks::linear(y0, y1, (h as f64 / 70.0).clamp(4.0, 8.0), None),
+                (x0, x1),
+                (y0, y1),
+            )
+        };
+        let mut chart = axes(&body, (xr, &xt), (yr, &yt), (&self.x_label, &self.y_label))?;
+        if let (false, Some(step)) = (self.log, self.angle_ticks) {
             // Dead-centre markers every `step` degrees (no legend entry).
-            let n = ((x1 - x0) / step).floor() as usize;
+            let n = ((x1 - x0) / step).floor().clamp(0.0, 100.0) as usize;
             for k in 1..=n {
                 let x = x0 + k as f64 * step;
-                chart
-                    .draw_series(DashedLineSeries::new(
-                        [(x, y0), (x, y1)],
-                        3,
-                        5,
-                        RGBColor(170, 170, 170).stroke_width(1),
-                    ))
-                    .map_err(|e| err(&e))?;
+                chart.draw_series(DashedLineSeries::new(
+                    [(x, y0), (x, y1)],
+                    3,
+                    5,
+                    RGBColor(170, 170, 170).stroke_width(1),
+                ))?;
             }
-            finish!(chart);
-        } else {
-            finish!(
-                builder
-                    .build_cartesian_2d(x0..x1, y0..y1)
-                    .map_err(|e| err(&e))?
-            );
+        }
+        for (s, (_, key)) in self.series.iter().zip(&keys) {
+            let Key::Line {
+                color,
+                width,
+                dashed,
+            } = *key
+            else {
+                continue;
+            };
+            let style = color.stroke_width(width);
+            let pts: Vec<(f64, f64)> = s
+                .points
+                .iter()
+                .copied()
+                .filter(|(x, y)| {
+                    x.is_finite() && y.is_finite() && (!self.log || (*x > 0.0 && *y > 0.0))
+                })
+                .map(|(x, y)| {
+                    if self.log {
+                        (x.log10(), y.log10())
+                    } else {
+                        (x, y)
+                    }
+                })
+                .collect();
+            if dashed {
+                chart.draw_series(DashedLineSeries::new(pts, 6, 4, style))?;
+            } else {
+                chart.draw_series(LineSeries::new(pts, style))?;
+            }
         }
         Ok(())
     }
@@ -318,6 +759,10 @@ impl Figure {
 
     /// Renders to an SVG document.
     pub fn render(&self) -> Result<String, ReportError> {
+        let err = |e: &dyn std::fmt::Display| ReportError::Chart {
+            name: self.file.clone(),
+            message: e.to_string(),
+        };
         let n = self.panels.len().max(1) as u32;
         let size = if n == 1 {
             PANEL
@@ -327,23 +772,16 @@ impl Figure {
         let mut svg = String::new();
         {
             let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-            root.fill(&WHITE).map_err(|e| ReportError::Chart {
-                name: self.file.clone(),
-                message: e.to_string(),
-            })?;
+            root.fill(&WHITE).map_err(|e| err(&e))?;
             let areas = root.split_evenly((1, n as usize));
             for (chart, area) in self.panels.iter().zip(&areas) {
-                chart.draw(area, &self.file)?;
+                chart.draw(area).map_err(|e| err(&e))?;
             }
-            root.present().map_err(|e| ReportError::Chart {
-                name: self.file.clone(),
-                message: e.to_string(),
-            })?;
+            root.present().map_err(|e| err(&e))?;
         }
         Ok(svg)
     }
 }
-
 /// The kinematics chart (shared by `run` and `kinematics`): the seeds'
 /// coefficients A = x/R, B = v/(R w), C = a/(R w^2) and the rod angle over
 /// one revolution, from a table on the grid `k * step_deg`.
@@ -587,4 +1025,268 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
         },
     ));
     figs
+}
+
+/// One labelled point of a [`ScatterChart`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScatterPoint {
+    /// Position (data units).
+    pub x: f64,
+    /// Position (data units).
+    pub y: f64,
+    /// Text beside the marker ("series2", "1°").
+    pub label: String,
+}
+
+/// Points drawn with one marker: shape and colour from `style`, filled or
+/// hollow.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScatterGroup {
+    /// Legend text.
+    pub name: String,
+    /// Marker shape and colour index (circle, square, triangle, diamond,
+    /// inverted triangle, cross; the palette's colours in order).
+    pub style: usize,
+    /// Filled marker (hollow when false).
+    pub filled: bool,
+    /// The points.
+    pub points: Vec<ScatterPoint>,
+}
+
+/// A log-log chart of labelled markers in groups, a step line (a Pareto
+/// front) and labelled horizontal guides (e.g. tolerances): the accuracy
+/// chart.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScatterChart {
+    /// File name, used in errors.
+    pub file: String,
+    /// Caption.
+    pub title: String,
+    /// X axis quantity and unit.
+    pub x_label: String,
+    /// Y axis quantity and unit.
+    pub y_label: String,
+    /// Marker groups.
+    pub groups: Vec<ScatterGroup>,
+    /// Legend text and corner points of the step line: from each point
+    /// right to the next one's x, then down (or up) to it, and on to the
+    /// right edge after the last.
+    pub steps: Option<(String, Vec<(f64, f64)>)>,
+    /// Horizontal guides: y and the text written on the line at the right.
+    pub guides: Vec<(f64, String)>,
+}
+
+/// The size of the accuracy chart (px): wider than the run charts, for the
+/// labels; report.html shows it unscaled.
+const SCATTER: (u32, u32) = (1200, 760);
+const POINT_FONT: u32 = 15;
+
+fn overlap(a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)) -> i32 {
+    let w = (a.2.min(b.2) - a.0.max(b.0)).max(0);
+    let h = (a.3.min(b.3) - a.1.max(b.1)).max(0);
+    w * h
+}
+
+impl ScatterChart {
+    /// Renders to an SVG document.
+    pub fn render(&self) -> Result<String, ReportError> {
+        let mut svg = String::new();
+        self.draw(&mut svg).map_err(|e| ReportError::Chart {
+            name: self.file.clone(),
+            message: e.to_string(),
+        })?;
+        Ok(svg)
+    }
+
+    fn draw(&self, svg: &mut String) -> Result<(), Box<dyn std::error::Error>> {
+        use plotters::style::text_anchor::{HPos, Pos, VPos};
+        let root = SVGBackend::with_string(svg, SCATTER).into_drawing_area();
+        root.fill(&WHITE)?;
+        let pts = || {
+            self.groups
+                .iter()
+                .flat_map(|g| g.points.iter().map(|p| (p.x, p.y)))
+                .chain(self.steps.iter().flat_map(|s| s.1.iter().copied()))
+                .filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0)
+        };
+        let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for (x, y) in pts() {
+            (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+        }
+        if x0 > x1 {
+            (x0, x1, y0, y1) = (0.1, 10.0, 1e-6, 1e-2);
+        }
+        // Room for the labels to the right and the guides' text.
+        let (x0, x1) = (x0 / 1.3, x1 * 2.5);
+        let (y0, y1) = (y0 / 2.0, y1 * 2.0);
+        let mut keys: Vec<(String, Key)> = self
+            .groups
+            .iter()
+            .map(|g| {
+                (
+                    g.name.clone(),
+                    Key::Marker {
+                        shape: g.style,
+                        color: PALETTE[g.style % PALETTE.len()],
+                        filled: g.filled,
+                    },
+                )
+            })
+            .collect();
+        if let Some((name, _)) = &self.steps {
+            keys.push((
+                name.clone(),
+                Key::Line {
+                    color: BLACK,
+                    width: 2,
+                    dashed: false,
+                },
+            ));
+        }
+        let (head, body) = root.split_vertically(head_height(&keys, SCATTER.0 as i32));
+        draw_head(&head, &self.title, &keys)?;
+        let (xt, yt) = (Ticks::log(x0, x1), Ticks::log(y0, y1));
+        let (lx, ly) = ((x0.log10(), x1.log10()), (y0.log10(), y1.log10()));
+        let chart = axes(&body, (lx, &xt), (ly, &yt), (&self.x_label, &self.y_label))?;
+        let plot = chart.plotting_area().strip_coord_spec();
+        let base = plot.get_base_pixel();
+        let (pw, ph) = plot.dim_in_pixel();
+        let px = |x: f64, y: f64| {
+            let (a, b) = chart.backend_coord(&(x.log10(), y.log10()));
+            (a - base.0, b - base.1)
+        };
+        let font = |size: u32, color: RGBColor, h: HPos, v: VPos| {
+            ("sans-serif", size)
+                .into_font()
+                .color(&color)
+                .pos(Pos::new(h, v))
+        };
+        // Guides, faint, with their text above the line at the right.
+        let guide = RGBColor(150, 150, 150);
+        for (y, text) in &self.guides {
+            if !(y0..=y1).contains(y) {
+                continue;
+            }
+            let (_, py) = px(x0, *y);
+            for k in 0..(pw as i32 / 12 + 1) {
+                let a = k * 12;
+                plot.draw(&PathElement::new(
+                    vec![(a, py), ((a + 6).min(pw as i32), py)],
+                    guide.stroke_width(1),
+                ))?;
+            }
+            plot.draw(&Text::new(
+                text.clone(),
+                (pw as i32 - 6, py - 3),
+                font(POINT_FONT, RGBColor(80, 80, 80), HPos::Right, VPos::Bottom),
+            ))?;
+        }
+        // The step line (its segments kept clear of the labels).
+        let mut steps = Vec::new();
+        if let Some((_, corners)) = &self.steps {
+            let mut c: Vec<(f64, f64)> = corners
+                .iter()
+                .copied()
+                .filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0)
+                .collect();
+            c.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let mut line = Vec::with_capacity(2 * c.len() + 1);
+            for (k, &(x, y)) in c.iter().enumerate() {
+                if k > 0 {
+                    line.push(px(x, c[k - 1].1));
+                }
+                line.push(px(x, y));
+            }
+            if let Some(&(_, y)) = c.last() {
+                line.push(px(x1, y));
+            }
+            plot.draw(&PathElement::new(
+                line.clone(),
+                BLACK.mix(0.8).stroke_width(2),
+            ))?;
+            steps = line
+                .windows(2)
+                .map(|w| {
+                    let (a, b) = (w[0], w[1]);
+                    (
+                        a.0.min(b.0) - 2,
+                        a.1.min(b.1) - 2,
+                        a.0.max(b.0) + 2,
+                        a.1.max(b.1) + 2,
+                    )
+                })
+                .collect();
+        }
+        // Markers, then labels placed greedily where they hit the least.
+        let mut marks = Vec::new();
+        for g in &self.groups {
+            let color = PALETTE[g.style % PALETTE.len()];
+            for p in &g.points {
+                if !(p.x > 0.0 && p.y > 0.0 && p.x.is_finite() && p.y.is_finite()) {
+                    continue;
+                }
+                let at = px(p.x, p.y);
+                draw_marker(&plot, at, g.style, color, g.filled, 6)?;
+                marks.push((at, p.label.clone(), color));
+            }
+        }
+        let mut taken: Vec<(i32, i32, i32, i32)> = marks
+            .iter()
+            .map(|&((x, y), _, _)| (x - 7, y - 7, x + 8, y + 8))
+            .chain(steps)
+            .collect();
+        let th = (POINT_FONT as f64 / 1.24).ceil() as i32 + 2;
+        for ((x, y), label, color) in &marks {
+            if label.is_empty() {
+                continue;
+            }
+            let w = text_width(label, POINT_FONT);
+            // Candidates: right, left, above, below, then diagonals and
+            // further out; a leader line joins a label placed away.
+            let mut best: Option<((i32, i32, i32, i32), i32)> = None;
+            'search: for ring in 1..=4 {
+                let d = 10 * ring;
+                for (dx, dy) in [
+                    (d, -th / 2),
+                    (-d - w, -th / 2),
+                    (-w / 2, -d - th),
+                    (-w / 2, d),
+                    (d, -d - th / 2),
+                    (d, d - th / 2),
+                    (-d - w, -d - th / 2),
+                    (-d - w, d - th / 2),
+                ] {
+                    let b = (x + dx, y + dy, x + dx + w, y + dy + th);
+                    let outside = b.0 < 0 || b.1 < 0 || b.2 > pw as i32 || b.3 > ph as i32;
+                    let cost = taken.iter().map(|t| overlap(*t, b)).sum::<i32>()
+                        + if outside { 100_000 } else { 0 }
+                        + ring * 8;
+                    if best.is_none_or(|(_, c)| cost < c) {
+                        best = Some((b, cost));
+                    }
+                    if cost == ring * 8 {
+                        break 'search;
+                    }
+                }
+            }
+            let Some((b, _)) = best else { continue };
+            let (cx, cy) = ((b.0 + b.2) / 2, (b.1 + b.3) / 2);
+            if (cx - x).abs() > w / 2 + 16 || (cy - y).abs() > th + 14 {
+                let ex = cx.clamp(b.0, b.2);
+                let ey = if cy > *y { b.1 } else { b.3 };
+                plot.draw(&PathElement::new(
+                    vec![(*x, *y), (ex, ey)],
+                    color.mix(0.6).stroke_width(1),
+                ))?;
+            }
+            plot.draw(&Text::new(
+                label.clone(),
+                (b.0, b.1 + 1),
+                font(POINT_FONT, BLACK, HPos::Left, VPos::Top),
+            ))?;
+            taken.push(b);
+        }
+        root.present()?;
+        Ok(())
+    }
 }

@@ -18,7 +18,10 @@ mod chart;
 mod html;
 mod tables;
 mod tornado;
-pub use chart::{Chart, Figure, Series, kinematics_chart, run_figures};
+pub use chart::{
+    Chart, Figure, ScatterChart, ScatterGroup, ScatterPoint, Series, kinematics_chart, run_figures,
+    tick_label,
+};
 pub use html::{esc, percent_encode, report_html, table as html_table};
 pub use tables::{
     KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_table, sweep_figure,

@@ -6,16 +6,22 @@ use crate::ReportError;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use crate::chart::{GREY, PALETTE, tick as chart_tick};
+use crate::chart::{AxisRange, GREY, PALETTE, Ticks, text_width};
 
 /// The palette of `chart.rs`: blue for `+t`, red for `-t`, green for marks.
 const PLUS: RGBColor = PALETTE[0];
 const MINUS: RGBColor = PALETTE[1];
 const MARK: RGBColor = PALETTE[2];
-/// One panel (px).
-const PANEL: (u32, u32) = (520, 330);
+/// Width of one panel (px): two fit the page of report.html (1280 px)
+/// unscaled, so the text is read at the size it is written.
+const PANEL_W: u32 = 630;
+/// Panels to a row at most: more would be scaled down on the page.
+const MAX_COLUMNS: usize = 2;
 /// Height of the figure's title band (px).
-const TITLE: u32 = 64;
+const TITLE: u32 = 70;
+/// Font sizes as given to plotters (its SVG writes them 1/1.24 smaller).
+const CAPTION_FONT: u32 = 18;
+const LABEL_FONT: u32 = 15;
 
 /// One parameter's bar: the result's change (in the panel's unit) with the
 /// parameter at `-t` and at `+t`.
@@ -44,8 +50,9 @@ pub struct TornadoPanel {
     pub marks: Vec<(String, f64)>,
 }
 
-/// Renders tornado panels, `columns` to a row, under `title`, to an SVG
-/// document. `file` names the chart in errors.
+/// Renders tornado panels, `columns` to a row (two at most, so that
+/// report.html shows them unscaled), under `title`, to an SVG document.
+/// Panels grow with their number of bars. `file` names the chart in errors.
 pub fn tornado_svg(
     file: &str,
     title: &str,
@@ -56,9 +63,11 @@ pub fn tornado_svg(
         name: file.to_string(),
         message: e.to_string(),
     };
-    let columns = columns.clamp(1, panels.len().max(1));
+    let columns = columns.clamp(1, panels.len().clamp(1, MAX_COLUMNS));
     let rows = panels.len().div_ceil(columns).max(1);
-    let size = (PANEL.0 * columns as u32, PANEL.1 * rows as u32 + TITLE);
+    let most = panels.iter().map(|p| p.bars.len()).max().unwrap_or(1);
+    let panel_h = (110 + 36 * most.min(40) as u32).max(280);
+    let size = (PANEL_W * columns as u32, panel_h * rows as u32 + TITLE);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
@@ -66,7 +75,7 @@ pub fn tornado_svg(
         root.draw(&Text::new(
             title.to_string(),
             (14, 12),
-            ("sans-serif", 18).into_font().color(&BLACK),
+            ("sans-serif", 21).into_font().color(&BLACK),
         ))
         .map_err(|e| err(&e))?;
         legend(&root, panels.first().map(|p| p.marks.as_slice())).map_err(|e| err(&e))?;
@@ -80,12 +89,6 @@ pub fn tornado_svg(
     Ok(svg)
 }
 
-/// Tick labels as `chart.rs` writes them: no trailing zeros, exponents
-/// only for very small or large values.
-fn tick(v: f64) -> String {
-    chart_tick(&v)
-}
-
 /// One legend for the figure, on the title band's second line: the two
 /// sides of a bar and the marks (dashed lines) the panels share.
 fn legend(root: &Area, marks: Option<&[(String, f64)]>) -> Result<(), Box<dyn std::error::Error>> {
@@ -96,32 +99,32 @@ fn legend(root: &Area, marks: Option<&[(String, f64)]>) -> Result<(), Box<dyn st
     for (k, (name, _)) in marks.unwrap_or_default().iter().enumerate() {
         items.push((format!("± {name}"), if k == 0 { GREY } else { MARK }, true));
     }
-    let font = ("sans-serif", 13).into_font().color(&BLACK);
-    let step = 190;
+    let font = ("sans-serif", LABEL_FONT).into_font().color(&BLACK);
     let mut x = 14;
-    let y = 46;
+    let y = 50;
     for (name, color, dashed) in items {
         if dashed {
-            root.draw(&PathElement::new(
-                vec![(x, y), (x + 7, y)],
-                color.stroke_width(2),
-            ))?;
-            root.draw(&PathElement::new(
-                vec![(x + 11, y), (x + 18, y)],
-                color.stroke_width(2),
-            ))?;
+            // The marks' own dash: 5 on, 4 off, width 2.
+            for k in 0..3 {
+                let a = x + k * 9;
+                root.draw(&PathElement::new(
+                    vec![(a, y), (a + 5, y)],
+                    color.stroke_width(2),
+                ))?;
+            }
         } else {
             root.draw(&Rectangle::new(
                 [(x, y - 6), (x + 18, y + 6)],
                 color.mix(0.85).filled(),
             ))?;
         }
+        let w = text_width(&name, LABEL_FONT);
         root.draw(&Text::new(
             name,
             (x + 24, y),
             font.clone().pos(Pos::new(HPos::Left, VPos::Center)),
         ))?;
-        x += step;
+        x += 24 + w + 30;
     }
     Ok(())
 }
@@ -142,21 +145,31 @@ fn draw_panel(
         .filter(|v| v.is_finite())
         .fold(0.0_f64, f64::max);
     let half = if reach > 0.0 { reach * 1.12 } else { 1.0 };
+    let xt = Ticks::linear(-half, half, 6.0, None);
+    // Room for the longest bar label, up to 45 % of the panel.
+    let (w, _) = area.dim_in_pixel();
+    let label_w = p
+        .bars
+        .iter()
+        .map(|b| text_width(&b.label, LABEL_FONT))
+        .max()
+        .unwrap_or(0)
+        .clamp(60, (w as i32) * 45 / 100);
     let mut chart = ChartBuilder::on(area)
-        .caption(&p.title, ("sans-serif", 15))
+        .caption(&p.title, ("sans-serif", CAPTION_FONT))
         .margin(10)
-        .x_label_area_size(40)
-        .y_label_area_size(150)
-        .build_cartesian_2d(-half..half, 0.0..n as f64)?;
+        .margin_right(18)
+        .x_label_area_size(46)
+        .y_label_area_size(label_w as u32 + 14)
+        .build_cartesian_2d(AxisRange::new((-half, half), &xt), 0.0..n as f64)?;
     chart
         .configure_mesh()
         .disable_y_mesh()
         .y_labels(0)
         .x_desc(p.x_label.as_str())
-        .x_labels(7)
-        .x_label_formatter(&|v| tick(if v.abs() < 1e-9 * half { 0.0 } else { *v }))
-        .label_style(("sans-serif", 12))
-        .axis_desc_style(("sans-serif", 13))
+        .x_label_formatter(&|v| xt.label(*v))
+        .label_style(("sans-serif", LABEL_FONT))
+        .axis_desc_style(("sans-serif", LABEL_FONT))
         .light_line_style(RGBColor(238, 238, 238))
         .bold_line_style(RGBColor(215, 215, 215))
         .draw()?;
@@ -181,7 +194,7 @@ fn draw_panel(
         root.draw(&Text::new(
             b.label.clone(),
             (x - 6, y),
-            ("sans-serif", 12)
+            ("sans-serif", LABEL_FONT)
                 .into_font()
                 .color(&BLACK)
                 .pos(Pos::new(HPos::Right, VPos::Center)),
