@@ -135,8 +135,32 @@ fn shared_pin_v6_even_firing_refused() {
         .replace("[1, 3, 4, 2]", "[1, 4, 2, 5, 3, 6]");
     let msg = parse(&text, "v6").unwrap_err().to_string();
     assert!(
-        msg.contains("shared-pin") && msg.contains("split pins"),
+        msg.contains("shared-pin") && msg.contains("split crank pins"),
         "{msg}"
+    );
+    // It names the key the firing came from and gives the split-pin crank
+    // to paste: 1-4-2-5-3-6 every 120° with bank 2 at 60° puts cylinder
+    // 4's pin at 120 - 60 = 60°, 2's at 240°, 5's at 360 - 60 = 300°,
+    // 3's at 480 - 360 = 120°, 6's at 600 - 60 - 360 = 180°.
+    assert!(
+        msg.starts_with("`firing_order` = [1, 4, 2, 5, 3, 6]"),
+        "{msg}"
+    );
+    assert!(
+        msg.contains("`crank_angles_deg = [0, 240, 120, 60, 300, 180]`"),
+        "{msg}"
+    );
+    assert!(msg.contains("firing-orders --all-cranks"), "{msg}");
+    // Pasted, it fires evenly.
+    let fixed = text.replace(
+        "bank_angle_deg = 60",
+        "bank_angle_deg = 60\ncrank_angles_deg = [0, 240, 120, 60, 300, 180]",
+    );
+    let e = parse(&fixed, "v6").unwrap();
+    assert!(e.split_pins());
+    assert_eq!(
+        deg(e.firing_angles()),
+        vec![0.0, 240.0, 480.0, 120.0, 360.0, 600.0]
     );
 }
 
