@@ -208,21 +208,20 @@ pub fn main_bearing_loads<'a>(
         let on_throw: Vec<usize> = (0..engine.cylinders())
             .filter(|&i| engine.throw_of(i) == k)
             .collect();
-        let mut pins: Vec<f64> = Vec::with_capacity(on_throw.len());
-        for &i in &on_throw {
-            let a = engine.pin_angle(i);
-            if !pins.contains(&a) {
-                pins.push(a);
-            }
-        }
+        let pins: Vec<Vec<usize>> = if engine.split_pins() {
+            on_throw.iter().map(|&i| vec![i]).collect()
+        } else {
+            vec![on_throw]
+        };
         let share = unbalance / pins.len().max(1) as f64;
-        for (p, &lag) in pins.iter().enumerate() {
+        for (p, cylinders) in pins.iter().enumerate() {
             t.iter_mut().for_each(|v| *v = 0.0);
             r.iter_mut().for_each(|v| *v = 0.0);
-            for &i in on_throw.iter().filter(|&&i| engine.pin_angle(i) == lag) {
+            for &i in cylinders {
                 shift_add(tangential(i), engine.firing_angle(i), step, &mut t);
                 shift_add(radial(i), engine.firing_angle(i), step, &mut r);
             }
+            let lag = cylinders.first().map_or(0.0, |&i| engine.pin_angle(i));
             // cos and sin of (phi_j - lag) by rotating the table of phi_j.
             let (sl, cl) = lag.sin_cos();
             for j in 0..n {
