@@ -14,6 +14,7 @@ data:
     cargo run --release -q -p enginedyn-synth --bin enginedyn-synth -- --preset petrol --bore-mm 68 --stroke-mm 54 --lambda 0.32142857142857145 --cr 8.5 --rpm 3600 --step 0.5 --heat-j 400 --out data/single.csv
     cargo run --release -q -p enginedyn-synth --bin enginedyn-synth -- --preset petrol --bore-mm 88 --stroke-mm 75 --lambda 0.26785714285714285 --cr 11 --rpm 6500 --step 0.5 --heat-j 935 --out data/v12_60.csv
     cargo run --release -q -p enginedyn-synth --bin enginedyn-synth -- --preset two-stroke --bore-mm 73.5 --stroke-mm 78 --lambda 0.2708333333333333 --cr 7.5 --rpm 4200 --step 0.5 --heat-j 500 --out data/i3_two_stroke.csv
+    cargo run --release -q -p enginedyn-synth --bin enginedyn-synth -- --preset petrol --bore-mm 101.6 --stroke-mm 88.4 --lambda 0.30524861878453036 --cr 9.2 --rpm 4400 --step 0.5 --heat-j 1469 --out data/v6_90.csv
 
 # Regenerate the committed reports, one folder per bundled engine
 # (deterministic: no timestamps or timings in what is written).

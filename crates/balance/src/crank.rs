@@ -14,6 +14,22 @@ pub(crate) fn wrap_deg(a: f64, m: f64) -> f64 {
     if m - r < ANGLE_TOL { 0.0 } else { r }
 }
 
+/// Does `crank_deg` give split pins: a vee's crank with one lag per
+/// cylinder instead of one per throw?
+pub(crate) fn is_split(layout: Layout, throws: usize, crank_deg: &[f64]) -> bool {
+    matches!(layout, Layout::Vee { .. }) && crank_deg.len() == 2 * throws
+}
+
+/// Lag (deg) of cylinder `i`'s pin on `crank_deg` (one lag per throw, or
+/// split: one per cylinder), the cylinder being on throw `throw` of `throws`.
+pub(crate) fn pin_deg(crank_deg: &[f64], throws: usize, throw: usize, i: usize) -> f64 {
+    if crank_deg.len() == throws {
+        crank_deg[throw]
+    } else {
+        crank_deg[i]
+    }
+}
+
 /// Layout, numbering and banks of an engine (PHYSICS.md), taken from the
 /// engine itself so that the throw and bank conventions have one home
 /// ([`Engine::throw_of`], [`Engine::bank_angle_of`]).
@@ -93,6 +109,18 @@ impl Train {
     /// Cycle (deg): 720 or 360.
     pub fn cycle_deg(&self) -> f64 {
         self.stroke.cycle().to_degrees()
+    }
+
+    /// Lag (deg) of cylinder `i`'s pin on `crank_deg` (one lag per throw,
+    /// or for a vee with split pins one per cylinder).
+    pub fn pin_deg(&self, crank_deg: &[f64], i: usize) -> f64 {
+        pin_deg(crank_deg, self.throws, self.throw[i], i)
+    }
+
+    /// Whether `crank_deg` has the right length for this train: one lag
+    /// per throw, or for a vee one per cylinder (split pins).
+    pub fn fits(&self, crank_deg: &[f64]) -> bool {
+        crank_deg.len() == self.throws || is_split(self.layout, self.throws, crank_deg)
     }
 
     /// The even firing interval (deg), `cycle / z`.

@@ -30,7 +30,8 @@ use enginedyn_engine::{Engine, RodModel};
 pub struct CylinderMass {
     /// Reciprocating mass `m_j` (kg).
     pub reciprocating_mass: f64,
-    /// Throw lag `alpha_i` of the cylinder's throw behind throw 1 (rad).
+    /// Lag `alpha_i` of the cylinder's crank pin behind cylinder 1's (rad):
+    /// its throw's, or with split pins its own pin's.
     pub throw_angle: f64,
     /// Bank angle `gamma_i` (rad): 0 on bank 1; the crank pin reaches this
     /// cylinder's TDC `gamma_i` after bank 1's (PHYSICS.md).
@@ -137,7 +138,8 @@ pub fn free_forces(cyl: &[CylinderMass], r: f64, lambda: f64, omega: f64) -> Fre
 
 impl CylinderMass {
     /// The cylinders of `engine` with the reciprocating mass of `rod_model`,
-    /// their throws' lags and bank angles, and axial positions about the
+    /// their pins' lags ([`Engine::pin_angle`]) and bank angles, and axial
+    /// positions (a split throw's two pins at the throw's station) about the
     /// engine's middle: `(k - (n+1)/2) s` for throw `k` of `n` (PHYSICS.md).
     pub fn of_engine(engine: &Engine, rod_model: RodModel) -> Vec<CylinderMass> {
         let m = engine.reciprocating_mass(rod_model);
@@ -148,7 +150,7 @@ impl CylinderMass {
                 let k = engine.throw_of(i);
                 CylinderMass {
                     reciprocating_mass: m,
-                    throw_angle: engine.crank_angles()[k],
+                    throw_angle: engine.pin_angle(i),
                     bank_angle: engine.bank_angle_of(i),
                     axial_position: (k as f64 + 1.0 - (n + 1.0) / 2.0) * s,
                 }

@@ -31,7 +31,8 @@ pub const MAX_HARMONIC_ORDER: f64 = 24.0;
 /// Sampling of the journal torques for their harmonics (deg).
 pub const HARMONIC_SAMPLE_DEG: f64 = 1.0;
 
-/// The engine `engine` with another crank (throw lags, deg) and firing
+/// The engine `engine` with another crank (throw lags, deg: one per throw,
+/// or for a vee with split pins one per cylinder) and firing
 /// order, firing angles derived by the engine crate (each cylinder at the
 /// first angle its throw allows after the one before it: for an order from
 /// [`crate::firing_orders`] that is the even firing).
@@ -49,6 +50,7 @@ pub fn engine_with(
         firing_order: Some(order.to_vec()),
         firing_angles: None,
         crank_angles: Some(crank_deg.iter().map(|a| a.to_radians()).collect()),
+        split_pins: crate::crank::is_split(engine.layout(), engine.throws(), crank_deg),
         mechanism: *engine.mechanism(),
         bore: cyl.bore(),
         compression_ratio: cyl.compression_ratio(),

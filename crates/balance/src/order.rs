@@ -16,7 +16,8 @@ pub struct FiringOrder {
 }
 
 /// Every even firing order (`cycle / z` apart) that the crank `crank_deg`
-/// (throw lags, deg) admits on `train`, each once: an order and the same
+/// (throw lags, deg: one per throw, or for a vee with split pins one per
+/// cylinder) admits on `train`, each once: an order and the same
 /// sequence started elsewhere are one, listed from cylinder 1.
 ///
 /// A cylinder on throw `k` with bank angle `gamma` can fire only at
@@ -28,7 +29,7 @@ pub struct FiringOrder {
 /// lexicographically.
 pub fn firing_orders(train: &Train, crank_deg: &[f64]) -> Result<Vec<FiringOrder>, BalanceError> {
     let z = train.cylinders();
-    if crank_deg.len() != train.throws {
+    if !train.fits(crank_deg) {
         return Err(BalanceError::CrankLength {
             got: crank_deg.len(),
             throws: train.throws,
@@ -36,11 +37,11 @@ pub fn firing_orders(train: &Train, crank_deg: &[f64]) -> Result<Vec<FiringOrder
     }
     let cycle = train.cycle_deg();
     let interval = cycle / z as f64;
-    let base = crank_deg[train.throw[0]] + train.gamma_deg[0];
+    let base = train.pin_deg(crank_deg, 0) + train.gamma_deg[0];
     // Admissible slots of each cylinder.
     let slots: Vec<Vec<usize>> = (0..z)
         .map(|i| {
-            let own = crank_deg[train.throw[i]] + train.gamma_deg[i] - base;
+            let own = train.pin_deg(crank_deg, i) + train.gamma_deg[i] - base;
             (0..z)
                 .filter(|&s| {
                     let d = wrap_deg(s as f64 * interval - own, 360.0);

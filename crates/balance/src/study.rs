@@ -2,13 +2,13 @@
 
 use crate::BalanceError;
 use crate::crank::{
-    CrankSet, Train, canonical_deg, crank_arrangements, grid_unit, is_mirror_symmetric,
+    CrankSet, Train, canonical_deg, crank_arrangements, grid_unit, is_mirror_symmetric, pin_deg,
 };
 use crate::free::{CylinderMass, FreeForces, free_forces};
 use crate::journal::{JournalCriteria, engine_with, journal_criteria};
 use crate::order::{FiringOrder, OrderCriteria, criteria, firing_orders};
 use crate::score::{Terms, Weights};
-use enginedyn_engine::{Engine, RodModel};
+use enginedyn_engine::{Engine, EngineError, RodModel};
 use rayon::prelude::*;
 
 /// Most firing orders (over all cranks) carried through to the journal
@@ -88,14 +88,15 @@ pub struct Study {
     pub notes: Vec<String>,
 }
 
-/// The cylinders of `engine` on another crank (throw lags, deg), with
-/// PHYSICS.md's axial positions about the engine's middle.
+/// The cylinders of `engine` on another crank (throw lags, deg: one per
+/// throw, or for a vee with split pins one per cylinder), with PHYSICS.md's
+/// axial positions about the engine's middle.
 pub fn cylinders_on(engine: &Engine, rod_model: RodModel, crank_deg: &[f64]) -> Vec<CylinderMass> {
     CylinderMass::of_engine(engine, rod_model)
         .into_iter()
         .enumerate()
         .map(|(i, c)| CylinderMass {
-            throw_angle: crank_deg[engine.throw_of(i)].to_radians(),
+            throw_angle: pin_deg(crank_deg, engine.throws(), engine.throw_of(i), i).to_radians(),
             ..c
         })
         .collect()
@@ -108,14 +109,17 @@ pub fn study(setup: &Setup, all_cranks: bool) -> Result<Study, BalanceError> {
     let engine = setup.engine;
     let train = Train::of_engine(engine);
     // Degrees to 1e-9, so that 240° reads 240 and not 239.99999999999997.
-    let own: Vec<f64> = engine
-        .crank_angles()
-        .iter()
-        .map(|a| (a.to_degrees() * 1e9).round() / 1e9)
-        .collect();
+    // An engine without a firing order of its own has no crank of its own.
+    let own: Option<Vec<f64>> = engine.firing_order_given().then(|| {
+        engine
+            .crank_angles()
+            .iter()
+            .map(|a| (a.to_degrees() * 1e9).round() / 1e9)
+            .collect()
+    });
     let mut notes = Vec::new();
     let (cranks, set) = if all_cranks {
-        let (c, set) = crank_arrangements(&train)?;
+        let (mut c, set) = crank_arrangements(&train)?;
         if set == CrankSet::MirrorSymmetric {
             notes.push(format!(
                 "--all-cranks: more than {} throw sequences for {} cylinders; only the {} mirror-symmetric cranks are ranked",
@@ -125,28 +129,55 @@ pub fn study(setup: &Setup, all_cranks: bool) -> Result<Study, BalanceError> {
             ));
         }
         if c.is_empty() {
-            notes.push(format!(
+            let shared = format!(
                 "no crank of this layout fires evenly every {:.4}° with shared pins (the bank angle must be a multiple of {:.4}°)",
                 train.interval_deg(),
                 grid_unit(&train)
-            ));
+            );
+            match split_pin_cranks(&train)? {
+                Some((split, delta, effective)) => {
+                    let (by, way) = if delta < 0.0 {
+                        (-delta, "ahead of")
+                    } else {
+                        (delta, "behind")
+                    };
+                    notes.push(format!(
+                        "{shared}; ranked instead: split crank pins, each bank-2 pin {}° {way} its bank-1 partner \
+                         (the smallest split that fires evenly: bank angle + split = {}°), \
+                         written per cylinder as `crank_angles_deg` takes them",
+                        (by * 1e6).round() / 1e6,
+                        (effective * 1e6).round() / 1e6,
+                    ));
+                    c = split;
+                }
+                None => notes.push(shared),
+            }
         }
         (c, set)
     } else {
-        (vec![own.clone()], CrankSet::All)
+        match &own {
+            Some(own) => (vec![own.clone()], CrankSet::All),
+            None => {
+                return Err(BalanceError::Engine(EngineError::Missing {
+                    key: "firing_order",
+                    why: "required to study the engine's own crank; --all-cranks runs without it",
+                }));
+            }
+        }
     };
     let unit = grid_unit(&train);
-    let own_key = canonical_deg(&own, unit);
+    let own_key = own.as_deref().and_then(|own| crank_key(&train, own, unit));
     // Diagram-free pass over every crank.
     let mut studies = Vec::with_capacity(cranks.len());
     for crank in cranks {
-        let engine_crank = own_key.is_some() && canonical_deg(&crank, unit) == own_key;
+        let engine_crank = own_key.is_some() && crank_key(&train, &crank, unit) == own_key;
         // The engine's own crank as the engine file has it, not its
         // canonical form, so that its orders read in the engine's numbering.
-        let crank = if engine_crank && all_cranks && !firing_orders(&train, &own)?.is_empty() {
-            own.clone()
-        } else {
-            crank
+        let crank = match &own {
+            Some(own) if engine_crank && all_cranks && !firing_orders(&train, own)?.is_empty() => {
+                own.clone()
+            }
+            _ => crank,
         };
         let orders = firing_orders(&train, &crank)?;
         if orders.is_empty() && all_cranks {
@@ -181,7 +212,7 @@ pub fn study(setup: &Setup, all_cranks: bool) -> Result<Study, BalanceError> {
             .collect();
         studies.push(CrankStudy {
             engine_crank,
-            mirror_symmetric: is_mirror_symmetric(&crank),
+            mirror_symmetric: is_mirror_symmetric(&crank[..train.throws]),
             crank_angles_deg: crank,
             free,
             orders,
@@ -190,7 +221,7 @@ pub fn study(setup: &Setup, all_cranks: bool) -> Result<Study, BalanceError> {
     if !all_cranks && studies.first().is_some_and(|c| c.orders.is_empty()) {
         notes.push(format!(
             "the crank {:?} admits no even firing order (every {:.4}°)",
-            own,
+            own.as_deref().unwrap_or_default(),
             train.interval_deg()
         ));
     }
@@ -236,6 +267,78 @@ pub fn study(setup: &Setup, all_cranks: bool) -> Result<Study, BalanceError> {
         set,
         notes,
     })
+}
+
+/// A crank's identity up to equivalence: shared pins by their canonical
+/// form ([`crate::crank_arrangements`]'s equivalence); split pins (a vee's
+/// crank with one lag per cylinder) only turned so that cylinder 1's pin is
+/// at 0, each pin to 1e-6°. `None` for a shared-pin crank off the firing
+/// grid.
+fn crank_key(train: &Train, crank_deg: &[f64], unit: f64) -> Option<Vec<i64>> {
+    if crank_deg.len() == train.throws {
+        canonical_deg(crank_deg, unit).map(|c| c.into_iter().map(|a| a as i64).collect())
+    } else {
+        let base = crank_deg[0];
+        let mut key = vec![-1];
+        key.extend(
+            crank_deg.iter().map(|a| {
+                (crate::crank::wrap_deg(a - base, 360.0) * 1e6).round() as i64 % 360_000_000
+            }),
+        );
+        Some(key)
+    }
+}
+
+/// The split-pin cranks of a vee on which no shared-pin crank fires evenly:
+/// a vee whose bank-2 pins lag their bank-1 partners by `delta` fires as a
+/// shared-pin vee at the bank angle `bank + delta`. Of the angles on the
+/// firing grid the one nearest the bank angle that has cranks is taken
+/// (ties: the bank-2 pins lagging); each of its cranks is written per
+/// cylinder: bank 1's throws, then the same plus `delta`. Returns the cranks,
+/// `delta` (deg, in (-180°, 180°]) and the effective bank angle; `None` for
+/// other layouts or when no angle has cranks.
+#[allow(clippy::type_complexity)]
+fn split_pin_cranks(train: &Train) -> Result<Option<(Vec<Vec<f64>>, f64, f64)>, BalanceError> {
+    let enginedyn_engine::Layout::Vee { bank_angle } = train.layout else {
+        return Ok(None);
+    };
+    let bank = bank_angle.to_degrees();
+    let unit = grid_unit(train);
+    let m = (360.0 / unit).round() as usize;
+    let mut candidates: Vec<(f64, f64)> = (0..m)
+        .map(|k| {
+            let effective = k as f64 * unit;
+            let mut delta = crate::crank::wrap_deg(effective - bank, 360.0);
+            if delta > 180.0 {
+                delta -= 360.0;
+            }
+            // To 1e-9°, so that a bank angle read as 59.99999999999999°
+            // ties as it should.
+            ((delta * 1e9).round() / 1e9, effective)
+        })
+        .collect();
+    candidates.sort_by(|a, b| {
+        a.0.abs()
+            .total_cmp(&b.0.abs())
+            .then_with(|| b.0.total_cmp(&a.0))
+    });
+    for (delta, effective) in candidates {
+        let (cranks, _) = crank_arrangements(&train.with_bank_angle(effective))?;
+        if cranks.is_empty() {
+            continue;
+        }
+        let round = |x: f64| (crate::crank::wrap_deg(x, 360.0) * 1e9).round() / 1e9;
+        let split = cranks
+            .into_iter()
+            .map(|c| {
+                let mut pins: Vec<f64> = c.iter().map(|&a| round(a)).collect();
+                pins.extend(c.iter().map(|&a| round(a + delta)));
+                pins
+            })
+            .collect();
+        return Ok(Some((split, delta, effective)));
+    }
+    Ok(None)
 }
 
 /// `B` of the score (see [`crate::score`]).

@@ -476,3 +476,133 @@ fn weights_parse() {
         Err(BalanceError::UnknownWeight { .. })
     ));
 }
+
+/// A 90° V6 on split pins, each bank-2 pin 30° behind its bank-1 partner
+/// (throws 0-120-240; the GM 4.3 even-fire crank): it fires every 120°.
+const V6_90_SPLIT: &str = "cycle = \"four-stroke\"\ncylinders = 6\nlayout = \"vee\"\n\
+     bank_angle_deg = 90.0\nfiring_order = [1, 4, 3, 6, 2, 5]\n\
+     crank_angles_deg = [0.0, 120.0, 240.0, 30.0, 150.0, 270.0]";
+
+/// Closed form. Each bank is an inline three on 0-120-240 with throws at
+/// `a_k = (k - 2) s`: no free force of either order, a couple of
+/// `A = |sum a_k exp(j alpha_k)| = |-1 + exp(j240°)| = sqrt 3` (m_j R w² s)
+/// along its own axis. Bank 2's couple lags bank 1's by bank + split =
+/// 120°, its axis 90° on: rotating with the crank `(A/2)|1 + exp(j(90 - 120)°)|
+/// = A cos 15°`, against it `(A/2)|1 + exp(j(90 + 120)°)| = A sin 15°`. So
+/// `M1 = sqrt 3 (cos 15° + sin 15°) = 3/sqrt 2`, of which counterweights
+/// leave `sqrt 3 sin 15° = 0.4483` (the residual couple the 4.3 Vortec's
+/// balance shaft is for); second order: the lag doubles to 240°, the parts
+/// swap, `M2 = lambda sqrt 3 (sin 15° + cos 15°)`.
+#[test]
+fn split_pin_v6_90_free_forces_closed_form() {
+    let e = engine(V6_90_SPLIT);
+    assert!(e.split_pins());
+    let f = unit_free(&e);
+    let (c15, s15) = (15f64.to_radians().cos(), 15f64.to_radians().sin());
+    let root3 = 3f64.sqrt();
+    close(f.free_force_1_n, 0.0, "F1");
+    close(f.free_force_2_n, 0.0, "F2");
+    close(f.free_moment_1_nm, root3 * (c15 + s15), "M1");
+    close(f.free_moment_1_nm, 3.0 / SQRT_2, "M1 = 3/sqrt 2");
+    close(
+        f.free_moment_1_residual_nm,
+        root3 * s15,
+        "M1 after counterweights",
+    );
+    close(f.free_moment_2_nm, LAMBDA * root3 * (c15 + s15), "M2");
+    // The engine's crank admits its order, every 120°, the banks alternating.
+    let train = Train::of_engine(&e);
+    let orders = firing_orders(&train, &crank_deg(&e)).unwrap();
+    let own = orders
+        .iter()
+        .find(|o| o.order == e.firing_order())
+        .expect("the engine's order");
+    let c = criteria(&train, own);
+    assert_eq!(c.intervals_deg, vec![120.0; 6]);
+    assert_eq!(c.scheme, Some(Scheme::Alternating));
+}
+
+/// A 60° V6 with each bank-2 pin 60° behind (bank + split = 120°): the same
+/// couples, bank 2's axis 60° on: against the crank `(A/2)|1 + exp(j(60 +
+/// 120)°)| = 0`, so counterweights cancel the whole first-order couple,
+/// `M1 = A cos 30° = 1.5`; second order all against the crank,
+/// `M2 = lambda A cos 30° = 1.5 lambda`.
+#[test]
+fn split_pin_v6_60_first_order_couple_balanced_by_counterweights() {
+    let e = engine(
+        "cycle = \"four-stroke\"\ncylinders = 6\nlayout = \"vee\"\nbank_angle_deg = 60.0\n\
+         firing_order = [1, 4, 3, 6, 2, 5]\ncrank_angles_deg = [0, 120, 240, 60, 180, 300]",
+    );
+    let mut f = e.firing_angles().to_vec();
+    f.sort_by(f64::total_cmp);
+    for (k, a) in f.iter().enumerate() {
+        close(a.to_degrees(), 120.0 * k as f64, "even firing");
+    }
+    let f = unit_free(&e);
+    close(f.free_force_1_n, 0.0, "F1");
+    close(f.free_force_2_n, 0.0, "F2");
+    close(f.free_moment_1_nm, 1.5, "M1");
+    close(f.free_moment_1_residual_nm, 0.0, "M1 after counterweights");
+    close(f.free_moment_2_nm, 1.5 * LAMBDA, "M2");
+}
+
+/// `--all-cranks` without a firing order: no shared-pin crank of a 90° V6
+/// fires evenly, so the split-pin cranks with the smallest split (30°) are
+/// ranked; the best is the even-fire crank, fired 1-4-3-6-2-5.
+#[test]
+fn all_cranks_v6_90_without_firing_order_finds_split_pins() {
+    let toml = "cycle = \"four-stroke\"\ncylinders = 6\nlayout = \"vee\"\nbank_angle_deg = 90.0\n\
+         bore_mm = 80.0\nstroke_mm = 100.0\nlambda = 0.25\ncompression_ratio = 10.0\n\
+         cylinder_spacing_mm = 100.0\n[masses]\npiston_group_kg = 0.7\nrod_kg = 1.0\n\
+         rod_cg_from_small_end_mm = 140.0\n";
+    assert!(enginedyn_engine::file::parse(toml, "v6").is_err());
+    let e = enginedyn_engine::file::parse_for_crank_search(toml, "v6").unwrap();
+    let setup = Setup {
+        engine: &e,
+        rod_model: RodModel::TwoMass,
+        omega: OMEGA,
+        torque: None,
+        weights: Weights::default(),
+    };
+    let s = study(&setup, true).unwrap();
+    assert_eq!(s.cranks.len(), 1, "{:?}", s.cranks);
+    let c = &s.cranks[0];
+    assert_eq!(
+        c.crank_angles_deg,
+        vec![0.0, 120.0, 240.0, 30.0, 150.0, 270.0]
+    );
+    assert!(!c.engine_crank, "the engine has no crank of its own");
+    assert_eq!(c.orders[0].order.order, vec![1, 4, 3, 6, 2, 5]);
+    for o in &c.orders {
+        assert_eq!(o.criteria.intervals_deg, vec![120.0; 6]);
+    }
+    assert!(
+        s.notes
+            .iter()
+            .any(|n| n.contains("each bank-2 pin 30° behind its bank-1 partner")),
+        "{:?}",
+        s.notes
+    );
+    // Its own crank alone needs a firing order.
+    assert!(study(&setup, false).is_err());
+}
+
+/// Journal torques on split pins: a cylinder torque `cos(phi/2)` on the
+/// 90° V6 above (firing 0, 480, 240, 120, 600, 360° for cylinders 1..6).
+/// Journal after throw 1 (cylinders 1, 4): `|1 + exp(-j60°)| = sqrt 3`;
+/// after throw 2 (+ 2, 5 at half-angles 240°, 300°): still `sqrt 3`; the
+/// engine (all six, half-angles 60° apart) carries nothing.
+#[test]
+fn journal_torques_on_split_pins() {
+    let e = engine(V6_90_SPLIT);
+    let n = 720;
+    let step = (720.0f64 / n as f64).to_radians();
+    let m: Vec<f64> = (0..n).map(|k| (k as f64 * step / 2.0).cos()).collect();
+    let v = engine_with(&e, &crank_deg(&e), e.firing_order()).unwrap();
+    assert_eq!(v.firing_angles(), e.firing_angles());
+    let j = journal_criteria(&v, step, &m).unwrap();
+    close(j.max_harmonic_nm, 3f64.sqrt(), "largest journal harmonic");
+    close(j.harmonic_order, 0.5, "its order");
+    close(j.max_torque_nm, 3f64.sqrt(), "largest journal torque");
+    assert!(j.engine_torque_max_nm < 1e-9);
+}

@@ -22,8 +22,15 @@ pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
         Some(w) => Weights::parse(w).map_err(|e| Failure::usage(e.to_string()))?,
         None => Weights::default(),
     };
-    let loaded = load_engine(Some(&a.input.engine))?;
-    let engine = &loaded.engine;
+    // `--all-cranks` is how a user finds a firing order: the engine file
+    // may leave `firing_order` out for it.
+    let engine = if a.all_cranks {
+        enginedyn_engine::file::read_for_crank_search(&a.input.engine)
+            .map_err(|e| Failure::usage(format!("{}: {e}", a.input.engine.display())))?
+    } else {
+        load_engine(Some(&a.input.engine))?.engine
+    };
+    let engine = &engine;
     let step = a.method.step();
     check_step(engine, step)?;
     let opts = a.method.options();
@@ -367,9 +374,23 @@ fn csv(s: &Study) -> String {
     o
 }
 
+/// `1st`, `2nd`, `3rd`, `4th`, … `11th`, `12th`, `21st`.
+fn ordinal(n: usize) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (_, 11..=13) => "th",
+        (1, _) => "st",
+        (2, _) => "nd",
+        (3, _) => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
+}
+
 /// The best crank seen from the free end (it turns clockwise), throw 1 on
 /// bank 1's axis at TDC; each throw at its lag counter-clockwise behind it,
-/// named with its cylinders and their places in the best firing order.
+/// named with its cylinders and their places in the best firing order
+/// ("cyl 3 fires 2nd"). With split pins each cylinder's pin is drawn at its
+/// own lag.
 fn end_view(engine: &Engine, s: &Study) -> Figure {
     let deg = std::f64::consts::PI / 180.0;
     let gamma = match engine.layout() {
@@ -407,23 +428,42 @@ fn end_view(engine: &Engine, s: &Study) -> Figure {
             ),
             None => "crank end view from the free end (turns clockwise); no even order".into(),
         };
-        for (k, alpha) in c.crank_angles_deg.iter().enumerate() {
+        let fires = |i: usize| match best {
+            Some(b) => {
+                let place = b.order.order.iter().position(|&x| x == i + 1).unwrap_or(0);
+                format!("cyl {} fires {}", i + 1, ordinal(place + 1))
+            }
+            None => format!("cyl {}", i + 1),
+        };
+        let split = c.crank_angles_deg.len() != engine.throws();
+        let mut pin = |name: String, alpha: f64| {
             let a = (axis1 + alpha) * deg;
-            let cyls: Vec<String> = (0..engine.cylinders())
-                .filter(|&i| engine.throw_of(i) == k)
-                .map(|i| match best {
-                    Some(b) => {
-                        let place = b.order.order.iter().position(|&x| x == i + 1).unwrap_or(0);
-                        format!("cyl {} fires {}.", i + 1, place + 1)
-                    }
-                    None => format!("cyl {}", i + 1),
-                })
-                .collect();
             series.push(Series {
-                name: format!("throw {} at {}°: {}", k + 1, alpha, cyls.join(", ")),
+                name,
                 points: vec![(0.0, 0.0), (a.cos(), a.sin())],
                 dashed: false,
             });
+        };
+        for k in 0..engine.throws() {
+            let cyls: Vec<usize> = (0..engine.cylinders())
+                .filter(|&i| engine.throw_of(i) == k)
+                .collect();
+            if split {
+                for &i in &cyls {
+                    let alpha = c.crank_angles_deg[i];
+                    pin(
+                        format!("throw {}, pin at {}°: {}", k + 1, alpha, fires(i)),
+                        alpha,
+                    );
+                }
+            } else {
+                let alpha = c.crank_angles_deg[k];
+                let named: Vec<String> = cyls.iter().map(|&i| fires(i)).collect();
+                pin(
+                    format!("throw {} at {}°: {}", k + 1, alpha, named.join(", ")),
+                    alpha,
+                );
+            }
         }
     } else {
         title = "crank end view: no crank".into();
@@ -440,4 +480,23 @@ fn end_view(engine: &Engine, s: &Study) -> Figure {
             angle_ticks: None,
         },
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ordinals() {
+        let got: Vec<String> = [1, 2, 3, 4, 11, 12, 13, 21, 22, 23, 24]
+            .into_iter()
+            .map(ordinal)
+            .collect();
+        assert_eq!(
+            got,
+            [
+                "1st", "2nd", "3rd", "4th", "11th", "12th", "13th", "21st", "22nd", "23rd", "24th"
+            ]
+        );
+    }
 }

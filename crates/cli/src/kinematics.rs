@@ -15,6 +15,9 @@ pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
     let engine = &loaded.engine;
     let speed = crate::run::resolve_rpm(a.rpm, None, engine)?;
     speed.warn();
+    for n in engine.plausibility_notes(Some(speed.rpm)) {
+        eprintln!("warning: {n}");
+    }
     let rpm = speed.rpm;
     let omega = rpm * PI / 30.0;
     let model = a.kinematics.model();

@@ -134,13 +134,26 @@ struct RawFlywheel {
 
 /// Reads and checks an engine file; `diagram` is resolved against its folder.
 pub fn read(path: &Path) -> Result<Engine, EngineError> {
+    read_with(path, EngineBuilder::build)
+}
+
+/// [`read`] for `enginedyn firing-orders --all-cranks`: `firing_order` may
+/// be left out (see [`EngineBuilder::build_for_crank_search`]).
+pub fn read_for_crank_search(path: &Path) -> Result<Engine, EngineError> {
+    read_with(path, EngineBuilder::build_for_crank_search)
+}
+
+fn read_with(
+    path: &Path,
+    build: fn(EngineBuilder) -> Result<Engine, EngineError>,
+) -> Result<Engine, EngineError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| EngineError::Toml(format!("cannot read the engine file: {e}")))?;
     let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "engine".into());
-    let mut engine = parse(&text, &stem)?;
+    let mut engine = build(raw_builder(&text, &stem)?)?;
     if let Some(d) = &engine.diagram
         && d.is_relative()
     {
@@ -152,10 +165,22 @@ pub fn read(path: &Path) -> Result<Engine, EngineError> {
 
 /// Parses engine-file text; `stem` is the default name.
 pub fn parse(text: &str, stem: &str) -> Result<Engine, EngineError> {
+    raw_builder(text, stem)?.build()
+}
+
+/// [`parse`] for a search of every crank: `firing_order` may be left out
+/// (see [`EngineBuilder::build_for_crank_search`]).
+pub fn parse_for_crank_search(text: &str, stem: &str) -> Result<Engine, EngineError> {
+    raw_builder(text, stem)?.build_for_crank_search()
+}
+
+/// The keys of an engine file as an unchecked builder (known keys, types,
+/// units and per-key bounds checked; the rest is `build`'s).
+fn raw_builder(text: &str, stem: &str) -> Result<EngineBuilder, EngineError> {
     let table: toml::Table = toml::from_str(text).map_err(|e| EngineError::Toml(e.to_string()))?;
     check_keys(&table, text)?;
     let raw: Raw = toml::from_str(text).map_err(|e| EngineError::Toml(e.to_string()))?;
-    build(raw, stem)
+    builder(raw, stem)
 }
 
 /// The tolerances section as (key, value) pairs, each checked as a number >= 0.
@@ -260,7 +285,7 @@ fn bad(key: &'static str, value: impl ToString, expected: &str) -> EngineError {
     }
 }
 
-fn build(raw: Raw, stem: &str) -> Result<Engine, EngineError> {
+fn builder(raw: Raw, stem: &str) -> Result<EngineBuilder, EngineError> {
     let stroke = match need(raw.cycle, "cycle", "\"four-stroke\" or \"two-stroke\"")?.as_str() {
         "four-stroke" => Stroke::Four,
         "two-stroke" => Stroke::Two,
@@ -452,7 +477,14 @@ fn build(raw: Raw, stem: &str) -> Result<Engine, EngineError> {
             .map(|c| usize::try_from(c).unwrap_or(0))
             .collect()
     });
-    EngineBuilder {
+    // A vee's `crank_angles_deg` with one angle per cylinder (z/2 throws)
+    // gives each rod its own pin.
+    let split_pins = matches!(layout, Layout::Vee { .. })
+        && raw
+            .crank_angles_deg
+            .as_ref()
+            .is_some_and(|c| c.len() == cylinders as usize);
+    Ok(EngineBuilder {
         name: raw.name.unwrap_or_else(|| stem.to_string()),
         stroke,
         layout,
@@ -464,6 +496,7 @@ fn build(raw: Raw, stem: &str) -> Result<Engine, EngineError> {
         crank_angles: raw
             .crank_angles_deg
             .map(|v| v.into_iter().map(f64::to_radians).collect()),
+        split_pins,
         mechanism,
         bore,
         compression_ratio,
@@ -473,6 +506,5 @@ fn build(raw: Raw, stem: &str) -> Result<Engine, EngineError> {
         masses,
         operating,
         flywheel,
-    }
-    .build()
+    })
 }

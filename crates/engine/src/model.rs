@@ -217,8 +217,11 @@ pub struct Engine {
     pub(crate) layout: Layout,
     pub(crate) z: usize,
     pub(crate) firing_order: Vec<usize>,
+    pub(crate) firing_order_given: bool,
     pub(crate) firing_angles: Vec<f64>,
     pub(crate) crank_angles: Vec<f64>,
+    pub(crate) pin_angles: Vec<f64>,
+    pub(crate) split_pins: bool,
     pub(crate) cylinder: Cylinder,
     pub(crate) cylinder_spacing: f64,
     pub(crate) rod_model: RodModel,
@@ -245,8 +248,13 @@ pub struct EngineBuilder {
     pub firing_order: Option<Vec<usize>>,
     /// Firing angles per cylinder (rad), if given.
     pub firing_angles: Option<Vec<f64>>,
-    /// Throw lags per throw (rad), if given.
+    /// Throw lags (rad), if given: one per throw, or with `split_pins` one
+    /// per crank pin, that is per cylinder.
     pub crank_angles: Option<Vec<f64>>,
+    /// A vee whose two rods on a throw sit on pins of their own, each at
+    /// its own lag (`crank_angles` then has one angle per cylinder). The
+    /// engine file sets it when `crank_angles_deg` has `z` entries.
+    pub split_pins: bool,
     /// The mechanism (checked by the kinematics crate).
     pub mechanism: Mechanism,
     /// Bore (m).
@@ -297,6 +305,20 @@ fn same_angle(a: f64, b: f64, m: f64) -> bool {
 impl EngineBuilder {
     /// Checks everything and derives firing angles and crank throws.
     pub fn build(self) -> Result<Engine, EngineError> {
+        self.build_checked(false)
+    }
+
+    /// [`EngineBuilder::build`] for a search of every crank
+    /// (`enginedyn firing-orders --all-cranks`): `firing_order` may be left
+    /// out (with neither `firing_angles` nor `crank_angles`). The engine then
+    /// fires evenly in numbering order, a vee on split pins so that the
+    /// firing fits a crank, and [`Engine::firing_order_given`] is false: its
+    /// firing and crank stand for nothing the user said.
+    pub fn build_for_crank_search(self) -> Result<Engine, EngineError> {
+        self.build_checked(true)
+    }
+
+    fn build_checked(self, search: bool) -> Result<Engine, EngineError> {
         let mut notes = Vec::new();
         let z = self.cylinders;
         if !(1..=24).contains(&z) {
@@ -412,20 +434,49 @@ impl EngineBuilder {
                 ));
             }
             None => {
-                notes.push(format!(
-                    "cylinder_spacing_mm not given: assumed 1.2 × bore = {:.1} mm",
-                    1.2 * self.bore * 1e3
-                ));
+                // The spacing only enters the free moments, which one throw
+                // does not have: nothing to note then.
+                if throws_of(self.layout, z).1 > 1 {
+                    notes.push(format!(
+                        "cylinder_spacing_mm not given: assumed 1.2 × bore = {:.1} mm",
+                        1.2 * self.bore * 1e3
+                    ));
+                }
                 1.2 * self.bore
             }
         };
-        let firing_order = match self.firing_order {
-            Some(f) => f,
-            None if z == 1 => vec![1],
+        let layout = self.layout;
+        if self.split_pins && !matches!(layout, Layout::Vee { .. }) {
+            return Err(invalid(
+                "crank_angles_deg",
+                self.crank_angles.as_deref().map_or("[]".into(), deg_list),
+                format!(
+                    "one angle per throw ({z}): split crank pins are for a vee, whose throws carry two rods"
+                ),
+            ));
+        }
+        let (firing_order, firing_order_given, split_pins) = match self.firing_order {
+            Some(f) => (f, true, self.split_pins),
+            None if z == 1 => (vec![1], true, self.split_pins),
+            None if search && self.firing_angles.is_none() && self.crank_angles.is_none() => {
+                // Any crank will be searched: fire evenly in numbering order,
+                // on split pins in a vee so that any order fits.
+                (
+                    (1..=z).collect(),
+                    false,
+                    matches!(layout, Layout::Vee { .. }),
+                )
+            }
+            None if search => {
+                return Err(EngineError::Missing {
+                    key: "firing_order",
+                    why: "required with `firing_angles_deg` or `crank_angles_deg`; leave those out too to search every crank",
+                });
+            }
             None => {
                 return Err(EngineError::Missing {
                     key: "firing_order",
-                    why: "required for more than one cylinder",
+                    why: "required for more than one cylinder; `enginedyn firing-orders --all-cranks --engine FILE` runs without it and ranks the cranks and firing orders this layout allows",
                 });
             }
         };
@@ -447,23 +498,27 @@ impl EngineBuilder {
             }
             seen[c - 1] = true;
         }
-        let layout = self.layout;
+        let pins = Pins::new(layout, z, split_pins);
         let (firing_angles, crank_angles) = firing(
             self.stroke,
             layout,
-            z,
+            &pins,
             &firing_order,
             self.firing_angles,
             self.crank_angles,
         )?;
+        let pin_angles = pins.pin.iter().map(|&p| crank_angles[p]).collect();
         Ok(Engine {
             name: self.name,
             stroke: self.stroke,
             layout,
             z,
             firing_order,
+            firing_order_given,
             firing_angles,
             crank_angles,
+            pin_angles,
+            split_pins,
             cylinder,
             cylinder_spacing,
             rod_model: self.rod_model,
@@ -555,19 +610,54 @@ fn gammas(layout: Layout, z: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Firing angles per cylinder and throw lags per throw (rad), from what the
-/// file gives: PHYSICS.md, `theta_i = alpha_i + gamma_i + 360° j_i`.
+/// Crank pins: which pin each cylinder's rod runs on. With shared pins a
+/// pin is a throw; with split pins (a vee) every cylinder has its own.
+struct Pins {
+    /// Pin (0-based) of each cylinder.
+    pin: Vec<usize>,
+    /// Number of pins.
+    count: usize,
+    /// Throw (0-based) of each cylinder.
+    throw: Vec<usize>,
+    /// Number of throws.
+    throws: usize,
+    split: bool,
+}
+
+impl Pins {
+    fn new(layout: Layout, z: usize, split: bool) -> Pins {
+        let (throw, throws) = throws_of(layout, z);
+        let (pin, count) = if split {
+            ((0..z).collect(), z)
+        } else {
+            (throw.clone(), throws)
+        };
+        Pins {
+            pin,
+            count,
+            throw,
+            throws,
+            split,
+        }
+    }
+}
+
+/// Firing angles per cylinder and throw lags per pin (rad: per throw, or
+/// per cylinder with split pins), from what the file gives: PHYSICS.md,
+/// `theta_i = alpha_i + gamma_i + 360° j_i` with `alpha_i` the lag of
+/// cylinder i's pin.
 fn firing(
     stroke: Stroke,
     layout: Layout,
-    z: usize,
+    pins: &Pins,
     order: &[usize],
     given_firing: Option<Vec<f64>>,
     given_crank: Option<Vec<f64>>,
 ) -> Result<(Vec<f64>, Vec<f64>), EngineError> {
     let cycle = stroke.cycle();
     let rev = 2.0 * PI;
-    let (throw, n_throws) = throws_of(layout, z);
+    let z = order.len();
+    let pin = &pins.pin;
     let gamma = gammas(layout, z);
     if let Some(f) = &given_firing
         && (f.len() != z || f.iter().any(|a| !a.is_finite()))
@@ -579,37 +669,35 @@ fn firing(
         ));
     }
     if let Some(c) = &given_crank
-        && (c.len() != n_throws || c.iter().any(|a| !a.is_finite()))
+        && (c.len() != pins.count || c.iter().any(|a| !a.is_finite()))
     {
-        return Err(invalid(
-            "crank_angles_deg",
-            deg_list(c),
-            format!("one finite angle per throw ({n_throws})"),
-        ));
+        let expected = match layout {
+            Layout::Vee { .. } => format!(
+                "one finite angle per throw ({}), or per cylinder ({z}) for split crank pins",
+                pins.throws
+            ),
+            _ => format!("one finite angle per throw ({})", pins.throws),
+        };
+        return Err(invalid("crank_angles_deg", deg_list(c), expected));
     }
+    let firing_given = given_firing.is_some();
     let crank_of = |firing: &[f64]| -> Result<Vec<f64>, EngineError> {
-        let mut crank: Vec<Option<f64>> = vec![None; n_throws];
+        let mut crank: Vec<Option<f64>> = vec![None; pins.count];
         for i in 0..z {
             let a = wrap(firing[i] - gamma[i], rev);
-            match crank[throw[i]] {
-                None => crank[throw[i]] = Some(a),
+            match crank[pin[i]] {
+                None => crank[pin[i]] = Some(a),
                 Some(b) if same_angle(a, b, rev) => {}
                 Some(b) => {
-                    return Err(EngineError::Invalid {
-                        key: "firing_angles_deg",
-                        value: deg_list(firing),
-                        expected: format!(
-                            "cylinders {} and {} share throw {} but would need it at {:.1}° and {:.1}°: \
-                             a shared-pin {} cannot fire like this; give `firing_angles_deg` the crank \
-                             allows (throw lag + bank angle + 0 or 360°), or use split pins",
-                            throw_partner(i, z) + 1,
-                            i + 1,
-                            throw[i] + 1,
-                            b.to_degrees(),
-                            a.to_degrees(),
-                            layout.name(),
-                        ),
-                    });
+                    return Err(shared_pin_conflict(
+                        layout,
+                        &gamma,
+                        firing,
+                        firing_given,
+                        order,
+                        (throw_partner(i, z), i, pins.throw[i]),
+                        (b, a),
+                    ));
                 }
             }
         }
@@ -635,18 +723,23 @@ fn firing(
             }
             f
         }
-        (None, Some(crank)) => from_crank(stroke, &gamma, &throw, crank, order)?,
+        (None, Some(crank)) => from_crank(stroke, &gamma, pin, crank, order)?,
     };
     let crank = crank_of(&firing_angles)?;
     if let Some(given) = given_crank {
         let base = given[0];
         for (k, (&c, &g)) in crank.iter().zip(&given).enumerate() {
             if !same_angle(c, g - base, rev) {
+                let what = if pins.split {
+                    "pin of cylinder"
+                } else {
+                    "throw"
+                };
                 return Err(invalid(
                     "crank_angles_deg",
                     deg_list(&given),
                     format!(
-                        "throws that agree with the firing angles {}: throw {} would lag {:.3}°",
+                        "throws that agree with the firing angles {}: {what} {} would lag {:.3}°",
                         deg_list(&firing_angles),
                         k + 1,
                         c.to_degrees()
@@ -656,6 +749,89 @@ fn firing(
         }
     }
     Ok((firing_angles, crank))
+}
+
+/// Two cylinders on one shared pin that the firing would need at two
+/// angles. The error names the key the firing came from, and gives the
+/// split-pin crank that fires exactly so (one lag per cylinder,
+/// `alpha_i = theta_i - gamma_i` mod 360°), ready to paste.
+fn shared_pin_conflict(
+    layout: Layout,
+    gamma: &[f64],
+    firing: &[f64],
+    firing_given: bool,
+    order: &[usize],
+    (first, second, throw): (usize, usize, usize),
+    (need_first, need_second): (f64, f64),
+) -> EngineError {
+    let rev = 2.0 * PI;
+    let base = wrap(firing[0] - gamma[0], rev);
+    let split: Vec<f64> = firing
+        .iter()
+        .zip(gamma)
+        .map(|(f, g)| wrap(f - g - base, rev))
+        .collect();
+    let bank = match layout {
+        Layout::Vee { bank_angle } => format!("{}° vee", plain(bank_angle.to_degrees(), 3)),
+        other => other.name().to_string(),
+    };
+    let (key, value) = if firing_given {
+        ("firing_angles_deg", deg_list(firing))
+    } else {
+        ("firing_order", format!("{order:?}"))
+    };
+    let how = if firing_given {
+        "these firing angles".to_string()
+    } else {
+        format!(
+            "evenly (every {}°)",
+            plain((firing_angles_step(firing)).to_degrees(), 3)
+        )
+    };
+    EngineError::Invalid {
+        key,
+        value,
+        expected: format!(
+            "cylinders {} and {} share throw {} but would need it at {}° and {}°: a shared-pin {bank} \
+             cannot fire {how}. With split crank pins (each rod on its own pin, as in 90° and 60° V6s) \
+             give one throw lag per cylinder: `crank_angles_deg = {}` fires so. Or give \
+             `firing_angles_deg` the shared-pin crank allows (throw lag + bank angle + 0 or 360°); \
+             `enginedyn firing-orders --all-cranks` ranks the cranks and orders this layout allows",
+            first + 1,
+            second + 1,
+            throw + 1,
+            plain(need_first.to_degrees(), 1),
+            plain(need_second.to_degrees(), 1),
+            deg_list(&split),
+        ),
+    }
+}
+
+/// A number to four significant digits, as people write it (`0.086`,
+/// `86000`, `1365`; exponent form only below 1e-4 and from 1e9).
+pub(crate) fn human(x: f64) -> String {
+    enginedyn_numerics::format::sig(x, 4)
+}
+
+/// The smallest positive gap between sorted firing angles (rad).
+fn firing_angles_step(firing: &[f64]) -> f64 {
+    let mut f = firing.to_vec();
+    f.sort_by(f64::total_cmp);
+    f.windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|d| *d > 1e-9)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// A number as people write it with at most `digits` decimals
+/// (`numerics::format`, the one home of number formatting).
+pub(crate) fn plain(x: f64, digits: usize) -> String {
+    let s = enginedyn_numerics::format::fixed(x, digits);
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
 }
 
 fn throw_partner(i: usize, z: usize) -> usize {
@@ -687,20 +863,20 @@ fn check_order(f: &[f64], order: &[usize], cycle: f64) -> Result<(), EngineError
 fn from_crank(
     stroke: Stroke,
     gamma: &[f64],
-    throw: &[usize],
+    pin: &[usize],
     crank: &[f64],
     order: &[usize],
 ) -> Result<Vec<f64>, EngineError> {
     let cycle = stroke.cycle();
     let rev = 2.0 * PI;
     let z = order.len();
-    let base = crank[0] + gamma[0];
+    let base = crank[pin[0]] + gamma[0];
     let mut f = vec![0.0; z];
     let start = order.iter().position(|&c| c == 1).unwrap_or(0);
     let mut prev = -1e-9;
     for j in 0..z {
         let c = order[(start + j) % z] - 1;
-        let b = wrap(crank[throw[c]] + gamma[c] - base, rev);
+        let b = wrap(crank[pin[c]] + gamma[c] - base, rev);
         let cands: &[f64] = match stroke {
             Stroke::Four => &[b, b + rev],
             Stroke::Two => &[b],
@@ -765,9 +941,33 @@ impl Engine {
     pub fn firing_angles(&self) -> &[f64] {
         &self.firing_angles
     }
-    /// Throw lags `alpha_k` (rad), per throw.
+    /// Throw lags `alpha_k` (rad) as the engine file writes them: per
+    /// throw, or with split pins per cylinder (cylinders 1..z/2 then the
+    /// other bank, so entry `k < z/2` is throw k's bank-1 pin either way).
+    /// Use [`Engine::pin_angle`] for the lag of a cylinder's own pin.
     pub fn crank_angles(&self) -> &[f64] {
         &self.crank_angles
+    }
+    /// Lag `alpha_i` (rad) of the crank pin cylinder `i` (0-based) runs on,
+    /// behind cylinder 1's: its throw's lag, or with split pins its own.
+    /// PHYSICS.md: `theta_i = alpha_i + gamma_i + 360° j_i`.
+    pub fn pin_angle(&self, i: usize) -> f64 {
+        self.pin_angles[i]
+    }
+    /// [`Engine::pin_angle`] of every cylinder.
+    pub fn pin_angles(&self) -> &[f64] {
+        &self.pin_angles
+    }
+    /// A vee whose throws carry each rod on a pin of its own
+    /// (`crank_angles_deg` with one angle per cylinder).
+    pub fn split_pins(&self) -> bool {
+        self.split_pins
+    }
+    /// Whether the firing order came from the user. False only for an
+    /// engine built by [`EngineBuilder::build_for_crank_search`] without
+    /// one: its firing and crank are placeholders.
+    pub fn firing_order_given(&self) -> bool {
+        self.firing_order_given
     }
     /// Bank angle `gamma_i` of cylinder `i` (rad).
     pub fn bank_angle_of(&self, i: usize) -> f64 {
@@ -809,6 +1009,73 @@ impl Engine {
     pub fn notes(&self) -> &[String] {
         &self.notes
     }
+    /// Notes on data that is physically implausible but still computed
+    /// (INTERFACE.md, "Limits"), each naming the key and the likely
+    /// mistake: a bore or stroke (`stroke_mm`, 2R) under 10 mm or over 2 m
+    /// (`bore_mm = 0.086: metres?`), a crank-slider's λ = R/L outside
+    /// 0.1–0.5, and at `rpm` (the speed the analysis uses, if known) a mean
+    /// piston speed `stroke × rpm / 30` over 40 m/s. Numbers are written as
+    /// people write them (`0.086`, `45.2 m/s`). Empty for a plausible engine.
+    pub fn plausibility_notes(&self, rpm: Option<f64>) -> Vec<String> {
+        let mut notes = Vec::new();
+        let mech = self.mechanism();
+        let stroke_mm = 2.0 * mech.r() * 1e3;
+        for (key, mm) in [
+            ("bore_mm", self.cylinder.bore() * 1e3),
+            ("stroke_mm", stroke_mm),
+        ] {
+            let mistake = if mm < 1.0 {
+                "metres?"
+            } else if mm < 10.0 {
+                "centimetres?"
+            } else if mm > 2000.0 {
+                "micrometres, or a slipped decimal point?"
+            } else {
+                continue;
+            };
+            notes.push(format!(
+                "{key} = {}: {mistake} (a {} of {} mm is outside 10 mm to 2 m; computed as given)",
+                human(mm),
+                if key == "bore_mm" { "bore" } else { "stroke" },
+                human(mm)
+            ));
+        }
+        if let Mechanism::CrankSlider(cs) = mech {
+            let lambda = cs.lambda();
+            let l_mm = cs.l() * 1e3;
+            let shown = format!(
+                "λ = R/L = {} (stroke_mm = {}, rod length {} mm)",
+                human(lambda),
+                human(stroke_mm),
+                human(l_mm)
+            );
+            if lambda > 0.5 {
+                notes.push(format!(
+                    "rod_length_mm or lambda: {shown} is above 0.5: a rod this short for the stroke? \
+                     rod_length_mm is centre to centre and stroke_mm twice the crank radius; computed as given"
+                ));
+            } else if lambda < 0.1 {
+                notes.push(format!(
+                    "rod_length_mm or lambda: {shown} is below 0.1: a rod this long for the stroke? \
+                     is stroke_mm the stroke (2R), in mm, and lambda R/L, not L/R?; computed as given"
+                ));
+            }
+        }
+        if let Some(rpm) = rpm.filter(|r| r.is_finite() && *r > 0.0) {
+            let cm = mech.stroke() * rpm / 30.0;
+            if cm > 40.0 {
+                notes.push(format!(
+                    "mean piston speed {} m/s (stroke_mm = {} at {} rpm) is over 40 m/s, \
+                     beyond racing engines (about 25 m/s): is the speed in rpm and the stroke in mm?; computed as given",
+                    plain(cm, 1),
+                    human(stroke_mm),
+                    human(rpm)
+                ));
+            }
+        }
+        notes
+    }
+
     /// The same engine with another rod model (checked).
     pub fn with_rod_model(&self, rod_model: RodModel) -> Result<Engine, EngineError> {
         if rod_model != RodModel::TwoMass

@@ -135,8 +135,32 @@ fn shared_pin_v6_even_firing_refused() {
         .replace("[1, 3, 4, 2]", "[1, 4, 2, 5, 3, 6]");
     let msg = parse(&text, "v6").unwrap_err().to_string();
     assert!(
-        msg.contains("shared-pin") && msg.contains("split pins"),
+        msg.contains("shared-pin") && msg.contains("split crank pins"),
         "{msg}"
+    );
+    // It names the key the firing came from and gives the split-pin crank
+    // to paste: 1-4-2-5-3-6 every 120° with bank 2 at 60° puts cylinder
+    // 4's pin at 120 - 60 = 60°, 2's at 240°, 5's at 360 - 60 = 300°,
+    // 3's at 480 - 360 = 120°, 6's at 600 - 60 - 360 = 180°.
+    assert!(
+        msg.starts_with("`firing_order` = [1, 4, 2, 5, 3, 6]"),
+        "{msg}"
+    );
+    assert!(
+        msg.contains("`crank_angles_deg = [0, 240, 120, 60, 300, 180]`"),
+        "{msg}"
+    );
+    assert!(msg.contains("firing-orders --all-cranks"), "{msg}");
+    // Pasted, it fires evenly.
+    let fixed = text.replace(
+        "bank_angle_deg = 60",
+        "bank_angle_deg = 60\ncrank_angles_deg = [0, 240, 120, 60, 300, 180]",
+    );
+    let e = parse(&fixed, "v6").unwrap();
+    assert!(e.split_pins());
+    assert_eq!(
+        deg(e.firing_angles()),
+        vec![0.0, 240.0, 480.0, 120.0, 360.0, 600.0]
     );
 }
 
@@ -168,4 +192,215 @@ fn bundled_two_stroke_triple() {
     let e = enginedyn_engine::file::read(std::path::Path::new(path)).unwrap();
     assert_eq!(deg(e.firing_angles()), vec![0.0, 240.0, 120.0]);
     assert_eq!(deg(e.crank_angles()), vec![0.0, 240.0, 120.0]);
+}
+
+/// A 90° V6 on split pins: throws 0, 120, 240° and each bank-2 pin 30°
+/// behind its partner (`crank_angles_deg` per cylinder). PHYSICS.md's rule
+/// `theta_i = alpha_i + gamma_i + 360° j_i` with the order 1-4-3-6-2-5 gives
+/// 4 = 30 + 90 = 120°, 3 = 240°, 6 = 270 + 90 = 360°, 2 = 120 + 360 = 480°,
+/// 5 = 150 + 90 + 360 = 600°: every 120°, exactly.
+#[test]
+fn split_pin_v6_90_fires_every_120() {
+    let text = BASE
+        .replace(
+            "cylinders = 4",
+            "cylinders = 6\nlayout = \"vee\"\nbank_angle_deg = 90\n\
+             crank_angles_deg = [0, 120, 240, 30, 150, 270]",
+        )
+        .replace("[1, 3, 4, 2]", "[1, 4, 3, 6, 2, 5]");
+    let e = parse(&text, "v6").unwrap();
+    assert!(e.split_pins());
+    assert_eq!(e.throws(), 3);
+    assert_eq!(
+        deg(e.firing_angles()),
+        vec![0.0, 480.0, 240.0, 120.0, 600.0, 360.0]
+    );
+    assert_eq!(
+        deg(e.crank_angles()),
+        vec![0.0, 120.0, 240.0, 30.0, 150.0, 270.0]
+    );
+    assert_eq!(
+        deg(e.pin_angles()),
+        vec![0.0, 120.0, 240.0, 30.0, 150.0, 270.0]
+    );
+    // The same engine from its firing angles and split pins alone.
+    let from_firing = text.replace(
+        "crank_angles_deg = [0, 120, 240, 30, 150, 270]",
+        "crank_angles_deg = [0, 120, 240, 30, 150, 270]\n\
+         firing_angles_deg = [0, 480, 240, 120, 600, 360]",
+    );
+    assert_eq!(parse(&from_firing, "v6").unwrap(), e);
+    // A pin that contradicts the firing is refused by name.
+    let wrong = from_firing.replace("30, 150, 270]", "30, 150, 280]");
+    let msg = parse(&wrong, "v6").unwrap_err().to_string();
+    assert!(
+        msg.starts_with("`crank_angles_deg`") && msg.contains("pin of cylinder 6"),
+        "{msg}"
+    );
+    // Neither per throw nor per cylinder: the error says both.
+    let short = text.replace("30, 150, 270]", "30]");
+    let msg = parse(&short, "v6").unwrap_err().to_string();
+    assert!(
+        msg.contains("one finite angle per throw (3), or per cylinder (6) for split crank pins"),
+        "{msg}"
+    );
+    // Shared pins of a V8 stay shared (one lag per throw).
+    let v8 = BASE
+        .replace(
+            "cylinders = 4",
+            "cylinders = 8\nlayout = \"vee\"\nbank_angle_deg = 90",
+        )
+        .replace("[1, 3, 4, 2]", "[1, 5, 4, 8, 7, 2, 6, 3]");
+    let v8 = parse(&v8, "v8").unwrap();
+    assert!(!v8.split_pins());
+    assert_eq!(
+        deg(v8.pin_angles()),
+        vec![0.0, 90.0, 270.0, 180.0, 0.0, 90.0, 270.0, 180.0]
+    );
+}
+
+/// The bundled 90° V6 is the split-pin engine above.
+#[test]
+fn bundled_v6_90_even_fire() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/v6_90.toml");
+    let e = enginedyn_engine::file::read(std::path::Path::new(path)).unwrap();
+    assert!(e.split_pins());
+    let mut f = deg(e.firing_angles());
+    f.sort_by(f64::total_cmp);
+    assert_eq!(f, vec![0.0, 120.0, 240.0, 360.0, 480.0, 600.0]);
+    assert!(e.notes().is_empty(), "{:?}", e.notes());
+}
+
+/// Split pins are for a vee: an inline engine's `crank_angles_deg` is per
+/// throw.
+#[test]
+fn split_pins_only_on_a_vee() {
+    let text = BASE.replace(
+        "cylinders = 4",
+        "cylinders = 4\ncrank_angles_deg = [0, 180, 180, 0]",
+    );
+    assert!(!parse(&text, "i4").unwrap().split_pins());
+}
+
+/// `firing_order` may be left out only for the crank search; elsewhere the
+/// error names the key and the command that finds one.
+#[test]
+fn firing_order_optional_for_the_crank_search() {
+    let text = BASE
+        .replace(
+            "cylinders = 4",
+            "cylinders = 6\nlayout = \"vee\"\nbank_angle_deg = 90",
+        )
+        .replace("firing_order = [1, 3, 4, 2]\n", "");
+    let err = parse(&text, "v6").unwrap_err();
+    assert!(matches!(
+        err,
+        EngineError::Missing {
+            key: "firing_order",
+            ..
+        }
+    ));
+    let msg = err.to_string();
+    assert!(
+        msg.contains("missing key `firing_order`")
+            && msg.contains("enginedyn firing-orders --all-cranks"),
+        "{msg}"
+    );
+    let e = enginedyn_engine::file::parse_for_crank_search(&text, "v6").unwrap();
+    assert!(!e.firing_order_given());
+    assert!(e.split_pins(), "a placeholder vee fires on split pins");
+    assert_eq!(e.firing_order(), &[1, 2, 3, 4, 5, 6]);
+    // With a crank or firing angles, the order is still needed.
+    let with_crank = text.replace(
+        "bank_angle_deg = 90",
+        "bank_angle_deg = 90\ncrank_angles_deg = [0, 120, 240]",
+    );
+    let msg = enginedyn_engine::file::parse_for_crank_search(&with_crank, "v6")
+        .unwrap_err()
+        .to_string();
+    assert!(msg.contains("missing key `firing_order`"), "{msg}");
+    // A file with its order reads the same either way.
+    assert_eq!(
+        enginedyn_engine::file::parse_for_crank_search(BASE, "vaz").unwrap(),
+        parse(BASE, "vaz").unwrap()
+    );
+}
+
+/// The assumed-spacing note only where the spacing matters (free moments,
+/// more than one throw).
+#[test]
+fn no_spacing_note_on_one_cylinder() {
+    let single = BASE
+        .replace("cylinders = 4", "cylinders = 1")
+        .replace("firing_order = [1, 3, 4, 2]\n", "");
+    let e = parse(&single, "one").unwrap();
+    assert!(e.notes().is_empty(), "{:?}", e.notes());
+    let four = parse(BASE, "four").unwrap();
+    assert_eq!(
+        four.notes(),
+        &["cylinder_spacing_mm not given: assumed 1.2 × bore = 91.2 mm".to_string()]
+    );
+}
+
+/// Implausible data is built, and noted with the key and the likely
+/// mistake, numbers as people write them.
+#[test]
+fn plausibility_notes_name_key_and_mistake() {
+    let plain = parse(BASE, "vaz").unwrap();
+    // 4900 rpm × 71 mm / 30 = 11.6 m/s; λ = 0.26.
+    assert!(plain.plausibility_notes(Some(4900.0)).is_empty());
+    let metres = BASE
+        .replace("bore_mm = 76.0", "bore_mm = 0.086")
+        .replace("lambda = 0.26", "rod_length_mm = 136.5");
+    let e = parse(&metres, "m").unwrap();
+    let notes = e.plausibility_notes(None);
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    assert!(
+        notes[0].starts_with("bore_mm = 0.086: metres?"),
+        "{notes:?}"
+    );
+    let cm = BASE.replace("stroke_mm = 71.0", "stroke_mm = 7.1");
+    let notes = parse(&cm, "cm").unwrap().plausibility_notes(None);
+    assert!(
+        notes[0].starts_with("stroke_mm = 7.1: centimetres?"),
+        "{notes:?}"
+    );
+    let huge = BASE.replace("bore_mm = 76.0", "bore_mm = 76000");
+    let notes = parse(&huge, "um").unwrap().plausibility_notes(None);
+    assert!(notes[0].starts_with("bore_mm = 76000: "), "{notes:?}");
+    // λ = 35.5 / 50 = 0.71: a rod this short.
+    let short = BASE.replace("lambda = 0.26", "rod_length_mm = 50");
+    let notes = parse(&short, "short").unwrap().plausibility_notes(None);
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    assert!(
+        notes[0].contains("λ = R/L = 0.71 (stroke_mm = 71, rod length 50 mm) is above 0.5"),
+        "{notes:?}"
+    );
+    let long = BASE.replace("lambda = 0.26", "lambda = 0.05");
+    let notes = parse(&long, "long").unwrap().plausibility_notes(None);
+    assert!(
+        notes[0].contains("λ = R/L = 0.05 ") && notes[0].contains("below 0.1"),
+        "{notes:?}"
+    );
+    // 71 mm at 18000 rpm: 0.071 × 18000 / 30 = 42.6 m/s, over 40.
+    let notes = plain.plausibility_notes(Some(18000.0));
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    assert!(
+        notes[0]
+            .starts_with("mean piston speed 42.6 m/s (stroke_mm = 71 at 18000 rpm) is over 40 m/s"),
+        "{notes:?}"
+    );
+    // 16900 rpm gives 40.0 m/s: not over.
+    assert!(plain.plausibility_notes(Some(16900.0)).is_empty());
+    // Never exponent notation (`4.26e1`).
+    for n in notes
+        .iter()
+        .chain(&parse(&metres, "m").unwrap().plausibility_notes(None))
+    {
+        let b = n.as_bytes();
+        assert!(
+            !b.windows(2).any(|w| w[0].is_ascii_digit() && w[1] == b'e'),
+            "{n}"
+        );
+    }
 }

@@ -265,6 +265,7 @@ impl Evaluator {
             firing_order: Some(e.firing_order().to_vec()),
             firing_angles: Some(firing_angles),
             crank_angles: None,
+            split_pins: e.split_pins(),
             mechanism: mech,
             bore,
             compression_ratio,

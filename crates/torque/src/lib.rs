@@ -176,7 +176,9 @@ pub fn harmonics(
 /// cylinder's crank-pin load placed at its firing angle. `tangential(i)` is
 /// `T` and `radial(i)` is `K - K_rB` (toward the axis) of cylinder `i` over
 /// its own cycle angle on the grid; `unbalance` is the throw's own
-/// centrifugal force `m_crank R w^2` (N).
+/// centrifugal force `m_crank R w^2` (N). Each cylinder's load acts at its
+/// own crank pin ([`Engine::pin_angle`]); on a throw with split pins the
+/// throw's unbalance is shared equally among its pins.
 ///
 /// Statically determinate split: each throw sits midway between two main
 /// bearings and hands half of its force (a vector in engine-fixed axes) to
@@ -201,22 +203,42 @@ pub fn main_bearing_loads<'a>(
     let mut r = vec![0.0; n];
     let unit: Vec<(f64, f64)> = (0..n).map(|j| (j as f64 * step).sin_cos()).collect();
     for k in 0..throws {
-        t.iter_mut().for_each(|v| *v = 0.0);
-        r.iter_mut().for_each(|v| *v = 0.0);
-        for i in (0..engine.cylinders()).filter(|&i| engine.throw_of(i) == k) {
-            shift_add(tangential(i), engine.firing_angle(i), step, &mut t);
-            shift_add(radial(i), engine.firing_angle(i), step, &mut r);
-        }
-        // cos and sin of (phi_j - lag) by rotating the table of phi_j.
-        let (sl, cl) = engine.crank_angles()[k].sin_cos();
-        for j in 0..n {
-            let (sj, cj) = unit[j];
-            let (c, s) = (cj * cl + sj * sl, sj * cl - cj * sl);
-            // Radial toward the axis along -r̂, tangential along t̂ = (-sin, cos);
-            // the unbalance pulls outward along r̂.
-            let radial_out = unbalance - r[j];
-            fx[k][j] = radial_out * c - t[j] * s;
-            fy[k][j] = radial_out * s + t[j] * c;
+        // The throw's pins: one shared by its cylinders, or one each (split
+        // pins, the throw's own unbalance shared equally among them).
+        let on_throw: Vec<usize> = (0..engine.cylinders())
+            .filter(|&i| engine.throw_of(i) == k)
+            .collect();
+        let pins: Vec<Vec<usize>> = if engine.split_pins() {
+            on_throw.iter().map(|&i| vec![i]).collect()
+        } else {
+            vec![on_throw]
+        };
+        let share = unbalance / pins.len().max(1) as f64;
+        for (p, cylinders) in pins.iter().enumerate() {
+            t.iter_mut().for_each(|v| *v = 0.0);
+            r.iter_mut().for_each(|v| *v = 0.0);
+            for &i in cylinders {
+                shift_add(tangential(i), engine.firing_angle(i), step, &mut t);
+                shift_add(radial(i), engine.firing_angle(i), step, &mut r);
+            }
+            let lag = cylinders.first().map_or(0.0, |&i| engine.pin_angle(i));
+            // cos and sin of (phi_j - lag) by rotating the table of phi_j.
+            let (sl, cl) = lag.sin_cos();
+            for j in 0..n {
+                let (sj, cj) = unit[j];
+                let (c, s) = (cj * cl + sj * sl, sj * cl - cj * sl);
+                // Radial toward the axis along -r̂, tangential along t̂ = (-sin, cos);
+                // the unbalance pulls outward along r̂.
+                let radial_out = share - r[j];
+                let (x, y) = (radial_out * c - t[j] * s, radial_out * s + t[j] * c);
+                if p == 0 {
+                    fx[k][j] = x;
+                    fy[k][j] = y;
+                } else {
+                    fx[k][j] += x;
+                    fy[k][j] += y;
+                }
+            }
         }
     }
     (0..=throws)
