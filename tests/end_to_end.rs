@@ -945,3 +945,18 @@ fn csv_cells(line: &str) -> Vec<String> {
     cells.push(cell);
     cells
 }
+
+/// report.html's tolerance table shows the run's own I₀ as nominal (the
+/// tolerance study runs on a coarser grid), as the summary does.
+#[test]
+fn tolerance_table_nominal_is_the_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run(&["run", "--out", dir.path().to_str().unwrap(), "--json"]);
+    let s: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let html = std::fs::read_to_string(dir.path().join("report.html")).unwrap();
+    let cell = "required_inertia_kg_m2</th><td class=\"v\">";
+    let at = html.find(cell).expect("tolerance row") + cell.len();
+    let shown: f64 = html[at..].split('<').next().unwrap().parse().unwrap();
+    let i0 = s["required_inertia_kg_m2"].as_f64().unwrap();
+    assert!((shown - i0).abs() <= 5e-4 * i0, "{shown} against {i0}");
+}

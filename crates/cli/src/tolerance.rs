@@ -449,18 +449,20 @@ pub fn report_extra(
     let svg = enginedyn_report::tornado_svg("tolerance.svg", &title, &panels(&study), 4)
         .map_err(|e| Failure::data(e.to_string()))?;
     Ok(Some(enginedyn_report::Extra {
-        sections: vec![("Tolerances".to_string(), html_table(&study))],
+        sections: vec![(
+            "Tolerances".to_string(),
+            html_table(&study, Some(&analysis.summary)),
+        )],
         charts: vec![("tolerance.svg".to_string(), svg)],
     }))
 }
 
-/// The stack-up per result with its three largest contributions, as HTML.
-fn html_table(s: &Study) -> String {
-    let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;");
-    let mut o = String::from(
-        "<p>Each toleranced parameter alone at ±t, by the real pipeline (linear model; \
-         <code>enginedyn tolerance</code> adds the Monte Carlo check). Tolerances: ",
-    );
+/// The stack-up per result with its three largest contributions, as HTML
+/// (report's table and escaping). With the run's `summary`, a result that
+/// is a summary key shows the run's own value as nominal (the study runs on
+/// a coarser grid; its deviations are what it adds).
+fn html_table(s: &Study, summary: Option<&enginedyn_pipeline::Summary>) -> String {
+    use enginedyn_report::esc;
     let mut list: Vec<String> = Vec::new();
     for i in &s.inputs {
         let item = format!("{} ±{}", i.parameter.key(), num(i.tolerance));
@@ -468,41 +470,64 @@ fn html_table(s: &Study) -> String {
             list.push(item);
         }
     }
-    o.push_str(&esc(&list.join(", ")));
-    o.push_str(
-        ".</p>\n<table><tr><th>result</th><th>nominal</th><th>worst case ±</th>\
-         <th>RSS σ</th><th>unit</th><th>largest contributions (share of variance)</th></tr>\n",
+    let mut o = format!(
+        "<p>Each toleranced parameter alone at ±t, by the real pipeline (linear model; \
+         <code>enginedyn tolerance</code> adds the Monte Carlo check). Tolerances: {}.</p>\n",
+        esc(&list.join(", "))
     );
-    for st in &s.stacks {
-        let rows = ranked(s, st.output);
-        let total: f64 = rows.iter().map(|r| r.deviation * r.deviation).sum();
-        let top: Vec<String> = rows
-            .iter()
-            .take(3)
-            .map(|r| {
-                format!(
-                    "{} {:.0} %",
-                    r.input.name(),
-                    100.0 * r.deviation * r.deviation / total.max(f64::MIN_POSITIVE)
-                )
-            })
-            .collect();
-        let _ = writeln!(
-            o,
-            "<tr><th>{}</th><td class=\"v\">{}</td><td class=\"v\">{}</td><td class=\"v\">{}</td><td>{}</td><td>{}{}</td></tr>",
-            st.output.key(),
-            num(if st.zero { 0.0 } else { st.nominal }),
-            num(st.worst_case),
-            num(st.rss),
-            esc(unit(st.output)),
-            esc(&top.join(", ")),
-            if st.zero || st.kink {
+    let rows: Vec<Vec<String>> = s
+        .stacks
+        .iter()
+        .map(|st| {
+            let rows = ranked(s, st.output);
+            let total: f64 = rows.iter().map(|r| r.deviation * r.deviation).sum();
+            let top: Vec<String> = rows
+                .iter()
+                .take(3)
+                .map(|r| {
+                    format!(
+                        "{} {:.0} %",
+                        r.input.name(),
+                        100.0 * r.deviation * r.deviation / total.max(f64::MIN_POSITIVE)
+                    )
+                })
+                .collect();
+            let caveat = if st.zero || st.kink {
                 " (zero nominal or a kink: the linear model is only a bound)"
             } else {
                 ""
-            }
-        );
-    }
-    o.push_str("</table>\n");
+            };
+            let run_value = summary.and_then(|sm| {
+                enginedyn_pipeline::Summary::key(st.output.key())?
+                    .number(sm)
+                    .filter(|x| x.is_finite())
+            });
+            let nominal = match run_value {
+                Some(v) => v,
+                None if st.zero => 0.0,
+                None => st.nominal,
+            };
+            vec![
+                esc(st.output.key()),
+                num(nominal),
+                num(st.worst_case),
+                num(st.rss),
+                esc(unit(st.output)),
+                format!("{}{caveat}", esc(&top.join(", "))),
+            ]
+        })
+        .collect();
+    o.push_str(&enginedyn_report::html_table(
+        &[
+            "result",
+            "nominal",
+            "worst case ±",
+            "RSS σ",
+            "unit",
+            "largest contributions (share of variance)",
+        ],
+        &rows,
+        &[false, true, true, true, false, false],
+    ));
     o
 }

@@ -234,7 +234,16 @@ fn unknown(key: &str, section: &str, known: &[&str], text: &str) -> EngineError 
             (score, *k)
         })
         .max_by(|a, b| a.0.total_cmp(&b.0));
-    let mut suggestion = best.filter(|(s, _)| *s > 0.8).map(|(_, k)| k.to_string());
+    // Only a close name is suggested: similar as a whole (at most about
+    // half the letters changed), or a known key the key begins (`cyl`,
+    // `bore` for `bore_mm`), not any name that shares a first letter.
+    let close = |k: &str| {
+        strsim::normalized_damerau_levenshtein(&lower, k) >= 0.5
+            || lower.len() >= 3 && k.starts_with(&lower)
+    };
+    let mut suggestion = best
+        .filter(|(s, k)| *s > 0.8 && close(k))
+        .map(|(_, k)| k.to_string());
     if suggestion.is_none() {
         // The key may belong to another section: `rpm` at the root.
         for (s, keys) in SECTIONS {

@@ -54,6 +54,22 @@ fn unknown_key_names_the_nearest() {
         msg.contains("[operating]") && msg.contains("`rpm`"),
         "{msg}"
     );
+    // "Did you mean" only for a close name: a misspelling or a known key's
+    // beginning, never a name that merely shares its first letter.
+    for (key, nearest) in [
+        ("lamda", Some("lambda")),
+        ("strok", Some("stroke_mm")),
+        ("r", None),
+        ("ro", None),
+        ("rod_mass_kg", None),
+    ] {
+        let text = BASE.replace("bore_mm", &format!("{key} = 1\nbore_mm"));
+        let msg = parse(&text, "x").unwrap_err().to_string();
+        match nearest {
+            Some(n) => assert!(msg.contains(&format!("did you mean `{n}`")), "{key}: {msg}"),
+            None => assert!(!msg.contains("did you mean"), "{key}: {msg}"),
+        }
+    }
 }
 
 #[test]

@@ -888,22 +888,41 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
         ));
     }
 
-    // Torque.
+    // Torque: indicated curves; the effective mean beside the indicated one
+    // when a mechanical efficiency below 1 sets them apart.
     let mean = a.uniformity.mean;
+    let eta = a.summary.mechanical_efficiency;
+    let mut torque = vec![
+        Series::new("cylinder 1, indicated", deg(), &f.torque),
+        Series::new(
+            format!("engine ({} cylinders), indicated", engine.cylinders()),
+            deg(),
+            &a.torque.total,
+        ),
+        Series::hline(
+            format!("mean, indicated {} N m", crate::fixed(mean, 1)),
+            mean,
+            0.0,
+            cycle,
+        ),
+    ];
+    if (eta - 1.0).abs() > 1e-12 {
+        torque.push(Series::hline(
+            format!(
+                "mean, effective (η_m = {eta:.2}) {} N m",
+                crate::fixed(mean * eta, 1)
+            ),
+            mean * eta,
+            0.0,
+            cycle,
+        ));
+    }
     figs.push(Figure::single(
         "torque.svg",
         Chart::angle(
             format!("{name} — torque, {rpm:.0} rpm"),
             "torque (N m)",
-            vec![
-                Series::new("cylinder 1", deg(), &f.torque),
-                Series::new(
-                    format!("engine ({} cylinders)", engine.cylinders()),
-                    deg(),
-                    &a.torque.total,
-                ),
-                Series::hline(format!("mean (indicated) {mean:.1} N m"), mean, 0.0, cycle),
-            ],
+            torque,
         ),
     ));
 

@@ -106,6 +106,66 @@ figure{{margin:12px 0}}figure svg{{max-width:100%;height:auto}}figcaption{{font-
             format!("{:.0} rpm (ω = {:.3} rad/s)", s.rpm, s.omega_rad_s),
         ),
     ];
+    // Everything else the results depend on.
+    let h = enginedyn_numerics::format::human;
+    let m = engine.masses();
+    let rod_model =
+        enginedyn_engine::RodModel::from_name(s.rod_model).unwrap_or(engine.rod_model());
+    let mut depends: Vec<(&str, String)> = Vec::new();
+    match engine.mechanism() {
+        enginedyn_kinematics::Mechanism::CrankSlider(cs) => {
+            depends.push(("rod length", format!("{} mm", h(cs.l() * 1e3))));
+            depends.push(("pin offset", format!("{} mm", h(cs.e() * 1e3))));
+            depends.push(("rod mass", format!("{} kg", h(m.rod))));
+            depends.push((
+                "rod centre of mass from the small end",
+                format!("{} mm", h(m.rod_cg_from_small_end * 1e3)),
+            ));
+            depends.push((
+                "rod inertia about its centre of mass",
+                m.rod_inertia
+                    .map_or("not given".to_string(), |i| format!("{} kg m²", h(i))),
+            ));
+        }
+        enginedyn_kinematics::Mechanism::ScotchYoke(_) => {
+            depends.push(("mechanism", "Scotch yoke".to_string()));
+        }
+    }
+    depends.extend([
+        ("rod model", s.rod_model.to_string()),
+        ("piston group mass", format!("{} kg", h(m.piston_group))),
+        (
+            "reciprocating mass m_j",
+            format!("{} kg", h(engine.reciprocating_mass(rod_model))),
+        ),
+        (
+            "rotating mass m_r (throw 1)",
+            format!("{} kg", h(engine.rotating_mass(0, rod_model))),
+        ),
+        (
+            "crank unbalanced mass",
+            format!("{} kg", h(m.crank_unbalanced)),
+        ),
+        (
+            "mechanical efficiency η_m",
+            h(engine.operating().mechanical_efficiency),
+        ),
+        (
+            "speed fluctuation δ",
+            h(engine.flywheel().speed_fluctuation),
+        ),
+        (
+            "flywheel",
+            match engine.flywheel().outer_diameter {
+                Some(d) => format!("outer diameter {} mm (given)", h(d * 1e3)),
+                None => format!(
+                    "rim speed {} m/s at most",
+                    h(engine.flywheel().max_rim_speed)
+                ),
+            },
+        ),
+    ]);
+    let geometry: Vec<(&str, String)> = geometry.into_iter().chain(depends).collect();
     for (k, v) in geometry {
         let _ = writeln!(o, "<tr><th>{}</th><td>{}</td></tr>", esc(k), esc(&v));
     }
