@@ -153,7 +153,7 @@ fn coarse_data_as_in_hand_methods() {
     for interp in [Interp::Linear, Interp::Spline] {
         let r = enginedyn_ingest::resample_with(&coarse, &GridOptions::new(0.1, interp)).unwrap();
         assert!(
-            r.notes.iter().any(|n| n.contains("a point every 10.0°")),
+            r.notes.iter().any(|n| n.contains("a point every 10°")),
             "{:?}",
             r.notes
         );

@@ -80,7 +80,8 @@ impl Uniformity {
 pub enum FlywheelError {
     /// The engine absorbs work on average (motoring).
     #[error(
-        "the mean torque is {0:.3e} N m, not positive (motored engine): no flywheel, non-uniformity or excess-work coefficient"
+        "the mean torque is {} N m, not positive (motored engine): no flywheel, non-uniformity or excess-work coefficient",
+        enginedyn_numerics::format::sig(*.0, 4)
     )]
     Motoring(f64),
     /// The torque is perfectly uniform.

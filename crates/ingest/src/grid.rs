@@ -256,6 +256,12 @@ pub struct Accumulator {
     /// The grid's angles `k step` (deg), for the on-grid test.
     angles: Vec<f64>,
     notes: Vec<String>,
+    /// Traces whose spline overshot (pchip used instead), and the worst
+    /// overshoot (fraction of the peak): said once, with a count.
+    overshoot: (usize, f64),
+    /// Traces coarser than 2° on average, the coarsest spacing (deg) and
+    /// the interpolant used: said once, with a count.
+    sparse: (usize, f64, Option<InterpKind>),
 }
 
 impl Accumulator {
@@ -290,6 +296,8 @@ impl Accumulator {
             law,
             angles: (0..n).map(|k| k as f64 * step).collect(),
             notes: Vec::new(),
+            overshoot: (0, 0.0),
+            sparse: (0, 0.0, None),
         })
     }
 
@@ -316,13 +324,9 @@ impl Accumulator {
         } else if !on_grid {
             let spacing = self.cycle_deg / tr.angle_deg.len() as f64;
             if spacing > 2.0 {
-                let note = format!(
-                    "the diagram has a point every {spacing:.1}° on average: between points the pressure is the {} interpolant's guess (its error grows with the spacing squared for linear, to the fourth power for the spline); peak pressure and torque extremes are uncertain, `enginedyn accuracy` measures by how much",
-                    kind.name()
-                );
-                if !self.notes.contains(&note) {
-                    self.notes.push(note);
-                }
+                self.sparse.0 += 1;
+                self.sparse.1 = self.sparse.1.max(spacing);
+                self.sparse.2.get_or_insert(kind);
             }
             // `auto` already built the spline to test it: use that one.
             let f = match tested {
@@ -492,13 +496,8 @@ impl Accumulator {
                 .map_err(|e| IngestError::Data(e.to_string()))?;
                 let peak = tr.values.iter().fold(0.0_f64, |a, &b| a.max(b.abs()));
                 if s.max_overshoot() > 0.005 * peak {
-                    let note = format!(
-                        "the periodic spline overshoots the data by {:.2} % of the peak: pchip used instead",
-                        100.0 * s.max_overshoot() / peak
-                    );
-                    if !self.notes.contains(&note) {
-                        self.notes.push(note);
-                    }
+                    self.overshoot.0 += 1;
+                    self.overshoot.1 = self.overshoot.1.max(s.max_overshoot() / peak);
                     (InterpKind::Pchip, None)
                 } else {
                     (InterpKind::Spline, Some(s))
@@ -544,6 +543,30 @@ impl Accumulator {
                 / self.stats.len().max(1) as f64,
         });
         notes.extend(self.notes);
+        let traces = self.count;
+        let of = |n: usize| {
+            if traces > 1 {
+                format!(" ({n} of {traces} traces)")
+            } else {
+                String::new()
+            }
+        };
+        if self.sparse.0 > 0 {
+            notes.push(format!(
+                "the diagram has a point every {}° on average{}: between points the pressure is the {} interpolant's guess (its error grows with the spacing squared for linear, to the fourth power for the spline); peak pressure and torque extremes are uncertain, `enginedyn accuracy` measures by how much",
+                enginedyn_numerics::format::sig(self.sparse.1, 2),
+                of(self.sparse.0),
+                self.sparse.2.unwrap_or(InterpKind::Linear).name()
+            ));
+        }
+        if self.overshoot.0 > 0 {
+            notes.push(format!(
+                "the periodic spline overshoots the data by {} % of the peak{}{}: pchip used instead",
+                if self.overshoot.0 > 1 { "up to " } else { "" },
+                enginedyn_numerics::format::sig(100.0 * self.overshoot.1, 3),
+                of(self.overshoot.0)
+            ));
+        }
         Ok(Resampled {
             step_deg: self.opts.step_deg,
             quantity: self.quantity,

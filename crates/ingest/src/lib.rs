@@ -1292,8 +1292,9 @@ fn finish(
         // The largest engines make about 1e7 N m: beyond 1e9 is a unit mix-up.
         if peak > 1e9 {
             return Err(IngestError::Data(format!(
-                "cycle {}: torque {peak:.3e} N m is implausible: is the torque column in N m?",
-                tr.cycle
+                "cycle {}: torque {} N m is implausible: is the torque column in N m?",
+                tr.cycle,
+                enginedyn_numerics::format::sig(peak, 4)
             )));
         }
     }
@@ -1302,9 +1303,9 @@ fn finish(
         // 5 kPa to 10 kbar absolute: anything outside is a unit mix-up.
         if !(5e3..=1e9).contains(&peak) {
             return Err(IngestError::Data(format!(
-                "cycle {}: peak pressure {:.3e} bar is implausible: is the pressure column's unit right?",
+                "cycle {}: peak pressure {} bar is implausible: is the pressure column's unit right?",
                 tr.cycle,
-                peak / 1e5
+                enginedyn_numerics::format::sig(peak / 1e5, 4)
             )));
         }
     }

@@ -293,3 +293,47 @@ fn shared_volume_law_changes_nothing() {
         }
     }
 }
+
+/// A note is said once, with a count, never once per cycle: twenty cycles
+/// whose spline overshoots each by a different amount give one note.
+#[test]
+fn notes_once_with_a_count() {
+    let mut csv = String::from("cycle,crank_deg,pressure_bar\n");
+    for c in 1..=20 {
+        for k in 0..72 {
+            let a = k as f64 * 10.0;
+            // A sharp peak the spline rings around, a bit taller each cycle.
+            let p = if k == 36 {
+                60.0 + c as f64
+            } else {
+                1.0 + 0.01 * k as f64
+            };
+            csv.push_str(&format!("{c},{a},{p}\n"));
+        }
+    }
+    let opts = ParseOptions::new(720.0);
+    let r = enginedyn_ingest::load(csv.as_bytes(), &opts, &GridOptions::new(1.0, Interp::Auto))
+        .unwrap();
+    let over: Vec<&String> = r
+        .notes
+        .iter()
+        .filter(|n| n.contains("overshoots"))
+        .collect();
+    assert_eq!(over.len(), 1, "{:?}", r.notes);
+    assert!(
+        over[0].contains("up to") && over[0].contains("(20 of 20 traces)"),
+        "{}",
+        over[0]
+    );
+    let sparse: Vec<&String> = r
+        .notes
+        .iter()
+        .filter(|n| n.contains("a point every"))
+        .collect();
+    assert_eq!(sparse.len(), 1, "{:?}", r.notes);
+    assert!(
+        sparse[0].contains("a point every 10° on average (20 of 20 traces)"),
+        "{}",
+        sparse[0]
+    );
+}
