@@ -8,7 +8,7 @@ EXPECT = {
     "pressure.svg": ["p(φ)", "p–V"],
     "kinematics.svg": ["A = x/R", "B = v/(Rω)", "C = a/(Rω²)"],
     "forces.svg": ["gas P_g", "inertia P_j", "side thrust N", "tangential T"],
-    "torque.svg": ["cylinder 1", "engine (", "mean (indicated)"],
+    "torque.svg": ["cylinder 1, indicated", "engine (", "mean, indicated"],
     "journal_torques.svg": ["journal after throw 1"],
     "crankpin_polar.svg": ["pin load"],
     "flywheel.svg": ["E(φ)"],

@@ -107,7 +107,7 @@ figure{{margin:12px 0}}figure svg{{max-width:100%;height:auto}}figcaption{{font-
         ),
     ];
     // Everything else the results depend on.
-    let h = enginedyn_numerics::format::human;
+    let h = |x: f64| enginedyn_numerics::format::sig(x, 4);
     let m = engine.masses();
     let rod_model =
         enginedyn_engine::RodModel::from_name(s.rod_model).unwrap_or(engine.rod_model());
