@@ -10,7 +10,7 @@
 //!   samples by the local Catmull-Rom cubic.
 //! - [`roots`]: Brent's root finder and minimiser.
 //! - [`scan`]: extremes and step range of samples in vector lanes.
-//! - [`format`]: numbers as people write them (notes, tables, CSV cells).
+//! - [`format`](mod@format): numbers as people write them (notes, tables, CSV cells).
 //! - [`fourier`]: amplitudes and phases of chosen harmonic orders, and the
 //!   inverse.
 //!
