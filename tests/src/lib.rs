@@ -32,3 +32,51 @@ pub fn binary() -> PathBuf {
     });
     bin
 }
+
+/// Runs the binary with `args` and returns what it did.
+pub fn run(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(binary())
+        .args(args)
+        .output()
+        .expect("run enginedyn")
+}
+
+/// A bundled data file's path (`data/NAME`).
+pub fn data(name: &str) -> String {
+    format!("{}/../data/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Runs the binary, asserts it succeeded and returns the JSON it printed.
+pub fn ok_json(args: &[&str]) -> serde_json::Value {
+    let out = run(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON on stdout")
+}
+
+/// The fixed `summary.json` keys as the contract lists them: the first
+/// column of INTERFACE.md's `summary.json` table (`../shared/spec`, beside
+/// the checkout), `models` and `notes` left out. `None` when the spec is
+/// not beside the checkout (CI always has it).
+pub fn contract_summary_keys() -> Option<Vec<String>> {
+    let spec = format!(
+        "{}/../../shared/spec/INTERFACE.md",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(spec).ok()?;
+    let table = text.split("## `summary.json`").nth(1)?;
+    let table = table.split("Present when they apply").next()?;
+    let mut keys = Vec::new();
+    for line in table.lines().filter(|l| l.starts_with("| `")) {
+        let first = line.split('|').nth(1).unwrap_or("");
+        for key in first.split('`').skip(1).step_by(2) {
+            if key != "models" && key != "notes" {
+                keys.push(key.to_string());
+            }
+        }
+    }
+    Some(keys)
+}

@@ -1,30 +1,8 @@
 //! `enginedyn firing-orders` end to end: the bundled engines, seed 001's
 //! exercises, the output folder, and the exit codes.
 
-use enginedyn_tests::binary;
+use enginedyn_tests::{data, ok_json as json, run};
 use serde_json::Value;
-use std::process::{Command, Output};
-
-fn run(args: &[&str]) -> Output {
-    Command::new(binary())
-        .args(args)
-        .output()
-        .expect("run enginedyn")
-}
-
-fn data(name: &str) -> String {
-    format!("{}/../data/{name}", env!("CARGO_MANIFEST_DIR"))
-}
-
-fn json(args: &[&str]) -> Value {
-    let out = run(args);
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("JSON on stdout")
-}
 
 fn orders(doc: &Value) -> Vec<Vec<u64>> {
     let mut o: Vec<Vec<u64>> = doc["orders"]

@@ -2,30 +2,7 @@
 //! `firing-orders --all-cranks` without a firing order, and the crank end
 //! view's legend.
 
-use enginedyn_tests::binary;
-use serde_json::Value;
-use std::process::{Command, Output};
-
-fn run(args: &[&str]) -> Output {
-    Command::new(binary())
-        .args(args)
-        .output()
-        .expect("run enginedyn")
-}
-
-fn data(name: &str) -> String {
-    format!("{}/../data/{name}", env!("CARGO_MANIFEST_DIR"))
-}
-
-fn ok_json(args: &[&str]) -> Value {
-    let out = run(args);
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("JSON on stdout")
-}
+use enginedyn_tests::{data, ok_json, run};
 
 /// The bundled V6 runs end to end; its diagram's IMEP (10.228 bar, the
 /// generator's own figure in the CSV header) comes back to 1e-3 bar.
