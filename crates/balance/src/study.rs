@@ -130,9 +130,9 @@ pub fn study(setup: &Setup, all_cranks: bool) -> Result<Study, BalanceError> {
         }
         if c.is_empty() {
             let shared = format!(
-                "no crank of this layout fires evenly every {:.4}° with shared pins (the bank angle must be a multiple of {:.4}°)",
-                train.interval_deg(),
-                grid_unit(&train)
+                "no crank of this layout fires evenly every {}° with shared pins (the bank angle must be a multiple of {}°)",
+                enginedyn_numerics::format::human(train.interval_deg()),
+                enginedyn_numerics::format::human(grid_unit(&train))
             );
             match split_pin_cranks(&train)? {
                 Some((split, delta, effective)) => {
@@ -220,9 +220,9 @@ pub fn study(setup: &Setup, all_cranks: bool) -> Result<Study, BalanceError> {
     }
     if !all_cranks && studies.first().is_some_and(|c| c.orders.is_empty()) {
         notes.push(format!(
-            "the crank {:?} admits no even firing order (every {:.4}°)",
+            "the crank {:?} admits no even firing order (every {}°)",
             own.as_deref().unwrap_or_default(),
-            train.interval_deg()
+            enginedyn_numerics::format::human(train.interval_deg())
         ));
     }
     let total: usize = studies.iter().map(|c| c.orders.len()).sum();

@@ -739,10 +739,10 @@ fn firing(
                     "crank_angles_deg",
                     deg_list(&given),
                     format!(
-                        "throws that agree with the firing angles {}: {what} {} would lag {:.3}°",
+                        "throws that agree with the firing angles {}: {what} {} would lag {}°",
                         deg_list(&firing_angles),
                         k + 1,
-                        c.to_degrees()
+                        human(c.to_degrees())
                     ),
                 ));
             }
