@@ -53,7 +53,6 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
     };
     let table_diagram = load(step)?;
     let speed = resolve_rpm(a.input.rpm, table_diagram.rpm, engine)?;
-    speed.warn();
     let rpm = speed.rpm;
     let mc_step = step.max(MONTE_CARLO_STEP);
     let mc_diagram = if (mc_step - step).abs() < 1e-12 {
@@ -71,6 +70,7 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
     let mut study = enginedyn_tolerance::study(&table, &mc, a.samples, a.seed).map_err(failure)?;
     study.notes.splice(0..0, input_notes);
     study.notes.extend(offset_note(engine, &study));
+    study.notes.extend(speed.note);
     for note in &study.notes {
         eprintln!("warning: {note}");
     }
