@@ -561,7 +561,7 @@ impl Accumulator {
         }
         if self.overshoot.0 > 0 {
             notes.push(format!(
-                "the periodic spline overshoots the data by {} % of the peak{}{}: pchip used instead",
+                "the periodic spline overshoots the data by {}{} % of the peak{}: pchip used instead",
                 if self.overshoot.0 > 1 { "up to " } else { "" },
                 enginedyn_numerics::format::sig(100.0 * self.overshoot.1, 3),
                 of(self.overshoot.0)

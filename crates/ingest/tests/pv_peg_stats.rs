@@ -321,7 +321,8 @@ fn notes_once_with_a_count() {
         .collect();
     assert_eq!(over.len(), 1, "{:?}", r.notes);
     assert!(
-        over[0].contains("up to") && over[0].contains("(20 of 20 traces)"),
+        over[0].contains("overshoots the data by up to ")
+            && over[0].contains(" % of the peak (20 of 20 traces): pchip used instead"),
         "{}",
         over[0]
     );
