@@ -65,6 +65,7 @@ pub fn diagram_options(
             .map(|c| c.iter().map(|s| s.trim().to_ascii_lowercase()).collect()),
         cylinder,
         pv_start_bdc,
+        max_cylinder: engine.cylinders(),
     };
     let mut grid = GridOptions {
         step_deg: step,

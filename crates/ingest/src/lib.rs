@@ -75,6 +75,12 @@ fn at(line: usize, column: Option<usize>, message: impl Into<String>) -> IngestE
     }
 }
 
+/// A number from a cell as a message quotes it: every digit it holds
+/// (`4294967296`, `1.5`), never rounded to fewer.
+fn shown_number(x: f64) -> String {
+    enginedyn_numerics::format::csv(x)
+}
+
 /// How to read a diagram.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParseOptions {
@@ -90,7 +96,18 @@ pub struct ParseOptions {
     pub cylinder: Option<Cylinder>,
     /// p–V data starts at the BDC before firing TDC (`--pv-start bdc`).
     pub pv_start_bdc: bool,
+    /// The highest cylinder number a `cylinder` column may hold (the
+    /// engine's cylinder count; 24, the most an engine file allows, when
+    /// not known).
+    pub max_cylinder: usize,
 }
+
+/// The most cylinders an engine file allows (INTERFACE.md).
+pub const MAX_CYLINDERS: usize = 24;
+
+/// The largest cycle number a `cycle` column may hold: every whole number
+/// up to it is an exact `f64`.
+pub const MAX_CYCLE: f64 = 9_007_199_254_740_992.0;
 
 impl ParseOptions {
     /// Defaults for a cycle of `cycle_deg` degrees.
@@ -102,6 +119,7 @@ impl ParseOptions {
             columns: None,
             cylinder: None,
             pv_start_bdc: false,
+            max_cylinder: MAX_CYLINDERS,
         }
     }
 }
@@ -465,8 +483,10 @@ fn continue_trace(
             break;
         };
         let same = k >= ncols
-            && cols.cycle.is_none_or(|i| vals[i] as i64 == tr.cycle)
-            && cols.cylinder.is_none_or(|i| vals[i] as i64 == tr.cylinder);
+            // Exactly the trace's numbers: `1.5` after `1` is not cylinder 1
+            // (the general path says why).
+            && cols.cycle.is_none_or(|i| vals[i].to_bits() == (tr.cycle as f64).to_bits())
+            && cols.cylinder.is_none_or(|i| vals[i].to_bits() == (tr.cylinder as f64).to_bits());
         let a = vals[x] - tdc;
         let p = vals[value] * scale + offset;
         if !same || (is_pressure && p < 0.0) || a <= last || a - first >= cycle {
@@ -1006,18 +1026,39 @@ pub fn parse_stream(
                 )
             }
         };
+        // Cycle and cylinder cells are whole numbers within bounds: a
+        // cylinder above the engine's, `1.5` or a 20-digit number is an
+        // error at its line, never a truncation or an allocation.
         let mut cyc = match cyc_raw {
-            Some(c) => c as i64,
+            Some(c) if c.fract() == 0.0 && (0.0..=MAX_CYCLE).contains(&c) => c as i64,
+            Some(c) => {
+                return Err(at(
+                    lineno,
+                    cols.cycle.map(|i| i + 1),
+                    format!(
+                        "cycle {}: cycle numbers are whole numbers from 0 to 2^53",
+                        shown_number(c)
+                    ),
+                ));
+            }
             None => auto_cycle,
         };
-        let cyl = cyl_raw.map_or(0, |c| c as i64);
-        if cyl < 0 || (cols.cylinder.is_some() && cyl == 0) {
-            return Err(at(
-                lineno,
-                cols.cylinder.map(|i| i + 1),
-                format!("cylinder {cyl}: cylinders are numbered from 1"),
-            ));
-        }
+        let max_cyl = opts.max_cylinder.clamp(1, MAX_CYLINDERS);
+        let cyl = match cyl_raw {
+            None => 0,
+            Some(c) if c.fract() == 0.0 && c >= 1.0 && c <= max_cyl as f64 => c as i64,
+            Some(c) => {
+                return Err(at(
+                    lineno,
+                    cols.cylinder.map(|i| i + 1),
+                    format!(
+                        "cylinder {}: cylinders are whole numbers from 1 to {max_cyl}{}",
+                        shown_number(c),
+                        if max_cyl < MAX_CYLINDERS { ", the engine's cylinder count" } else { "" }
+                    ),
+                ));
+            }
+        };
         let is_pressure = cols.quantity == Quantity::Pressure;
         let p = p_raw * cols.scale + if opts.gauge && is_pressure { ATM } else { 0.0 };
         if is_pressure && p < 0.0 {
