@@ -115,7 +115,9 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
             .map(|(i, f)| {
                 let shown = f.display().to_string();
                 let (mut on_grid, mut analysis) = (Duration::ZERO, Duration::ZERO);
-                let result = (|| -> Result<Row, Failure> {
+                // One item never takes the batch down: a panic in it (a
+                // bug) becomes its error row, and the others finish.
+                let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| -> Result<Row, Failure> {
                     if a.parse_only {
                         parse_only(f, &parse)?;
                         return Ok(Row {
@@ -208,7 +210,18 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                         )),
                         folder,
                     })
-                })();
+                }))
+                .unwrap_or_else(|panic| {
+                    let why = panic
+                        .downcast_ref::<&str>()
+                        .map(|s| s.to_string())
+                        .or_else(|| panic.downcast_ref::<String>().cloned())
+                        .unwrap_or_default();
+                    Err(Failure::data(format!(
+                        "internal error while analysing this file ({}): a bug in enginedyn, please report it with the file",
+                        crate::quote(&why)
+                    )))
+                });
                 bar.inc(1);
                 grid_ns.fetch_add(on_grid.as_nanos() as u64, Ordering::Relaxed);
                 analysis_ns.fetch_add(analysis.as_nanos() as u64, Ordering::Relaxed);
@@ -307,8 +320,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
 /// The parse floor of the benchmark: every cell read and checked, each
 /// cycle's trace built and dropped, nothing put on the grid or computed.
 fn parse_only(f: &Path, parse: &enginedyn_ingest::ParseOptions) -> Result<(), Failure> {
-    let file = std::fs::File::open(f)
-        .map_err(|e| Failure::data(format!("{}: cannot open: {e}", f.display())))?;
+    let file = crate::run::open_diagram(f)?;
     enginedyn_ingest::parse_stream(
         std::io::BufReader::with_capacity(1 << 12, file),
         parse,

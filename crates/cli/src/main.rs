@@ -47,6 +47,12 @@ pub fn human(x: f64) -> String {
     enginedyn_numerics::format::human(x)
 }
 
+/// A value from the user's input as a message quotes it
+/// (`numerics::format::quote`).
+pub fn quote(s: &str) -> String {
+    enginedyn_numerics::format::quote(s)
+}
+
 /// Writes to standard output; a closed pipe (`enginedyn run | head`) ends the
 /// program quietly instead of panicking.
 pub fn emit(text: &str) {

@@ -79,6 +79,40 @@ pub fn diagram_options(
     Ok((parse, grid))
 }
 
+/// Opens a diagram (or torque) file for reading: a regular file only. A
+/// FIFO or a device is refused before anything is read (opening a FIFO
+/// would block a batch forever; a device may never end), and so is a
+/// folder.
+pub fn open_diagram(p: &Path) -> Result<std::fs::File, Failure> {
+    let shown = p.display();
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        // Open never blocks (a FIFO without a writer); reads of a regular
+        // file are unaffected by the flag.
+        options.custom_flags(libc::O_NONBLOCK);
+    }
+    let file = options
+        .open(p)
+        .map_err(|e| Failure::data(format!("{shown}: cannot open: {e}")))?;
+    let meta = file
+        .metadata()
+        .map_err(|e| Failure::data(format!("{shown}: cannot open: {e}")))?;
+    if !meta.is_file() {
+        let what = if meta.is_dir() {
+            "a folder"
+        } else {
+            "not a regular file (a FIFO, socket or device)"
+        };
+        return Err(Failure::data(format!(
+            "{shown}: {what}: a diagram is read from a regular file"
+        )));
+    }
+    Ok(file)
+}
+
 /// Reads one diagram file (or the bundled one for `None`) straight onto the grid.
 pub fn load_diagram(
     path: Option<&Path>,
@@ -99,8 +133,7 @@ pub fn load_diagram_timed(
 ) -> Result<Resampled, Failure> {
     match path {
         Some(p) => {
-            let file = std::fs::File::open(p)
-                .map_err(|e| Failure::data(format!("{}: cannot open: {e}", p.display())))?;
+            let file = open_diagram(p)?;
             enginedyn_ingest::load_timed(
                 // The reader keeps its own 64 KiB blocks: a small BufReader
                 // passes those reads straight through instead of copying.
@@ -144,8 +177,7 @@ pub fn parse_diagram(
     path: &Path,
     parse: &ParseOptions,
 ) -> Result<enginedyn_ingest::Diagram, Failure> {
-    let file = std::fs::File::open(path)
-        .map_err(|e| Failure::data(format!("{}: cannot open: {e}", path.display())))?;
+    let file = open_diagram(path)?;
     enginedyn_ingest::parse(std::io::BufReader::with_capacity(1 << 12, file), parse)
         .map_err(|e| Failure::data(format!("{}: {e}", path.display())))
 }

@@ -526,6 +526,21 @@ fn digit_run(b: &[u8], mut i: usize, m: &mut u64) -> usize {
     i
 }
 
+/// The longest line read (bytes): 1 MiB (INTERFACE.md, "Bounds").
+pub const MAX_LINE: usize = 1 << 20;
+
+/// The error a line longer than [`MAX_LINE`] gives.
+#[derive(Debug)]
+struct LineTooLong;
+
+impl std::fmt::Display for LineTooLong {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("longer than 1 MiB with no line end")
+    }
+}
+
+impl std::error::Error for LineTooLong {}
+
 /// Lines of a reader as byte slices, read in large blocks (no per-line
 /// allocation or UTF-8 check; cells are checked where they are used).
 struct Lines<R> {
@@ -600,7 +615,16 @@ impl<R: std::io::Read> Lines<R> {
             self.end -= self.start;
             self.start = 0;
             if self.end == self.buf.len() {
-                let grown = self.buf.len() * 2;
+                // A line is bounded: past it the file is not a diagram
+                // (a binary file, /dev/zero), and holding it would grow
+                // without bound.
+                if self.buf.len() > MAX_LINE {
+                    return Err(std::io::Error::new(
+                        std::io::ErrorKind::InvalidData,
+                        LineTooLong,
+                    ));
+                }
+                let grown = (self.buf.len() * 2).min(MAX_LINE + 1);
                 self.buf.resize(grown, 0);
             }
             match self.reader.read(&mut self.buf[self.end..]) {
@@ -652,7 +676,10 @@ fn number(cell: &[u8], decimal_comma: bool, line: usize, col: usize) -> Result<f
         return Err(at(
             line,
             Some(col),
-            format!("`{}` is not a number", String::from_utf8_lossy(cell)),
+            format!(
+                "`{}` is not a number",
+                enginedyn_numerics::format::quote(&String::from_utf8_lossy(cell))
+            ),
         ));
     };
     let parsed = if decimal_comma && cell.contains(',') {
@@ -665,7 +692,14 @@ fn number(cell: &[u8], decimal_comma: bool, line: usize, col: usize) -> Result<f
     match parsed {
         Ok(v) if v.is_finite() => Ok(v),
         Ok(v) => Err(at(line, Some(col), format!("{v} is not a finite number"))),
-        Err(_) => Err(at(line, Some(col), format!("`{cell}` is not a number"))),
+        Err(_) => Err(at(
+            line,
+            Some(col),
+            format!(
+                "`{}` is not a number",
+                enginedyn_numerics::format::quote(cell)
+            ),
+        )),
     }
 }
 
@@ -899,7 +933,18 @@ pub fn parse_stream(
                 cols.cylinder.map(|i| vals[i]),
             )
         } else {
-            let Some(raw) = lines.next_line()? else {
+            let raw = match lines.next_line() {
+                Ok(raw) => raw,
+                Err(e) if e.get_ref().is_some_and(|e| e.is::<LineTooLong>()) => {
+                    return Err(at(
+                        lineno + 1,
+                        None,
+                        "longer than 1 MiB with no line end: not a diagram (a binary file or a device?); read no further",
+                    ));
+                }
+                Err(e) => return Err(e.into()),
+            };
+            let Some(raw) = raw else {
                 break;
             };
             lineno += 1;
@@ -1054,7 +1099,11 @@ pub fn parse_stream(
                     format!(
                         "cylinder {}: cylinders are whole numbers from 1 to {max_cyl}{}",
                         shown_number(c),
-                        if max_cyl < MAX_CYLINDERS { ", the engine's cylinder count" } else { "" }
+                        if max_cyl < MAX_CYLINDERS {
+                            ", the engine's cylinder count"
+                        } else {
+                            ""
+                        }
                     ),
                 ));
             }
@@ -1202,7 +1251,8 @@ fn columns(names: &[String], line: usize) -> Result<Cols, IngestError> {
                 line,
                 Some(i + 1),
                 format!(
-                    "unknown column `{n}`{hint} (known: {}; `_` skips a column; --columns renames them all)",
+                    "unknown column `{}`{hint} (known: {}; `_` skips a column; --columns renames them all)",
+                    enginedyn_numerics::format::quote(n),
                     KNOWN[..KNOWN.len() - 1].join(", ")
                 ),
             ));

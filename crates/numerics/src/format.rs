@@ -78,6 +78,27 @@ pub fn csv_into(out: &mut String, x: f64) {
     };
 }
 
+/// Text from the user's input as a message quotes it: at most 80
+/// characters (the rest elided, with the length in all), control
+/// characters escaped, so that a 200 MB line or a terminal escape never
+/// reaches the screen whole.
+pub fn quote(s: &str) -> String {
+    const MAX: usize = 80;
+    let mut out = String::new();
+    for (n, c) in s.chars().enumerate() {
+        if n == MAX {
+            out.push_str(&format!("… ({} characters in all)", s.chars().count()));
+            break;
+        }
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -104,6 +125,19 @@ mod tests {
         assert_eq!(sig(1.61e-2, 2), "0.016");
         assert_eq!(sig(3.3e-7, 2), "3.3e-7");
         assert_eq!(sig(375.347, 3), "375");
+    }
+
+    #[test]
+    fn quotes_are_short_and_escaped() {
+        assert_eq!(quote("1,x"), "1,x");
+        assert_eq!(quote("a\u{1b}[31mb\n"), "a\\u{1b}[31mb\\n");
+        let long = "7".repeat(200_000);
+        let q = quote(&long);
+        assert!(
+            q.starts_with(&"7".repeat(80)) && q.ends_with("… (200000 characters in all)"),
+            "{q}"
+        );
+        assert!(q.chars().count() < 120);
     }
 
     /// Exponent form only outside [1e-5, 1e16), and every cell reads back
