@@ -86,6 +86,13 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
     let n = (engine.cycle().to_degrees() / step).round() as usize;
     let tables = enginedyn_pipeline::Tables::new(engine, n, &opts).ok();
     let files = expand(&a.diagrams)?;
+    // The output folder, locked for the whole batch (a second batch into
+    // it waits or exits 2), cleaned of what a killed run left.
+    let out_dir = a
+        .out
+        .as_deref()
+        .map(enginedyn_report::OutDir::open)
+        .transpose()?;
     let jobs = a.jobs.unwrap_or(0);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs)
@@ -176,7 +183,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                     let s = &an.summary;
                     let mut folder = None;
                     if a.detail
-                        && let Some(dir) = &a.out
+                        && let Some(dir) = &out_dir
                     {
                         let stem = f
                             .file_stem()
@@ -186,8 +193,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                         let name = format!("{:04}_{stem}", i + 1);
                         let files = enginedyn_report::run_files(engine, &an, false)
                             .map_err(|e| Failure::data(e.to_string()))?;
-                        enginedyn_report::write_all(&dir.join(&name), &files)
-                            .map_err(|e| Failure::data(e.to_string()))?;
+                        dir.write_folder(&name, &files)?;
                         folder = Some(name);
                     }
                     if !s.notes.is_empty() {
@@ -269,7 +275,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
             folder: r.folder.clone(),
         })
         .collect();
-    match &a.out {
+    match &out_dir {
         Some(dir) => {
             let mut out = vec![("summary.csv".to_string(), csv.into_bytes())];
             if a.detail {
@@ -278,13 +284,13 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                     enginedyn_report::index_html(engine.name(), &key_rows, eta).into_bytes(),
                 ));
             }
-            enginedyn_report::write_all(dir, &out).map_err(|e| Failure::data(e.to_string()))?;
+            dir.write(&out)?;
             eprintln!(
                 "{} ({} failed) in {:.2} s; wrote {}",
                 enginedyn_report::count(rows.len(), "diagram"),
                 failed,
                 started.elapsed().as_secs_f64(),
-                dir.join("summary.csv").display()
+                dir.path().join("summary.csv").display()
             );
         }
         None if a.csv || a.parse_only => crate::emit(&csv),
@@ -451,8 +457,7 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
                     ("sweep.csv".to_string(), csv.into_bytes()),
                     ("sweep.svg".to_string(), svg.into_bytes()),
                 ],
-            )
-            .map_err(|e| Failure::data(e.to_string()))?;
+            )?;
             eprintln!(
                 "{} speeds; wrote sweep.csv and sweep.svg to {}",
                 rpms.len(),

@@ -53,6 +53,17 @@ pub fn quote(s: &str) -> String {
     enginedyn_numerics::format::quote(s)
 }
 
+/// Output errors: another command holding the folder is a usage error
+/// (exit 2: choose another `--out`); a write that fails is exit 1.
+impl From<enginedyn_report::ReportError> for Failure {
+    fn from(e: enginedyn_report::ReportError) -> Self {
+        match e {
+            enginedyn_report::ReportError::Locked { .. } => Failure::usage(e.to_string()),
+            other => Failure::data(other.to_string()),
+        }
+    }
+}
+
 /// Writes to standard output; a closed pipe (`enginedyn run | head`) ends the
 /// program quietly instead of panicking.
 pub fn emit(text: &str) {
@@ -74,7 +85,7 @@ pub fn write_out(
     files: &[(String, Vec<u8>)],
     quiet: bool,
 ) -> Result<(), Failure> {
-    enginedyn_report::write_all(dir, files).map_err(|e| Failure::data(e.to_string()))?;
+    enginedyn_report::write_all(dir, files)?;
     if !quiet {
         emit(&format!(
             "wrote {} files to {}\n",

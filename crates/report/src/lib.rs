@@ -16,6 +16,7 @@ use std::path::{Path, PathBuf};
 
 mod chart;
 mod html;
+mod out;
 mod tables;
 mod tornado;
 pub use chart::{
@@ -23,6 +24,7 @@ pub use chart::{
     tick_label,
 };
 pub use html::{esc, percent_encode, report_html, table as html_table};
+pub use out::{LOCK_WAIT, OutDir, STAGING_PREFIX};
 pub use tables::{
     KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_table, sweep_figure,
 };
@@ -38,6 +40,18 @@ pub enum ReportError {
         path: PathBuf,
         /// The cause.
         source: std::io::Error,
+    },
+    /// Another command is writing the folder.
+    #[error(
+        "{}: another enginedyn command is writing this folder (waited {} s for it): let it finish, or choose another --out",
+        path.display(),
+        waited.as_secs()
+    )]
+    Locked {
+        /// The folder.
+        path: PathBuf,
+        /// How long this command waited.
+        waited: std::time::Duration,
     },
     /// A chart could not be drawn.
     #[error("chart {name}: {message}")]
@@ -386,30 +400,9 @@ pub fn run_files_with(
     Ok(files)
 }
 
-/// Writes files into `dir` (created if missing): each to a temporary name
-/// first, then all renamed into place, so a failure leaves no partial file.
+/// Writes `files` (name, bytes) into `dir` through an [`OutDir`]: locked,
+/// staged, each file whole or not at all. Commands that write several times
+/// (a batch) open the [`OutDir`] once and keep it.
 pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), ReportError> {
-    let io = |path: &Path| {
-        let path = path.to_path_buf();
-        move |source| ReportError::Io { path, source }
-    };
-    std::fs::create_dir_all(dir).map_err(io(dir))?;
-    let mut temps = Vec::with_capacity(files.len());
-    let result = (|| {
-        for (name, bytes) in files {
-            let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
-            std::fs::write(&tmp, bytes).map_err(io(&tmp))?;
-            temps.push((tmp, dir.join(name)));
-        }
-        for (tmp, target) in &temps {
-            std::fs::rename(tmp, target).map_err(io(target))?;
-        }
-        Ok(())
-    })();
-    if result.is_err() {
-        for (tmp, _) in &temps {
-            let _ = std::fs::remove_file(tmp);
-        }
-    }
-    result
+    OutDir::open(dir)?.write(files)
 }
