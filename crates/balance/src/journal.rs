@@ -93,7 +93,7 @@ pub fn journal_criteria(
     let last = t.journals.len().saturating_sub(1);
     let n = cylinder_torque.len();
     let mut stride = ((HARMONIC_SAMPLE_DEG.to_radians() / step).floor() as usize).max(1);
-    while n % stride != 0 {
+    while !n.is_multiple_of(stride) {
         stride -= 1;
     }
     let mut sampled = Vec::with_capacity(n / stride);

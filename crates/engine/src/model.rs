@@ -326,7 +326,7 @@ impl EngineBuilder {
         }
         match self.layout {
             Layout::Vee { bank_angle } => {
-                if z % 2 != 0 {
+                if !z.is_multiple_of(2) {
                     return Err(invalid("cylinders", z, "an even number for a vee"));
                 }
                 if !(bank_angle > 0.0 && bank_angle < PI) {
@@ -337,7 +337,7 @@ impl EngineBuilder {
                     ));
                 }
             }
-            Layout::Boxer if z % 2 != 0 => {
+            Layout::Boxer if !z.is_multiple_of(2) => {
                 return Err(invalid("cylinders", z, "an even number for a boxer"));
             }
             _ => {}

@@ -77,7 +77,7 @@ pub(crate) fn to_angles(
             s += 1;
         }
         // Stroke s from the start: down-strokes are even from TDC, odd from BDC.
-        let is_down = (s % 2 == 0) != start_bdc;
+        let is_down = s.is_multiple_of(2) != start_bdc;
         let base = if start_bdc {
             2.0 * PI * s.div_ceil(2) as f64 - 2.0 * PI
         } else {

@@ -726,7 +726,7 @@ impl VolumeGrid {
 fn revolutions(step: f64, n: usize) -> usize {
     let span = step * n as f64;
     let m = (span / (2.0 * PI)).round();
-    if m >= 2.0 && (span - m * 2.0 * PI).abs() < 1e-9 * span && n % (m as usize) == 0 {
+    if m >= 2.0 && (span - m * 2.0 * PI).abs() < 1e-9 * span && n.is_multiple_of(m as usize) {
         m as usize
     } else {
         1

@@ -48,7 +48,7 @@ pub fn periodic_mean(rule: Rule, y: &[f64]) -> f64 {
 /// `w = 2, 4, 2, 4, …`; odd `n` falls back to the trapezoid.
 pub fn periodic_integral(rule: Rule, y: &[f64], h: f64) -> f64 {
     match rule {
-        Rule::Simpson if y.len() % 2 == 0 => {
+        Rule::Simpson if y.len().is_multiple_of(2) => {
             let (even, odd) = y
                 .chunks_exact(2)
                 .fold((0.0, 0.0), |(e, o), p| (e + p[0], o + p[1]));
