@@ -91,6 +91,52 @@ pub enum PegArg {
 /// The default polytropic exponent of `--peg polytropic`.
 pub const POLYTROPIC_N: f64 = 1.32;
 
+/// A number from `lo` to `hi` (both included), or why not.
+fn number_in(s: &str, lo: f64, hi: f64, unit: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{}` is not a number", enginedyn_numerics::format::quote(s)))?;
+    if v.is_finite() && v >= lo && v <= hi {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{} is outside {} to {}{unit}",
+            enginedyn_numerics::format::quote(s.trim()),
+            enginedyn_numerics::format::human(lo),
+            enginedyn_numerics::format::human(hi)
+        ))
+    }
+}
+
+/// The grid step bounds (deg), INTERFACE.md's "Limits".
+pub const STEP_RANGE: (f64, f64) = (0.001, 10.0);
+
+fn parse_step(s: &str) -> Result<f64, String> {
+    number_in(s, STEP_RANGE.0, STEP_RANGE.1, "°")
+}
+
+/// `--tdc-deg`: an angle within ±100000° (any finite offset a file's
+/// angles can carry).
+fn parse_tdc(s: &str) -> Result<f64, String> {
+    number_in(s, -1e5, 1e5, "°")
+}
+
+/// `--peg-bar`: an absolute pressure above 0 up to 10 kbar.
+fn parse_peg_bar(s: &str) -> Result<f64, String> {
+    let p = number_in(s, 0.0, 1e4, " bar")?;
+    if p > 0.0 {
+        Ok(p)
+    } else {
+        Err("an absolute pressure above 0 bar is needed".into())
+    }
+}
+
+/// The most Monte Carlo samples (INTERFACE.md, "Limits").
+pub const MAX_SAMPLES: u64 = 10_000_000;
+/// The most worker threads of a batch (INTERFACE.md, "Limits").
+pub const MAX_JOBS: u64 = 256;
+
 /// Parses `polytropic` or `polytropic=N` (1 < N < 2).
 fn parse_peg(s: &str) -> Result<PegArg, String> {
     let t = s.trim();
@@ -111,8 +157,8 @@ fn parse_peg(s: &str) -> Result<PegArg, String> {
 /// `None` unless given, so that `--tolerance` can keep the ones given.
 #[derive(Debug, Clone, Args)]
 pub struct MethodArgs {
-    /// Grid step of the crank-angle grid (deg); must divide the cycle [default: 0.1].
-    #[arg(long, value_name = "DEG")]
+    /// Grid step of the crank-angle grid (deg, 0.001 to 10); must divide the cycle [default: 0.1].
+    #[arg(long, value_name = "DEG", value_parser = parse_step)]
     pub step: Option<f64>,
     /// Piston kinematics [default: exact].
     #[arg(long, value_enum)]
@@ -138,7 +184,8 @@ pub struct DiagramArgs {
         long,
         value_name = "X",
         default_value_t = 0.0,
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = parse_tdc
     )]
     pub tdc_deg: f64,
     /// Pressures are gauge (relative to 1.01325 bar).
@@ -148,7 +195,7 @@ pub struct DiagramArgs {
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
     pub columns: Option<Vec<String>>,
     /// Peg each cycle so its mean pressure ±5° around intake BDC is P bar absolute.
-    #[arg(long, value_name = "P")]
+    #[arg(long, value_name = "P", value_parser = parse_peg_bar, allow_hyphen_values = true)]
     pub peg_bar: Option<f64>,
     /// Peg each cycle so p V^N is constant on compression (N = 1.32 by default).
     #[arg(long, value_name = "polytropic[=N]", value_parser = parse_peg, conflicts_with = "peg_bar")]
@@ -205,8 +252,8 @@ pub struct KinematicsArgs {
     /// Engine file (TOML).
     #[arg(long, value_name = "FILE")]
     pub engine: PathBuf,
-    /// Angle step of the table (deg) [default: 30 for the printed table, 0.1 for --csv and --out].
-    #[arg(long, value_name = "DEG")]
+    /// Angle step of the table (deg, 0.001 to 10) [default: 30 for the printed table, 0.1 for --csv and --out].
+    #[arg(long, value_name = "DEG", value_parser = parse_step)]
     pub step: Option<f64>,
     /// Piston kinematics.
     #[arg(long, value_enum, default_value = "exact")]
@@ -309,9 +356,9 @@ pub struct BatchArgs {
     /// Write summary.csv (and with --detail one run folder per diagram) into DIR.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Worker threads [default: one per core].
-    #[arg(long, value_name = "N")]
-    pub jobs: Option<usize>,
+    /// Worker threads, 1 to 256 [default: one per core].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=MAX_JOBS))]
+    pub jobs: Option<u64>,
     /// One run folder per diagram, DIR/NNNN_STEM/, and index.html.
     #[arg(long, requires = "out")]
     pub detail: bool,
@@ -384,9 +431,9 @@ pub struct FiringOrdersArgs {
 pub struct ToleranceArgs {
     #[command(flatten)]
     pub input: StudyInput,
-    /// Monte Carlo samples over the tolerance box.
-    #[arg(long, value_name = "N", default_value_t = 10000)]
-    pub samples: usize,
+    /// Monte Carlo samples over the tolerance box (up to 10^7).
+    #[arg(long, value_name = "N", default_value_t = 10000, value_parser = clap::value_parser!(u64).range(0..=MAX_SAMPLES))]
+    pub samples: u64,
     /// Seed of the Monte Carlo sampler (reproducible).
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub seed: u64,

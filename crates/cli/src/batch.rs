@@ -93,7 +93,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
         .as_deref()
         .map(enginedyn_report::OutDir::open)
         .transpose()?;
-    let jobs = a.jobs.unwrap_or(0);
+    let jobs = a.jobs.unwrap_or(0) as usize;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs)
         .build()

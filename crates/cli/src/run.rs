@@ -237,8 +237,7 @@ pub fn check_step(engine: &Engine, step: f64) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The highest speed a user may give (INTERFACE.md, "Limits").
-pub const MAX_RPM: f64 = 100_000.0;
+pub use enginedyn_engine::{MAX_RPM, MIN_RPM};
 
 /// The speed a command runs at, and the note saying where it came from
 /// when it is not the engine file's `operating.rpm`.
@@ -278,11 +277,11 @@ pub fn resolve_rpm(
             ));
         }
     };
-    if !(rpm.is_finite() && rpm > 0.0 && rpm <= MAX_RPM) {
+    if !(rpm.is_finite() && (MIN_RPM..=MAX_RPM).contains(&rpm)) {
         let why = if rpm.is_finite() && rpm <= 0.0 {
             "the engine speed must be above 0 (a reversed engine is the same engine turning forward)"
         } else {
-            "the engine speed must be above 0 and at most 100000 rpm"
+            "the engine speed must be from 0.001 to 100000 rpm"
         };
         return Err(match source {
             "--rpm" => Failure::usage(format!("--rpm {}: {why}", crate::human(rpm))),

@@ -67,7 +67,8 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
         ..opts
     };
     let mc = Evaluator::new(engine, &mc_diagram, rpm, mc_opts, &inputs).map_err(failure)?;
-    let mut study = enginedyn_tolerance::study(&table, &mc, a.samples, a.seed).map_err(failure)?;
+    let mut study =
+        enginedyn_tolerance::study(&table, &mc, a.samples as usize, a.seed).map_err(failure)?;
     study.notes.splice(0..0, input_notes);
     study.notes.extend(offset_note(engine, &study));
     study.notes.extend(speed.note);

@@ -163,6 +163,9 @@ fn read_with(
     Ok(engine)
 }
 
+/// The longest engine `name` (characters).
+pub const MAX_NAME: usize = 200;
+
 /// Parses engine-file text; `stem` is the default name.
 pub fn parse(text: &str, stem: &str) -> Result<Engine, EngineError> {
     raw_builder(text, stem)?.build()
@@ -480,12 +483,33 @@ fn builder(raw: Raw, stem: &str) -> Result<EngineBuilder, EngineError> {
         },
         rim_inner_ratio: fw.rim_inner_ratio.unwrap_or(d.rim_inner_ratio),
     };
-    // A negative cylinder number becomes 0, which the builder rejects by name.
-    let firing_order = raw.firing_order.map(|v| {
-        v.into_iter()
-            .map(|c| usize::try_from(c).unwrap_or(0))
-            .collect()
-    });
+    // Cylinder numbers as written: a negative or huge one is refused here,
+    // quoting the list as the file gives it.
+    let firing_order = match raw.firing_order {
+        Some(v) => {
+            let z = cylinders.max(1) as i64;
+            if v.iter().any(|&c| !(1..=z).contains(&c)) {
+                let list: Vec<String> = v.iter().map(i64::to_string).collect();
+                return Err(EngineError::Invalid {
+                    key: "firing_order",
+                    value: enginedyn_numerics::format::quote(&format!("[{}]", list.join(", "))),
+                    expected: format!("each cylinder 1..{z} exactly once"),
+                });
+            }
+            Some(v.into_iter().map(|c| c as usize).collect())
+        }
+        None => None,
+    };
+    // A name is a label: bounded, so that it cannot blow up every output.
+    if let Some(n) = &raw.name
+        && n.chars().count() > MAX_NAME
+    {
+        return Err(EngineError::Invalid {
+            key: "name",
+            value: enginedyn_numerics::format::quote(n),
+            expected: format!("at most {MAX_NAME} characters"),
+        });
+    }
     // A vee's `crank_angles_deg` with one angle per cylinder (z/2 throws)
     // gives each rod its own pin.
     let split_pins = matches!(layout, Layout::Vee { .. })

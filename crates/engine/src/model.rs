@@ -275,6 +275,8 @@ pub struct EngineBuilder {
     pub flywheel: FlywheelSpec,
 }
 
+pub use enginedyn_kinematics::{MAX_RPM, MIN_RPM};
+
 fn invalid(key: &'static str, value: impl ToString, expected: impl Into<String>) -> EngineError {
     EngineError::Invalid {
         key,
@@ -318,7 +320,135 @@ impl EngineBuilder {
         self.build_checked(true)
     }
 
+    /// Every size against its hard bound (INTERFACE.md, "Limits"): values
+    /// outside are refused naming the key and the range, never computed
+    /// into an overflow or a `null`. The bounds lie far outside real
+    /// engines; implausible values inside them are computed, with a note
+    /// ([`Engine::plausibility_notes`]).
+    fn check_sizes(&self) -> Result<(), EngineError> {
+        let (r, l, e) = match self.mechanism {
+            Mechanism::CrankSlider(cs) => (cs.r(), Some(cs.l()), cs.e()),
+            Mechanism::ScotchYoke(y) => (y.r(), None, 0.0),
+        };
+        let m = &self.masses;
+        let f = &self.flywheel;
+        // key, value (SI), lowest, highest, display scale, unit.
+        let mut sizes: Vec<(&'static str, f64, f64, f64, f64, &str)> = vec![
+            ("bore_mm", self.bore, 1e-6, 100.0, 1e3, "mm"),
+            ("stroke_mm", 2.0 * r, 1e-6, 100.0, 1e3, "mm"),
+            ("pin_offset_mm", e.abs(), 0.0, 100.0, 1e3, "mm"),
+            (
+                "compression_ratio",
+                self.compression_ratio,
+                1.0,
+                1000.0,
+                1.0,
+                "",
+            ),
+            (
+                "masses.piston_group_kg",
+                m.piston_group,
+                0.0,
+                1e6,
+                1.0,
+                "kg",
+            ),
+            ("masses.rod_kg", m.rod, 0.0, 1e6, 1.0, "kg"),
+            (
+                "masses.crank_unbalanced_kg",
+                m.crank_unbalanced,
+                0.0,
+                1e6,
+                1.0,
+                "kg",
+            ),
+            (
+                "masses.rod_inertia_kg_m2",
+                m.rod_inertia.unwrap_or(0.0),
+                0.0,
+                1e6,
+                1.0,
+                "kg m²",
+            ),
+            (
+                "operating.crankcase_pressure_bar",
+                self.operating.crankcase_pressure,
+                0.0,
+                1e9,
+                1e-5,
+                "bar",
+            ),
+            (
+                "flywheel.other_rotating_inertia_kg_m2",
+                f.other_rotating_inertia,
+                0.0,
+                1e9,
+                1.0,
+                "kg m²",
+            ),
+            (
+                "flywheel.max_rim_speed_m_s",
+                f.max_rim_speed,
+                0.0,
+                1e4,
+                1.0,
+                "m/s",
+            ),
+            (
+                "flywheel.outer_diameter_mm",
+                f.outer_diameter.unwrap_or(1.0),
+                0.0,
+                100.0,
+                1e3,
+                "mm",
+            ),
+            ("flywheel.density_kg_m3", f.density, 0.0, 1e6, 1.0, "kg/m³"),
+            (
+                "flywheel.speed_fluctuation",
+                f.speed_fluctuation,
+                1e-9,
+                1.0,
+                1.0,
+                "",
+            ),
+        ];
+        if let Some(l) = l {
+            sizes.push((
+                "lambda (R/L, from lambda or rod_length_mm)",
+                r / l,
+                1e-3,
+                1.0,
+                1.0,
+                "",
+            ));
+            sizes.push(("rod_length_mm", l, 1e-6, 1e3, 1e3, "mm"));
+        }
+        if let Some(rpm) = self.operating.rpm {
+            sizes.push(("operating.rpm", rpm, MIN_RPM, MAX_RPM, 1.0, "rpm"));
+        }
+        if let Some(s) = self.cylinder_spacing {
+            sizes.push(("cylinder_spacing_mm", s, 1e-6, 100.0, 1e3, "mm"));
+        }
+        for (key, v, lo, hi, scale, unit) in sizes {
+            if !(v.is_finite() && v >= lo && v <= hi) {
+                let h = |x: f64| enginedyn_numerics::format::human(x * scale);
+                return Err(invalid(
+                    key,
+                    h(v),
+                    format!(
+                        "from {} to {}{}{unit}",
+                        h(lo),
+                        h(hi),
+                        if unit.is_empty() { "" } else { " " }
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     fn build_checked(self, search: bool) -> Result<Engine, EngineError> {
+        self.check_sizes()?;
         let mut notes = Vec::new();
         let z = self.cylinders;
         if !(1..=24).contains(&z) {

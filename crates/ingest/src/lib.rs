@@ -726,11 +726,12 @@ fn parse_rpm(comment: &str) -> Option<Result<f64, String>> {
     } else {
         ""
     };
+    use enginedyn_kinematics::{MAX_RPM, MIN_RPM};
     Some(match value.parse::<f64>() {
-        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        Ok(v) if (MIN_RPM..=MAX_RPM).contains(&v) => Ok(v),
         _ => Err(format!(
-            "`{}`: the speed must be a positive number of rpm{hint}",
-            comment.trim()
+            "`{}`: the speed must be a number of rpm from 0.001 to 100000{hint}",
+            enginedyn_numerics::format::quote(comment.trim())
         )),
     })
 }

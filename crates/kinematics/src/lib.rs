@@ -41,6 +41,12 @@
 
 use std::f64::consts::PI;
 
+/// The lowest engine speed (rpm) a command runs at: below it the speed
+/// squared underflows the flywheel sizing (INTERFACE.md, "Limits").
+pub const MIN_RPM: f64 = 1e-3;
+/// The highest engine speed (rpm) (INTERFACE.md, "Limits").
+pub const MAX_RPM: f64 = 100_000.0;
+
 /// Errors of an impossible mechanism or an undefined model.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum KinematicsError {
