@@ -199,7 +199,7 @@ fn bare_binary_runs_the_example() {
 #[test]
 fn kinematics_csv() {
     let engine = concat!(env!("CARGO_MANIFEST_DIR"), "/../data/vaz2108.toml");
-    let out = run(&["kinematics", "--engine", engine, "--csv", "--step", "30"]);
+    let out = run(&["kinematics", "--engine", engine, "--csv", "--step", "10"]);
     assert!(
         out.status.success(),
         "{}",
@@ -218,7 +218,7 @@ fn kinematics_csv() {
         .map(|c| c.parse().unwrap())
         .collect();
     assert!((first[3] - 1.26).abs() < 1e-12);
-    assert_eq!(text.lines().count(), 1 + 13);
+    assert_eq!(text.lines().count(), 1 + 37);
 }
 
 /// Turning-moment input: the cylinder torque that a pressure run writes,

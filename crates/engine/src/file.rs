@@ -487,7 +487,7 @@ fn builder(raw: Raw, stem: &str) -> Result<EngineBuilder, EngineError> {
     // quoting the list as the file gives it.
     let firing_order = match raw.firing_order {
         Some(v) => {
-            let z = cylinders.max(1) as i64;
+            let z = cylinders.max(1);
             if v.iter().any(|&c| !(1..=z).contains(&c)) {
                 let list: Vec<String> = v.iter().map(i64::to_string).collect();
                 return Err(EngineError::Invalid {
