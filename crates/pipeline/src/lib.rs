@@ -22,6 +22,7 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 mod summary;
+pub mod torsion;
 pub use summary::{Basis, CycleSummary, KEYS, Key, Pegging, Shown, Summary, Value};
 
 /// Why an operating point cannot be analysed.
