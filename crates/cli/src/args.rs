@@ -29,6 +29,8 @@ pub enum Command {
     Tolerance(ToleranceArgs),
     /// Each method's error against the most exact one and its run time, charted.
     Accuracy(AccuracyArgs),
+    /// The crankshaft's torsional vibration: modes, Campbell diagram, forced response over speed.
+    Torsion(TorsionArgs),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -399,6 +401,32 @@ pub struct SweepArgs {
     /// Without --out: print sweep.csv instead of the readable table.
     #[arg(long, conflicts_with = "out")]
     pub csv: bool,
+    #[command(flatten)]
+    pub diagram_args: DiagramArgs,
+    #[command(flatten)]
+    pub method: MethodArgs,
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct TorsionArgs {
+    /// Engine file (TOML) with a [torsion] section.
+    #[arg(long, value_name = "FILE")]
+    pub engine: PathBuf,
+    /// Indicator diagram [default: the engine file's `diagram`].
+    #[arg(long, value_name = "FILE")]
+    pub diagram: Option<PathBuf>,
+    /// Speeds FROM:TO:STEP (rpm) [default: 20 % to 120 % of operating.rpm, 50 speeds].
+    #[arg(long, value_name = "FROM:TO:STEP", allow_hyphen_values = true)]
+    pub rpm: Option<String>,
+    /// Write modes.csv, torsion.csv, torsion.json, campbell.svg and torsion.svg into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print torsion.json on standard output.
+    #[arg(long)]
+    pub json: bool,
+    /// Also write chain.json (the chain and its excitation, for benches/torsion_compare.py).
+    #[arg(long, hide = true)]
+    pub chain: bool,
     #[command(flatten)]
     pub diagram_args: DiagramArgs,
     #[command(flatten)]

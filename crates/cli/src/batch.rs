@@ -340,7 +340,7 @@ fn parse_only(f: &Path, parse: &enginedyn_ingest::ParseOptions) -> Result<(), Fa
 pub const MAX_SPEEDS: usize = 10_000;
 
 /// Parses FROM:TO:STEP; TO is included when it falls on the step.
-fn speeds(spec: &str) -> Result<Vec<f64>, Failure> {
+pub(crate) fn speeds(spec: &str) -> Result<Vec<f64>, Failure> {
     let bad = || {
         Failure::usage(format!(
             "--rpm {spec}: expected FROM:TO:STEP with 0 < FROM <= TO <= {} rpm and STEP > 0",

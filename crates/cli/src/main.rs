@@ -10,6 +10,7 @@ mod kinematics;
 mod run;
 mod table;
 mod tolerance;
+mod torsion;
 
 use clap::Parser;
 use std::process::ExitCode;
@@ -134,6 +135,7 @@ fn main() -> ExitCode {
         args::Command::FiringOrders(a) => firing::run(&a),
         args::Command::Tolerance(a) => tolerance::run(&a),
         args::Command::Accuracy(a) => accuracy::run(&a),
+        args::Command::Torsion(a) => torsion::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -6,6 +6,9 @@ use enginedyn_kinematics::{CrankSlider, Mechanism, ScotchYoke};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
+mod torsion;
+pub use torsion::{parse_torsion, read_torsion};
+
 const ROOT_KEYS: &[&str] = &[
     "name",
     "cycle",
@@ -29,6 +32,7 @@ const ROOT_KEYS: &[&str] = &[
     "operating",
     "flywheel",
     "tolerances",
+    "torsion",
 ];
 const MASS_KEYS: &[&str] = &[
     "piston_group_kg",
@@ -62,8 +66,25 @@ pub const TOLERANCE_KEYS: &[&str] = &[
     "tdc_deg",
     "yoke_slot_squareness_deg",
 ];
+/// The keys of INTERFACE.md's `[torsion]` section.
+const TORSION_KEYS: &[&str] = &[
+    "throw_inertia_kg_m2",
+    "journal_stiffness_nm_rad",
+    "journal_diameter_mm",
+    "journal_length_mm",
+    "front_inertia_kg_m2",
+    "front_stiffness_nm_rad",
+    "flywheel_inertia_kg_m2",
+    "flywheel_stiffness_nm_rad",
+    "load_inertia_kg_m2",
+    "load_stiffness_nm_rad",
+    "damping_ratio",
+    "damper",
+    "shaft_diameter_mm",
+];
 const SECTIONS: &[(&str, &[&str])] = &[
     ("masses", MASS_KEYS),
+    ("torsion", TORSION_KEYS),
     ("operating", OPERATING_KEYS),
     ("flywheel", FLYWHEEL_KEYS),
     ("tolerances", TOLERANCE_KEYS),
@@ -97,6 +118,7 @@ struct Raw {
     flywheel: Option<RawFlywheel>,
     #[serde(default)]
     tolerances: toml::Table,
+    torsion: Option<torsion::RawTorsion>,
 }
 
 #[derive(Deserialize, Default)]

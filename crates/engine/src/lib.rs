@@ -31,5 +31,6 @@
 
 pub mod file;
 mod model;
+pub mod torsion;
 
 pub use model::*;

@@ -1260,8 +1260,49 @@ impl Engine {
     /// Rotating mass on throw `k` (0-based) at the crank radius, `m_r` =
     /// crank unbalance + the big-end masses of the rods on it (kg).
     pub fn rotating_mass(&self, k: usize, model: RodModel) -> f64 {
-        let rods = (0..self.z).filter(|&i| self.throw_of(i) == k).count() as f64;
+        let rods = self.cylinders_on_throw(k) as f64;
         self.masses.crank_unbalanced + rods * self.rod_masses(model).big_end
+    }
+
+    /// Cylinders whose rods run on throw `k` (0-based): one inline, two on a
+    /// shared vee throw.
+    pub fn cylinders_on_throw(&self, k: usize) -> usize {
+        (0..self.z).filter(|&i| self.throw_of(i) == k).count()
+    }
+
+    /// The reciprocating mass's mean reduced inertia per cylinder,
+    /// `m_j R² (1/2 + λ²/8)` (kg m²): the cycle mean of `m_j (dx/dφ)²`
+    /// to second order in λ (PHYSICS.md, "Flywheel"); its variation
+    /// over the cycle is neglected.
+    pub fn reciprocating_inertia(&self, model: RodModel) -> f64 {
+        let mech = self.mechanism();
+        let r = mech.r();
+        let lambda = mech.lambda();
+        self.reciprocating_mass(model) * r * r * (0.5 + lambda * lambda / 8.0)
+    }
+
+    /// Reduced inertia of throw `k` (0-based) about the crank axis (kg m²):
+    /// its rotating masses `m_r R²` plus [`Engine::reciprocating_inertia`]
+    /// for each cylinder on it. The webs and the pin beyond
+    /// `crank_unbalanced_kg` are not in it.
+    pub fn throw_inertia(&self, k: usize, model: RodModel) -> f64 {
+        let r = self.mechanism().r();
+        self.rotating_mass(k, model) * r * r
+            + self.cylinders_on_throw(k) as f64 * self.reciprocating_inertia(model)
+    }
+
+    /// The whole crank train's reduced inertia (kg m²): `Σ m_r R²` over
+    /// the throws plus `z m_j R² (1/2 + λ²/8)`, what
+    /// `flywheel.include_crank_train` counts (PHYSICS.md, "Flywheel").
+    pub fn crank_train_inertia(&self, model: RodModel) -> f64 {
+        let mech = self.mechanism();
+        let r = mech.r();
+        let lambda = mech.lambda();
+        let z = self.z as f64;
+        let rot: f64 = (0..self.throws())
+            .map(|k| self.rotating_mass(k, model) * r * r)
+            .sum();
+        rot + z * self.reciprocating_mass(model) * r * r * (0.5 + lambda * lambda / 8.0)
     }
 }
 

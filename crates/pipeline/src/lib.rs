@@ -22,6 +22,7 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 mod summary;
+pub mod torsion;
 pub use summary::{Basis, CycleSummary, KEYS, Key, Pegging, Shown, Summary, Value};
 
 /// Why an operating point cannot be analysed.
@@ -648,13 +649,7 @@ fn complete(
     });
     let mut engine_inertia = engine.flywheel().other_rotating_inertia;
     if engine.flywheel().include_crank_train {
-        let r = mech.r();
-        let lambda = mech.lambda();
-        let rot: f64 = (0..engine.throws())
-            .map(|k| engine.rotating_mass(k, rod_model) * r * r)
-            .sum();
-        engine_inertia +=
-            rot + z * engine.reciprocating_mass(rod_model) * r * r * (0.5 + lambda * lambda / 8.0);
+        engine_inertia += engine.crank_train_inertia(rod_model);
     }
     let flywheel =
         match enginedyn_flywheel::analyse(&uniformity, engine.flywheel(), omega, engine_inertia) {

@@ -1,0 +1,477 @@
+//! `enginedyn torsion`: the crankshaft's torsional vibration (INTERFACE.md,
+//! "Torsion"). The excitation comes from the pipeline once (gas and inertia
+//! parts of each cylinder's torque by order); the chain from `[torsion]`.
+
+use crate::Failure;
+use crate::args::TorsionArgs;
+use enginedyn_numerics::format::{csv, fixed, human};
+use enginedyn_pipeline::torsion::{Study, TorsionStudyError, Train};
+use enginedyn_report::{Chart, Figure, Series};
+use serde_json::{Value, json};
+
+/// Speeds without `--rpm`: 20 % to 120 % of the operating speed.
+const DEFAULT_SPEEDS: usize = 50;
+
+fn study_failure(file: &str, e: TorsionStudyError) -> Failure {
+    match e {
+        TorsionStudyError::Engine(e) => Failure::usage(format!("{file}: {e}")),
+        TorsionStudyError::Chain(e) => Failure::usage(format!("{file}: [torsion]: {e}")),
+        TorsionStudyError::Pipeline(e) => Failure::data(e.to_string()),
+    }
+}
+
+/// Everything a torsion study needs, built from the command's inputs.
+pub struct Prepared {
+    /// The chain with its defaults noted.
+    pub train: Train,
+    /// The excitation by order.
+    pub excitation: enginedyn_pipeline::torsion::Excitation,
+    /// Notes from reading the inputs.
+    pub notes: Vec<String>,
+}
+
+/// The chain and excitation of `engine` from its `[torsion]` section and
+/// a pressure trace already on the grid; `analysis` is the run at the
+/// operating speed (its sized flywheel is the default flywheel).
+pub fn prepare(
+    file: &str,
+    engine: &enginedyn_engine::Engine,
+    spec: &enginedyn_engine::torsion::TorsionSpec,
+    resampled: &enginedyn_ingest::Resampled,
+    analysis: &enginedyn_pipeline::Analysis,
+    opts: &enginedyn_pipeline::Options,
+) -> Result<Prepared, Failure> {
+    let rod_model = opts.rod_model.unwrap_or(engine.rod_model());
+    let train = enginedyn_pipeline::torsion::crank_train(
+        engine,
+        spec,
+        rod_model,
+        analysis.flywheel.as_ref().map(|f| f.inertia),
+    )
+    .map_err(|e| study_failure(file, e))?;
+    let excitation = enginedyn_pipeline::torsion::excitation(
+        engine,
+        resampled,
+        opts,
+        enginedyn_pipeline::MAX_ORDER,
+    )
+    .map_err(|e| Failure::data(e.to_string()))?;
+    Ok(Prepared {
+        train,
+        excitation,
+        notes: Vec::new(),
+    })
+}
+
+pub fn run(a: &TorsionArgs) -> Result<(), Failure> {
+    let loaded = crate::run::load_engine(Some(&a.engine))?;
+    let engine = &loaded.engine;
+    let file = a.engine.display().to_string();
+    let spec = enginedyn_engine::file::read_torsion(&a.engine)
+        .map_err(|e| Failure::usage(format!("{file}: {e}")))?
+        .ok_or_else(|| {
+            Failure::usage(format!(
+                "{file}: no [torsion] section: give at least `journal_stiffness_nm_rad` (or `journal_diameter_mm` and `journal_length_mm`) under [torsion]"
+            ))
+        })?;
+    let step = a.method.step();
+    crate::run::check_step(engine, step)?;
+    let opts = a.method.options();
+    let (parse, grid) = crate::run::diagram_options(engine, &a.diagram_args, step, opts.interp)?;
+    let path = crate::run::diagram_path(a.diagram.as_deref(), &loaded)?;
+    let resampled = crate::run::load_diagram(Some(&path), &parse, &grid)?;
+    let speed = crate::run::resolve_rpm(None, resampled.rpm, engine)?;
+    let rpms = match &a.rpm {
+        Some(spec) => crate::batch::speeds(spec)?,
+        None => (0..DEFAULT_SPEEDS)
+            .map(|k| speed.rpm * (0.2 + 1.0 * k as f64 / (DEFAULT_SPEEDS - 1) as f64))
+            .collect(),
+    };
+    let analysis = enginedyn_pipeline::analyse(engine, &resampled, speed.rpm, &opts)
+        .map_err(|e| Failure::data(e.to_string()))?;
+    let prepared = prepare(&file, engine, &spec, &resampled, &analysis, &opts)?;
+    let study = enginedyn_pipeline::torsion::study(&prepared.train, &prepared.excitation, &rpms)
+        .map_err(|e| study_failure(&file, e))?;
+    let mut notes = prepared.train.notes.clone();
+    notes.extend(prepared.notes.iter().cloned());
+    if let Some(n) = &speed.note {
+        notes.push(format!("flywheel sized and diagram taken at {n}"));
+    }
+    notes.extend(study.notes.iter().cloned());
+    for n in &notes {
+        eprintln!("note: {n}");
+    }
+    let doc = torsion_json(engine, &study, &opts, &notes);
+    let text = serde_json::to_string_pretty(&doc).map_err(|e| Failure::data(e.to_string()))?;
+    if let Some(dir) = &a.out {
+        let mut files = vec![
+            ("modes.csv".to_string(), modes_csv(&study).into_bytes()),
+            ("torsion.csv".to_string(), torsion_csv(&study).into_bytes()),
+            ("torsion.json".to_string(), format!("{text}\n").into_bytes()),
+        ];
+        for fig in figures(engine.name(), &study) {
+            let svg = fig.render().map_err(|e| Failure::data(e.to_string()))?;
+            files.push((fig.file.clone(), svg.into_bytes()));
+        }
+        if a.chain {
+            let chain = chain_json(&prepared, &study, &rpms)?;
+            files.push(("chain.json".to_string(), chain.into_bytes()));
+        }
+        crate::write_out(dir, &files, a.json)?;
+    }
+    if a.json {
+        crate::emit(&format!("{text}\n"));
+    } else if a.out.is_none() {
+        crate::emit(&table(&study));
+    }
+    Ok(())
+}
+
+fn column(name: &str) -> String {
+    name.replace(' ', "_")
+}
+
+/// The elastic modes (1..), each normalised to the free end (to its
+/// largest component when the free end is a node).
+fn normalised(study: &Study, m: usize) -> Vec<f64> {
+    let v = study.modes.shape(m);
+    let fe = v[study.layout.free_end];
+    let big = v.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+    let by = if fe.abs() > 1e-6 * big { fe } else { big };
+    v.iter().map(|x| x / by).collect()
+}
+
+fn modes_csv(study: &Study) -> String {
+    let mut o = String::from("mode,frequency_hz");
+    for n in &study.layout.names {
+        o.push(',');
+        o.push_str(&column(n));
+    }
+    o.push('\n');
+    for m in 1..study.modes.len() {
+        o.push_str(&format!("{m},{}", csv(study.modes.frequency_hz(m))));
+        for x in normalised(study, m) {
+            o.push(',');
+            o.push_str(&csv(x));
+        }
+        o.push('\n');
+    }
+    o
+}
+
+fn order_name(k: f64) -> String {
+    human(k)
+}
+
+/// The largest section at a row: (1-based section, torque).
+fn largest(torques: &[f64]) -> (usize, f64) {
+    torques.iter().enumerate().fold(
+        (0, 0.0_f64),
+        |(bi, bv), (i, &v)| if v > bv { (i + 1, v) } else { (bi, bv) },
+    )
+}
+
+fn torsion_csv(study: &Study) -> String {
+    let mut o = String::from("rpm,free_end_amplitude_deg");
+    for s in 1..=study.layout.sections.len() {
+        o.push_str(&format!(",section_{s}_torque_nm,section_{s}_stress_mpa"));
+    }
+    o.push_str(",max_section,max_section_torque_nm");
+    for &k in &study.orders {
+        o.push_str(&format!(",order_{}_deg", order_name(k)));
+    }
+    o.push('\n');
+    for r in &study.rows {
+        o.push_str(&csv(r.rpm));
+        o.push(',');
+        o.push_str(&csv(r.free_end_deg));
+        for (t, s) in r.section_torque.iter().zip(&r.section_stress) {
+            o.push(',');
+            o.push_str(&csv(*t));
+            o.push(',');
+            if let Some(s) = s {
+                o.push_str(&csv(s / 1e6));
+            }
+        }
+        let (sec, val) = largest(&r.section_torque);
+        o.push_str(&format!(",{sec},{}", csv(val)));
+        for x in &r.order_deg {
+            o.push(',');
+            o.push_str(&csv(*x));
+        }
+        o.push('\n');
+    }
+    o
+}
+
+fn torsion_json(
+    engine: &enginedyn_engine::Engine,
+    study: &Study,
+    opts: &enginedyn_pipeline::Options,
+    notes: &[String],
+) -> Value {
+    let freqs: Vec<f64> = (1..study.modes.len())
+        .map(|m| study.modes.frequency_hz(m))
+        .collect();
+    let (fe_row, _) =
+        study
+            .rows
+            .iter()
+            .enumerate()
+            .fold((0, f64::NEG_INFINITY), |(bi, bv), (i, r)| {
+                if r.free_end_deg > bv {
+                    (i, r.free_end_deg)
+                } else {
+                    (bi, bv)
+                }
+            });
+    let (t_row, t_sec, t_val) =
+        study
+            .rows
+            .iter()
+            .enumerate()
+            .fold((0, 0, f64::NEG_INFINITY), |(bi, bs, bv), (i, r)| {
+                let (s, v) = largest(&r.section_torque);
+                if v > bv { (i, s, v) } else { (bi, bs, bv) }
+            });
+    let rows = &study.rows;
+    json!({
+        "engine": engine.name(),
+        "natural_frequencies_hz": freqs,
+        "resonances": study.resonances.iter().map(|r| json!({
+            "order": r.order,
+            "mode": r.mode,
+            "rpm": r.rpm,
+            "amplitude_deg": r.amplitude_deg,
+        })).collect::<Vec<_>>(),
+        "max_free_end_amplitude_deg": rows.get(fe_row).map(|r| r.free_end_deg),
+        "max_free_end_amplitude_rpm": rows.get(fe_row).map(|r| r.rpm),
+        "max_section_torque_nm": rows.get(t_row).map(|_| t_val),
+        "max_section_torque_rpm": rows.get(t_row).map(|r| r.rpm),
+        "max_section_torque_section": rows.get(t_row).map(|_| t_sec),
+        "masses": study.layout.names.iter().zip(&study.inertia).map(|(n, j)| json!({"name": n, "inertia_kg_m2": j})).collect::<Vec<_>>(),
+        "sections": study.layout.sections.iter().enumerate().map(|(i, s)| json!({
+            "section": i + 1,
+            "between": s.name,
+            "stiffness_nm_rad": study.stiffness[s.spring],
+        })).collect::<Vec<_>>(),
+        "models": {
+            "kinematics": opts.kinematics.name(),
+            "rod_model": opts.rod_model.unwrap_or(engine.rod_model()).name(),
+            "step_deg": opts.step_deg,
+            "highest_order": study.orders.last(),
+            "damping": "modal ratio on every mode plus the damper's viscous coefficient",
+            "free_end_amplitude": "half peak-to-peak of all orders summed in time, relative to the chain's rigid rotation",
+        },
+        "notes": notes,
+    })
+}
+
+/// The chain and a few forced responses for benches/torsion_compare.py.
+fn chain_json(prepared: &Prepared, study: &Study, rpms: &[f64]) -> Result<String, Failure> {
+    let (chain, layout) = prepared
+        .train
+        .train
+        .chain()
+        .map_err(|e| Failure::usage(e.to_string()))?;
+    let solver =
+        enginedyn_torsion::Solver::new(&chain).map_err(|e| Failure::usage(e.to_string()))?;
+    let ex = &prepared.excitation;
+    let mut checks = Vec::new();
+    let picks = [
+        0,
+        rpms.len() / 3,
+        2 * rpms.len() / 3,
+        rpms.len().saturating_sub(1),
+    ];
+    for &i in &picks {
+        let Some(&rpm) = rpms.get(i) else { continue };
+        let omega = rpm * std::f64::consts::PI / 30.0;
+        for o in (0..ex.orders.len()).step_by(5) {
+            let mut tt = vec![enginedyn_torsion::Complex64::new(0.0, 0.0); layout.throws.len()];
+            ex.at(o, omega, &mut tt);
+            let mut torque = vec![enginedyn_torsion::Complex64::new(0.0, 0.0); chain.len()];
+            for (t, &m) in layout.throws.iter().enumerate() {
+                torque[m] = tt[t];
+            }
+            let w = ex.orders[o] * omega;
+            let theta = solver
+                .respond(w, &torque)
+                .map_err(|e| Failure::usage(e.to_string()))?;
+            let pairs = |v: &[enginedyn_torsion::Complex64]| {
+                v.iter().map(|c| json!([c.re, c.im])).collect::<Vec<_>>()
+            };
+            checks.push(json!({
+                "rpm": rpm, "order": ex.orders[o], "omega_rad_s": w,
+                "torque": pairs(&torque), "response": pairs(&theta),
+            }));
+        }
+    }
+    let doc = json!({
+        "inertia_kg_m2": chain.inertia(),
+        "stiffness_nm_rad": chain.stiffness(),
+        "spring_damping_nm_s_rad": chain.spring_damping(),
+        "damping_ratio": chain.damping_ratio(),
+        "names": layout.names,
+        "natural_frequencies_hz": (1..study.modes.len()).map(|m| study.modes.frequency_hz(m)).collect::<Vec<_>>(),
+        "checks": checks,
+    });
+    serde_json::to_string_pretty(&doc).map_err(|e| Failure::data(e.to_string()))
+}
+
+/// The orders with the largest peak free-end amplitude over the speeds.
+fn major_orders(study: &Study, count: usize) -> Vec<usize> {
+    let mut peak: Vec<(usize, f64)> = (0..study.orders.len())
+        .map(|o| {
+            let p = study
+                .rows
+                .iter()
+                .map(|r| r.order_deg[o])
+                .fold(0.0, f64::max);
+            (o, p)
+        })
+        .collect();
+    peak.sort_by(|a, b| b.1.total_cmp(&a.1));
+    peak.into_iter().take(count).map(|(o, _)| o).collect()
+}
+
+/// campbell.svg and torsion.svg.
+pub fn figures(name: &str, study: &Study) -> Vec<Figure> {
+    let rpm: Vec<f64> = study.rows.iter().map(|r| r.rpm).collect();
+    let (lo, hi) = (
+        rpm.first().copied().unwrap_or(0.0),
+        rpm.last().copied().unwrap_or(1.0),
+    );
+    let mut camp = Vec::new();
+    let fmax = study
+        .modes
+        .omega
+        .iter()
+        .map(|w| w / std::f64::consts::TAU)
+        .fold(0.0, f64::max);
+    let shown: Vec<usize> = (1..study.modes.len())
+        .filter(|&m| study.resonances.iter().any(|r| r.mode == m) || m == 1)
+        .collect();
+    let ftop = shown
+        .iter()
+        .map(|&m| study.modes.frequency_hz(m))
+        .fold(0.0, f64::max)
+        .min(fmax)
+        * 1.15;
+    for &m in &shown {
+        let f = study.modes.frequency_hz(m);
+        camp.push(Series::from_points(
+            format!("mode {m}: {} Hz", human(f)),
+            [(lo, f), (hi, f)].into_iter(),
+        ));
+    }
+    for o in major_orders(study, 6) {
+        let k = study.orders[o];
+        let line = |r: f64| (r, (k * r / 60.0).min(ftop));
+        let mut s = Series::from_points(
+            format!("order {}", order_name(k)),
+            [line(lo), line(hi)].into_iter(),
+        );
+        s.dashed = true;
+        camp.push(s);
+    }
+    // Each resonance as a short vertical tick on its mode line.
+    for r in &study.resonances {
+        let f = study.modes.frequency_hz(r.mode);
+        camp.push(Series {
+            name: format!(
+                "k {} × mode {} at {} rpm",
+                order_name(r.order),
+                r.mode,
+                fixed(r.rpm, 0)
+            ),
+            points: vec![(r.rpm, f * 0.97), (r.rpm, f * 1.03)],
+            dashed: false,
+        });
+    }
+    let campbell = Chart {
+        title: format!("{name} — Campbell diagram: natural frequencies and engine orders"),
+        x_label: "engine speed (rpm)".into(),
+        y_label: "frequency (Hz)".into(),
+        series: camp,
+        log: false,
+        equal: false,
+        angle_ticks: None,
+    };
+    let fe: Vec<f64> = study.rows.iter().map(|r| r.free_end_deg).collect();
+    let mut resp = vec![Series::new(
+        "all orders (half peak-to-peak)",
+        rpm.iter().copied(),
+        &fe,
+    )];
+    for o in major_orders(study, 4) {
+        let y: Vec<f64> = study.rows.iter().map(|r| r.order_deg[o]).collect();
+        let mut s = Series::new(
+            format!("order {}", order_name(study.orders[o])),
+            rpm.iter().copied(),
+            &y,
+        );
+        s.dashed = false;
+        resp.push(s);
+    }
+    let tq: Vec<f64> = study
+        .rows
+        .iter()
+        .map(|r| largest(&r.section_torque).1)
+        .collect();
+    let response = Figure {
+        file: "torsion.svg".into(),
+        panels: vec![
+            Chart {
+                title: format!("{name} — free-end vibratory angle"),
+                x_label: "engine speed (rpm)".into(),
+                y_label: "amplitude (deg)".into(),
+                series: resp,
+                log: false,
+                equal: false,
+                angle_ticks: None,
+            },
+            Chart {
+                title: "largest section's vibratory torque".into(),
+                x_label: "engine speed (rpm)".into(),
+                y_label: "torque, half peak-to-peak (N m)".into(),
+                series: vec![Series::new("largest section", rpm.iter().copied(), &tq)],
+                log: false,
+                equal: false,
+                angle_ticks: None,
+            },
+        ],
+    };
+    vec![Figure::single("campbell.svg", campbell), response]
+}
+
+fn table(study: &Study) -> String {
+    let mut o = String::from("mode  frequency_hz  free end → flywheel (relative amplitude)\n");
+    for m in 1..study.modes.len() {
+        let v = normalised(study, m);
+        let shape: Vec<String> = v.iter().map(|x| fixed(*x, 2)).collect();
+        o.push_str(&format!(
+            "{m:>4}  {:>12}  {}\n",
+            fixed(study.modes.frequency_hz(m), 1),
+            shape.join(" ")
+        ));
+    }
+    let mut worst = study.resonances.clone();
+    worst.sort_by(|a, b| b.amplitude_deg.total_cmp(&a.amplitude_deg));
+    o.push_str(
+        "\nworst resonances in the speed range\norder  mode      rpm  free-end amplitude (deg)\n",
+    );
+    for r in worst.iter().take(8) {
+        o.push_str(&format!(
+            "{:>5}  {:>4}  {:>7}  {}\n",
+            order_name(r.order),
+            r.mode,
+            fixed(r.rpm, 0),
+            enginedyn_numerics::format::sig(r.amplitude_deg, 3)
+        ));
+    }
+    if worst.is_empty() {
+        o.push_str("(none)\n");
+    }
+    o
+}

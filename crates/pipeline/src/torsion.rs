@@ -1,0 +1,555 @@
+//! The crankshaft's torsional vibration from the pipeline (PHYSICS.md,
+//! "Torsional vibration"): the chain built from the engine file's
+//! `[torsion]` ([`crank_train`]), the excitation split by order from each
+//! cylinder's torque ([`excitation`]: gas and inertia parts once, the
+//! inertia part per unit ω², so no rerun per speed), and the response over
+//! speed ([`study`]).
+
+use crate::{Options, PipelineError, Tables, prepare};
+use enginedyn_engine::torsion::{PerItem, TorsionSpec, shaft_stiffness};
+use enginedyn_engine::{Engine, EngineError};
+use enginedyn_forces::{Setup, cylinder_forces};
+use enginedyn_ingest::Resampled;
+use enginedyn_numerics::format::human;
+use enginedyn_torsion::{Complex64, CrankTrain, Damper, Layout, Modes, Solver, Synthesis};
+use std::f64::consts::PI;
+
+/// Why a torsion study cannot run.
+#[derive(Debug, thiserror::Error)]
+pub enum TorsionStudyError {
+    /// A `[torsion]` key is missing or does not fit the engine (exit 2).
+    #[error(transparent)]
+    Engine(#[from] EngineError),
+    /// The operating point cannot be analysed.
+    #[error(transparent)]
+    Pipeline(#[from] PipelineError),
+    /// The chain cannot be built or solved.
+    #[error(transparent)]
+    Chain(#[from] enginedyn_torsion::TorsionError),
+}
+
+/// The crank train as a chain, with what the report needs beside it.
+#[derive(Debug, Clone)]
+pub struct Train {
+    /// The chain's parts.
+    pub train: CrankTrain,
+    /// Diameter for the shear stress of each section of the layout (m);
+    /// `None` where none is known (a load coupling, no diameter given).
+    pub diameters: Vec<Option<f64>>,
+    /// How each default was taken.
+    pub notes: Vec<String>,
+}
+
+fn missing(key: &'static str, why: &'static str) -> EngineError {
+    EngineError::Missing { key, why }
+}
+
+fn count_error(key: &'static str, got: usize, need: usize, what: &str) -> EngineError {
+    EngineError::Invalid {
+        key,
+        value: format!("{got} values"),
+        expected: format!("one value, or {need} ({what})"),
+    }
+}
+
+/// The chain of `engine` from its `[torsion]`: each default as
+/// INTERFACE.md's table gives it, noted. `sized_flywheel` is the sized
+/// flywheel's inertia (kg m²), the default of `flywheel_inertia_kg_m2`
+/// (with `other_rotating_inertia_kg_m2` added).
+pub fn crank_train(
+    engine: &Engine,
+    spec: &TorsionSpec,
+    rod_model: enginedyn_engine::RodModel,
+    sized_flywheel: Option<f64>,
+) -> Result<Train, TorsionStudyError> {
+    let t = engine.throws();
+    let mut notes = Vec::new();
+    let throws = match &spec.throw_inertia {
+        Some(v) => v.expand(t).ok_or_else(|| {
+            count_error(
+                "torsion.throw_inertia_kg_m2",
+                v.values().len(),
+                t,
+                "one per throw",
+            )
+        })?,
+        None => {
+            let est: Vec<f64> = (0..t).map(|k| engine.throw_inertia(k, rod_model)).collect();
+            notes.push(format!(
+                "torsion.throw_inertia_kg_m2 estimated from the masses: the rotating masses m_r R² plus each cylinder's reciprocating mean m_j R² (1/2 + λ²/8), {} kg m² per throw; the webs and counterweights beyond crank_unbalanced_kg are not in it (a real throw has more): give the throw inertia for a trustworthy frequency",
+                human(est.iter().copied().fold(0.0, f64::max))
+            ));
+            est
+        }
+    };
+    notes.push(
+        "each throw carries the reciprocating mass's mean inertia m_j R² (1/2 + λ²/8): its variation over the cycle (secondary resonances) is neglected".into(),
+    );
+    let journal_key = "torsion.journal_stiffness_nm_rad";
+    let journals_needed = t.saturating_sub(1).max(1);
+    let from_geometry = |d: &PerItem, l: &PerItem| -> Result<Vec<f64>, EngineError> {
+        let n = t.saturating_sub(1).max(1);
+        let d = d.expand(n).ok_or_else(|| {
+            count_error(
+                "torsion.journal_diameter_mm",
+                d.values().len(),
+                n,
+                "one per journal between throws",
+            )
+        })?;
+        let l = l.expand(n).ok_or_else(|| {
+            count_error(
+                "torsion.journal_length_mm",
+                l.values().len(),
+                n,
+                "one per journal between throws",
+            )
+        })?;
+        Ok(d.iter()
+            .zip(&l)
+            .map(|(d, l)| shaft_stiffness(*d, *l))
+            .collect())
+    };
+    let journal_all: Vec<f64> = match (
+        &spec.journal_stiffness,
+        &spec.journal_diameter,
+        &spec.journal_length,
+    ) {
+        (Some(k), _, _) => k.expand(journals_needed).ok_or_else(|| {
+            count_error(
+                journal_key,
+                k.values().len(),
+                journals_needed,
+                "one per journal between throws",
+            )
+        })?,
+        (None, Some(d), Some(l)) => {
+            let k = from_geometry(d, l)?;
+            notes.push(format!(
+                "journal stiffness from journal_diameter_mm and journal_length_mm as a plain steel shaft G π d⁴ / (32 l), G = 80.8 GPa: {} N m/rad (webs and pins make a real throw softer)",
+                human(k[0])
+            ));
+            k
+        }
+        _ => {
+            return Err(missing(
+                journal_key,
+                "the stiffness between throws, or journal_diameter_mm and journal_length_mm",
+            )
+            .into());
+        }
+    };
+    let journals = if t > 1 {
+        journal_all.clone()
+    } else {
+        Vec::new()
+    };
+    let last_journal = *journal_all.last().unwrap_or(&0.0);
+    let flywheel_k = match spec.flywheel_stiffness {
+        Some(k) => k,
+        None => {
+            notes.push(format!(
+                "torsion.flywheel_stiffness_nm_rad not given: the journal stiffness, {} N m/rad",
+                human(last_journal)
+            ));
+            last_journal
+        }
+    };
+    let flywheel_j = match (spec.flywheel_inertia, sized_flywheel) {
+        (Some(j), _) => j,
+        (None, Some(f)) => {
+            let j = f + engine.flywheel().other_rotating_inertia;
+            notes.push(format!(
+                "torsion.flywheel_inertia_kg_m2 not given: the sized flywheel plus other_rotating_inertia_kg_m2, {} kg m²",
+                human(j)
+            ));
+            j
+        }
+        (None, None) => {
+            return Err(missing(
+                "torsion.flywheel_inertia_kg_m2",
+                "no flywheel was sized (the engine delivers no work): give the flywheel's inertia",
+            )
+            .into());
+        }
+    };
+    if !(flywheel_j > 0.0) {
+        return Err(missing(
+            "torsion.flywheel_inertia_kg_m2",
+            "the sized flywheel is 0 (none needed): give the flywheel's inertia",
+        )
+        .into());
+    }
+    let front = if spec.front_inertia > 0.0 {
+        let k = spec.front_stiffness.ok_or_else(|| {
+            missing(
+                "torsion.front_stiffness_nm_rad",
+                "the spring from the front mass to throw 1",
+            )
+        })?;
+        Some((spec.front_inertia, k))
+    } else {
+        None
+    };
+    let load = match (spec.load_inertia, spec.load_stiffness) {
+        (Some(j), Some(k)) => Some((j, k)),
+        (None, None) => None,
+        (Some(_), None) => {
+            return Err(missing(
+                "torsion.load_stiffness_nm_rad",
+                "the coupling's stiffness to the load",
+            )
+            .into());
+        }
+        (None, Some(_)) => {
+            return Err(missing("torsion.load_inertia_kg_m2", "the driven load's inertia").into());
+        }
+    };
+    if spec.damping_ratio == 0.0 {
+        notes.push(
+            "torsion.damping_ratio = 0: undamped resonances have no finite amplitude; the response near them is not trustworthy".into(),
+        );
+    }
+    let train = CrankTrain {
+        front,
+        throws,
+        journals,
+        flywheel: (flywheel_j, flywheel_k),
+        load,
+        damper: spec.damper.map(|d| Damper {
+            inertia: d.inertia,
+            stiffness: d.stiffness,
+            damping: d.damping,
+        }),
+        damping_ratio: spec.damping_ratio,
+    };
+    // Section diameters: the crankshaft's sections (front, journals,
+    // flywheel) from shaft_diameter_mm, else the journal diameter; none for
+    // a load coupling.
+    let crank_sections = usize::from(front.is_some()) + t;
+    let per_journal = |v: &PerItem, key: &'static str| -> Result<Vec<f64>, EngineError> {
+        match v {
+            PerItem::One(d) => Ok(vec![*d; crank_sections]),
+            PerItem::Each(list) if list.len() == crank_sections => Ok(list.clone()),
+            PerItem::Each(list) if list.len() == journals_needed => {
+                let mut out = Vec::with_capacity(crank_sections);
+                if front.is_some() {
+                    out.push(list[0]);
+                }
+                out.extend(list.iter().take(t - 1));
+                out.push(list[list.len() - 1]);
+                Ok(out)
+            }
+            PerItem::Each(list) => Err(count_error(
+                key,
+                list.len(),
+                journals_needed,
+                "one per journal, or one per section",
+            )),
+        }
+    };
+    let mut diameters: Vec<Option<f64>> = match (&spec.shaft_diameter, &spec.journal_diameter) {
+        (Some(d), _) => per_journal(d, "torsion.shaft_diameter_mm")?
+            .into_iter()
+            .map(Some)
+            .collect(),
+        (None, Some(d)) => per_journal(d, "torsion.journal_diameter_mm")?
+            .into_iter()
+            .map(Some)
+            .collect(),
+        (None, None) => {
+            notes.push(
+                "no torsion.shaft_diameter_mm or journal_diameter_mm: section stresses are null"
+                    .into(),
+            );
+            vec![None; crank_sections]
+        }
+    };
+    if load.is_some() {
+        diameters.push(None);
+        notes.push(
+            "the load coupling's stress is not computed (null): it is no crankshaft section".into(),
+        );
+    }
+    Ok(Train {
+        train,
+        diameters,
+        notes,
+    })
+}
+
+/// Each throw's excitation by order, gas and inertia apart.
+#[derive(Debug, Clone)]
+pub struct Excitation {
+    /// Revolutions per cycle (2 four-stroke, 1 two-stroke).
+    pub revolutions: f64,
+    /// Engine orders (per revolution), 1/revolutions to the highest.
+    pub orders: Vec<f64>,
+    /// `gas[o][t]`: throw t's gas torque of order o (N m, complex amplitude
+    /// against the engine's cycle angle, each cylinder lagging by its
+    /// firing angle).
+    pub gas: Vec<Vec<Complex64>>,
+    /// `inertia[o][t]`: throw t's inertia torque of order o per unit ω²
+    /// (N m s²).
+    pub inertia: Vec<Vec<Complex64>>,
+}
+
+impl Excitation {
+    /// Throw torques of order index `o` at crank speed `omega` (rad/s).
+    pub fn at(&self, o: usize, omega: f64, out: &mut [Complex64]) {
+        let w2 = omega * omega;
+        for ((x, g), i) in out.iter_mut().zip(&self.gas[o]).zip(&self.inertia[o]) {
+            *x = g + i * w2;
+        }
+    }
+}
+
+/// Each cylinder's torque split into orders up to `max_order` with
+/// `enginedyn_torque::harmonics`, gas (at the diagram's pressure) and
+/// inertia (per unit ω²) apart, summed per throw with the lag `k θ_i` of
+/// each cylinder's firing angle.
+pub fn excitation(
+    engine: &Engine,
+    pressure: &Resampled,
+    opts: &Options,
+    max_order: f64,
+) -> Result<Excitation, PipelineError> {
+    let n = pressure.pressure.len();
+    // Speed 30/π rpm is 1 rad/s: the inertia torque per unit ω².
+    let (engine, h, _) = prepare(engine, 30.0 / PI, n, opts)?;
+    let tables = Tables::new(&engine, n, opts)?;
+    let setup = Setup::new(&engine, engine.rod_model(), 1.0);
+    let z = engine.cylinders();
+    let traces: Vec<&[f64]> = if pressure.cylinders.is_empty() {
+        vec![&pressure.pressure]
+    } else if pressure.cylinders.len() == z {
+        pressure.cylinders.iter().map(Vec::as_slice).collect()
+    } else {
+        return Err(PipelineError::Input(format!(
+            "the diagram has traces for {} cylinders, the engine has {z}",
+            pressure.cylinders.len()
+        )));
+    };
+    let revolutions = engine.cycle() / (2.0 * PI);
+    let mut per_trace = Vec::with_capacity(traces.len());
+    for p in &traces {
+        let f = cylinder_forces(&setup, &tables.kinematics, p, 0.0, h);
+        let gas: Vec<f64> = f
+            .torque
+            .iter()
+            .zip(&f.inertia_torque)
+            .map(|(m, i)| m - i)
+            .collect();
+        let g = enginedyn_torque::harmonics(&gas, revolutions, max_order)?;
+        let i = enginedyn_torque::harmonics(&f.inertia_torque, revolutions, max_order)?;
+        per_trace.push((g, i));
+    }
+    let orders: Vec<f64> = per_trace[0].0.iter().skip(1).map(|x| x.order).collect();
+    let t = engine.throws();
+    let mut gas = vec![vec![Complex64::new(0.0, 0.0); t]; orders.len()];
+    let mut inertia = gas.clone();
+    for c in 0..z {
+        let (g, i) = &per_trace[c.min(per_trace.len() - 1)];
+        let throw = engine.throw_of(c);
+        let theta = engine.firing_angle(c);
+        for (o, &k) in orders.iter().enumerate() {
+            let lag = Complex64::from_polar(1.0, -k * theta);
+            gas[o][throw] += Complex64::from_polar(g[o + 1].amplitude, g[o + 1].phase) * lag;
+            inertia[o][throw] += Complex64::from_polar(i[o + 1].amplitude, i[o + 1].phase) * lag;
+        }
+    }
+    Ok(Excitation {
+        revolutions,
+        orders,
+        gas,
+        inertia,
+    })
+}
+
+/// One speed's response.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// Speed (rpm).
+    pub rpm: f64,
+    /// The free end's vibratory angle, half peak-to-peak of all orders
+    /// together (deg), relative to the chain's rigid rotation.
+    pub free_end_deg: f64,
+    /// Each section's vibratory torque, half peak-to-peak (N m).
+    pub section_torque: Vec<f64>,
+    /// Each section's shear stress `16 T / (π d³)` (Pa), where a diameter
+    /// is known.
+    pub section_stress: Vec<Option<f64>>,
+    /// The free end's amplitude of each order alone (deg).
+    pub order_deg: Vec<f64>,
+}
+
+/// A resonance in the speed range.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Resonance {
+    /// Engine order.
+    pub order: f64,
+    /// Mode (1 = the first elastic mode).
+    pub mode: usize,
+    /// Speed (rpm) `60 f / k`.
+    pub rpm: f64,
+    /// The free end's amplitude of that order at that speed (deg).
+    pub amplitude_deg: f64,
+}
+
+/// The torsion study over speed.
+#[derive(Debug, Clone)]
+pub struct Study {
+    /// Where each part sits in the chain.
+    pub layout: Layout,
+    /// Inertias (kg m²) and stiffnesses (N m/rad) of the chain.
+    pub inertia: Vec<f64>,
+    /// Spring stiffnesses (N m/rad).
+    pub stiffness: Vec<f64>,
+    /// Modes of the undamped chain.
+    pub modes: Modes,
+    /// Engine orders.
+    pub orders: Vec<f64>,
+    /// One row per speed.
+    pub rows: Vec<Row>,
+    /// Resonances in the speed range, by speed.
+    pub resonances: Vec<Resonance>,
+    /// Stability notes (modes beyond the orders computed, …).
+    pub notes: Vec<String>,
+}
+
+/// The free end's vibratory angle (relative to the rigid rotation `Σ J θ / Σ J`).
+fn vibratory(theta: &[Complex64], inertia: &[f64], total: f64, at: usize) -> Complex64 {
+    let mean: Complex64 = theta
+        .iter()
+        .zip(inertia)
+        .map(|(a, j)| a * *j)
+        .sum::<Complex64>()
+        / total;
+    theta[at] - mean
+}
+
+/// The response of `train` to `excitation` at each speed of `rpms`.
+pub fn study(
+    train: &Train,
+    excitation: &Excitation,
+    rpms: &[f64],
+) -> Result<Study, TorsionStudyError> {
+    let (chain, layout) = train.train.chain()?;
+    let solver = Solver::new(&chain)?;
+    let inertia = chain.inertia().to_vec();
+    let stiffness = chain.stiffness().to_vec();
+    let total: f64 = inertia.iter().sum();
+    let n = chain.len();
+    let revs = excitation.revolutions;
+    let harmonic = |k: f64| (k * revs).round() as usize;
+    let max_h = excitation.orders.last().map_or(1, |&k| harmonic(k));
+    let synth = Synthesis::new(max_h);
+    let mut scratch = Vec::new();
+    let mut throw_t = vec![Complex64::new(0.0, 0.0); layout.throws.len()];
+    let mut torque = vec![Complex64::new(0.0, 0.0); n];
+    let mut respond = |o: usize, omega: f64, torque: &mut Vec<Complex64>| {
+        excitation.at(o, omega, &mut throw_t);
+        torque
+            .iter_mut()
+            .for_each(|x| *x = Complex64::new(0.0, 0.0));
+        for (t, &i) in layout.throws.iter().enumerate() {
+            torque[i] = throw_t[t];
+        }
+        solver.respond(excitation.orders[o] * omega, torque)
+    };
+    let mut rows = Vec::with_capacity(rpms.len());
+    let sections = &layout.sections;
+    for &rpm in rpms {
+        let omega = rpm * PI / 30.0;
+        let mut responses = Vec::with_capacity(excitation.orders.len());
+        for o in 0..excitation.orders.len() {
+            responses.push(respond(o, omega, &mut torque)?);
+        }
+        let free: Vec<(usize, Complex64)> = responses
+            .iter()
+            .zip(&excitation.orders)
+            .map(|(th, &k)| (harmonic(k), vibratory(th, &inertia, total, layout.free_end)))
+            .collect();
+        let order_deg = free.iter().map(|(_, x)| x.norm().to_degrees()).collect();
+        let free_end_deg = synth.half_peak_to_peak(&free, &mut scratch).to_degrees();
+        let mut section_torque = Vec::with_capacity(sections.len());
+        let mut section_stress = Vec::with_capacity(sections.len());
+        let mut terms = Vec::with_capacity(free.len());
+        for (s, sec) in sections.iter().enumerate() {
+            let j = sec.spring;
+            terms.clear();
+            terms.extend(
+                responses
+                    .iter()
+                    .zip(&excitation.orders)
+                    .map(|(th, &k)| (harmonic(k), (th[j] - th[j + 1]) * stiffness[j])),
+            );
+            let tq = synth.half_peak_to_peak(&terms, &mut scratch);
+            section_torque.push(tq);
+            section_stress.push(
+                train
+                    .diameters
+                    .get(s)
+                    .copied()
+                    .flatten()
+                    .map(|d| 16.0 * tq / (PI * d * d * d)),
+            );
+        }
+        rows.push(Row {
+            rpm,
+            free_end_deg,
+            section_torque,
+            section_stress,
+            order_deg,
+        });
+    }
+    let modes = solver.modes().clone();
+    let (lo, hi) = rpms
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &r| {
+            (a.min(r), b.max(r))
+        });
+    let mut resonances = Vec::new();
+    let mut notes = Vec::new();
+    let top = excitation.orders.last().copied().unwrap_or(0.0);
+    for m in 1..modes.len() {
+        let f = modes.frequency_hz(m);
+        for (o, &k) in excitation.orders.iter().enumerate() {
+            let rpm = 60.0 * f / k;
+            if rpm >= lo && rpm <= hi {
+                let omega = rpm * PI / 30.0;
+                let th = respond(o, omega, &mut torque)?;
+                resonances.push(Resonance {
+                    order: k,
+                    mode: m,
+                    rpm,
+                    amplitude_deg: vibratory(&th, &inertia, total, layout.free_end)
+                        .norm()
+                        .to_degrees(),
+                });
+            }
+        }
+        // Orders above the highest computed meet this mode in the range.
+        if lo > 0.0 && 60.0 * f / lo > top {
+            let first = 60.0 * f / hi;
+            notes.push(format!(
+                "mode {m} ({} Hz) meets orders from {} up in the speed range, {}: orders above {} are not computed, so its resonances there are missing",
+                human(f),
+                human(first.max(top)),
+                if first > top { "all above the highest order computed" } else { "some above the highest order computed" },
+                human(top)
+            ));
+        }
+    }
+    resonances.sort_by(|a, b| a.rpm.total_cmp(&b.rpm));
+    Ok(Study {
+        layout,
+        inertia,
+        stiffness,
+        modes,
+        orders: excitation.orders.clone(),
+        rows,
+        resonances,
+        notes,
+    })
+}
