@@ -409,7 +409,7 @@ pub struct SweepArgs {
 
 #[derive(Debug, Clone, Args)]
 pub struct TorsionArgs {
-    /// Engine file (TOML) with a [torsion] section.
+    /// Engine file (TOML) with a `[torsion]` section.
     #[arg(long, value_name = "FILE")]
     pub engine: PathBuf,
     /// Indicator diagram [default: the engine file's `diagram`].
