@@ -30,7 +30,9 @@ impl Ran {
 /// Runs the binary with `args` (and `env`), killed after `limit`; asserts
 /// no panic, the time bound and a peak memory of the child (its own
 /// maximum resident set, from `wait4`) under 300 MB.
-#[allow(unsafe_code)]
+// The child is reaped by `wait4` (which gives its own peak memory), not by
+// `Child::wait`.
+#[allow(unsafe_code, clippy::zombie_processes)]
 fn run_env(args: &[&str], env: &[(&str, &str)], limit: Duration) -> Ran {
     use std::io::Read as _;
     use std::os::unix::process::ExitStatusExt as _;
