@@ -47,6 +47,7 @@ contract:
 bench files="40" cycles="50":
     bash benches/bench.sh {{files}} {{cycles}}
 
-# Fuzz the diagram CSV reader (needs a nightly toolchain and cargo-fuzz).
+# Fuzz the streaming reader, the engine file, a whole run and the CSV parser
+# (needs a nightly toolchain and cargo-fuzz; fuzz/README.md).
 fuzz:
-    @if rustup toolchain list | grep -q nightly; then cd fuzz && cargo +nightly fuzz run diagram_csv -- -max_total_time=120; else echo "just fuzz needs a nightly toolchain (rustup toolchain install nightly) and cargo install cargo-fuzz; the stable property tests in crates/ingest/tests/no_panic.rs run in CI instead"; fi
+    @if rustup toolchain list | grep -q nightly; then cd fuzz && for t in diagram_stream engine_file whole_run diagram_csv; do cargo +nightly fuzz run $t -- -max_total_time=120 -rss_limit_mb=2048 || exit 1; done; else echo "just fuzz needs a nightly toolchain (rustup toolchain install nightly) and cargo install cargo-fuzz; the stable property tests in crates/ingest/tests/no_panic.rs run in CI instead"; fi

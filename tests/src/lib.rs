@@ -4,6 +4,8 @@
 //!
 //! [`binary`] finds (and if needed builds) the binary under test.
 
+pub mod fuzz;
+
 use std::path::PathBuf;
 
 /// Path of the `enginedyn` binary of this build profile, built on demand.

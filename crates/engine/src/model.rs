@@ -423,6 +423,17 @@ impl EngineBuilder {
             ));
             sizes.push(("rod_length_mm", l, 1e-6, 1e3, 1e3, "mm"));
         }
+        if m.rod_cg_from_small_end != 0.0 {
+            // 0 is "not given" (the builder puts the default split there).
+            sizes.push((
+                "masses.rod_cg_from_small_end_mm",
+                m.rod_cg_from_small_end,
+                1e-6,
+                1e3,
+                1e3,
+                "mm",
+            ));
+        }
         if let Some(rpm) = self.operating.rpm {
             sizes.push(("operating.rpm", rpm, MIN_RPM, MAX_RPM, 1.0, "rpm"));
         }

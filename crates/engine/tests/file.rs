@@ -420,3 +420,16 @@ fn plausibility_notes_name_key_and_mistake() {
         );
     }
 }
+
+/// Found by the property tests of `tests/tests/fuzz_paths.rs`: a subnormal
+/// distance passed the "above 0" check and made the rod's mass split
+/// infinite. Every size has a hard bound now, named in the error.
+#[test]
+fn subnormal_sizes_are_refused() {
+    let text = BASE.replace("[masses]", "[masses]\nrod_cg_from_small_end_mm = 1e-310");
+    let msg = parse(&text, "x").unwrap_err().to_string();
+    assert!(
+        msg.contains("masses.rod_cg_from_small_end_mm") && msg.contains("from 0.001 to"),
+        "{msg}"
+    );
+}

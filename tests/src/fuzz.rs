@@ -1,0 +1,107 @@
+//! The checks the fuzz targets (`fuzz/fuzz_targets/*.rs`, nightly,
+//! libFuzzer) and the stable property tests (`tests/tests/fuzz_paths.rs`,
+//! in CI) run on the same inputs: the paths the CLI takes, not a side door.
+//!
+//! - [`diagram_stream`]: the streaming reader and the grid accumulator
+//!   (`ingest::load`, what `run` and `batch` call), under the option
+//!   combinations the CLI produces;
+//! - [`engine_file`]: the engine-file parser and builder;
+//! - [`whole_run`]: a diagram through the whole pipeline and every output
+//!   file of `run --out` (charts and page included) on a small grid.
+//!
+//! The contract each asserts: no panic, no hang, and no NaN or infinity in
+//! anything produced (bad input is an error).
+
+use enginedyn_ingest::{GridOptions, Interp, ParseOptions, Peg};
+
+const ENGINE: &str = include_str!("../../data/vaz2108.toml");
+
+/// The option combinations of the CLI for a diagram, indexed by one byte.
+fn options(pick: u8) -> (ParseOptions, GridOptions) {
+    let two_stroke = pick & 1 != 0;
+    let mut parse = ParseOptions::new(if two_stroke { 360.0 } else { 720.0 });
+    parse.gauge = pick & 2 != 0;
+    if pick & 4 != 0 {
+        parse.tdc_deg = 123.4;
+    }
+    if pick & 8 != 0 {
+        parse.columns = Some(vec!["crank_deg".into(), "pressure_bar".into()]);
+    }
+    parse.max_cylinder = 4;
+    let mut grid = GridOptions::new(4.0, Interp::Auto);
+    match pick >> 4 & 3 {
+        1 => grid.peg = Some(Peg::Bar(1e5)),
+        2 => grid.interp = Interp::Linear,
+        3 => grid.interp = Interp::Pchip,
+        _ => {}
+    }
+    (parse, grid)
+}
+
+/// `data` through the streaming reader onto a 4° grid, under the option
+/// combination `pick`: an error, or finite values on a whole grid.
+pub fn diagram_stream(data: &[u8], pick: u8) {
+    let (parse, grid) = options(pick);
+    let Ok(r) = enginedyn_ingest::load(data, &parse, &grid) else {
+        return;
+    };
+    let n = (parse.cycle_deg / grid.step_deg).round() as usize;
+    assert_eq!(r.pressure.len(), n, "grid length");
+    for trace in std::iter::once(&r.pressure).chain(&r.cylinders) {
+        assert_eq!(trace.len(), n, "a cylinder's grid length");
+        assert!(
+            trace.iter().all(|p| p.is_finite()),
+            "a non-finite value on the grid"
+        );
+    }
+}
+
+/// `data` as an engine file: an error, or an engine whose notes and
+/// derived figures are finite.
+pub fn engine_file(data: &[u8]) {
+    let text = String::from_utf8_lossy(data);
+    let Ok(e) = enginedyn_engine::file::parse(&text, "fuzz") else {
+        return;
+    };
+    let _ = e.plausibility_notes(e.operating().rpm);
+    for rod in enginedyn_engine::RodModel::ALL {
+        if let Ok(e) = e.with_rod_model(rod) {
+            assert!(e.reciprocating_mass(rod).is_finite());
+        }
+    }
+    assert!(e.cylinder().swept_volume().is_finite());
+}
+
+/// `data` as the bundled engine's diagram through the whole pipeline and
+/// every file of `run --out` on a 4° grid: an error, or outputs without a
+/// NaN or an infinity. True when it got as far as the outputs.
+pub fn whole_run(data: &[u8]) -> bool {
+    let engine = enginedyn_engine::file::parse(ENGINE, "vaz2108").expect("the bundled engine");
+    let (mut parse, mut grid) = options(0);
+    parse.cylinder = Some(*engine.cylinder());
+    grid.cylinder = Some(*engine.cylinder());
+    let Ok(r) = enginedyn_ingest::load(data, &parse, &grid) else {
+        return false;
+    };
+    if r.quantity != enginedyn_ingest::Quantity::Pressure {
+        return false;
+    }
+    let rpm = r.rpm.unwrap_or(4900.0);
+    let opts = enginedyn_pipeline::Options {
+        step_deg: 4.0,
+        ..enginedyn_pipeline::Options::default()
+    };
+    let Ok(a) = enginedyn_pipeline::analyse(&engine, &r, rpm, &opts) else {
+        return false;
+    };
+    let json = enginedyn_report::summary_json(&a.summary).to_string();
+    assert!(!json.contains("NaN") && !json.contains("inf"), "{json}");
+    let files = enginedyn_report::run_files(&engine, &a, false).expect("the outputs render");
+    for (name, bytes) in files {
+        if name.ends_with(".csv") {
+            let text = String::from_utf8_lossy(&bytes);
+            assert!(!text.contains("NaN") && !text.contains("inf"), "{name}");
+        }
+    }
+    true
+}
