@@ -174,7 +174,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                                 speed.rpm,
                                 &opts,
                             )
-                            .map_err(|e| Failure::usage(e.to_string()))?;
+?;
                             an.summary.notes.extend(speed.note);
                             analysis += analysed.elapsed();
                             an
@@ -232,11 +232,8 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                 grid_ns.fetch_add(on_grid.as_nanos() as u64, Ordering::Relaxed);
                 analysis_ns.fetch_add(analysis.as_nanos() as u64, Ordering::Relaxed);
                 result.unwrap_or_else(|e| {
-                    let msg = e
-                        .message
-                        .strip_prefix(&format!("{shown}: "))
-                        .unwrap_or(&e.message)
-                        .to_string();
+                    // The row names the file: the message alone.
+                    let msg = e.message;
                     bar.suspend(|| eprintln!("error: {shown}: {msg}"));
                     Row {
                         file: shown,
@@ -312,13 +309,10 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
         }
     }
     if failed > 0 {
-        return Err(Failure {
-            code: 1,
-            message: format!(
-                "{failed} of {} diagrams failed (their rows say why)",
-                rows.len()
-            ),
-        });
+        return Err(Failure::data(format!(
+            "{failed} of {} diagrams failed (their rows say why)",
+            rows.len()
+        )));
     }
     Ok(())
 }
@@ -332,7 +326,7 @@ fn parse_only(f: &Path, parse: &enginedyn_ingest::ParseOptions) -> Result<(), Fa
         parse,
         |_| Ok(()),
     )
-    .map_err(|e| Failure::data(format!("{}: {e}", f.display())))?;
+    .map_err(|e| Failure::from(e).in_file(f.display()))?;
     Ok(())
 }
 

@@ -22,7 +22,7 @@ pub fn load_engine(path: Option<&Path>) -> Result<Loaded, Failure> {
     match path {
         Some(p) => {
             let engine = enginedyn_engine::file::read(p)
-                .map_err(|e| Failure::usage(format!("{}: {e}", p.display())))?;
+                .map_err(|e| Failure::from(e).in_file(p.display()))?;
             Ok(Loaded {
                 engine,
                 path: Some(p.to_path_buf()),
@@ -96,19 +96,19 @@ pub fn open_diagram(p: &Path) -> Result<std::fs::File, Failure> {
     }
     let file = options
         .open(p)
-        .map_err(|e| Failure::data(format!("{shown}: cannot open: {e}")))?;
+        .map_err(|e| Failure::data(format!("cannot open: {e}")).in_file(&shown))?;
     let meta = file
         .metadata()
-        .map_err(|e| Failure::data(format!("{shown}: cannot open: {e}")))?;
+        .map_err(|e| Failure::data(format!("cannot open: {e}")).in_file(&shown))?;
     if !meta.is_file() {
         let what = if meta.is_dir() {
             "a folder"
         } else {
             "not a regular file (a FIFO, socket or device)"
         };
-        return Err(Failure::data(format!(
-            "{shown}: {what}: a diagram is read from a regular file"
-        )));
+        return Err(
+            Failure::data(format!("{what}: a diagram is read from a regular file")).in_file(shown),
+        );
     }
     Ok(file)
 }
@@ -142,7 +142,7 @@ pub fn load_diagram_timed(
                 grid,
                 on_grid,
             )
-            .map_err(|e| Failure::data(format!("{}: {e}", p.display())))
+            .map_err(|e| Failure::from(e).in_file(p.display()))
         }
         None => enginedyn_ingest::load_timed(EXAMPLE_DIAGRAM.as_bytes(), parse, grid, on_grid)
             .map_err(|e| Failure::data(format!("data/vaz2108.csv (bundled): {e}"))),
@@ -179,7 +179,7 @@ pub fn parse_diagram(
 ) -> Result<enginedyn_ingest::Diagram, Failure> {
     let file = open_diagram(path)?;
     enginedyn_ingest::parse(std::io::BufReader::with_capacity(1 << 12, file), parse)
-        .map_err(|e| Failure::data(format!("{}: {e}", path.display())))
+        .map_err(|e| Failure::from(e).in_file(path.display()))
 }
 
 /// One trace per file and cylinder, in cylinder order 1..z, as one diagram.
@@ -332,8 +332,7 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
             resampled.quantity,
             speed.rpm,
             &opts,
-        )
-        .map_err(|e| Failure::usage(e.to_string()))?;
+        )?;
         analysis.summary.notes.extend(speed.note);
         return finish(a, &loaded, &shown, &analysis, &opts);
     }
@@ -357,8 +356,7 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
         )));
     }
     let speed = resolve_rpm(a.rpm, resampled.rpm, engine)?;
-    let mut analysis = enginedyn_pipeline::analyse(engine, &resampled, speed.rpm, &opts)
-        .map_err(|e| Failure::usage(e.to_string()))?;
+    let mut analysis = enginedyn_pipeline::analyse(engine, &resampled, speed.rpm, &opts)?;
     analysis.summary.notes.extend(speed.note);
     finish(a, &loaded, &shown, &analysis, &opts)
 }
@@ -457,7 +455,7 @@ pub fn within(
             .map(|(n, d)| {
                 enginedyn_ingest::resample_with(d, g)
                     .map(|r| (n.clone(), r))
-                    .map_err(|e| Failure::data(format!("{n}: {e}")))
+                    .map_err(|e| Failure::from(e).in_file(n))
             })
             .collect::<Result<Vec<_>, Failure>>()?;
         merge_per_cylinder(each)
@@ -491,8 +489,7 @@ pub fn within(
         ..choice.options
     };
     let resampled = resample(&full_refs, &on(opts.step_deg, opts.interp))?;
-    let analysis = enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)
-        .map_err(|e| Failure::usage(e.to_string()))?;
+    let analysis = enginedyn_pipeline::analyse(engine, &resampled, rpm, &opts)?;
     Ok((analysis, choice))
 }
 
@@ -528,8 +525,7 @@ fn finish(
         };
         let extra =
             crate::tolerance::report_extra(engine, &text, analysis, *opts)?.unwrap_or_default();
-        let files = enginedyn_report::run_files_with(engine, analysis, centered, &extra)
-            .map_err(|e| Failure::data(e.to_string()))?;
+        let files = enginedyn_report::run_files_with(engine, analysis, centered, &extra)?;
         crate::write_out(dir, &files, a.json)?;
     }
     Ok(())
