@@ -512,6 +512,7 @@ pub fn study(
     let mut resonances = Vec::new();
     let mut notes = Vec::new();
     let top = excitation.orders.last().copied().unwrap_or(0.0);
+    let mut beyond: Vec<(usize, f64)> = Vec::new();
     for m in 1..modes.len() {
         let f = modes.frequency_hz(m);
         for (o, &k) in excitation.orders.iter().enumerate() {
@@ -531,15 +532,25 @@ pub fn study(
         }
         // Orders above the highest computed meet this mode in the range.
         if lo > 0.0 && 60.0 * f / lo > top {
-            let first = 60.0 * f / hi;
-            notes.push(format!(
-                "mode {m} ({} Hz) meets orders from {} up in the speed range, {}: orders above {} are not computed, so its resonances there are missing",
-                human(f),
-                human(first.max(top)),
-                if first > top { "all above the highest order computed" } else { "some above the highest order computed" },
-                human(top)
-            ));
+            beyond.push((m, f));
         }
+    }
+    // Said once, with the modes it concerns.
+    if let (Some(&(m0, f0)), Some(&(m1, f1))) = (beyond.first(), beyond.last()) {
+        let which = if m0 == m1 {
+            format!("mode {m0} ({} Hz)", human(f0))
+        } else {
+            format!(
+                "{} modes, {m0} to {m1} ({} to {} Hz),",
+                beyond.len(),
+                human(f0),
+                human(f1)
+            )
+        };
+        notes.push(format!(
+            "{which} meet orders above {} in the speed range: those orders are not computed, so their resonances there are missing",
+            human(top)
+        ));
     }
     resonances.sort_by(|a, b| a.rpm.total_cmp(&b.rpm));
     Ok(Study {
