@@ -262,10 +262,7 @@ fn unknown(key: &str, section: &str, known: &[&str], text: &str) -> EngineError 
     // Only a close name is suggested: similar as a whole (at most about
     // half the letters changed), or a known key the key begins (`cyl`,
     // `bore` for `bore_mm`), not any name that shares a first letter.
-    let close = |k: &str| {
-        strsim::normalized_damerau_levenshtein(&lower, k) >= 0.5
-            || lower.len() >= 3 && k.starts_with(&lower)
-    };
+    let close = |k: &str| enginedyn_numerics::format::close_name(&lower, k);
     let mut suggestion = best
         .filter(|(s, k)| *s > 0.8 && close(k))
         .map(|(_, k)| k.to_string());

@@ -1246,6 +1246,7 @@ fn columns(names: &[String], line: usize) -> Result<Cols, IngestError> {
                 .iter()
                 .filter(|k| **k != "_")
                 .max_by(|a, b| similarity(n, a).total_cmp(&similarity(n, b)))
+                .filter(|k| enginedyn_numerics::format::close_name(n, k))
                 .map(|k| format!("; did you mean `{k}`?"))
                 .unwrap_or_default();
             return Err(at(
@@ -1338,9 +1339,7 @@ fn columns(names: &[String], line: usize) -> Result<Cols, IngestError> {
 }
 
 fn similarity(a: &str, b: &str) -> f64 {
-    // Shared prefix length, then length difference: enough to point at a typo.
-    let common = a.chars().zip(b.chars()).take_while(|(x, y)| x == y).count();
-    common as f64 - 0.01 * (a.len() as f64 - b.len() as f64).abs()
+    enginedyn_numerics::format::name_similarity(a, b)
 }
 
 /// Checks a trace (points, coverage, plausible values) and moves its angles

@@ -255,3 +255,20 @@ fn spreadsheet_exports() {
         other => panic!("{other:?}"),
     }
 }
+
+/// An unknown column gets a "did you mean" only when a known name is close.
+#[test]
+fn did_you_mean_only_when_close() {
+    let read = |head: &str| {
+        parse(format!("{head}\n0,1\n").as_bytes(), &opts())
+            .unwrap_err()
+            .to_string()
+    };
+    let typo = read("crank_deg,pressur_bar");
+    assert!(typo.contains("did you mean `pressure_bar`?"), "{typo}");
+    let far = read("crank_deg,foo");
+    assert!(
+        far.contains("unknown column `foo`") && !far.contains("did you mean"),
+        "{far}"
+    );
+}

@@ -99,6 +99,22 @@ pub fn quote(s: &str) -> String {
     out
 }
 
+/// Whether `typed` is close enough to `known` for a "did you mean": similar
+/// as a whole (at most about half the letters changed, Damerau–Levenshtein)
+/// or the beginning of it (`cyl` for `cylinders`, `bore` for `bore_mm`);
+/// never a name that merely shares a first letter. The one rule every
+/// suggestion follows (engine keys, diagram columns).
+pub fn close_name(typed: &str, known: &str) -> bool {
+    let typed = typed.to_ascii_lowercase();
+    name_similarity(&typed, known) >= 0.5 || typed.len() >= 3 && known.starts_with(&typed)
+}
+
+/// How alike two names are, 0 to 1 (normalised Damerau–Levenshtein): the
+/// ranking of "did you mean" candidates.
+pub fn name_similarity(a: &str, b: &str) -> f64 {
+    strsim::normalized_damerau_levenshtein(a, b)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -125,6 +141,14 @@ mod tests {
         assert_eq!(sig(1.61e-2, 2), "0.016");
         assert_eq!(sig(3.3e-7, 2), "3.3e-7");
         assert_eq!(sig(375.347, 3), "375");
+    }
+
+    #[test]
+    fn close_names() {
+        assert!(close_name("lamda", "lambda") && close_name("bore", "bore_mm"));
+        assert!(close_name("Pressure_Bar", "pressure_bar") && close_name("cyl", "cylinders"));
+        assert!(!close_name("r", "rod_length_mm") && !close_name("foo", "crank_deg"));
+        assert!(!close_name("time_s", "crank_deg"));
     }
 
     #[test]
