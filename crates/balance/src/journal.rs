@@ -58,6 +58,7 @@ pub fn engine_with(
         rod_model: engine.rod_model(),
         diagram: engine.diagram().map(std::path::Path::to_path_buf),
         masses: *engine.masses(),
+        rod_cg_from_small_end: Some(engine.masses().rod_cg_from_small_end),
         operating: *engine.operating(),
         flywheel: *engine.flywheel(),
     }

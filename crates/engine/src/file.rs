@@ -461,17 +461,10 @@ fn builder(raw: Raw, stem: &str) -> Result<EngineBuilder, EngineError> {
         } else {
             need(m.rod_kg, "masses.rod_kg", "required for a crank-slider")?
         },
-        rod_cg_from_small_end: m.rod_cg_from_small_end_mm.unwrap_or(0.0) * 1e-3,
+        rod_cg_from_small_end: 0.0,
         rod_inertia: m.rod_inertia_kg_m2,
         crank_unbalanced: m.crank_unbalanced_kg.unwrap_or(0.0) + m.slider_block_kg.unwrap_or(0.0),
     };
-    if m.rod_cg_from_small_end_mm.is_some_and(|v| v <= 0.0) {
-        return Err(bad(
-            "masses.rod_cg_from_small_end_mm",
-            m.rod_cg_from_small_end_mm.unwrap_or_default(),
-            "inside the rod: between 0 and the rod length",
-        ));
-    }
     let op = &raw.operating;
     let operating = Operating {
         rpm: op.rpm,
@@ -537,6 +530,7 @@ fn builder(raw: Raw, stem: &str) -> Result<EngineBuilder, EngineError> {
             .as_ref()
             .is_some_and(|c| c.len() == cylinders as usize);
     Ok(EngineBuilder {
+        rod_cg_from_small_end: m.rod_cg_from_small_end_mm.map(|v| v * 1e-3),
         name: raw.name.unwrap_or_else(|| stem.to_string()),
         stroke,
         layout,

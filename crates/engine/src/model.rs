@@ -267,8 +267,11 @@ pub struct EngineBuilder {
     pub rod_model: RodModel,
     /// Diagram path.
     pub diagram: Option<PathBuf>,
-    /// Masses (`rod_cg_from_small_end` 0 means the default).
+    /// Masses (their `rod_cg_from_small_end` is set from the field below).
     pub masses: Masses,
+    /// The rod's centre of mass from the small end (m); `None`: not given,
+    /// 27.5 % of the rod's mass at the small end (PHYSICS.md).
+    pub rod_cg_from_small_end: Option<f64>,
     /// Operating point.
     pub operating: Operating,
     /// Flywheel.
@@ -422,17 +425,10 @@ impl EngineBuilder {
                 "",
             ));
             sizes.push(("rod_length_mm", l, 1e-6, 1e3, 1e3, "mm"));
-        }
-        if m.rod_cg_from_small_end != 0.0 {
-            // 0 is "not given" (the builder puts the default split there).
-            sizes.push((
-                "masses.rod_cg_from_small_end_mm",
-                m.rod_cg_from_small_end,
-                1e-6,
-                1e3,
-                1e3,
-                "mm",
-            ));
+            // The rod's centre of mass, when given (a crank-slider's only).
+            if let Some(la) = self.rod_cg_from_small_end {
+                sizes.push(("masses.rod_cg_from_small_end_mm", la, 1e-6, 1e3, 1e3, "mm"));
+            }
         }
         if let Some(rpm) = self.operating.rpm {
             sizes.push(("operating.rpm", rpm, MIN_RPM, MAX_RPM, 1.0, "rpm"));
@@ -514,9 +510,7 @@ impl EngineBuilder {
             if !(masses.rod.is_finite() && masses.rod > 0.0) {
                 return Err(invalid("masses.rod_kg", masses.rod, "a positive mass (kg)"));
             }
-            if masses.rod_cg_from_small_end == 0.0 {
-                masses.rod_cg_from_small_end = 0.725 * rod_len;
-            }
+            masses.rod_cg_from_small_end = self.rod_cg_from_small_end.unwrap_or(0.725 * rod_len);
             let la = masses.rod_cg_from_small_end;
             if !(la > 0.0 && la < rod_len) {
                 return Err(invalid(

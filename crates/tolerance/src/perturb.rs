@@ -272,6 +272,7 @@ impl Evaluator {
             cylinder_spacing: Some(e.cylinder_spacing()),
             rod_model: e.rod_model(),
             diagram: None,
+            rod_cg_from_small_end: Some(masses.rod_cg_from_small_end),
             masses,
             operating: *e.operating(),
             flywheel: *e.flywheel(),
