@@ -162,6 +162,40 @@ fn hostile_inputs_and_unattended_runs() {
     assert!(matches!(r.code(), Some(0 | 1)), "{}", r.stderr());
     assert!(r.took < Duration::from_secs(30));
     no_hidden(&out);
+    // A flat trace (a degenerate axis) and one spanning 300 decades.
+    for (name, low) in [("flat", 1.0), ("decades", 1e-300)] {
+        let text: String = (0..1440)
+            .map(|k| {
+                format!(
+                    "{},{}\n",
+                    k as f64 * 0.5,
+                    if k % 7 == 0 {
+                        low
+                    } else {
+                        1.0 + 49.0 * (name == "decades") as u8 as f64
+                    }
+                )
+            })
+            .collect();
+        let f = write(
+            t,
+            &format!("{name}.csv"),
+            &format!("crank_deg,pressure_bar\n{text}"),
+        );
+        let out = t.join(format!("{name}_out"));
+        let r = run(&[
+            "run",
+            "--engine",
+            &e,
+            "--diagram",
+            &s(&f),
+            "--out",
+            &s(&out),
+        ]);
+        assert!(matches!(r.code(), Some(0 | 1)), "{name}: {}", r.stderr());
+        assert!(r.took < Duration::from_secs(30), "{name}");
+        no_hidden(&out);
+    }
 
     // 2. One cell takes no batch down: huge, fractional and out-of-range
     //    cylinder numbers are errors at their line, the good file finishes.
