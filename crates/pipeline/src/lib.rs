@@ -376,6 +376,22 @@ impl Tables {
     }
 }
 
+/// One diagram for all cylinders, or each cylinder its own trace (each over
+/// its own cycle angle from its own firing TDC); an error when the diagram
+/// has traces for another number of cylinders than the engine's `z`.
+fn cylinder_traces(pressure: &Resampled, z: usize) -> Result<Vec<&[f64]>, PipelineError> {
+    if pressure.cylinders.is_empty() {
+        Ok(vec![&pressure.pressure])
+    } else if pressure.cylinders.len() == z {
+        Ok(pressure.cylinders.iter().map(Vec::as_slice).collect())
+    } else {
+        Err(PipelineError::Input(format!(
+            "the diagram has traces for {} cylinders, the engine has {z}",
+            pressure.cylinders.len()
+        )))
+    }
+}
+
 /// Analyses one operating point at `rpm` from a resampled pressure trace.
 pub fn analyse(
     engine: &Engine,
@@ -420,18 +436,7 @@ pub fn analyse_with(
         ));
     }
     let z = engine.cylinders();
-    // One diagram for all cylinders, or each cylinder its own trace (each
-    // over its own cycle angle from its own firing TDC).
-    let traces: Vec<&[f64]> = if pressure.cylinders.is_empty() {
-        vec![&pressure.pressure]
-    } else if pressure.cylinders.len() == z {
-        pressure.cylinders.iter().map(Vec::as_slice).collect()
-    } else {
-        return Err(PipelineError::Input(format!(
-            "the diagram has traces for {} cylinders, the engine has {z}",
-            pressure.cylinders.len()
-        )));
-    };
+    let traces = cylinder_traces(pressure, z)?;
     let all: Vec<Forces> = traces
         .iter()
         .map(|p| cylinder_forces(&setup, kin, p, 0.0, h))

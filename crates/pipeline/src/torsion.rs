@@ -320,16 +320,7 @@ pub fn excitation(
     let tables = Tables::new(&engine, n, opts)?;
     let setup = Setup::new(&engine, engine.rod_model(), 1.0);
     let z = engine.cylinders();
-    let traces: Vec<&[f64]> = if pressure.cylinders.is_empty() {
-        vec![&pressure.pressure]
-    } else if pressure.cylinders.len() == z {
-        pressure.cylinders.iter().map(Vec::as_slice).collect()
-    } else {
-        return Err(PipelineError::Input(format!(
-            "the diagram has traces for {} cylinders, the engine has {z}",
-            pressure.cylinders.len()
-        )));
-    };
+    let traces = crate::cylinder_traces(pressure, z)?;
     let revolutions = engine.cycle() / (2.0 * PI);
     let mut per_trace = Vec::with_capacity(traces.len());
     for p in &traces {
