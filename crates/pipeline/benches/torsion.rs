@@ -40,12 +40,15 @@ fn bench(c: &mut Criterion) {
     c.bench_function("torsion: study, 50 speeds", |b| {
         b.iter(|| torsion::study(&train, black_box(&ex), &rpms).unwrap())
     });
-    c.bench_function("torsion: excitation and study (the command's compute)", |b| {
-        b.iter(|| {
-            let ex = torsion::excitation(&engine, black_box(&r), &opts, MAX_ORDER).unwrap();
-            torsion::study(&train, &ex, &rpms).unwrap()
-        })
-    });
+    c.bench_function(
+        "torsion: excitation and study (the command's compute)",
+        |b| {
+            b.iter(|| {
+                let ex = torsion::excitation(&engine, black_box(&r), &opts, MAX_ORDER).unwrap();
+                torsion::study(&train, &ex, &rpms).unwrap()
+            })
+        },
+    );
 }
 
 criterion_group! {
