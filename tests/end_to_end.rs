@@ -934,3 +934,37 @@ fn tolerance_table_nominal_is_the_summary() {
     let i0 = s["required_inertia_kg_m2"].as_f64().unwrap();
     assert!((shown - i0).abs() <= 5e-4 * i0, "{shown} against {i0}");
 }
+
+/// An engine file with `[torsion]` gives `run`'s report.html a torsion
+/// section with the Campbell and response charts; the Campbell legend
+/// names modes and orders, not every resonance.
+#[test]
+fn run_report_has_the_torsion_section() {
+    let dir = tempfile::tempdir().unwrap();
+    let engine = concat!(env!("CARGO_MANIFEST_DIR"), "/../data/i6_diesel.toml");
+    let out = run(&[
+        "run",
+        "--engine",
+        engine,
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let page = std::fs::read_to_string(dir.path().join("report.html")).unwrap();
+    assert!(page.contains("<h2>Torsional vibration</h2>") && page.contains("id=\"campbell\""));
+    let campbell = std::fs::read_to_string(dir.path().join("campbell.svg")).unwrap();
+    assert!(campbell.contains("resonance (order × mode"));
+    assert!(
+        !campbell.contains(" at 1804 rpm"),
+        "one legend entry per resonance"
+    );
+    let plain = tempfile::tempdir().unwrap();
+    let vaz = run(&["run", "--out", plain.path().to_str().unwrap()]);
+    assert_eq!(vaz.status.code(), Some(0));
+    assert!(!plain.path().join("campbell.svg").exists());
+}

@@ -523,8 +523,13 @@ fn finish(
                 .map_err(|e| Failure::usage(format!("{}: cannot read: {e}", p.display())))?,
             None => EXAMPLE_ENGINE.to_string(),
         };
-        let extra =
+        let mut extra =
             crate::tolerance::report_extra(engine, &text, analysis, *opts)?.unwrap_or_default();
+        // With a [torsion] section, the torsional vibration too.
+        if let Some(t) = crate::torsion::report_extra(engine, &text, analysis, *opts)? {
+            extra.sections.extend(t.sections);
+            extra.charts.extend(t.charts);
+        }
         let files = enginedyn_report::run_files_with(engine, analysis, centered, &extra)?;
         crate::write_out(dir, &files, a.json)?;
     }

@@ -83,9 +83,7 @@ pub fn run(a: &TorsionArgs) -> Result<(), Failure> {
     let speed = crate::run::resolve_rpm(None, resampled.rpm, engine)?;
     let rpms = match &a.rpm {
         Some(spec) => crate::batch::speeds(spec)?,
-        None => (0..DEFAULT_SPEEDS)
-            .map(|k| speed.rpm * (0.2 + 1.0 * k as f64 / (DEFAULT_SPEEDS - 1) as f64))
-            .collect(),
+        None => default_speeds(speed.rpm),
     };
     let analysis = enginedyn_pipeline::analyse(engine, &resampled, speed.rpm, &opts)
         .map_err(|e| Failure::data(e.to_string()))?;
@@ -375,18 +373,19 @@ pub fn figures(name: &str, study: &Study) -> Vec<Figure> {
         s.dashed = true;
         camp.push(s);
     }
-    // Each resonance as a short vertical tick on its mode line.
-    for r in &study.resonances {
+    // Each resonance as a short vertical tick on its mode line; one legend
+    // entry for all (the resonances are listed by order and mode in the
+    // table and in torsion.json).
+    for (i, r) in study.resonances.iter().enumerate() {
         let f = study.modes.frequency_hz(r.mode);
         camp.push(Series {
-            name: format!(
-                "k {} × mode {} at {} rpm",
-                order_name(r.order),
-                r.mode,
-                fixed(r.rpm, 0)
-            ),
-            points: vec![(r.rpm, f * 0.97), (r.rpm, f * 1.03)],
-            dashed: false,
+            name: if i == 0 {
+                "resonance (order × mode: see the table)".to_string()
+            } else {
+                String::new()
+            },
+            points: vec![(r.rpm, f * 0.95), (r.rpm, f * 1.05)],
+            dashed: true,
         });
     }
     let campbell = Chart {
@@ -443,6 +442,95 @@ pub fn figures(name: &str, study: &Study) -> Vec<Figure> {
         ],
     };
     vec![Figure::single("campbell.svg", campbell), response]
+}
+
+/// The default speeds: 20 % to 120 % of `rpm` in [`DEFAULT_SPEEDS`] steps.
+fn default_speeds(rpm: f64) -> Vec<f64> {
+    (0..DEFAULT_SPEEDS)
+        .map(|k| rpm * (0.2 + 1.0 * k as f64 / (DEFAULT_SPEEDS - 1) as f64))
+        .collect()
+}
+
+/// The torsion section of `run`'s report.html when the engine file has a
+/// `[torsion]` section: the modes and the worst resonances as tables, the
+/// Campbell and response charts, over the default speeds around the run's,
+/// excited by the run's pressure (cylinder 1's trace for every cylinder).
+pub fn report_extra(
+    engine: &enginedyn_engine::Engine,
+    engine_text: &str,
+    analysis: &enginedyn_pipeline::Analysis,
+    opts: enginedyn_pipeline::Options,
+) -> Result<Option<enginedyn_report::Extra>, Failure> {
+    let file = engine.name().to_string();
+    let Some(spec) = enginedyn_engine::file::parse_torsion(engine_text)
+        .map_err(|e| Failure::from(e).in_file(&file))?
+    else {
+        return Ok(None);
+    };
+    if analysis.pressure.is_empty() {
+        return Ok(None);
+    }
+    let trace = enginedyn_ingest::Resampled::from_grid(opts.step_deg, analysis.pressure.clone());
+    let prepared = prepare(&file, engine, &spec, &trace, analysis, &opts)?;
+    let rpms = default_speeds(analysis.summary.rpm);
+    let study = enginedyn_pipeline::torsion::study(&prepared.train, &prepared.excitation, &rpms)
+        .map_err(|e| study_failure(&file, e))?;
+    let esc = enginedyn_report::esc;
+    let modes: Vec<Vec<String>> = (1..study.modes.len())
+        .map(|m| vec![m.to_string(), fixed(study.modes.frequency_hz(m), 1)])
+        .collect();
+    let mut worst = study.resonances.clone();
+    worst.sort_by(|a, b| b.amplitude_deg.total_cmp(&a.amplitude_deg));
+    let resonances: Vec<Vec<String>> = worst
+        .iter()
+        .take(8)
+        .map(|r| {
+            vec![
+                order_name(r.order),
+                r.mode.to_string(),
+                fixed(r.rpm, 0),
+                enginedyn_numerics::format::sig(r.amplitude_deg, 3),
+            ]
+        })
+        .collect();
+    let mut notes = prepared.train.notes.clone();
+    notes.extend(study.notes.iter().cloned());
+    let mut body = format!(
+        "<p>The crankshaft as a chain of inertias on torsional springs from <code>[torsion]</code>, excited by this run's pressure and inertia torques, {} to {} rpm (<code>enginedyn torsion</code> writes modes.csv, torsion.csv and torsion.json).</p>\n",
+        fixed(rpms[0], 0),
+        fixed(rpms[rpms.len() - 1], 0)
+    );
+    body.push_str(&enginedyn_report::html_table(
+        &["mode", "natural frequency (Hz)"],
+        &modes,
+        &[false, true],
+    ));
+    body.push_str(&enginedyn_report::html_table(
+        &[
+            "order",
+            "mode",
+            "resonance (rpm)",
+            "free-end amplitude (deg)",
+        ],
+        &resonances,
+        &[false, true, true, true],
+    ));
+    if !notes.is_empty() {
+        body.push_str("<ul>");
+        for n in &notes {
+            body.push_str(&format!("<li>{}</li>", esc(n)));
+        }
+        body.push_str("</ul>\n");
+    }
+    let mut charts = Vec::new();
+    for fig in figures(engine.name(), &study) {
+        let svg = fig.render().map_err(|e| Failure::data(e.to_string()))?;
+        charts.push((fig.file.clone(), svg));
+    }
+    Ok(Some(enginedyn_report::Extra {
+        sections: vec![("Torsional vibration".to_string(), body)],
+        charts,
+    }))
 }
 
 fn table(study: &Study) -> String {

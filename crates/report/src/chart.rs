@@ -669,9 +669,16 @@ impl Chart {
     fn draw(&self, area: &Area) -> Result<(), Box<dyn std::error::Error>> {
         let ((mut x0, mut x1), (mut y0, mut y1)) = bounds(&self.series, self.log);
         let keys = series_keys(&self.series);
+        // A series without a name draws no legend entry (marks that a
+        // named series already stands for).
+        let legend: Vec<(String, Key)> = keys
+            .iter()
+            .filter(|(n, _)| !n.is_empty())
+            .cloned()
+            .collect();
         let (w, _) = area.dim_in_pixel();
-        let (head, body) = area.split_vertically(head_height(&keys, w as i32));
-        draw_head(&head, &self.title, &keys)?;
+        let (head, body) = area.split_vertically(head_height(&legend, w as i32));
+        draw_head(&head, &self.title, &legend)?;
         if self.equal {
             let r = [x0.abs(), x1.abs(), y0.abs(), y1.abs()]
                 .into_iter()
