@@ -958,15 +958,9 @@ fn firing_angles_step(firing: &[f64]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// A number as people write it with at most `digits` decimals
-/// (`numerics::format`, the one home of number formatting).
+/// A number as people write it with at most `digits` decimals.
 pub(crate) fn plain(x: f64, digits: usize) -> String {
-    let s = enginedyn_numerics::format::fixed(x, digits);
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
+    enginedyn_numerics::format::trimmed(x, digits)
 }
 
 fn throw_partner(i: usize, z: usize) -> usize {

@@ -38,19 +38,34 @@ pub fn sig(x: f64, n: usize) -> String {
     }
     let a = x.abs();
     if !(1e-4..1e9).contains(&a) {
-        let s = format!("{x:.p$e}", p = n - 1);
-        let (m, e) = s.split_once('e').unwrap_or((&s, "0"));
-        return format!("{}e{e}", trim_zeros(m));
+        return trim_zeros(&format!("{x:.p$e}", p = n - 1));
     }
     let digits = (n as i32 - 1 - a.log10().floor() as i32).clamp(0, 15) as usize;
+    trimmed(x, digits)
+}
+
+/// `x` with at most `digits` decimals: [`fixed`] with trailing zeros and a
+/// bare point dropped (`0.086`, `45.2`, `120`; never `-0`).
+pub fn trimmed(x: f64, digits: usize) -> String {
     trim_zeros(&fixed(x, digits))
 }
 
-fn trim_zeros(s: &str) -> String {
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
+/// A number's text with trailing zeros after the point and a bare point
+/// dropped, in the mantissa of an exponent form too (`2.50e6` → `2.5e6`,
+/// `1.000` → `1`).
+pub fn trim_zeros(s: &str) -> String {
+    let (m, e) = match s.split_once(['e', 'E']) {
+        Some((m, e)) => (m, Some(e)),
+        None => (s, None),
+    };
+    let m = if m.contains('.') {
+        m.trim_end_matches('0').trim_end_matches('.')
     } else {
-        s.to_string()
+        m
+    };
+    match e {
+        Some(e) => format!("{m}e{e}"),
+        None => m.to_string(),
     }
 }
 
@@ -141,6 +156,10 @@ mod tests {
         assert_eq!(sig(1.61e-2, 2), "0.016");
         assert_eq!(sig(3.3e-7, 2), "3.3e-7");
         assert_eq!(sig(375.347, 3), "375");
+        assert_eq!(trim_zeros("2.50e6"), "2.5e6");
+        assert_eq!(trim_zeros("1.000"), "1");
+        assert_eq!(trim_zeros("120"), "120");
+        assert_eq!(trimmed(-0.0001, 2), "0");
     }
 
     #[test]

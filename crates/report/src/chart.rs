@@ -4,6 +4,7 @@
 use crate::ReportError;
 use enginedyn_engine::Engine;
 use enginedyn_kinematics::Table;
+use enginedyn_numerics::format::{trim_zeros, trimmed};
 use enginedyn_pipeline::Analysis;
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint};
@@ -193,26 +194,9 @@ pub fn tick_label(v: f64, step: f64) -> String {
         } else {
             2
         };
-        let s = format!("{v:.digits$e}");
-        match s.split_once('e') {
-            Some((m, e)) => {
-                let m = if m.contains('.') {
-                    m.trim_end_matches('0').trim_end_matches('.')
-                } else {
-                    m
-                };
-                format!("{m}e{e}")
-            }
-            None => s,
-        }
+        trim_zeros(&format!("{v:.digits$e}"))
     } else {
-        let d = if known { decimals(step) } else { 3 };
-        let s = format!("{v:.d$}");
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
+        trimmed(v, if known { decimals(step) } else { 3 })
     };
     if s.chars().all(|c| matches!(c, '-' | '0' | '.')) {
         "0".into()
@@ -364,11 +348,7 @@ fn log_label(v: f64) -> String {
     if (0.01..1e4).contains(&v) {
         tick_label(v, v / 100.0)
     } else {
-        let s = format!("{v:.1e}");
-        match s.split_once('e') {
-            Some((m, e)) => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
-            None => s,
-        }
+        trim_zeros(&format!("{v:.1e}"))
     }
 }
 
