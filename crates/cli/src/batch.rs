@@ -392,12 +392,19 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
             "the middle of the sweep (no speed in the engine file or diagram)",
         ),
     };
-    let part = analyse(sized_at)?.flywheel;
     // The pressures stay the same at every speed: gas load fixed, inertia growing with w^2.
     let mut results: Vec<enginedyn_pipeline::Analysis> = rpms
         .par_iter()
         .map(|&rpm| analyse(rpm))
         .collect::<Result<_, _>>()?;
+    // The sizing speed's own run when it is one of the sweep's.
+    let part = match results
+        .iter()
+        .find(|an| an.summary.rpm.to_bits() == sized_at.to_bits())
+    {
+        Some(an) => an.flywheel.clone(),
+        None => analyse(sized_at)?.flywheel,
+    };
     let file_rpm = engine.operating().rpm;
     for an in &mut results {
         if let Some(part) = &part {

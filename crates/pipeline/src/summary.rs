@@ -216,14 +216,22 @@ pub struct Key {
     pub get: fn(&Summary) -> Option<Value>,
 }
 
+impl Value {
+    /// A number or whole number as a number (`Some(None)`: null); `None`
+    /// for text, lists and objects.
+    pub fn as_number(&self) -> Option<Option<f64>> {
+        match self {
+            Value::Num(x) => Some(*x),
+            Value::Int(i) => Some(Some(*i as f64)),
+            _ => None,
+        }
+    }
+}
+
 impl Key {
     /// The key's number in SI units, when it is one and present.
     pub fn number(&self, s: &Summary) -> Option<f64> {
-        match (self.get)(s)? {
-            Value::Num(x) => x,
-            Value::Int(i) => Some(i as f64),
-            _ => None,
-        }
+        (self.get)(s)?.as_number().flatten()
     }
 }
 

@@ -211,12 +211,8 @@ pub fn summary_rows(s: &Summary) -> Vec<Row> {
         .iter()
         .filter_map(|k| {
             let shown = k.shown.as_ref()?;
-            let value = (k.get)(s)?;
-            let value = match value {
-                Value::Num(x) => x,
-                Value::Int(i) => Some(i as f64),
-                _ => return None,
-            };
+            // Absent optional keys and non-numbers have no row; a null has one.
+            let value = (k.get)(s)?.as_number()?;
             Some(Row {
                 key: k.key,
                 section: shown.section,

@@ -5,7 +5,7 @@
 
 use crate::html::{esc, percent_encode};
 use crate::{Chart, Figure, Series, fixed};
-use enginedyn_pipeline::{KEYS, Summary};
+use enginedyn_pipeline::Summary;
 use std::fmt::Write as _;
 
 /// The key figures of a batch or sweep row, in this order.
@@ -40,6 +40,17 @@ struct Column {
     digits: usize,
 }
 
+impl Column {
+    /// "IMEP (bar)"; the heading alone for a pure number.
+    fn with_unit(&self) -> String {
+        if self.unit.is_empty() {
+            self.heading.clone()
+        } else {
+            format!("{} ({})", self.heading, self.unit)
+        }
+    }
+}
+
 fn columns(keys: &[&str], s: &Summary) -> Vec<Column> {
     keys.iter()
         .map(
@@ -65,11 +76,7 @@ fn columns(keys: &[&str], s: &Summary) -> Vec<Column> {
 /// SI units.
 pub fn key_figures(keys: &[&str], s: &Summary) -> Vec<Option<f64>> {
     keys.iter()
-        .map(|key| {
-            KEYS.iter()
-                .find(|k| k.key == *key)
-                .and_then(|k| k.number(s))
-        })
+        .map(|key| Summary::key(key).and_then(|k| k.number(s)))
         .collect()
 }
 
@@ -100,13 +107,7 @@ pub fn key_table(first: &str, keys: &[&str], rows: &[KeyRow], eta: f64) -> Strin
     s.mechanical_efficiency = eta;
     let cols = columns(keys, &s);
     let head: Vec<String> = std::iter::once(first.to_string())
-        .chain(cols.iter().map(|c| {
-            if c.unit.is_empty() {
-                c.heading.clone()
-            } else {
-                format!("{} ({})", c.heading, c.unit)
-            }
-        }))
+        .chain(cols.iter().map(|c| c.with_unit()))
         .collect();
     let body: Vec<Vec<String>> =
         rows.iter()
@@ -179,12 +180,7 @@ td,th{{padding:3px 10px;border-bottom:1px solid #eee;text-align:left}}td.v{{text
         count(rows.len(), "diagram")
     );
     for c in &cols {
-        let heading = if c.unit.is_empty() {
-            c.heading.clone()
-        } else {
-            format!("{} ({})", c.heading, c.unit)
-        };
-        let _ = write!(o, "<th>{}</th>", esc(&heading));
+        let _ = write!(o, "<th>{}</th>", esc(&c.with_unit()));
     }
     o.push_str("<th>report</th></tr>\n");
     for (i, r) in rows.iter().enumerate() {
