@@ -930,9 +930,18 @@ fn tolerance_table_nominal_is_the_summary() {
     let html = std::fs::read_to_string(dir.path().join("report.html")).unwrap();
     let cell = "required_inertia_kg_m2</th><td class=\"v\">";
     let at = html.find(cell).expect("tolerance row") + cell.len();
-    let shown: f64 = html[at..].split('<').next().unwrap().parse().unwrap();
+    let text = html[at..].split('<').next().unwrap();
+    let shown: f64 = text.parse().unwrap();
     let i0 = s["required_inertia_kg_m2"].as_f64().unwrap();
-    assert!((shown - i0).abs() <= 5e-4 * i0, "{shown} against {i0}");
+    // Within half a unit of the last digit shown: the run's own value
+    // rounded. The tolerance study's 0.5° grid gave 0.08451 for the run's
+    // 0.0845165 (a 3e-5 difference that the looser bound let pass).
+    let decimals = text.split('.').nth(1).map_or(0, str::len) as i32;
+    let half = 0.5 * 10f64.powi(-decimals);
+    assert!(
+        (shown - i0).abs() <= half * (1.0 + 1e-9),
+        "{text} against {i0}"
+    );
 }
 
 /// An engine file with `[torsion]` gives `run`'s report.html a torsion

@@ -327,13 +327,26 @@ fn hostile_inputs_and_unattended_runs() {
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
-    std::thread::sleep(Duration::from_millis(400));
+    // Killed in the middle: once two run folders are in place (a third is
+    // being written), never before anything was written (that would test
+    // nothing) nor after the end.
+    let started = Instant::now();
+    let folders = |out: &Path| entries(out).iter().filter(|n| n.starts_with('0')).count();
+    while folders(&out) < 2 && started.elapsed() < Duration::from_secs(60) {
+        std::thread::sleep(Duration::from_millis(2));
+    }
     let _ = child.kill();
     let _ = child.wait();
-    for name in entries(&out).iter().filter(|n| !n.starts_with('.')) {
-        if name.ends_with(".csv") || name.ends_with(".html") {
-            continue;
-        }
+    let done = folders(&out);
+    assert!(
+        (2..60).contains(&done),
+        "killed after {done} of 60 run folders"
+    );
+    assert!(
+        !out.join("summary.csv").exists(),
+        "the batch finished before the kill"
+    );
+    for name in entries(&out).iter().filter(|n| n.starts_with('0')) {
         assert_eq!(entries(&out.join(name)).len(), whole, "{name} is partial");
     }
     let r = run(&[
