@@ -33,16 +33,15 @@
 //! ```
 
 mod chain;
-mod synth;
 mod train;
 
 pub use chain::{Chain, Modes, Solver};
+pub use enginedyn_numerics::fourier::Synthesis;
 pub use nalgebra::Complex;
-pub use synth::Synthesis;
 pub use train::{CrankTrain, Damper, Layout, Section};
 
 /// A complex amplitude `X` of `Re(X e^{i ω t})`.
-pub type Complex64 = Complex<f64>;
+pub use enginedyn_numerics::fourier::Complex64;
 
 /// Why a chain cannot be built or solved.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
