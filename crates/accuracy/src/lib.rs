@@ -506,6 +506,7 @@ pub fn study(input: &Input) -> Result<Accuracy, AccuracyError> {
         }],
         cycle_deg: cycle,
         pv: false,
+        cycles_skipped: 0,
         notes: Vec::new(),
     };
     for interp in [Interp::Linear, Interp::Spline, Interp::Pchip] {

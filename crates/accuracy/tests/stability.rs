@@ -133,6 +133,7 @@ fn samples(e: &Engine, spacing: f64) -> Diagram {
         }],
         cycle_deg: 720.0,
         pv: false,
+        cycles_skipped: 0,
         notes: Vec::new(),
     }
 }

@@ -13,7 +13,7 @@ pub fn run(a: &AccuracyArgs) -> Result<(), Failure> {
     let loaded = load_engine(Some(&a.input.engine))?;
     let engine = &loaded.engine;
     let path = diagram_path(a.input.diagram.as_deref(), &loaded)?;
-    let (parse, grid) = diagram_options(engine, &a.diagram_args, 0.1, Interp::Spline)?;
+    let (parse, grid) = diagram_options(engine, &a.diagram_args, 0.1, Interp::Spline, a.input.rpm)?;
     let diagram = parse_diagram(&path, &parse)?;
     if diagram.quantity != Quantity::Pressure {
         return Err(Failure::data(format!(

@@ -182,14 +182,8 @@ pub struct MethodArgs {
 #[derive(Debug, Clone, Args)]
 pub struct DiagramArgs {
     /// The file's angle value that is firing TDC.
-    #[arg(
-        long,
-        value_name = "X",
-        default_value_t = 0.0,
-        allow_hyphen_values = true,
-        value_parser = parse_tdc
-    )]
-    pub tdc_deg: f64,
+    #[arg(long, value_name = "X", allow_hyphen_values = true, value_parser = parse_tdc)]
+    pub tdc_deg: Option<f64>,
     /// Pressures are gauge (relative to 1.01325 bar).
     #[arg(long)]
     pub gauge: bool,
@@ -205,6 +199,42 @@ pub struct DiagramArgs {
     /// Where p–V data starts: at firing TDC or at the BDC before it.
     #[arg(long, value_enum, default_value = "tdc")]
     pub pv_start: PvStart,
+    /// Skip N lines at the top of the file (a preamble; titles and banners
+    /// above a header are skipped without it).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=1_000_000))]
+    pub skip_lines: Option<u32>,
+    /// The sheet of a spreadsheet (.xlsx, .xls, .ods): its name or its number from 1.
+    #[arg(long, value_name = "NAME|N")]
+    pub sheet: Option<String>,
+    /// The widest gap (deg) bridged in a single digitised cycle [default: 30].
+    #[arg(long, value_name = "DEG", value_parser = parse_max_gap)]
+    pub max_gap: Option<f64>,
+    /// A time record's firing TDC time T (in its time column's unit), with --rpm.
+    #[arg(long, value_name = "T", allow_hyphen_values = true, value_parser = parse_tdc_time)]
+    pub tdc_time: Option<f64>,
+    /// A charge amplifier's gain (bar per volt) for a `pressure_v` column.
+    #[arg(long, value_name = "BAR_PER_V", value_parser = parse_gain)]
+    pub gain: Option<f64>,
+}
+
+/// `--max-gap`: 0 to 360°.
+fn parse_max_gap(s: &str) -> Result<f64, String> {
+    number_in(s, 0.0, 360.0, "°")
+}
+
+/// `--tdc-time`: any finite time within ±1e9.
+fn parse_tdc_time(s: &str) -> Result<f64, String> {
+    number_in(s, -1e9, 1e9, "")
+}
+
+/// `--gain`: above 0 up to 1e6 bar per volt.
+fn parse_gain(s: &str) -> Result<f64, String> {
+    let g = number_in(s, 0.0, 1e6, " bar/V")?;
+    if g > 0.0 {
+        Ok(g)
+    } else {
+        Err("a gain above 0 bar/V is needed".into())
+    }
 }
 
 #[derive(Debug, Clone, Args)]

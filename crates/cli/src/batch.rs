@@ -81,7 +81,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
         },
         ..a.method.options()
     };
-    let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
+    let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp, None)?;
     // The motion and volume law on the grid, built once for every file.
     let n = (engine.cycle().to_degrees() / step).round() as usize;
     let tables = enginedyn_pipeline::Tables::new(engine, n, &opts).ok();
@@ -373,7 +373,7 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
         scope: enginedyn_pipeline::Scope::Summary,
         ..a.method.options()
     };
-    let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
+    let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp, None)?;
     let path = crate::run::diagram_path(a.diagram.as_deref(), &loaded)?;
     let resampled = load_diagram(Some(&path), &parse, &grid)?;
     let shown = path.display().to_string();

@@ -43,7 +43,8 @@ pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
         .or_else(|| engine.diagram().map(Path::to_path_buf));
     let (shown, rpm, analysis) = match &diagram {
         Some(path) => {
-            let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
+            let (parse, grid) =
+                diagram_options(engine, &a.diagram_args, step, opts.interp, a.input.rpm)?;
             let resampled = load_diagram(Some(path), &parse, &grid)?;
             let shown = path.display().to_string();
             if resampled.quantity != Quantity::Pressure {

@@ -42,6 +42,7 @@ pub fn diagram_options(
     d: &DiagramArgs,
     step: f64,
     interp: enginedyn_ingest::Interp,
+    rpm: Option<f64>,
 ) -> Result<(ParseOptions, GridOptions), Failure> {
     let pv_start_bdc = d.pv_start == crate::args::PvStart::Bdc;
     let peg = match (d.peg_bar, d.peg) {
@@ -57,7 +58,18 @@ pub fn diagram_options(
     let cylinder = Some(*engine.cylinder());
     let parse = ParseOptions {
         cycle_deg: engine.cycle().to_degrees(),
-        tdc_deg: d.tdc_deg,
+        tdc_deg: d.tdc_deg.unwrap_or(0.0),
+        tdc_given: d.tdc_deg.is_some(),
+        relative: peg.is_some(),
+        skip_lines: d.skip_lines.map_or(0, |n| n as usize),
+        sheet: d.sheet.as_ref().map(|s| match s.trim().parse::<usize>() {
+            Ok(n) => enginedyn_ingest::Sheet::Index(n),
+            Err(_) => enginedyn_ingest::Sheet::Name(s.clone()),
+        }),
+        max_gap_deg: d.max_gap.unwrap_or(enginedyn_ingest::MAX_GAP_DEG),
+        tdc_time: d.tdc_time,
+        gain_bar_per_v: d.gain,
+        rpm,
         gauge: d.gauge,
         columns: d
             .columns
@@ -269,7 +281,7 @@ pub fn resolve_rpm(
     let file = engine.operating().rpm;
     let (rpm, source) = match (flag, diagram, file) {
         (Some(r), _, _) => (r, "--rpm"),
-        (None, Some(r), _) => (r, "the diagram's `# rpm` line"),
+        (None, Some(r), _) => (r, "the diagram (its `# rpm` line, banner or TDC pulses)"),
         (None, None, Some(r)) => (r, "operating.rpm"),
         (None, None, None) => {
             return Err(Failure::usage(
@@ -312,7 +324,7 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     let engine = &loaded.engine;
     check_step(engine, step)?;
     let opts = a.method.options();
-    let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
+    let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp, a.rpm)?;
     if let Some(path) = &a.torque {
         let shown = path.display().to_string();
         let torque_grid = GridOptions {

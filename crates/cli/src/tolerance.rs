@@ -42,7 +42,8 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
     let diagram = crate::run::diagram_path(a.input.diagram.as_deref(), &loaded)?;
     let shown = diagram.display().to_string();
     let load = |step: f64| {
-        let (parse, grid) = diagram_options(engine, &a.diagram_args, step, opts.interp)?;
+        let (parse, grid) =
+            diagram_options(engine, &a.diagram_args, step, opts.interp, a.input.rpm)?;
         let r = load_diagram(Some(&diagram), &parse, &grid)?;
         if r.quantity != Quantity::Pressure {
             return Err(Failure::data(format!(

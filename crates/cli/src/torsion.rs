@@ -77,7 +77,8 @@ pub fn run(a: &TorsionArgs) -> Result<(), Failure> {
     let step = a.method.step();
     crate::run::check_step(engine, step)?;
     let opts = a.method.options();
-    let (parse, grid) = crate::run::diagram_options(engine, &a.diagram_args, step, opts.interp)?;
+    let (parse, grid) =
+        crate::run::diagram_options(engine, &a.diagram_args, step, opts.interp, None)?;
     let path = crate::run::diagram_path(a.diagram.as_deref(), &loaded)?;
     let resampled = crate::run::load_diagram(Some(&path), &parse, &grid)?;
     let speed = crate::run::resolve_rpm(None, resampled.rpm, engine)?;

@@ -115,6 +115,8 @@ pub struct Resampled {
     pub rpm: Option<f64>,
     /// True when the file held p–V data (placed on angles by the volume law).
     pub pv: bool,
+    /// Cycles left out of the averages (a gap in the data).
+    pub cycles_skipped: usize,
     /// Things worth telling the user.
     pub notes: Vec<String>,
 }
@@ -133,6 +135,7 @@ impl Resampled {
             pegging: None,
             rpm: None,
             pv: false,
+            cycles_skipped: 0,
             notes: Vec::new(),
         }
     }
@@ -164,7 +167,7 @@ struct Pass {
 /// finite). Not inlined: on its own the compiler keeps the lanes in
 /// registers and vectorises them.
 #[inline(never)]
-fn accumulate(src: &[f64], sum: &mut [f64], dv: &[f64], pressure: bool) -> Pass {
+fn accumulate(src: &[f64], sum: &mut [f64], dv: &[f64]) -> Pass {
     let n = src.len().min(sum.len()).min(dv.len());
     let (src, sum, dv) = (&src[..n], &mut sum[..n], &dv[..n]);
     let mut dot = [0.0; LANES];
@@ -221,7 +224,7 @@ fn accumulate(src: &[f64], sum: &mut [f64], dv: &[f64], pressure: bool) -> Pass 
     // dv is 0); finite samples of any plausible size keep them finite.
     let finite = p_dv.is_finite() && low.is_finite() && peak.is_finite();
     Pass {
-        sane: finite && (!pressure || low >= 0.0),
+        sane: finite,
         peak,
         at,
         p_dv,
@@ -351,12 +354,9 @@ impl Accumulator {
             // and its check (a NaN or an infinity makes p dV non-finite).
             None => &self.angles,
         };
-        let pass = accumulate(src, &mut self.sum, dv, pressure);
+        let pass = accumulate(src, &mut self.sum, dv);
         if !pass.sane {
-            let k = src
-                .iter()
-                .position(|p| !p.is_finite() || (pressure && *p < 0.0))
-                .unwrap_or(0);
+            let k = src.iter().position(|p| !p.is_finite()).unwrap_or(0);
             return Err(IngestError::Data(format!(
                 "cycle {}: the {} interpolant gives {:.4e} at {}°{}",
                 tr.cycle,
@@ -578,6 +578,7 @@ impl Accumulator {
             pegging,
             rpm,
             pv: false,
+            cycles_skipped: 0,
             notes,
         })
     }
@@ -604,12 +605,12 @@ mod tests {
     use proptest::prelude::*;
 
     /// The plain loops `accumulate` stands for.
-    fn reference(src: &[f64], sum: &mut [f64], dv: &[f64], pressure: bool) -> Pass {
+    fn reference(src: &[f64], sum: &mut [f64], dv: &[f64]) -> Pass {
         for (s, x) in sum.iter_mut().zip(src) {
             *s += x;
         }
         let peak = src.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b));
-        let bad = |x: f64| !x.is_finite() || (pressure && x < 0.0);
+        let bad = |x: f64| !x.is_finite();
         Pass {
             sane: !src.iter().any(|&x| bad(x)),
             peak,
@@ -679,7 +680,6 @@ mod tests {
             bad in prop::option::of((0..300usize, prop_oneof![
                 Just(f64::NAN), Just(f64::INFINITY), Just(f64::NEG_INFINITY), -1.0..0.0f64,
             ])),
-            pressure in any::<bool>(),
         ) {
             if let Some((k, x)) = bad {
                 let k = k % src.len();
@@ -688,8 +688,8 @@ mod tests {
             let dv: Vec<f64> = (0..src.len()).map(|k| (k as f64 * 0.37).sin()).collect();
             let base: Vec<f64> = (0..src.len()).map(|k| k as f64).collect();
             let (mut a, mut b) = (base.clone(), base);
-            let got = accumulate(&src, &mut a, &dv, pressure);
-            let want = reference(&src, &mut b, &dv, pressure);
+            let got = accumulate(&src, &mut a, &dv);
+            let want = reference(&src, &mut b, &dv);
             prop_assert_eq!(got.sane, want.sane);
             let same = |x: &[f64], y: &[f64]| x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits());
             prop_assert!(same(&a, &b));

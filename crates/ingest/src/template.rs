@@ -10,7 +10,7 @@
 //! seed a new template. The angle is kept as the integer its digits spell,
 //! so the value it gives is bit for bit what reading the cell gives.
 
-use crate::{POW10, decimal_value, digit_run};
+use crate::number::{POW10, decimal_value, digit_run};
 
 /// Longest text a template holds: the cells before the value, with their
 /// separators.

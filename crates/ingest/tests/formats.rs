@@ -151,9 +151,14 @@ fn bad_input_is_a_clear_error() {
         e.contains("unknown column `pressure_bars`") && e.contains("pressure_bar"),
         "{e}"
     );
-    let e = err("crank_deg,pressure_bar\n0,-1\n");
+    // Below zero over more than half the cycle: gauge data.
+    let mut s = String::from("crank_deg,pressure_bar\n0,40\n");
+    for k in 1..72 {
+        s.push_str(&format!("{},-0.5\n", k * 10));
+    }
+    let e = err(&s);
     assert!(
-        e.contains("negative absolute pressure") && e.contains("--gauge"),
+        e.contains("below zero absolute pressure over 99 %") && e.contains("--gauge"),
         "{e}"
     );
     let e = err("");
@@ -166,7 +171,10 @@ fn bad_input_is_a_clear_error() {
         s.push_str(&format!("{k},2\n"));
     }
     let e = err(&s);
-    assert!(e.contains("not the full 720"), "{e}");
+    assert!(
+        e.contains("a gap of 120° from 600°") && e.contains("--max-gap 120"),
+        "{e}"
+    );
     // Bar values of 1e5: the unit is wrong.
     let mut s = String::from("crank_deg,pressure_bar\n");
     for k in 0..72 {

@@ -1,0 +1,836 @@
+//! The column resolver: header names as other tools write them, or
+//! `--columns`, into the roles the layouts read (INTERFACE.md, "Indicator
+//! diagram").
+//!
+//! A name is read case-insensitively as words and a unit: the unit in
+//! brackets or parentheses (`Pressure [bar]`, `CA (deg)`), or a unit word
+//! (`pressure_bar`, `time ms`); a number after `cyl` names a cylinder
+//! (`Pressure[bar]_Cyl01`, `P_cyl1 (MPa)`), any other number a cycle
+//! (`pressure_bar_2`). The canonical names of INTERFACE.md are read first.
+
+use crate::Quantity;
+use crate::error::{IngestError, at};
+
+/// One standard atmosphere (Pa): what `--gauge` adds.
+pub(crate) const ATM: f64 = 101_325.0;
+
+/// Pa per unit, from exact definitions (1 psi = 0.45359237 kg × 9.80665 m/s² / (0.0254 m)²).
+pub fn pressure_unit(name: &str) -> Option<f64> {
+    Some(match name {
+        "pressure_bar" => 1e5,
+        "pressure_mpa" => 1e6,
+        "pressure_kpa" => 1e3,
+        "pressure_pa" => 1.0,
+        "pressure_psi" => PSI,
+        "pressure_kgf_cm2" => KGF_CM2,
+        _ => return None,
+    })
+}
+
+const PSI: f64 = 0.453_592_37 * 9.806_65 / (0.0254 * 0.0254);
+const KGF_CM2: f64 = 98_066.5;
+
+/// The canonical names (INTERFACE.md), for messages.
+pub(crate) const KNOWN: &[&str] = &[
+    "crank_deg",
+    "volume_cm3",
+    "volume_m3",
+    "volume_l",
+    "time_s",
+    "time_ms",
+    "pressure_bar",
+    "pressure_mpa",
+    "pressure_kpa",
+    "pressure_pa",
+    "pressure_psi",
+    "pressure_kgf_cm2",
+    "pressure_v",
+    "torque_cylinder_nm",
+    "torque_engine_nm",
+    "cycle",
+    "cylinder",
+    "tdc",
+];
+
+/// What one column holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Role {
+    /// Crank angle; degrees per file unit.
+    Angle(f64),
+    /// Cylinder volume; m³ per file unit.
+    Volume(f64),
+    /// Time; seconds per file unit.
+    Time(f64),
+    /// Pressure; Pa per file unit. `cylinder` from a `cyl` number in the
+    /// name, `index` from any other number.
+    Pressure {
+        scale: f64,
+        cylinder: Option<u32>,
+        index: Option<u32>,
+    },
+    /// A charge amplifier's voltage (relative pressure); volts per unit.
+    Volts {
+        scale: f64,
+        cylinder: Option<u32>,
+        index: Option<u32>,
+    },
+    /// Torque (N m) of one cylinder or of the engine.
+    Torque(Quantity),
+    Cycle,
+    Cylinder,
+    /// A TDC pulse per revolution.
+    Tdc,
+    /// `_`, or an empty name: nothing.
+    Skip,
+}
+
+impl Role {
+    fn describe(self) -> String {
+        match self {
+            Role::Angle(s) => format!("crank angle ({})", if same(s, 1.0) { "deg" } else { "rad" }),
+            Role::Volume(s) => format!("volume ({})", volume_unit_name(s)),
+            Role::Time(s) => format!("time ({})", if same(s, 1.0) { "s" } else { "ms" }),
+            Role::Pressure {
+                scale, cylinder, ..
+            } => format!(
+                "pressure ({}){}",
+                pressure_unit_name(scale),
+                cylinder
+                    .map(|c| format!(", cylinder {c}"))
+                    .unwrap_or_default()
+            ),
+            Role::Volts { cylinder, .. } => format!(
+                "pressure (V, relative){}",
+                cylinder
+                    .map(|c| format!(", cylinder {c}"))
+                    .unwrap_or_default()
+            ),
+            Role::Torque(Quantity::EngineTorque) => "engine torque (N m)".into(),
+            Role::Torque(_) => "cylinder torque (N m)".into(),
+            Role::Cycle => "cycle number".into(),
+            Role::Cylinder => "cylinder number".into(),
+            Role::Tdc => "TDC pulse".into(),
+            Role::Skip => "skipped".into(),
+        }
+    }
+}
+
+/// Equal to within rounding: the unit factors are the same constants.
+pub(crate) fn same(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-12 * b.abs()
+}
+
+fn pressure_unit_name(scale: f64) -> &'static str {
+    [
+        (1e5, "bar"),
+        (1e6, "MPa"),
+        (1e3, "kPa"),
+        (1.0, "Pa"),
+        (1e2, "mbar"),
+        (PSI, "psi"),
+        (KGF_CM2, "kgf/cm²"),
+    ]
+    .iter()
+    .find(|(s, _)| same(*s, scale))
+    .map_or("?", |(_, n)| n)
+}
+
+fn volume_unit_name(scale: f64) -> &'static str {
+    [(1e-6, "cm³"), (1.0, "m³"), (1e-3, "l"), (1e-9, "mm³")]
+        .iter()
+        .find(|(s, _)| same(*s, scale))
+        .map_or("?", |(_, n)| n)
+}
+
+/// Why a name cannot be read.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Unread {
+    /// No word that names a quantity.
+    Unknown,
+    /// A quantity with no unit where one is needed (`Pressure`).
+    NoUnit(&'static str, &'static str),
+    /// A unit that does not fit the quantity.
+    BadUnit(&'static str, String),
+}
+
+/// Splits a name into lower-case words and numbers, and the unit in
+/// brackets or parentheses (normalised: `°` as `deg`, `³` as `3`).
+fn words(name: &str) -> (Vec<String>, Option<String>) {
+    let mut unit = None;
+    let mut rest = String::new();
+    let mut depth: Option<(char, String)> = None;
+    for c in name.chars() {
+        match (&mut depth, c) {
+            (None, '[' | '(' | '{') => depth = Some((c, String::new())),
+            (Some((o, u)), ']' | ')' | '}')
+                if matches!((*o, c), ('[', ']') | ('(', ')') | ('{', '}')) =>
+            {
+                if unit.is_none() {
+                    unit = Some(normal_unit(u));
+                }
+                depth = None;
+                rest.push(' ');
+            }
+            (Some((_, u)), _) => u.push(c),
+            (None, _) => rest.push(c),
+        }
+    }
+    if let Some((_, u)) = depth {
+        // An unclosed bracket: its text is part of the name.
+        rest.push(' ');
+        rest.push_str(&u);
+    }
+    let mut out: Vec<String> = Vec::new();
+    let mut cur = String::new();
+    let mut digits = false;
+    let flush = |cur: &mut String, out: &mut Vec<String>| {
+        if !cur.is_empty() {
+            out.push(std::mem::take(cur));
+        }
+    };
+    for c in rest.chars().flat_map(char::to_lowercase) {
+        let c = match c {
+            '³' => '3',
+            '²' => '2',
+            'µ' | 'μ' => 'u',
+            c => c,
+        };
+        if c == '°' {
+            flush(&mut cur, &mut out);
+            out.push("deg".into());
+        } else if c.is_alphanumeric() {
+            let d = c.is_ascii_digit();
+            if !cur.is_empty() && d != digits {
+                flush(&mut cur, &mut out);
+            }
+            digits = d;
+            cur.push(c);
+        } else {
+            flush(&mut cur, &mut out);
+        }
+    }
+    flush(&mut cur, &mut out);
+    (out, unit)
+}
+
+fn normal_unit(u: &str) -> String {
+    u.chars()
+        .flat_map(char::to_lowercase)
+        .filter_map(|c| match c {
+            '°' => Some("deg".to_string()),
+            '³' => Some("3".into()),
+            '²' => Some("2".into()),
+            'µ' | 'μ' => Some("u".into()),
+            c if c.is_alphanumeric() => Some(c.to_string()),
+            _ => None,
+        })
+        .collect()
+}
+
+const ANGLE_WORDS: &[&str] = &[
+    "crank",
+    "angle",
+    "crankangle",
+    "ca",
+    "cad",
+    "theta",
+    "θ",
+    "phi",
+    "φ",
+    "kw",
+    "kurbelwinkel",
+    "winkel",
+    "alpha",
+];
+const PRESSURE_WORDS: &[&str] = &[
+    "pressure",
+    "p",
+    "pcyl",
+    "pzyl",
+    "druck",
+    "zylinderdruck",
+    "cylinderpressure",
+    "pc",
+    "pi",
+    "press",
+];
+const TIME_WORDS: &[&str] = &["time", "t", "zeit", "timestamp"];
+const VOLUME_WORDS: &[&str] = &["volume", "vol", "v", "hubraum"];
+const TDC_WORDS: &[&str] = &["tdc", "ot", "trigger", "pulse", "marker"];
+const CYCLE_WORDS: &[&str] = &["cycle", "cyc", "zyklus", "arbeitsspiel", "cycles"];
+const CYLINDER_WORDS: &[&str] = &["cylinder", "cyl", "zylinder", "zyl"];
+
+fn angle_unit(u: &str) -> Option<f64> {
+    match u {
+        "" | "deg" | "degca" | "degkw" | "degcrank" | "grad" | "ca" | "kw" | "cad" | "degree"
+        | "degrees" => Some(1.0),
+        "rad" => Some(180.0 / std::f64::consts::PI),
+        _ => None,
+    }
+}
+
+fn pressure_scale(u: &str) -> Option<Result<f64, f64>> {
+    // Ok: Pa per unit; Err: volts per unit (a charge amplifier's output).
+    Some(match u {
+        "bar" | "bara" | "barabs" | "bara1" => Ok(1e5),
+        "mbar" | "hpa" => Ok(1e2),
+        "mpa" => Ok(1e6),
+        "kpa" => Ok(1e3),
+        "pa" => Ok(1.0),
+        "psi" | "psia" => Ok(PSI),
+        "kgfcm2" | "kgcm2" | "at" | "kgf" => Ok(KGF_CM2),
+        "v" | "volt" | "volts" => Err(1.0),
+        "mv" => Err(1e-3),
+        _ => return None,
+    })
+}
+
+fn time_unit(u: &str) -> Option<f64> {
+    match u {
+        "s" | "sec" | "secs" => Some(1.0),
+        "ms" | "msec" => Some(1e-3),
+        "us" | "usec" => Some(1e-6),
+        _ => None,
+    }
+}
+
+fn volume_unit(u: &str) -> Option<f64> {
+    match u {
+        "cm3" | "ccm" | "ml" | "cc" => Some(1e-6),
+        "m3" => Some(1.0),
+        "l" | "dm3" | "litre" | "liter" => Some(1e-3),
+        "mm3" => Some(1e-9),
+        _ => None,
+    }
+}
+
+fn is_unit_word(w: &str) -> bool {
+    pressure_scale(w).is_some()
+        || time_unit(w).is_some()
+        || volume_unit(w).is_some()
+        || matches!(w, "deg" | "rad" | "degca" | "grad")
+}
+
+/// What a column name holds.
+pub(crate) fn recognise(raw: &str) -> Result<Role, Unread> {
+    let s = raw.trim().trim_matches('"').trim();
+    let lower = s.to_lowercase();
+    match lower.as_str() {
+        "" | "_" => return Ok(Role::Skip),
+        "crank_deg" => return Ok(Role::Angle(1.0)),
+        "volume_cm3" => return Ok(Role::Volume(1e-6)),
+        "volume_m3" => return Ok(Role::Volume(1.0)),
+        "volume_l" => return Ok(Role::Volume(1e-3)),
+        "time_s" => return Ok(Role::Time(1.0)),
+        "time_ms" => return Ok(Role::Time(1e-3)),
+        "pressure_v" => {
+            return Ok(Role::Volts {
+                scale: 1.0,
+                cylinder: None,
+                index: None,
+            });
+        }
+        "torque_cylinder_nm" => return Ok(Role::Torque(Quantity::CylinderTorque)),
+        "torque_engine_nm" => return Ok(Role::Torque(Quantity::EngineTorque)),
+        "cycle" => return Ok(Role::Cycle),
+        "cylinder" => return Ok(Role::Cylinder),
+        "tdc" => return Ok(Role::Tdc),
+        n => {
+            if let Some(scale) = pressure_unit(n) {
+                return Ok(Role::Pressure {
+                    scale,
+                    cylinder: None,
+                    index: None,
+                });
+            }
+        }
+    }
+    let (mut w, bracket) = words(s);
+    // The unit: in brackets, else the last unit word (`pressure_bar_1`).
+    let unit = match bracket {
+        Some(u) => u,
+        None => match w.iter().rposition(|x| is_unit_word(x)) {
+            // A lone unit word is the name itself (`deg`, `bar`).
+            Some(i) if w.len() > 1 => w.remove(i),
+            _ => String::new(),
+        },
+    };
+    let mut cylinder = None;
+    let mut index = None;
+    let mut names: Vec<&str> = Vec::new();
+    let mut after_cyl = false;
+    for x in &w {
+        if x.bytes().all(|b| b.is_ascii_digit()) {
+            let n: Option<u32> = x.parse().ok();
+            if after_cyl {
+                cylinder = n;
+            } else {
+                index = n;
+            }
+            after_cyl = false;
+            continue;
+        }
+        after_cyl = CYLINDER_WORDS.contains(&x.as_str()) || x == "c";
+        names.push(x);
+    }
+    let has = |set: &[&str]| names.iter().any(|n| set.contains(n));
+    let unit = unit.as_str();
+    if has(PRESSURE_WORDS)
+        || (names.is_empty() || names == ["deg"]) && pressure_scale(unit).is_some()
+        || names.len() == 1 && pressure_scale(names[0]).is_some()
+    {
+        let u = if unit.is_empty() && names.len() == 1 && pressure_scale(names[0]).is_some() {
+            names[0]
+        } else {
+            unit
+        };
+        return match pressure_scale(u) {
+            Some(Ok(scale)) => Ok(Role::Pressure {
+                scale,
+                cylinder,
+                index,
+            }),
+            Some(Err(scale)) => Ok(Role::Volts {
+                scale,
+                cylinder,
+                index,
+            }),
+            None if u.is_empty() => Err(Unread::NoUnit("pressure", "Pressure [bar]")),
+            None => Err(Unread::BadUnit(
+                "a pressure unit: bar, mbar, MPa, kPa, Pa, psi, kgf/cm2 or V",
+                u.to_string(),
+            )),
+        };
+    }
+    if has(ANGLE_WORDS) || names == ["deg"] || names.is_empty() && angle_unit(unit).is_some() {
+        return match angle_unit(unit) {
+            Some(s) => Ok(Role::Angle(s)),
+            None => Err(Unread::BadUnit("an angle unit: deg or rad", unit.into())),
+        };
+    }
+    if has(TIME_WORDS) || names.is_empty() && time_unit(unit).is_some() {
+        return match time_unit(unit) {
+            Some(s) => Ok(Role::Time(s)),
+            None if unit.is_empty() => Err(Unread::NoUnit("time", "Time [s]")),
+            None => Err(Unread::BadUnit("a time unit: s, ms or us", unit.into())),
+        };
+    }
+    if has(TDC_WORDS) {
+        return Ok(Role::Tdc);
+    }
+    if has(VOLUME_WORDS) {
+        return match volume_unit(unit) {
+            Some(s) => Ok(Role::Volume(s)),
+            None if unit.is_empty() => Err(Unread::NoUnit("volume", "Volume [cm3]")),
+            None => Err(Unread::BadUnit(
+                "a volume unit: cm3, m3, l or mm3",
+                unit.into(),
+            )),
+        };
+    }
+    if has(CYCLE_WORDS) {
+        return Ok(Role::Cycle);
+    }
+    if has(CYLINDER_WORDS) {
+        return Ok(Role::Cylinder);
+    }
+    Err(Unread::Unknown)
+}
+
+/// The first canonical name close to `n`, for a "did you mean".
+fn close_known(n: &str) -> Option<&'static str> {
+    KNOWN
+        .iter()
+        .max_by(|a, b| {
+            enginedyn_numerics::format::name_similarity(n, a)
+                .total_cmp(&enginedyn_numerics::format::name_similarity(n, b))
+        })
+        .copied()
+        .filter(|k| enginedyn_numerics::format::close_name(n, k))
+}
+
+/// Why `name` cannot be read, as a message.
+fn unread_message(name: &str, why: &Unread) -> String {
+    let q = enginedyn_numerics::format::quote(name);
+    if let Some(k) = close_known(&name.trim().to_lowercase()) {
+        return format!("unknown column `{q}`; did you mean `{k}`?");
+    }
+    match why {
+        Unread::Unknown => format!("unknown column `{q}`"),
+        Unread::NoUnit(what, example) => {
+            format!("`{q}` is a {what} without a unit: write it as `{example}`")
+        }
+        Unread::BadUnit(expected, unit) => format!(
+            "`{q}`: unit `{}` is not {expected}",
+            enginedyn_numerics::format::quote(unit)
+        ),
+    }
+}
+
+/// The x column: what the traces run over.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Axis {
+    /// Crank angle (deg per unit).
+    Angle(f64),
+    /// Volume (m³ per unit): p–V data.
+    Volume(f64),
+    /// Time (s per unit): a time record.
+    Time(f64),
+}
+
+/// One value column (pressure, volts or torque).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ValueCol {
+    /// 0-based column.
+    pub col: usize,
+    /// Value unit per file unit (Pa, V or N m).
+    pub scale: f64,
+    /// The cylinder its name gives (0: none).
+    pub cylinder: i64,
+}
+
+/// Where the columns are and what they hold.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Roles {
+    pub x: usize,
+    pub axis: Axis,
+    /// One column (long layout, time record) or several (one cycle, or one
+    /// cylinder, per column).
+    pub values: Vec<ValueCol>,
+    pub quantity: Quantity,
+    /// The values are a charge amplifier's volts.
+    pub volts: bool,
+    /// Several value columns are cylinders (their names say so), not cycles.
+    pub per_cylinder: bool,
+    pub cycle: Option<usize>,
+    pub cylinder: Option<usize>,
+    pub tdc: Option<usize>,
+    /// Columns the names cover.
+    pub ncols: usize,
+    /// How the columns were read, when that is worth saying.
+    pub note: Option<String>,
+}
+
+/// Expands a trailing `...` (`pressure_bar...`) over `cells` columns.
+pub(crate) fn expand(names: &[String], cells: usize) -> Vec<String> {
+    match names.last() {
+        Some(l) if l.ends_with("...") => {
+            let base = l.trim_end_matches("...").trim().to_string();
+            let mut out: Vec<String> = names[..names.len() - 1].to_vec();
+            while out.len() < cells.max(names.len()) {
+                out.push(base.clone());
+            }
+            out
+        }
+        _ => names.to_vec(),
+    }
+}
+
+impl Roles {
+    /// Resolves `names` (header cells, or `--columns` when `explicit`).
+    /// From a header, names that cannot be read are left out with a note;
+    /// from `--columns` they are errors. `line` is where the names are.
+    pub(crate) fn resolve(
+        names: &[String],
+        explicit: bool,
+        line: usize,
+    ) -> Result<Roles, IngestError> {
+        let mut read: Vec<(usize, Role)> = Vec::new();
+        let mut unread: Vec<(usize, Unread)> = Vec::new();
+        for (i, n) in names.iter().enumerate() {
+            match recognise(n) {
+                Ok(Role::Skip) => {}
+                Ok(r) => read.push((i, r)),
+                Err(why) if explicit => {
+                    return Err(at(
+                        line,
+                        Some(i + 1),
+                        format!(
+                            "--columns: {} (known: {}; `_` skips a column; a trailing `...` repeats the last name)",
+                            unread_message(n, &why),
+                            KNOWN.join(", ")
+                        ),
+                    ));
+                }
+                Err(why) => unread.push((i, why)),
+            }
+        }
+        let missing = |what: &str| {
+            let mut m = format!("no {what} column");
+            if !unread.is_empty() {
+                let list: Vec<String> = unread
+                    .iter()
+                    .map(|(i, why)| {
+                        format!("{} (column {})", unread_message(&names[*i], why), i + 1)
+                    })
+                    .collect();
+                m.push_str(&format!(": {}", list.join("; ")));
+            }
+            let readable: Vec<String> = read
+                .iter()
+                .map(|(i, r)| {
+                    format!(
+                        "`{}` as {}",
+                        enginedyn_numerics::format::quote(&names[*i]),
+                        r.describe()
+                    )
+                })
+                .collect();
+            if !readable.is_empty() {
+                m.push_str(&format!("; read: {}", readable.join(", ")));
+            }
+            m.push_str(&format!(
+                "; known names: {} and spellings such as `Crank Angle [deg]` or `Pressure [bar]`; --columns names the columns",
+                KNOWN.join(", ")
+            ));
+            at(line, None, m)
+        };
+        let mut left_out: Vec<String> = Vec::new();
+        let first = |f: fn(&Role) -> bool| {
+            read.iter()
+                .filter(|(_, r)| f(r))
+                .map(|(i, r)| (*i, *r))
+                .collect::<Vec<_>>()
+        };
+        let angles = first(|r| matches!(r, Role::Angle(_)));
+        let volumes = first(|r| matches!(r, Role::Volume(_)));
+        let times = first(|r| matches!(r, Role::Time(_)));
+        let (x, axis) = match (angles.first(), volumes.first(), times.first()) {
+            (Some(&(i, Role::Angle(s))), _, _) => (i, Axis::Angle(s)),
+            (None, Some(&(i, Role::Volume(s))), _) => (i, Axis::Volume(s)),
+            (None, None, Some(&(i, Role::Time(s)))) => (i, Axis::Time(s)),
+            _ => return Err(missing("crank angle (or volume, or time)")),
+        };
+        for (i, _) in angles.iter().chain(&volumes).chain(&times) {
+            if *i != x {
+                left_out.push(format!(
+                    "`{}` (the {} is used)",
+                    enginedyn_numerics::format::quote(&names[*i]),
+                    match axis {
+                        Axis::Angle(_) => "angle",
+                        Axis::Volume(_) => "volume",
+                        Axis::Time(_) => "time",
+                    }
+                ));
+            }
+        }
+        let one = |f: fn(&Role) -> bool, what: &str| -> Result<Option<usize>, IngestError> {
+            let v = first(f);
+            if v.len() > 1 {
+                return Err(at(
+                    line,
+                    Some(v[1].0 + 1),
+                    format!(
+                        "two {what} columns (columns {} and {}): skip one with `_` in --columns",
+                        v[0].0 + 1,
+                        v[1].0 + 1
+                    ),
+                ));
+            }
+            Ok(v.first().map(|(i, _)| *i))
+        };
+        let cycle = one(|r| matches!(r, Role::Cycle), "cycle")?;
+        let cylinder = one(|r| matches!(r, Role::Cylinder), "cylinder")?;
+        let tdc = one(|r| matches!(r, Role::Tdc), "TDC pulse")?;
+        let torque = first(|r| matches!(r, Role::Torque(_)));
+        let pressures = first(|r| matches!(r, Role::Pressure { .. }));
+        let volts = first(|r| matches!(r, Role::Volts { .. }));
+        let (values, quantity, is_volts): (Vec<(usize, Role)>, Quantity, bool) = match (
+            torque.is_empty(),
+            pressures.is_empty(),
+            volts.is_empty(),
+        ) {
+            (false, true, true) => {
+                let q = match torque[0].1 {
+                    Role::Torque(q) => q,
+                    _ => Quantity::CylinderTorque,
+                };
+                if torque.len() > 1 {
+                    return Err(at(
+                        line,
+                        Some(torque[1].0 + 1),
+                        "two torque columns: a turning-moment file has one",
+                    ));
+                }
+                (torque, q, false)
+            }
+            (true, false, true) => (pressures, Quantity::Pressure, false),
+            (true, true, false) => (volts, Quantity::Pressure, true),
+            (true, true, true) => return Err(missing("pressure")),
+            _ => {
+                return Err(at(
+                    line,
+                    None,
+                    "pressure, voltage and torque columns mixed: a diagram holds one kind (skip the others with `_` in --columns)",
+                ));
+            }
+        };
+        let cyl_of = |r: Role| match r {
+            Role::Pressure { cylinder, .. } | Role::Volts { cylinder, .. } => cylinder,
+            _ => None,
+        };
+        let values: Vec<ValueCol> = values
+            .iter()
+            .map(|&(col, r)| ValueCol {
+                col,
+                scale: match r {
+                    Role::Pressure { scale, .. } | Role::Volts { scale, .. } => scale,
+                    _ => 1.0,
+                },
+                cylinder: cyl_of(r).map_or(0, i64::from),
+            })
+            .collect();
+        // Several columns naming distinct cylinders are one trace per
+        // cylinder; otherwise one cycle per column.
+        let per_cylinder = values.len() > 1 && {
+            let mut c: Vec<i64> = values.iter().map(|v| v.cylinder).collect();
+            c.sort_unstable();
+            c[0] > 0 && c.windows(2).all(|w| w[0] != w[1])
+        };
+        if values.len() > 1 {
+            if let Some(c) = cycle.or(cylinder) {
+                return Err(at(
+                    line,
+                    Some(c + 1),
+                    "several pressure columns and a cycle or cylinder column: give one pressure column per row (long layout), or one cycle per column without cycle and cylinder columns",
+                ));
+            }
+            if matches!(axis, Axis::Time(_) | Axis::Volume(_)) {
+                return Err(at(
+                    line,
+                    Some(values[1].col + 1),
+                    "several pressure columns: one cycle per column is read against crank angle, not time or volume; skip the others with `_` in --columns",
+                ));
+            }
+        }
+        for (i, why) in &unread {
+            left_out.push(unread_message(&names[*i], why));
+        }
+        if tdc.is_some() && !matches!(axis, Axis::Time(_)) {
+            left_out.push(format!(
+                "`{}` (a TDC pulse is used with a time column only)",
+                enginedyn_numerics::format::quote(&names[tdc.unwrap_or(0)])
+            ));
+        }
+        // Say how the names were read when any is not canonical.
+        let canonical = read
+            .iter()
+            .all(|(i, _)| KNOWN.contains(&names[*i].trim().to_lowercase().as_str()));
+        let mut note = None;
+        if !explicit && (!canonical || !left_out.is_empty()) {
+            let used: Vec<usize> = std::iter::once(x)
+                .chain(values.iter().map(|v| v.col))
+                .chain(cycle)
+                .chain(cylinder)
+                .chain(tdc.filter(|_| matches!(axis, Axis::Time(_))))
+                .collect();
+            let mut shown: Vec<String> = Vec::new();
+            let many = values.len() > 3;
+            for (i, r) in &read {
+                if !used.contains(i) {
+                    continue;
+                }
+                if many && values.iter().skip(1).any(|v| v.col == *i) {
+                    continue;
+                }
+                shown.push(format!(
+                    "`{}` as {}",
+                    enginedyn_numerics::format::quote(&names[*i]),
+                    r.describe()
+                ));
+            }
+            if many {
+                shown.push(format!(
+                    "and {} more pressure columns like it",
+                    values.len() - 1
+                ));
+            }
+            let mut n = format!("columns read: {}", shown.join(", "));
+            if !left_out.is_empty() {
+                n.push_str(&format!("; left out: {}", left_out.join("; ")));
+            }
+            note = Some(n);
+        }
+        Ok(Roles {
+            x,
+            axis,
+            values,
+            quantity,
+            volts: is_volts,
+            per_cylinder,
+            cycle,
+            cylinder,
+            tdc: tdc.filter(|_| matches!(axis, Axis::Time(_))),
+            ncols: names.len(),
+            note,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(scale: f64, cylinder: Option<u32>, index: Option<u32>) -> Role {
+        Role::Pressure {
+            scale,
+            cylinder,
+            index,
+        }
+    }
+
+    /// The spellings INTERFACE.md lists, and a few more tools write.
+    #[test]
+    fn names_as_tools_write_them() {
+        let cases: &[(&str, Role)] = &[
+            ("Crank Angle [deg]", Role::Angle(1.0)),
+            ("CA (deg)", Role::Angle(1.0)),
+            ("Crank_angle[deg.]", Role::Angle(1.0)),
+            ("theta", Role::Angle(1.0)),
+            ("Kurbelwinkel [°KW]", Role::Angle(1.0)),
+            ("Pressure [bar]", p(1e5, None, None)),
+            ("P_cyl1 (MPa)", p(1e6, Some(1), None)),
+            ("Pressure[bar]_Cyl01", p(1e5, Some(1), None)),
+            ("Zylinderdruck [bar]", p(1e5, None, None)),
+            ("pressure_bar_2", p(1e5, None, Some(2))),
+            ("Pressure [bar] 2", p(1e5, None, Some(2))),
+            ("Time_[s]", Role::Time(1.0)),
+            ("time (ms)", Role::Time(1e-3)),
+            ("Volume [cm³]", Role::Volume(1e-6)),
+            ("TDC", Role::Tdc),
+            ("Cycle No.", Role::Cycle),
+            ("Zylinder", Role::Cylinder),
+            ("p [psi]", p(PSI, None, None)),
+        ];
+        for (name, want) in cases {
+            assert_eq!(recognise(name).as_ref(), Ok(want), "{name}");
+        }
+        assert_eq!(
+            recognise("Pressure"),
+            Err(Unread::NoUnit("pressure", "Pressure [bar]"))
+        );
+        assert_eq!(recognise("Comment"), Err(Unread::Unknown));
+        assert!(matches!(
+            recognise("Pressure [furlong]"),
+            Err(Unread::BadUnit(..))
+        ));
+    }
+
+    #[test]
+    fn several_pressure_columns() {
+        let names: Vec<String> = ["CA [deg]", "p_1 [bar]", "p_2 [bar]"]
+            .map(String::from)
+            .to_vec();
+        let r = Roles::resolve(&names, false, 1).unwrap();
+        assert_eq!(r.values.len(), 2);
+        assert!(!r.per_cylinder);
+        let names: Vec<String> = ["CA [deg]", "Pressure[bar]_Cyl01", "Pressure[bar]_Cyl02"]
+            .map(String::from)
+            .to_vec();
+        assert!(Roles::resolve(&names, false, 1).unwrap().per_cylinder);
+        assert_eq!(
+            expand(&["crank_deg".into(), "pressure_bar...".into()], 4).len(),
+            4
+        );
+    }
+}

@@ -1,0 +1,170 @@
+//! The fast paths: tight loops over the read buffer for the rows that only
+//! continue the cycles being read (plain decimals, the same cycle and
+//! cylinder, an angle the trace builder's [`Track::continues`] accepts). At
+//! the first row that does anything else they stop without reading it and
+//! return "switch to the general path" (as ripgrep's searcher does), which
+//! reads that row exactly as it would have without them: the acceptance
+//! rule lives in the builder alone.
+
+use crate::layout::{Long, PerColumn};
+use crate::number::{PLAIN_CELLS, decimal_value, digit_run, plain_row};
+use crate::template::{ROW, Template};
+#[cfg(doc)]
+use crate::trace::Track;
+
+/// Plain rows of `w` that continue the long layout's current trace are
+/// appended to it; returns the bytes and rows used. A row that repeats the
+/// one before but for the angle's step is checked against a [`Template`]
+/// (one comparison for the cells before the value) and only its value is
+/// read; others are read by [`plain_row`] and may seed the next template.
+/// Its own function, so that its few variables live in registers.
+#[inline(never)]
+pub(crate) fn long(w: &[u8], eof: bool, sep: u8, l: &mut Long) -> (usize, usize) {
+    let (x, value, ncols) = (l.x, l.value, l.ncols);
+    let (scale, offset, tdc) = (l.scale, l.offset, l.tdc);
+    let (cycle_col, cyl_col) = (l.cycle_col, l.cyl_col);
+    let Some(cur) = l.cur.as_mut() else {
+        return (0, 0);
+    };
+    if ncols > PLAIN_CELLS {
+        return (0, 0);
+    }
+    let tr = &mut cur.trace;
+    let track = &mut cur.track;
+    let mut vals = [0.0; PLAIN_CELLS];
+    let decimal_comma = sep != b',';
+    let (mut used, mut n) = (0, 0);
+    // Templates (template.rs) need the value last, after cells that are
+    // cycle, cylinder or the angle only.
+    let templates = value + 1 == ncols
+        && (0..value).all(|i| i == x || cycle_col == Some(i) || cyl_col == Some(i));
+    let mut template: Option<Template> = None;
+    // Rows to wait before seeding again after a template that read nothing.
+    let mut backoff = 0usize;
+    let (cycle_bits, cyl_bits) = ((tr.cycle as f64).to_bits(), (tr.cylinder as f64).to_bits());
+    while eof || used + 512 < w.len() {
+        if let Some(t) = template.as_mut() {
+            if let Some(row) = w
+                .get(used..used + ROW)
+                .and_then(|r| <&[u8; ROW]>::try_from(r).ok())
+                && let Some((x_raw, v, len)) = t.next(row, decimal_comma)
+            {
+                let Some(a) = track.continues(x_raw - tdc) else {
+                    break;
+                };
+                track.take(a);
+                tr.angle_deg.push(a);
+                tr.values.push(v * scale + offset);
+                used += len;
+                n += 1;
+                continue;
+            }
+            if t.rows == 0 {
+                backoff = 32;
+            }
+            template = None;
+        }
+        let Some((k, len)) = plain_row(&w[used..], sep, decimal_comma, eof, &mut vals) else {
+            break;
+        };
+        // Exactly the trace's numbers: `1.5` after `1` is not cylinder 1
+        // (the general path says why).
+        if k != ncols
+            || cycle_col.is_some_and(|i| vals[i].to_bits() != cycle_bits)
+            || cyl_col.is_some_and(|i| vals[i].to_bits() != cyl_bits)
+        {
+            break;
+        }
+        let Some(a) = track.continues(vals[x] - tdc) else {
+            break;
+        };
+        if templates {
+            if backoff == 0 {
+                template = Template::seed(&w[used..used + len], sep, x, value, a - track.last());
+            } else {
+                backoff -= 1;
+            }
+        }
+        track.take(a);
+        tr.angle_deg.push(a);
+        tr.values.push(vals[value] * scale + offset);
+        used += len;
+        n += 1;
+    }
+    (used, n)
+}
+
+/// Plain rows of `w` that continue the cycles of a one-cycle-per-column
+/// layout: the angle, then a value for every column (a delimiter may close
+/// the row). Every cell of a row is read before any is kept, so a row it
+/// stops at is left whole for the general path.
+#[inline(never)]
+pub(crate) fn per_column(
+    w: &[u8],
+    eof: bool,
+    sep: u8,
+    pc: &mut PerColumn,
+    row: &mut Vec<f64>,
+) -> (usize, usize) {
+    let Some(track) = pc.track.as_mut() else {
+        return (0, 0);
+    };
+    let m = pc.cols.len();
+    // Columns in file order, one after another after the angle.
+    if pc.x != 0 || pc.cols.iter().enumerate().any(|(j, c)| c.0 != j + 1) {
+        return (0, 0);
+    }
+    let decimal_comma = sep != b',';
+    let (mut used, mut n) = (0, 0);
+    row.resize(m + 1, 0.0);
+    'rows: while eof || used + 4096 < w.len() {
+        let b = &w[used..];
+        let mut i = 0;
+        for cell in row.iter_mut() {
+            let neg = b.get(i) == Some(&b'-');
+            i += usize::from(neg);
+            let mut mant = 0u64;
+            let s = i;
+            i = digit_run(b, i, &mut mant);
+            let int_digits = i - s;
+            let mut frac = 0;
+            if let Some(&c) = b.get(i)
+                && (c == b'.' || (decimal_comma && c == b','))
+            {
+                i += 1;
+                let f = i;
+                i = digit_run(b, i, &mut mant);
+                frac = i - f;
+            }
+            let digits = int_digits + frac;
+            if digits == 0 || digits > 15 {
+                break 'rows;
+            }
+            *cell = decimal_value(mant, frac, neg);
+            match b.get(i) {
+                Some(&c) if c == sep => i += 1,
+                _ => {}
+            }
+        }
+        // The row ends here: the last cell's delimiter (if any) was taken.
+        let end = match b.get(i) {
+            Some(b'\n') => i + 1,
+            Some(b'\r') if b.get(i + 1) == Some(&b'\n') => i + 2,
+            None if eof && i > 0 => i,
+            _ => break,
+        };
+        // Every cell read needs its delimiter but the last.
+        let Some(a) = track.continues(row[0] - pc.tdc) else {
+            break;
+        };
+        track.take(a);
+        for (j, t) in pc.traces.iter_mut().enumerate() {
+            let (_, scale, _) = pc.cols[j];
+            t.angle_deg.push(a);
+            t.values.push(row[j + 1] * scale + pc.offset);
+        }
+        used += end;
+        n += 1;
+    }
+    (used, n)
+}

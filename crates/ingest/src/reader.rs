@@ -1,0 +1,534 @@
+//! The reader: rows of cells from a source, in three phases (the preamble of
+//! titles and banners, the header, the data), into finished traces for the
+//! grid. The source (text or spreadsheet) hands it rows; the column resolver
+//! says what the columns hold; the layout turns rows into traces; the
+//! emitter checks each finished trace and applies the gap rule.
+
+use crate::columns::{Axis, Roles, expand};
+use crate::error::{IngestError, at};
+use crate::layout::Layout;
+use crate::row::Cells;
+use crate::trace::{self, Checked, Gap};
+use crate::{Header, ParseOptions, Quantity, Streamed, Trace};
+
+/// Text rows above the data that the reader looks at for a header.
+pub(crate) const PREAMBLE_LINES: usize = 50;
+
+/// A text row above the data.
+pub(crate) struct TextLine {
+    pub line: usize,
+    pub cells: Vec<String>,
+    /// The same line split at runs of two or more spaces (space-delimited
+    /// files whose names hold single spaces: `Crank Angle [deg]`).
+    pub wide: Option<Vec<String>>,
+}
+
+/// Where the reader is.
+pub(crate) enum Phase {
+    /// Before the first data row: text rows kept to find the header in.
+    Preamble(Vec<TextLine>),
+    /// Data rows, read by their layout.
+    Data(Box<Layout>),
+}
+
+/// The reader's state.
+pub(crate) struct Reader<'o, F> {
+    pub opts: &'o ParseOptions,
+    pub head: Header,
+    pub phase: Phase,
+    pub out: Emitter<'o, F>,
+}
+
+impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
+    pub(crate) fn new(opts: &'o ParseOptions, sink: F) -> Self {
+        Self {
+            opts,
+            head: Header::default(),
+            phase: Phase::Preamble(Vec::new()),
+            out: Emitter::new(opts, sink),
+        }
+    }
+
+    /// A comment line (`#` …): a speed line is read, anything else skipped.
+    pub(crate) fn comment(&mut self, line: usize, text: &str) -> Result<(), IngestError> {
+        match parse_rpm(text) {
+            Some(Ok(r))
+                if self
+                    .head
+                    .rpm
+                    .is_some_and(|was| was.to_bits() != r.to_bits()) =>
+            {
+                Err(at(
+                    line,
+                    None,
+                    format!(
+                        "a second speed line says {r} rpm, an earlier one {} rpm",
+                        self.head.rpm.unwrap_or_default()
+                    ),
+                ))
+            }
+            Some(Ok(r)) => {
+                self.head.rpm = Some(r);
+                Ok(())
+            }
+            Some(Err(message)) => Err(at(line, None, message)),
+            None => Ok(()),
+        }
+    }
+
+    /// True while no data row has been read.
+    pub(crate) fn in_preamble(&self) -> bool {
+        matches!(self.phase, Phase::Preamble(_))
+    }
+
+    /// One row of cells. `wide` splits a text row at runs of spaces, for
+    /// space-delimited headers.
+    pub(crate) fn row(
+        &mut self,
+        line: usize,
+        cells: &impl Cells,
+        wide: impl FnOnce() -> Option<Vec<String>>,
+    ) -> Result<(), IngestError> {
+        match &mut self.phase {
+            Phase::Data(layout) => layout.row(line, cells, &mut self.out),
+            Phase::Preamble(text) => {
+                if cells.is_data() {
+                    let text = std::mem::take(text);
+                    let layout = self.start(line, cells, text)?;
+                    self.phase = Phase::Data(Box::new(layout));
+                    let Phase::Data(layout) = &mut self.phase else {
+                        return Ok(());
+                    };
+                    return layout.row(line, cells, &mut self.out);
+                }
+                if text.len() >= PREAMBLE_LINES {
+                    return Err(at(
+                        line,
+                        None,
+                        format!(
+                            "no data row in the first {PREAMBLE_LINES} lines that are not comments: not a diagram? (--skip-lines N skips a longer preamble)"
+                        ),
+                    ));
+                }
+                let n = cells.used();
+                text.push(TextLine {
+                    line,
+                    cells: (0..n)
+                        .map(|i| cells.text(i).trim().trim_matches('"').to_string())
+                        .collect(),
+                    wide: wide(),
+                });
+                Ok(())
+            }
+        }
+    }
+
+    /// The first data row: find the header among the text rows above it,
+    /// resolve the columns and choose the layout.
+    fn start(
+        &mut self,
+        line: usize,
+        cells: &impl Cells,
+        text: Vec<TextLine>,
+    ) -> Result<Layout, IngestError> {
+        let k = cells.used();
+        let (roles, header_at) = match &self.opts.columns {
+            Some(given) => {
+                let names = expand(given, k);
+                if names.len() < k {
+                    return Err(at(
+                        line,
+                        Some(names.len() + 1),
+                        format!(
+                            "{k} columns, --columns names {}: name every column (`_` skips one), or end the list with `...` to repeat the last name over the rest (one cycle per column)",
+                            names.len()
+                        ),
+                    ));
+                }
+                let roles = Roles::resolve(&names, true, line)?;
+                (roles, text.len().checked_sub(1))
+            }
+            None => header(&text, k, line)?,
+        };
+        // Lines above the header: titles and banners.
+        let banner = header_at.map_or(0, |h| h);
+        if banner > 0 {
+            let first = text[0].cells.join(" ");
+            let shown: String = first.chars().take(60).collect();
+            self.head.notes.push(format!(
+                "skipped {banner} line{} above the {} (a title or banner: `{}{}`)",
+                if banner > 1 { "s" } else { "" },
+                if self.opts.columns.is_some() {
+                    "data"
+                } else {
+                    "header"
+                },
+                enginedyn_numerics::format::quote(&shown),
+                if first.chars().count() > 60 {
+                    "…"
+                } else {
+                    ""
+                }
+            ));
+            if self.head.rpm.is_none()
+                && let Some((r, at_line)) = text[..banner]
+                    .iter()
+                    .find_map(|t| banner_rpm(&t.cells.join(" ")).map(|r| (r, t.line)))
+            {
+                self.head.rpm = Some(r);
+                self.head.notes.push(format!(
+                    "speed {} rpm from the banner on line {at_line}",
+                    enginedyn_numerics::format::trimmed(r, 3)
+                ));
+            }
+        }
+        if let Some(n) = &roles.note {
+            self.head.notes.push(n.clone());
+        }
+        if roles.values.len() > 1 {
+            self.head.notes.push(if roles.per_cylinder {
+                format!(
+                    "{} pressure columns, one per cylinder (their names say which)",
+                    roles.values.len()
+                )
+            } else {
+                format!(
+                    "{} pressure columns: one cycle per column",
+                    roles.values.len()
+                )
+            });
+        }
+        self.head.quantity = roles.quantity;
+        self.head.pv = matches!(roles.axis, Axis::Volume(_));
+        let layout = Layout::new(roles, self.opts, self.head.rpm, line)?;
+        self.out.absolute = !self.opts.relative && !layout.relative();
+        Ok(layout)
+    }
+
+    /// The end of the source.
+    pub(crate) fn end(mut self) -> Result<Header, IngestError> {
+        match std::mem::replace(&mut self.phase, Phase::Preamble(Vec::new())) {
+            Phase::Preamble(text) => {
+                return Err(match text.last() {
+                    Some(t) => at(t.line, None, "no data rows after the header"),
+                    None => IngestError::Data("no data rows".into()),
+                });
+            }
+            Phase::Data(layout) => (*layout).end(&mut self.out, &mut self.head)?,
+        }
+        self.out.end(&mut self.head)?;
+        Ok(self.head)
+    }
+}
+
+/// The header among the text rows above the data (`k` cells wide): the
+/// last row, or the last two as names and units, or the one before a
+/// units row. Returns the roles and the header's index in `text`.
+fn header(text: &[TextLine], k: usize, line: usize) -> Result<(Roles, Option<usize>), IngestError> {
+    let Some(last) = text.len().checked_sub(1) else {
+        return Err(at(
+            line,
+            None,
+            "no header row: name the columns with --columns crank_deg,pressure_bar (or add a header)",
+        ));
+    };
+    let fit = |t: &TextLine| -> Vec<String> {
+        let mut n = match &t.wide {
+            Some(w) if t.cells.len() != k && w.len() == k => w.clone(),
+            _ => t.cells.clone(),
+        };
+        // A delimiter at the end of every row (spreadsheet exports): the
+        // empty last columns are skipped.
+        for x in n.iter_mut().rev().take_while(|x| x.is_empty()) {
+            *x = "_".into();
+        }
+        n
+    };
+    let check = |names: &[String], at_line: usize| -> Result<(), IngestError> {
+        if names.len() < k {
+            return Err(at(
+                line,
+                Some(names.len() + 1),
+                format!(
+                    "{k} cells, the header on line {at_line} names {}: every column needs a name",
+                    names.len()
+                ),
+            ));
+        }
+        Ok(())
+    };
+    let names = fit(&text[last]);
+    let first_try = Roles::resolve(&names, false, text[last].line);
+    if let Ok(r) = first_try {
+        check(&names, text[last].line)?;
+        return Ok((r, Some(last)));
+    }
+    if last > 0 {
+        // Names, then units on the next row.
+        let (a, b) = (fit(&text[last - 1]), fit(&text[last]));
+        if a.len() == b.len() {
+            let joined: Vec<String> = a
+                .iter()
+                .zip(&b)
+                .map(|(n, u)| {
+                    if u == "_" || u.is_empty() {
+                        n.clone()
+                    } else {
+                        format!("{n} [{}]", u.trim_matches(['[', ']', '(', ')']))
+                    }
+                })
+                .collect();
+            if let Ok(r) = Roles::resolve(&joined, false, text[last - 1].line) {
+                check(&joined, text[last - 1].line)?;
+                return Ok((r, Some(last - 1)));
+            }
+        }
+        if let Ok(r) = Roles::resolve(&a, false, text[last - 1].line) {
+            check(&a, text[last - 1].line)?;
+            return Ok((r, Some(last - 1)));
+        }
+    }
+    Err(first_try
+        .err()
+        .unwrap_or_else(|| IngestError::Data("no header".into())))
+}
+
+/// The speed a comment line gives: `None` when the comment is not a speed
+/// line (`# rpm = N` or `# rpm: N`, any case), an error when it is one
+/// whose value is not a positive number. Text after the number (a unit) is
+/// ignored, and so are delimiters at the end of the line. A comma inside
+/// the number is refused: `1,800` may be a thousands separator or a
+/// decimal comma, and either reading would go unnoticed.
+pub(crate) fn parse_rpm(comment: &str) -> Option<Result<f64, String>> {
+    // A spreadsheet export closes the line with empty cells: `# rpm = 2200,,`.
+    let c = comment
+        .trim_start_matches('#')
+        .trim_end_matches([',', ';', '\t', ' '])
+        .trim();
+    let rest = c
+        .get(..3)
+        .filter(|k| k.eq_ignore_ascii_case("rpm"))
+        .map(|_| c[3..].trim_start())?;
+    let rest = rest.strip_prefix('=').or_else(|| rest.strip_prefix(':'))?;
+    let value = rest.split_whitespace().next().unwrap_or("");
+    let hint = if value.contains(',') {
+        " (write 1800 or 1800.5: a comma may be a decimal or a thousands separator)"
+    } else {
+        ""
+    };
+    use enginedyn_kinematics::{MAX_RPM, MIN_RPM};
+    Some(match value.parse::<f64>() {
+        Ok(v) if (MIN_RPM..=MAX_RPM).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "`{}`: the speed must be a number of rpm from 0.001 to 100000{hint}",
+            enginedyn_numerics::format::quote(comment.trim())
+        )),
+    })
+}
+
+/// A speed in a banner line (`----Engine speed[rpm] = 1000.0 …`): the
+/// number after the `=` or `:` that follows `rpm` (or `speed` on a line
+/// that says rpm).
+fn banner_rpm(line: &str) -> Option<f64> {
+    let l = line.to_ascii_lowercase();
+    if !l.contains("rpm") && !l.contains("1/min") && !l.contains("u/min") {
+        return None;
+    }
+    let key = ["speed", "drehzahl", "rpm", "n ="]
+        .iter()
+        .filter_map(|k| l.find(k))
+        .min()?;
+    let rest = &l[key..];
+    let eq = rest.find(['=', ':'])?;
+    let num: String = rest[eq + 1..]
+        .trim_start()
+        .chars()
+        .take_while(|c| c.is_ascii_digit() || *c == '.')
+        .collect();
+    let v: f64 = num.parse().ok()?;
+    (enginedyn_kinematics::MIN_RPM..=enginedyn_kinematics::MAX_RPM)
+        .contains(&v)
+        .then_some(v)
+}
+
+/// Checks each finished trace and hands it on, applying the gap rule: a
+/// single cycle (per cylinder) with a gap is held to the end and bridged up
+/// to `--max-gap`; once a cylinder has several cycles, those with a gap are
+/// left out of the averages.
+pub(crate) struct Emitter<'o, F> {
+    opts: &'o ParseOptions,
+    sink: F,
+    /// Pressures must be absolute (not pegged, not volts): checked for sign.
+    pub absolute: bool,
+    pv_notes: Vec<String>,
+    /// Per cylinder (0: one trace for all): traces seen and handed on.
+    seen: Vec<(usize, usize)>,
+    held: Vec<Option<(Trace, Checked, Quantity)>>,
+    skipped: Vec<(String, Gap)>,
+    bridged: Vec<(String, Gap)>,
+    /// Samples below zero, traces with any, the lowest (Pa).
+    below: (usize, usize, f64),
+    total: usize,
+}
+
+impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
+    fn new(opts: &'o ParseOptions, sink: F) -> Self {
+        Self {
+            opts,
+            sink,
+            absolute: !opts.relative,
+            pv_notes: Vec::new(),
+            seen: Vec::new(),
+            held: Vec::new(),
+            skipped: Vec::new(),
+            bridged: Vec::new(),
+            below: (0, 0, 0.0),
+            total: 0,
+        }
+    }
+
+    /// A finished trace, its first line, what it holds, whether p–V.
+    pub(crate) fn trace(
+        &mut self,
+        tr: Trace,
+        line: usize,
+        q: Quantity,
+        pv: bool,
+    ) -> Result<(), IngestError> {
+        let opts = self.opts;
+        let tr = if pv {
+            let cyl = opts.cylinder.as_ref().ok_or_else(|| {
+                IngestError::Data("p–V data needs the engine's volume law".into())
+            })?;
+            crate::pv::to_angles(
+                tr,
+                cyl,
+                opts.cycle_deg,
+                opts.pv_start_bdc,
+                line,
+                &mut self.pv_notes,
+            )?
+        } else {
+            tr
+        };
+        let (tr, c) = trace::finish(tr, opts.cycle_deg, q, self.absolute, opts.gauge)?;
+        if c.below_zero.0 > 0 {
+            self.below.0 += c.below_zero.0;
+            self.below.1 += 1;
+            self.below.2 = self.below.2.min(c.below_zero.1);
+        }
+        self.total += 1;
+        let k = usize::try_from(tr.cylinder).unwrap_or(0);
+        if self.seen.len() <= k {
+            self.seen.resize(k + 1, (0, 0));
+            self.held.resize_with(k + 1, || None);
+        }
+        self.seen[k].0 += 1;
+        if self.seen[k].0 == 2
+            && let Some((t, c, _)) = self.held[k].take()
+            && let Some(g) = c.gap
+        {
+            self.skipped.push((trace::describe(&t), g));
+        }
+        match c.gap {
+            Some(_) if self.seen[k].0 == 1 => {
+                self.held[k] = Some((tr, c, q));
+                Ok(())
+            }
+            Some(g) => {
+                self.skipped.push((trace::describe(&tr), g));
+                Ok(())
+            }
+            None => self.send(tr, c, q),
+        }
+    }
+
+    fn send(&mut self, tr: Trace, c: Checked, q: Quantity) -> Result<(), IngestError> {
+        let k = usize::try_from(tr.cylinder).unwrap_or(0);
+        self.seen[k].1 += 1;
+        (self.sink)(Streamed {
+            trace: tr,
+            quantity: q,
+            steps: c.steps,
+        })
+    }
+
+    fn end(&mut self, head: &mut Header) -> Result<(), IngestError> {
+        let max_gap = self.opts.max_gap_deg;
+        for k in 0..self.held.len() {
+            let Some((tr, c, q)) = self.held[k].take() else {
+                continue;
+            };
+            let Some(g) = c.gap else { continue };
+            if g.width > max_gap + 1e-9 {
+                return Err(IngestError::Data(format!(
+                    "{} has a gap of {}° from {}° to {}° (its steps are {}°): the data covers {}° of the {}° cycle; --max-gap {} bridges gaps up to {}°",
+                    trace::describe(&tr),
+                    fmt(g.width),
+                    fmt(g.from),
+                    fmt((g.from + g.width) % self.opts.cycle_deg),
+                    fmt(g.median),
+                    fmt(self.opts.cycle_deg - g.width),
+                    fmt(self.opts.cycle_deg),
+                    fmt(g.width.ceil()),
+                    fmt(max_gap)
+                )));
+            }
+            self.bridged.push((trace::describe(&tr), g));
+            self.send(tr, c, q)?;
+        }
+        for (k, (seen, sent)) in self.seen.iter().enumerate() {
+            if *seen > 0 && *sent == 0 {
+                return Err(IngestError::Data(format!(
+                    "every one of the {seen} cycles{} has a gap (a spacing of more than 5 median steps): none is left to average",
+                    if k > 0 {
+                        format!(" of cylinder {k}")
+                    } else {
+                        String::new()
+                    }
+                )));
+            }
+        }
+        if let Some((name, g)) = self.bridged.first() {
+            head.notes.push(format!(
+                "{name} has a gap of {}° from {}° (its steps are {}°){}: bridged by the {} interpolant (up to --max-gap {}°); the pressure there is its guess",
+                fmt(g.width),
+                fmt(g.from),
+                fmt(g.median),
+                if self.bridged.len() > 1 { format!(", and {} more traces have one", self.bridged.len() - 1) } else { String::new() },
+                "grid's",
+                fmt(max_gap)
+            ));
+        }
+        if let Some((name, g)) = self
+            .skipped
+            .iter()
+            .max_by(|a, b| a.1.width.total_cmp(&b.1.width))
+            .cloned()
+        {
+            head.notes.push(format!(
+                "{} of {} cycles left out of the averages for a gap in the data (a dropout: a spacing of more than 5 median steps; the widest: {name}, {}° from {}°)",
+                self.skipped.len(),
+                self.total,
+                fmt(g.width),
+                fmt(g.from)
+            ));
+            head.cycles_skipped = self.skipped.len();
+        }
+        if self.below.0 > 0 {
+            head.notes.push(format!(
+                "{} sample{} below zero absolute pressure (lowest {} bar){}: kept, as sensor noise or drift in the gas exchange",
+                self.below.0,
+                if self.below.0 > 1 { "s" } else { "" },
+                enginedyn_numerics::format::sig(self.below.2 / 1e5, 3),
+                if self.total > 1 { format!(" in {} of {} traces", self.below.1, self.total) } else { String::new() }
+            ));
+        }
+        head.notes.append(&mut self.pv_notes);
+        Ok(())
+    }
+}
+
+fn fmt(x: f64) -> String {
+    enginedyn_numerics::format::trimmed(x, 2)
+}

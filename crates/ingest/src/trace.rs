@@ -1,0 +1,338 @@
+//! The trace builder: the one rule for which angle continues a cycle, and
+//! the checks a finished cycle passes before it goes on the grid (coverage
+//! and gaps, plausible values, samples below zero).
+
+use crate::error::IngestError;
+use crate::{Quantity, Trace};
+
+/// The angles of the cycle being built: where it started, where it is, and
+/// whether its angles have wrapped past the cycle's end once (360 … 719.5,
+/// 0 … 359.5 in a file whose cycles start at 360).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Track {
+    first: f64,
+    last: f64,
+    /// 0, or the cycle once the angles wrapped.
+    wrap: f64,
+    cycle: f64,
+}
+
+/// The tolerance (deg) of angle comparisons against a cycle's length.
+const EPS: f64 = 1e-9;
+
+impl Track {
+    /// A cycle starting at `a` (deg).
+    pub(crate) fn new(a: f64, cycle: f64) -> Self {
+        Self {
+            first: a,
+            last: a,
+            wrap: 0.0,
+            cycle,
+        }
+    }
+
+    /// The acceptance rule: `a`, moved by the wrap, when it continues the
+    /// cycle (rises, and stays less than a cycle after the first angle).
+    /// Every path asks this; the fast paths stop at `None` and leave the
+    /// row to [`Self::accept`].
+    #[inline(always)]
+    pub(crate) fn continues(&self, a: f64) -> Option<f64> {
+        let w = a + self.wrap;
+        (w > self.last && w - self.first < self.cycle - EPS).then_some(w)
+    }
+
+    /// Marks `w` (from [`Self::continues`]) as taken.
+    #[inline(always)]
+    pub(crate) fn take(&mut self, w: f64) {
+        self.last = w;
+    }
+
+    /// [`Self::continues`], else the one wrap a cycle may make: an angle
+    /// below the first that, a cycle on, still continues the cycle.
+    pub(crate) fn accept(&mut self, a: f64) -> Option<f64> {
+        if let Some(w) = self.continues(a) {
+            self.last = w;
+            return Some(w);
+        }
+        let w = a + self.cycle;
+        if self.wrap == 0.0 && a < self.first && w > self.last && w - self.first < self.cycle - EPS
+        {
+            self.wrap = self.cycle;
+            self.last = w;
+            return Some(w);
+        }
+        None
+    }
+
+    /// True when `a` is the cycle's first angle a cycle on: the closing
+    /// point a digitised cycle often repeats.
+    pub(crate) fn closes(&self, a: f64) -> bool {
+        (a + self.wrap - self.first - self.cycle).abs() < EPS
+    }
+
+    /// True when `a` (not continuing) starts a new cycle: it runs a cycle
+    /// past the first angle, or jumps back by more than half a cycle.
+    pub(crate) fn starts_next(&self, a: f64) -> bool {
+        let w = a + self.wrap;
+        w - self.first >= self.cycle - EPS || self.last - w > self.cycle / 2.0
+    }
+
+    /// The last angle taken, as the file wrote it.
+    pub(crate) fn last_raw(&self) -> f64 {
+        self.last - self.wrap
+    }
+
+    /// The last angle taken, moved by the wrap.
+    #[inline(always)]
+    pub(crate) fn last(&self) -> f64 {
+        self.last
+    }
+
+    /// The first angle.
+    pub(crate) fn first(&self) -> f64 {
+        self.first
+    }
+}
+
+/// The widest gap of a trace.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Gap {
+    /// Where it starts (deg, cycle angle).
+    pub from: f64,
+    /// Its width (deg).
+    pub width: f64,
+    /// The cycle's median step (deg).
+    pub median: f64,
+}
+
+/// What the checks of a finished trace found.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Checked {
+    /// The smallest and largest step between its angles, when they did
+    /// not have to move into the cycle.
+    pub steps: Option<(f64, f64)>,
+    /// Its widest gap, when it has one.
+    pub gap: Option<Gap>,
+    /// Samples below zero absolute pressure, and the lowest (Pa).
+    pub below_zero: (usize, f64),
+}
+
+/// A gap is a spacing of more than this many median steps (INTERFACE.md).
+pub(crate) const GAP_STEPS: f64 = 5.0;
+
+/// Checks a trace and moves its angles into `[0, cycle)`, rotating so they
+/// rise. `absolute`: pressures that must be absolute (not to be pegged),
+/// so a trace below zero over more than half its cycle is refused
+/// (`gauge` says how to word it).
+pub(crate) fn finish(
+    mut tr: Trace,
+    cycle: f64,
+    quantity: Quantity,
+    absolute: bool,
+    gauge: bool,
+) -> Result<(Trace, Checked), IngestError> {
+    let n = tr.angle_deg.len();
+    let name = describe(&tr);
+    if n < 4 {
+        return Err(IngestError::Data(format!(
+            "{name} has {n} points: at least 4 are needed"
+        )));
+    }
+    let first = tr.angle_deg[0];
+    let last = tr.angle_deg[n - 1];
+    let (lo, hi) = enginedyn_numerics::scan::step_range(&tr.angle_deg);
+    let wrap_step = first + cycle - last;
+    // The median step; evenly spaced data (the usual case) needs no sort.
+    let median = if hi - lo <= 1e-9 * hi.abs() + 1e-12 {
+        lo
+    } else {
+        let mut steps: Vec<f64> = tr.angle_deg.windows(2).map(|w| w[1] - w[0]).collect();
+        steps.push(wrap_step);
+        let k = steps.len() / 2;
+        *steps.select_nth_unstable_by(k, f64::total_cmp).1
+    };
+    let limit = GAP_STEPS * median;
+    let mut gap: Option<Gap> = None;
+    let mut note_gap = |from: f64, width: f64| {
+        if width > limit && gap.is_none_or(|g| width > g.width) {
+            gap = Some(Gap {
+                from: from.rem_euclid(cycle),
+                width,
+                median,
+            });
+        }
+    };
+    note_gap(last, wrap_step);
+    if hi > limit {
+        for w in tr.angle_deg.windows(2) {
+            note_gap(w[0], w[1] - w[0]);
+        }
+    }
+    let (vlo, vhi) = enginedyn_numerics::scan::min_max(&tr.values);
+    let mut below_zero = (0, 0.0);
+    if quantity != Quantity::Pressure {
+        let peak = vlo.abs().max(vhi.abs()).max(0.0);
+        // The largest engines make about 1e7 N m: beyond 1e9 is a unit mix-up.
+        if peak > 1e9 {
+            return Err(IngestError::Data(format!(
+                "{name}: torque {} N m is implausible: is the torque column in N m?",
+                enginedyn_numerics::format::sig(peak, 4)
+            )));
+        }
+    } else if absolute {
+        // 5 kPa to 10 kbar absolute: anything outside is a unit mix-up.
+        if !(5e3..=1e9).contains(&vhi.max(0.0)) {
+            return Err(IngestError::Data(format!(
+                "{name}: peak pressure {} bar is implausible: is the pressure column's unit right?",
+                enginedyn_numerics::format::sig(vhi.max(0.0) / 1e5, 4)
+            )));
+        }
+        if vlo < 0.0 {
+            // The share of the cycle below zero: each sample stands for
+            // half the steps either side of it.
+            let (mut count, mut span) = (0usize, 0.0);
+            for i in 0..n {
+                if tr.values[i] < 0.0 {
+                    count += 1;
+                    let before = if i == 0 {
+                        wrap_step
+                    } else {
+                        tr.angle_deg[i] - tr.angle_deg[i - 1]
+                    };
+                    let after = if i + 1 == n {
+                        wrap_step
+                    } else {
+                        tr.angle_deg[i + 1] - tr.angle_deg[i]
+                    };
+                    span += 0.5 * (before + after);
+                }
+            }
+            if span > 0.5 * cycle {
+                return Err(IngestError::Data(if gauge {
+                    format!(
+                        "{name} lies below vacuum (below −1.01325 bar gauge) over {:.0} % of its cycle: is the pressure column's unit right?",
+                        100.0 * span / cycle
+                    )
+                } else {
+                    format!(
+                        "{name} is below zero absolute pressure over {:.0} % of its cycle (lowest {} bar): gauge data? give --gauge; a relative (piezo) trace: --peg-bar P or --peg polytropic",
+                        100.0 * span / cycle,
+                        enginedyn_numerics::format::sig(vlo / 1e5, 3)
+                    )
+                }));
+            }
+            below_zero = (count, vlo);
+        }
+    } else if vhi - vlo < 5e3 {
+        return Err(IngestError::Data(format!(
+            "{name}: the pressure varies by {} bar only over the cycle: is the unit (or --gain) right?",
+            enginedyn_numerics::format::sig((vhi - vlo) / 1e5, 3)
+        )));
+    }
+    let checked = |steps| Checked {
+        steps,
+        gap,
+        below_zero,
+    };
+    // Already in [0, cycle) and rising (the usual case): nothing to move.
+    if first >= 0.0 && last < cycle && lo > 0.0 {
+        return Ok((tr, checked(Some((lo, hi)))));
+    }
+    let wrapped: Vec<f64> = tr
+        .angle_deg
+        .iter()
+        .map(|a| {
+            let w = a.rem_euclid(cycle);
+            if w >= cycle { 0.0 } else { w }
+        })
+        .collect();
+    let start = (0..n)
+        .min_by(|&i, &j| wrapped[i].total_cmp(&wrapped[j]))
+        .unwrap_or(0);
+    tr.angle_deg = wrapped[start..]
+        .iter()
+        .chain(&wrapped[..start])
+        .copied()
+        .collect();
+    tr.values.rotate_left(start);
+    if tr.angle_deg.windows(2).any(|w| w[1] <= w[0]) {
+        return Err(IngestError::Data(format!(
+            "{name}: two points fall on the same crank angle once wrapped into the cycle"
+        )));
+    }
+    Ok((tr, checked(None)))
+}
+
+/// "cycle 3", "cycle 3 of cylinder 2", as messages name a trace.
+pub(crate) fn describe(tr: &Trace) -> String {
+    if tr.cylinder > 0 {
+        format!("cycle {} of cylinder {}", tr.cycle, tr.cylinder)
+    } else {
+        format!("cycle {}", tr.cycle)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wraps_once_and_closes() {
+        let mut t = Track::new(360.0, 720.0);
+        assert_eq!(t.accept(719.5), Some(719.5));
+        assert_eq!(t.accept(0.0), Some(720.0));
+        assert_eq!(t.accept(359.5), Some(1079.5));
+        // A second wrap is no continuation, the first angle again closes.
+        assert_eq!(t.accept(0.0), None);
+        assert!(t.closes(360.0));
+        assert!(t.starts_next(360.0));
+        // Falling by a little is neither.
+        let mut u = Track::new(0.0, 720.0);
+        u.accept(10.0);
+        assert_eq!(u.accept(9.0), None);
+        assert!(!u.starts_next(9.0));
+    }
+
+    fn trace(angles: &[f64], p: f64) -> Trace {
+        Trace {
+            cycle: 1,
+            cylinder: 0,
+            angle_deg: angles.to_vec(),
+            values: vec![p; angles.len()],
+        }
+    }
+
+    #[test]
+    fn gaps_are_found_anywhere() {
+        let mut a: Vec<f64> = (0..720).map(f64::from).collect();
+        let (_, c) = finish(trace(&a, 1e6), 720.0, Quantity::Pressure, true, false).unwrap();
+        assert!(c.gap.is_none());
+        a.retain(|x| !(100.0..130.0).contains(x));
+        let (_, c) = finish(trace(&a, 1e6), 720.0, Quantity::Pressure, true, false).unwrap();
+        let g = c.gap.unwrap();
+        assert_eq!((g.from, g.width, g.median), (99.0, 31.0, 1.0));
+        // At the wrap: 170° of 720°.
+        let short: Vec<f64> = (0..=170).map(f64::from).collect();
+        let (_, c) = finish(trace(&short, 1e6), 720.0, Quantity::Pressure, true, false).unwrap();
+        assert_eq!(c.gap.map(|g| g.width), Some(550.0));
+    }
+
+    #[test]
+    fn below_zero_over_half_the_cycle_is_refused() {
+        let a: Vec<f64> = (0..720).map(f64::from).collect();
+        let mut t = trace(&a, 2e5);
+        t.values[0] = 50e5;
+        for v in &mut t.values[100..300] {
+            *v = -0.5e5;
+        }
+        let (_, c) = finish(t.clone(), 720.0, Quantity::Pressure, true, false).unwrap();
+        assert_eq!(c.below_zero, (200, -0.5e5));
+        for v in &mut t.values[300..500] {
+            *v = -0.5e5;
+        }
+        let e = finish(t.clone(), 720.0, Quantity::Pressure, true, false).unwrap_err();
+        assert!(e.to_string().contains("--gauge"), "{e}");
+        // A relative trace is not checked for sign.
+        assert!(finish(t, 720.0, Quantity::Pressure, false, false).is_ok());
+    }
+}
