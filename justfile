@@ -34,6 +34,15 @@ accuracy:
 screenshots:
     for d in reports/*/; do chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run --disable-background-networking --disable-component-update --disable-sync --user-data-dir="$(mktemp -d)" --window-size=1300,5200 --screenshot="$d/report.png" "file://$(realpath "$d")/report.html"; done
 
+# The reader on one-cycle-per-column text and .xlsx against the long layout and pandas (benches/RESULTS.md).
+bench-layouts:
+    python3 benches/layouts.py
+
+# Every measured-like fixture against the release build (tests/fixtures/measured/expected.json).
+fixtures:
+    cargo build --release
+    python3 tests/fixtures/measured/check_fixtures.py target/release/enginedyn
+
 # The checks CI runs.
 ci:
     bash .ci/run
