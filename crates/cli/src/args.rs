@@ -209,7 +209,7 @@ pub struct DiagramArgs {
     /// The widest gap (deg) bridged in a single digitised cycle [default: 30].
     #[arg(long, value_name = "DEG", value_parser = parse_max_gap)]
     pub max_gap: Option<f64>,
-    /// A time record's firing TDC time T (in its time column's unit), with --rpm.
+    /// A time record's firing TDC time T in seconds (with --rpm, when it has no tdc column).
     #[arg(long, value_name = "T", allow_hyphen_values = true, value_parser = parse_tdc_time)]
     pub tdc_time: Option<f64>,
     /// A charge amplifier's gain (bar per volt) for a `pressure_v` column.

@@ -704,7 +704,13 @@ impl Roles {
             }
         }
         for (i, why) in &unread {
-            left_out.push(unread_message(&names[*i], why));
+            left_out.push(match why {
+                Unread::Unknown => format!(
+                    "`{}` (not a name enginedyn reads)",
+                    enginedyn_numerics::format::quote(&names[*i])
+                ),
+                _ => unread_message(&names[*i], why),
+            });
         }
         if tdc.is_some() && !matches!(axis, Axis::Time(_)) {
             left_out.push(format!(

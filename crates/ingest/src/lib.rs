@@ -71,7 +71,7 @@ pub struct ParseOptions {
     pub sheet: Option<Sheet>,
     /// The widest gap (deg) bridged in a single cycle (`--max-gap`).
     pub max_gap_deg: f64,
-    /// A time record's firing TDC time, in its time column's unit (`--tdc-time`).
+    /// A time record's firing TDC time (s) (`--tdc-time`).
     pub tdc_time: Option<f64>,
     /// A charge amplifier's gain (bar per volt) for `pressure_v` (`--gain`).
     pub gain_bar_per_v: Option<f64>,

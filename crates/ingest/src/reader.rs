@@ -338,10 +338,10 @@ fn banner_rpm(line: &str) -> Option<f64> {
         .iter()
         .filter_map(|k| l.find(k))
         .min()?;
-    let rest = &l[key..];
-    let eq = rest.find(['=', ':'])?;
-    let num: String = rest[eq + 1..]
-        .trim_start()
+    let rest = l[key..].replace("1/min", "").replace("u/min", "");
+    let from = rest.find(['=', ':']).map_or(0, |i| i + 1);
+    let num: String = rest[from..]
+        .trim_start_matches(|c: char| !c.is_ascii_digit())
         .chars()
         .take_while(|c| c.is_ascii_digit() || *c == '.')
         .collect();
@@ -491,12 +491,11 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
         }
         if let Some((name, g)) = self.bridged.first() {
             head.notes.push(format!(
-                "{name} has a gap of {}° from {}° (its steps are {}°){}: bridged by the {} interpolant (up to --max-gap {}°); the pressure there is its guess",
+                "{name} has a gap of {}° from {}° (its steps are {}°){}: bridged by the interpolant (--max-gap {}°); the pressure there is its guess, and peak pressure and IMEP are uncertain by what the gap hides",
                 fmt(g.width),
                 fmt(g.from),
                 fmt(g.median),
                 if self.bridged.len() > 1 { format!(", and {} more traces have one", self.bridged.len() - 1) } else { String::new() },
-                "grid's",
                 fmt(max_gap)
             ));
         }

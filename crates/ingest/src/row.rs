@@ -22,10 +22,16 @@ pub(crate) trait Cells {
         }
         n
     }
-    /// True when every cell that is not empty is a number (and one is).
+    /// True for a data row: its first cell that is not empty is a number,
+    /// and so is another (a status or comment column may hold text).
     fn is_data(&self) -> bool {
         let n = self.used();
-        n > 0 && (0..n).all(|i| self.is_blank(i) || self.number(i, 0).is_ok())
+        let Some(first) = (0..n).find(|&i| !self.is_blank(i)) else {
+            return false;
+        };
+        self.number(first, 0).is_ok()
+            && (n == first + 1
+                || (first + 1..n).any(|i| !self.is_blank(i) && self.number(i, 0).is_ok()))
     }
 }
 

@@ -149,7 +149,7 @@ impl TimeRecord {
                     ));
                 };
                 Mode::Clock {
-                    t0: t * t_scale,
+                    t0: t,
                     deg_per_s: rpm * 6.0,
                 }
             }
@@ -157,7 +157,7 @@ impl TimeRecord {
                 return Err(at(
                     line,
                     Some(roles.x + 1),
-                    "a time record needs the crank angle: a `tdc` column (a pulse per revolution), or --rpm N and --tdc-time T (the time of a firing TDC, in the time column's unit)",
+                    "a time record needs the crank angle: a `tdc` column (a pulse per revolution), or --rpm N and --tdc-time T (the time of a firing TDC, in seconds)",
                 ));
             }
         };

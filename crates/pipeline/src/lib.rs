@@ -146,6 +146,8 @@ struct Parts {
     notes: Vec<String>,
     interpolation: &'static str,
     cycles: usize,
+    /// Measured cycles left out of the averages (a gap in the data).
+    cycles_skipped: usize,
     stats: Option<CycleSummary>,
     tdc_offset: Option<f64>,
     pegging: Option<Pegging>,
@@ -509,6 +511,7 @@ pub fn analyse_with(
         notes,
         interpolation: interp_name(opts, pressure),
         cycles: pressure.cycles,
+        cycles_skipped: pressure.cycles_skipped,
         stats: (opts.scope > Scope::Keys)
             .then(|| cycle_summary(pressure))
             .flatten(),
@@ -583,6 +586,7 @@ pub fn analyse_torque(
         notes,
         interpolation: interp_name(opts, torque),
         cycles: torque.cycles,
+        cycles_skipped: torque.cycles_skipped,
         force_max: None,
         stats: None,
         tdc_offset: None,
@@ -613,6 +617,7 @@ fn complete(
         mut notes,
         interpolation,
         cycles,
+        cycles_skipped,
         force_max,
         stats,
         tdc_offset,
@@ -752,7 +757,8 @@ fn complete(
         interpolation,
         grid_step_deg: opts.step_deg,
         integration: opts.integration.name(),
-        cycles: (cycles > 1).then_some(cycles),
+        cycles: (cycles > 1 || cycles_skipped > 0).then_some(cycles),
+        cycles_skipped: (cycles > 1 || cycles_skipped > 0).then_some(cycles_skipped),
         cycle_stats: stats,
         pegging,
         tdc_offset_estimate_deg: tdc_offset,

@@ -48,8 +48,10 @@ pub struct Summary {
     pub grid_step_deg: f64,
     /// `models.integration`.
     pub integration: &'static str,
-    /// Number of measured cycles, when more than one.
+    /// Number of measured cycles averaged, when more than one were measured.
     pub cycles: Option<usize>,
+    /// Measured cycles left out of the averages (each for a reason in `notes`).
+    pub cycles_skipped: Option<usize>,
     /// Cycle-to-cycle statistics, when several cycles were measured.
     pub cycle_stats: Option<CycleSummary>,
     /// Pegging applied to relative traces.
@@ -149,6 +151,7 @@ impl Summary {
             grid_step_deg: 0.0,
             integration: "",
             cycles: None,
+            cycles_skipped: None,
             cycle_stats: None,
             pegging: None,
             tdc_offset_estimate_deg: None,
@@ -498,6 +501,18 @@ pub const KEYS: &[Key] = &[
         key: "cycles",
         shown: shown(DATA, "measured cycles averaged", "", 1.0, 0, Basis::None),
         get: |s| s.cycles.map(Value::Int),
+    },
+    Key {
+        key: "cycles_skipped",
+        shown: shown(
+            DATA,
+            "measured cycles left out (a gap)",
+            "",
+            1.0,
+            0,
+            Basis::None,
+        ),
+        get: |s| s.cycles_skipped.map(Value::Int),
     },
     Key {
         key: "imep_std_bar",
