@@ -229,7 +229,13 @@ fn header(text: &[TextLine], k: usize, line: usize) -> Result<(Roles, Option<usi
         return Err(at(
             line,
             None,
-            "no header row: name the columns with --columns crank_deg,pressure_bar (or add a header)",
+            if k > 2 {
+                format!(
+                    "no header row: name the columns with --columns (here {k} of them: crank_deg,pressure_bar... reads the angle and one cycle per column; `_` skips a column), or add a header"
+                )
+            } else {
+                "no header row: name the columns with --columns crank_deg,pressure_bar (or add a header)".to_string()
+            },
         ));
     };
     let fit = |t: &TextLine| -> Vec<String> {
@@ -363,7 +369,7 @@ pub(crate) struct Emitter<'o, F> {
     pv_notes: Vec<String>,
     /// Per cylinder (0: one trace for all): traces seen and handed on.
     seen: Vec<(usize, usize)>,
-    held: Vec<Option<(Trace, Checked, Quantity)>>,
+    held: Vec<Option<(Trace, Checked, Quantity, usize)>>,
     skipped: Vec<(String, Gap)>,
     bridged: Vec<(String, Gap)>,
     /// Samples below zero, traces with any, the lowest (Pa).
@@ -411,7 +417,13 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
         } else {
             tr
         };
-        let (tr, c) = trace::finish(tr, opts.cycle_deg, q, self.absolute, opts.gauge)?;
+        // A trace's errors name the line it starts on.
+        let (tr, c) = trace::finish(tr, opts.cycle_deg, q, self.absolute, opts.gauge).map_err(
+            |e| match e {
+                IngestError::Data(m) => at(line, None, m),
+                e => e,
+            },
+        )?;
         if c.below_zero.0 > 0 {
             self.below.0 += c.below_zero.0;
             self.below.1 += 1;
@@ -425,14 +437,14 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
         }
         self.seen[k].0 += 1;
         if self.seen[k].0 == 2
-            && let Some((t, c, _)) = self.held[k].take()
+            && let Some((t, c, _, _)) = self.held[k].take()
             && let Some(g) = c.gap
         {
             self.skipped.push((trace::describe(&t), g));
         }
         match c.gap {
             Some(_) if self.seen[k].0 == 1 => {
-                self.held[k] = Some((tr, c, q));
+                self.held[k] = Some((tr, c, q, line));
                 Ok(())
             }
             Some(g) => {
@@ -456,23 +468,27 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
     fn end(&mut self, head: &mut Header) -> Result<(), IngestError> {
         let max_gap = self.opts.max_gap_deg;
         for k in 0..self.held.len() {
-            let Some((tr, c, q)) = self.held[k].take() else {
+            let Some((tr, c, q, line)) = self.held[k].take() else {
                 continue;
             };
             let Some(g) = c.gap else { continue };
             if g.width > max_gap + 1e-9 {
-                return Err(IngestError::Data(format!(
-                    "{} has a gap of {}° from {}° to {}° (its steps are {}°): the data covers {}° of the {}° cycle; --max-gap {} bridges gaps up to {}°",
-                    trace::describe(&tr),
-                    fmt(g.width),
-                    fmt(g.from),
-                    fmt((g.from + g.width) % self.opts.cycle_deg),
-                    fmt(g.median),
-                    fmt(self.opts.cycle_deg - g.width),
-                    fmt(self.opts.cycle_deg),
-                    fmt(g.width.ceil()),
-                    fmt(max_gap)
-                )));
+                return Err(at(
+                    line,
+                    None,
+                    format!(
+                        "{} has a gap of {}° from {}° to {}° (its steps are {}°): the data covers {}° of the {}° cycle; --max-gap {} bridges gaps up to {}°",
+                        trace::describe(&tr),
+                        fmt(g.width),
+                        fmt(g.from),
+                        fmt((g.from + g.width) % self.opts.cycle_deg),
+                        fmt(g.median),
+                        fmt(self.opts.cycle_deg - g.width),
+                        fmt(self.opts.cycle_deg),
+                        fmt(g.width.ceil()),
+                        fmt(max_gap)
+                    ),
+                ));
             }
             self.bridged.push((trace::describe(&tr), g));
             self.send(tr, c, q)?;

@@ -20,7 +20,7 @@ pub(crate) fn read<F: FnMut(Streamed) -> Result<(), IngestError>>(
 ) -> Result<Header, IngestError> {
     let mut book = calamine::open_workbook_auto_from_rs(std::io::Cursor::new(bytes)).map_err(|e| {
         IngestError::Data(format!(
-            "not a text file, and not a spreadsheet calamine can read ({e}): export the diagram as CSV"
+            "not a text file: a ZIP or OLE archive that is no spreadsheet calamine reads (.xlsx, .xls, .ods: {e}); export the diagram as CSV"
         ))
     })?;
     let names = book.sheet_names();
@@ -57,7 +57,6 @@ pub(crate) fn read<F: FnMut(Streamed) -> Result<(), IngestError>>(
     let range = book
         .worksheet_range(&names[index])
         .map_err(|e| IngestError::Data(format!("sheet `{}`: {e}", names[index])))?;
-    let (row0, col0) = range.start().unwrap_or((0, 0));
     let mut rd = Reader::new(opts, sink);
     if names.len() > 1 && opts.sheet.is_none() {
         rd.head.notes.push(format!(
@@ -66,6 +65,40 @@ pub(crate) fn read<F: FnMut(Streamed) -> Result<(), IngestError>>(
             names.len()
         ));
     }
+    // Where the first of several sheets holds no diagram, say that others exist.
+    let hint = |e: IngestError| -> IngestError {
+        if names.len() < 2 || opts.sheet.is_some() {
+            return e;
+        }
+        let more = format!(
+            " (this is sheet 1 `{}` of {}: --sheet N or --sheet NAME reads another)",
+            enginedyn_numerics::format::quote(&names[0]),
+            names.len()
+        );
+        match e {
+            IngestError::At {
+                line,
+                column,
+                message,
+            } => IngestError::At {
+                line,
+                column,
+                message: message + &more,
+            },
+            IngestError::Data(m) => IngestError::Data(m + &more),
+            e => e,
+        }
+    };
+    read_rows(&range, opts, &mut rd).map_err(hint)?;
+    rd.end().map_err(hint)
+}
+
+fn read_rows<F: FnMut(Streamed) -> Result<(), IngestError>>(
+    range: &calamine::Range<Data>,
+    opts: &ParseOptions,
+    rd: &mut Reader<'_, F>,
+) -> Result<(), IngestError> {
+    let (row0, col0) = range.start().unwrap_or((0, 0));
     let mut cells: Vec<SheetCell> = Vec::new();
     for (i, row) in range.rows().enumerate() {
         let line = row0 as usize + i + 1;
@@ -100,7 +133,7 @@ pub(crate) fn read<F: FnMut(Streamed) -> Result<(), IngestError>>(
         }
         rd.row(line, &row, || None)?;
     }
-    rd.end()
+    Ok(())
 }
 
 fn first_used(cells: &[SheetCell]) -> usize {
