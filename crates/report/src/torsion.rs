@@ -135,9 +135,7 @@ impl CampbellChart {
             .collect();
         Self {
             file: "campbell.svg".into(),
-            title: format!(
-                "{name} — Campbell diagram: natural frequencies, engine orders, resonances (order × mode)"
-            ),
+            title: format!("{name} — Campbell diagram: natural frequencies and engine orders"),
             speed: (lo, hi),
             modes,
             orders: study.orders.clone(),
@@ -219,7 +217,7 @@ impl CampbellChart {
             },
         ));
         keys.push((
-            "resonance, major order".into(),
+            "resonance (order × mode): major order".into(),
             Key::Marker {
                 shape: 0,
                 color: MAJOR,
@@ -227,7 +225,7 @@ impl CampbellChart {
             },
         ));
         keys.push((
-            "resonance, other order".into(),
+            "other order".into(),
             Key::Marker {
                 shape: 0,
                 color: GREY,
