@@ -977,3 +977,54 @@ fn run_report_has_the_torsion_section() {
     assert_eq!(vaz.status.code(), Some(0));
     assert!(!plain.path().join("campbell.svg").exists());
 }
+
+/// `modes.csv` as README and INTERFACE.md say: one row per elastic mode,
+/// a column per mass from the free end with the damper ring first, each
+/// mode normalised to the free end (the front mass) = 1; the V8's modes are
+/// those data/README.md quotes.
+#[test]
+fn modes_csv_is_normalised_to_the_free_end() {
+    for (stem, first_hz) in [("i6_diesel", 45.1), ("v8_crossplane", 273.7)] {
+        let dir = tempfile::tempdir().unwrap();
+        let engine = enginedyn_tests::data(&format!("{stem}.toml"));
+        let out = run(&[
+            "torsion",
+            "--engine",
+            &engine,
+            "--out",
+            dir.path().to_str().unwrap(),
+        ]);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = std::fs::read_to_string(dir.path().join("modes.csv")).unwrap();
+        let mut lines = text.lines();
+        let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+        assert_eq!(
+            &head[..5],
+            &["mode", "frequency_hz", "damper_ring", "front", "throw_1"]
+        );
+        assert_eq!(head.last(), Some(&"flywheel"));
+        let rows: Vec<Vec<f64>> = lines
+            .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+            .collect();
+        assert_eq!(
+            rows.len(),
+            head.len() - 3,
+            "{stem}: one row per elastic mode"
+        );
+        for r in &rows {
+            // The free end (column "front") reads 1 to the last bit printed.
+            assert!((r[3] - 1.0).abs() < 1e-12, "{stem} mode {}: {}", r[0], r[3]);
+        }
+        // The first natural frequency to the 0.1 Hz data/README.md prints.
+        assert!(
+            (rows[0][1] - first_hz).abs() < 0.05,
+            "{stem}: {}",
+            rows[0][1]
+        );
+    }
+}

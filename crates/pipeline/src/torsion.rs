@@ -11,7 +11,9 @@ use enginedyn_engine::{Engine, EngineError};
 use enginedyn_forces::{Setup, cylinder_forces};
 use enginedyn_ingest::Resampled;
 use enginedyn_numerics::format::human;
-use enginedyn_torsion::{Complex64, CrankTrain, Damper, Layout, Modes, Solver, Synthesis};
+use enginedyn_torsion::{
+    Complex64, CrankTrain, Damper, Layout, Modes, Solver, Synthesis, critical_speed_rpm, crossings,
+};
 use std::f64::consts::PI;
 
 /// Why a torsion study cannot run.
@@ -292,6 +294,9 @@ pub struct Excitation {
     /// `inertia[o][t]`: throw t's inertia torque of order o per unit ω²
     /// (N m s²).
     pub inertia: Vec<Vec<Complex64>>,
+    /// Firings per revolution, `z / revolutions`: the major orders are its
+    /// multiples ([`enginedyn_torsion::is_major_order`]).
+    pub firings_per_revolution: f64,
 }
 
 impl Excitation {
@@ -354,6 +359,7 @@ pub fn excitation(
         orders,
         gas,
         inertia,
+        firings_per_revolution: z as f64 / revolutions,
     })
 }
 
@@ -381,7 +387,7 @@ pub struct Resonance {
     pub order: f64,
     /// Mode (1 = the first elastic mode).
     pub mode: usize,
-    /// Speed (rpm) `60 f / k`.
+    /// Speed (rpm), [`enginedyn_torsion::critical_speed_rpm`]: `60 f / k`.
     pub rpm: f64,
     /// The free end's amplitude of that order at that speed (deg).
     pub amplitude_deg: f64,
@@ -396,10 +402,15 @@ pub struct Study {
     pub inertia: Vec<f64>,
     /// Spring stiffnesses (N m/rad).
     pub stiffness: Vec<f64>,
-    /// Modes of the undamped chain.
+    /// Modes of the undamped chain, mass-normalised; `modes.csv` divides
+    /// each by its value at [`Layout::free_end`] (the front mass, else
+    /// throw 1), so the free end reads 1.
     pub modes: Modes,
     /// Engine orders.
     pub orders: Vec<f64>,
+    /// Firings per revolution (`z / 2` four-stroke, `z` two-stroke): the
+    /// major orders are its multiples.
+    pub firings_per_revolution: f64,
     /// One row per speed.
     pub rows: Vec<Row>,
     /// Resonances in the speed range, by speed.
@@ -503,29 +514,24 @@ pub fn study(
     let mut resonances = Vec::new();
     let mut notes = Vec::new();
     let top = excitation.orders.last().copied().unwrap_or(0.0);
-    let mut beyond: Vec<(usize, f64)> = Vec::new();
-    for m in 1..modes.len() {
-        let f = modes.frequency_hz(m);
-        for (o, &k) in excitation.orders.iter().enumerate() {
-            let rpm = 60.0 * f / k;
-            if rpm >= lo && rpm <= hi {
-                let omega = rpm * PI / 30.0;
-                let th = respond(o, omega, &mut torque)?;
-                resonances.push(Resonance {
-                    order: k,
-                    mode: m,
-                    rpm,
-                    amplitude_deg: vibratory(&th, &inertia, total, layout.free_end)
-                        .norm()
-                        .to_degrees(),
-                });
-            }
-        }
-        // Orders above the highest computed meet this mode in the range.
-        if lo > 0.0 && 60.0 * f / lo > top {
-            beyond.push((m, f));
-        }
+    // Mode 0 (the rigid rotation, 0 Hz) meets no order.
+    let freqs: Vec<f64> = (0..modes.len()).map(|m| modes.frequency_hz(m)).collect();
+    for c in crossings(&freqs, &excitation.orders, lo, hi) {
+        let th = respond(c.order, c.rpm * PI / 30.0, &mut torque)?;
+        resonances.push(Resonance {
+            order: excitation.orders[c.order],
+            mode: c.mode,
+            rpm: c.rpm,
+            amplitude_deg: vibratory(&th, &inertia, total, layout.free_end)
+                .norm()
+                .to_degrees(),
+        });
     }
+    // Modes that orders above the highest computed meet in the range.
+    let beyond: Vec<(usize, f64)> = (1..modes.len())
+        .map(|m| (m, freqs[m]))
+        .filter(|&(_, f)| lo > 0.0 && critical_speed_rpm(f, top) > lo)
+        .collect();
     // Said once, with the modes it concerns.
     if let (Some(&(m0, f0)), Some(&(m1, f1))) = (beyond.first(), beyond.last()) {
         let which = if m0 == m1 {
@@ -550,6 +556,7 @@ pub fn study(
         stiffness,
         modes,
         orders: excitation.orders.clone(),
+        firings_per_revolution: excitation.firings_per_revolution,
         rows,
         resonances,
         notes,

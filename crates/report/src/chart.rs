@@ -21,7 +21,7 @@ pub(crate) const PALETTE: [RGBColor; 8] = [
     RGBColor(23, 190, 207),
 ];
 pub(crate) const GREY: RGBColor = RGBColor(90, 90, 90);
-const PANEL: (u32, u32) = (900, 520);
+pub(crate) const PANEL: (u32, u32) = (900, 520);
 /// Most points drawn per series; finer curves are thinned (display only).
 const MAX_POINTS: usize = 1500;
 
@@ -352,7 +352,7 @@ fn log_label(v: f64) -> String {
     }
 }
 
-type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+pub(crate) type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 
 /// Font sizes as given to plotters (its SVG writes them 1/1.24 smaller).
 const TITLE_FONT: u32 = 20;
@@ -457,7 +457,7 @@ pub(crate) fn draw_marker(
 /// The band above a plot: the title, centred, and under it the legend in
 /// rows, framed, outside the plot area so that it never covers data.
 /// Returns the band's height for `items` at `width`.
-fn head_height(items: &[(String, Key)], width: i32) -> u32 {
+pub(crate) fn head_height(items: &[(String, Key)], width: i32) -> u32 {
     let (_, rows) = legend_layout(items, width - 40);
     (34 + if rows > 0 {
         rows as i32 * ROW_H + 10
@@ -466,7 +466,7 @@ fn head_height(items: &[(String, Key)], width: i32) -> u32 {
     }) as u32
 }
 
-fn draw_head(
+pub(crate) fn draw_head(
     head: &Area,
     title: &str,
     items: &[(String, Key)],
@@ -610,14 +610,26 @@ impl Ranged for AxisRange {
     }
 }
 
-type Plot<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<AxisRange, AxisRange>>;
+pub(crate) type Plot<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<AxisRange, AxisRange>>;
 
 /// Axes on `body`: ticks from [`Ticks`], the grid, axis labels.
 fn axes<'a, 'b>(
     body: &'a Area<'b>,
+    x: ((f64, f64), &Ticks),
+    y: ((f64, f64), &Ticks),
+    labels: (&str, &str),
+) -> Result<Plot<'a, 'b>, Box<dyn std::error::Error>> {
+    axes_with(body, x, y, labels, (6, 14))
+}
+
+/// [`axes`] with the plot's `(top, right)` margins in pixels (room for
+/// labels outside the plot, such as an order line's number at its end).
+pub(crate) fn axes_with<'a, 'b>(
+    body: &'a Area<'b>,
     (x, xt): ((f64, f64), &Ticks),
     (y, yt): ((f64, f64), &Ticks),
     (x_label, y_label): (&str, &str),
+    (top, right): (u32, u32),
 ) -> Result<Plot<'a, 'b>, Box<dyn std::error::Error>> {
     let y_width = yt
         .labels
@@ -627,7 +639,8 @@ fn axes<'a, 'b>(
         .unwrap_or(20);
     let mut chart = ChartBuilder::on(body)
         .margin(14)
-        .margin_top(6)
+        .margin_top(top)
+        .margin_right(right)
         .x_label_area_size(48)
         .y_label_area_size(y_width as u32 + 44)
         .build_cartesian_2d(AxisRange::new(x, xt), AxisRange::new(y, yt))?;
@@ -1087,7 +1100,7 @@ pub struct ScatterChart {
 const SCATTER: (u32, u32) = (1200, 760);
 const POINT_FONT: u32 = 15;
 
-fn overlap(a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)) -> i32 {
+pub(crate) fn overlap(a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)) -> i32 {
     let w = (a.2.min(b.2) - a.0.max(b.0)).max(0);
     let h = (a.3.min(b.3) - a.1.max(b.1)).max(0);
     w * h

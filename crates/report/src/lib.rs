@@ -19,6 +19,7 @@ mod html;
 mod out;
 mod tables;
 mod tornado;
+mod torsion;
 pub use chart::{
     Chart, Figure, ScatterChart, ScatterGroup, ScatterPoint, Series, kinematics_chart, run_figures,
     tick_label,
@@ -29,6 +30,9 @@ pub use tables::{
     KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_table, sweep_figure,
 };
 pub use tornado::{TornadoBar, TornadoPanel, tornado_svg};
+pub use torsion::{
+    CampbellChart, CampbellLayout, CampbellMark, PlacedLabel, torsion_charts, torsion_response,
+};
 
 /// Why output could not be produced.
 #[derive(Debug, thiserror::Error)]

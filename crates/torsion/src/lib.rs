@@ -15,7 +15,17 @@
 //!   ([`Chain::modes`]); mode 0 is the rigid rotation;
 //! - forced response at `ω`: `(K − ω² M + i ω C) Θ = T`, with
 //!   `C = M Φ diag(2 ζ ω_n) Φᵀ M` plus the discrete dampers ([`Solver`]);
-//! - several orders summed in time with their phases ([`Synthesis`]).
+//! - several orders summed in time with their phases ([`Synthesis`]);
+//! - where engine orders meet the natural frequencies: the critical speed
+//!   `60 f / k` ([`critical_speed_rpm`], [`crossings`]) and the major
+//!   orders ([`is_major_order`]), which the Campbell diagram draws.
+//!
+//! Mode shapes here are mass-normalised (`vᵀ M v = 1`, [`Modes`]). What
+//! `enginedyn torsion` writes to `modes.csv` is each elastic mode divided
+//! by its value at the free end ([`Layout::free_end`]: the front mass, else
+//! throw 1; a damper ring sits before it in the chain and is listed first),
+//! so the free end reads 1 (by the largest component instead, if the free
+//! end is a node).
 //!
 //! ```
 //! use enginedyn_torsion::{Chain, Solver, Complex64};
@@ -32,9 +42,11 @@
 //! # Ok::<(), enginedyn_torsion::TorsionError>(())
 //! ```
 
+mod campbell;
 mod chain;
 mod train;
 
+pub use campbell::{Crossing, critical_speed_rpm, crossings, is_major_order, order_frequency_hz};
 pub use chain::{Chain, Modes, Solver};
 pub use enginedyn_numerics::fourier::Synthesis;
 pub use nalgebra::Complex;

@@ -48,7 +48,9 @@ pub struct Section {
 pub struct Layout {
     /// Each mass's name ("damper ring", "front", "throw 1", …, "flywheel", "load").
     pub names: Vec<String>,
-    /// The free end: the front mass, else throw 1 (the damper ring is not it).
+    /// The free end: the front mass, else throw 1 (the damper ring is not
+    /// it: it comes first in the chain, index 0, when there is one). The
+    /// mode shapes of `modes.csv` are normalised to this mass (= 1).
     pub free_end: usize,
     /// Mass index of each throw.
     pub throws: Vec<usize>,
