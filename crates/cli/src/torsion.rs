@@ -6,7 +6,6 @@ use crate::Failure;
 use crate::args::TorsionArgs;
 use enginedyn_numerics::format::{csv, fixed, human};
 use enginedyn_pipeline::torsion::{Study, TorsionStudyError, Train};
-use enginedyn_report::{Chart, Figure, Series};
 use serde_json::{Value, json};
 
 /// Speeds without `--rpm`: 20 % to 120 % of the operating speed.
@@ -108,10 +107,9 @@ pub fn run(a: &TorsionArgs) -> Result<(), Failure> {
             ("torsion.csv".to_string(), torsion_csv(&study).into_bytes()),
             ("torsion.json".to_string(), format!("{text}\n").into_bytes()),
         ];
-        for fig in figures(engine.name(), &study) {
-            let svg = fig.render().map_err(|e| Failure::data(e.to_string()))?;
-            files.push((fig.file.clone(), svg.into_bytes()));
-        }
+        let charts = enginedyn_report::torsion_charts(engine.name(), &study)
+            .map_err(|e| Failure::data(e.to_string()))?;
+        files.extend(charts.into_iter().map(|(f, svg)| (f, svg.into_bytes())));
         if a.chain {
             let chain = chain_json(&prepared, &study, &rpms)?;
             files.push(("chain.json".to_string(), chain.into_bytes()));
@@ -318,133 +316,6 @@ fn chain_json(prepared: &Prepared, study: &Study, rpms: &[f64]) -> Result<String
     serde_json::to_string_pretty(&doc).map_err(|e| Failure::data(e.to_string()))
 }
 
-/// The orders with the largest peak free-end amplitude over the speeds.
-fn major_orders(study: &Study, count: usize) -> Vec<usize> {
-    let mut peak: Vec<(usize, f64)> = (0..study.orders.len())
-        .map(|o| {
-            let p = study
-                .rows
-                .iter()
-                .map(|r| r.order_deg[o])
-                .fold(0.0, f64::max);
-            (o, p)
-        })
-        .collect();
-    peak.sort_by(|a, b| b.1.total_cmp(&a.1));
-    peak.into_iter().take(count).map(|(o, _)| o).collect()
-}
-
-/// campbell.svg and torsion.svg.
-pub fn figures(name: &str, study: &Study) -> Vec<Figure> {
-    let rpm: Vec<f64> = study.rows.iter().map(|r| r.rpm).collect();
-    let (lo, hi) = (
-        rpm.first().copied().unwrap_or(0.0),
-        rpm.last().copied().unwrap_or(1.0),
-    );
-    let mut camp = Vec::new();
-    let fmax = study
-        .modes
-        .omega
-        .iter()
-        .map(|w| w / std::f64::consts::TAU)
-        .fold(0.0, f64::max);
-    let shown: Vec<usize> = (1..study.modes.len())
-        .filter(|&m| study.resonances.iter().any(|r| r.mode == m) || m == 1)
-        .collect();
-    let ftop = shown
-        .iter()
-        .map(|&m| study.modes.frequency_hz(m))
-        .fold(0.0, f64::max)
-        .min(fmax)
-        * 1.15;
-    for &m in &shown {
-        let f = study.modes.frequency_hz(m);
-        camp.push(Series::from_points(
-            format!("mode {m}: {} Hz", human(f)),
-            [(lo, f), (hi, f)].into_iter(),
-        ));
-    }
-    for o in major_orders(study, 6) {
-        let k = study.orders[o];
-        let line = |r: f64| (r, (k * r / 60.0).min(ftop));
-        let mut s = Series::from_points(
-            format!("order {}", order_name(k)),
-            [line(lo), line(hi)].into_iter(),
-        );
-        s.dashed = true;
-        camp.push(s);
-    }
-    // Each resonance as a short vertical tick on its mode line; one legend
-    // entry for all (the resonances are listed by order and mode in the
-    // table and in torsion.json).
-    for (i, r) in study.resonances.iter().enumerate() {
-        let f = study.modes.frequency_hz(r.mode);
-        camp.push(Series {
-            name: if i == 0 {
-                "resonance (order × mode: see the table)".to_string()
-            } else {
-                String::new()
-            },
-            points: vec![(r.rpm, f * 0.95), (r.rpm, f * 1.05)],
-            dashed: true,
-        });
-    }
-    let campbell = Chart {
-        title: format!("{name} — Campbell diagram: natural frequencies and engine orders"),
-        x_label: "engine speed (rpm)".into(),
-        y_label: "frequency (Hz)".into(),
-        series: camp,
-        log: false,
-        equal: false,
-        angle_ticks: None,
-    };
-    let fe: Vec<f64> = study.rows.iter().map(|r| r.free_end_deg).collect();
-    let mut resp = vec![Series::new(
-        "all orders (half peak-to-peak)",
-        rpm.iter().copied(),
-        &fe,
-    )];
-    for o in major_orders(study, 4) {
-        let y: Vec<f64> = study.rows.iter().map(|r| r.order_deg[o]).collect();
-        let mut s = Series::new(
-            format!("order {}", order_name(study.orders[o])),
-            rpm.iter().copied(),
-            &y,
-        );
-        s.dashed = false;
-        resp.push(s);
-    }
-    let tq: Vec<f64> = study
-        .rows
-        .iter()
-        .map(|r| largest(&r.section_torque).1)
-        .collect();
-    let response = Figure {
-        file: "torsion.svg".into(),
-        panels: vec![
-            Chart {
-                title: format!("{name} — free-end vibratory angle"),
-                x_label: "engine speed (rpm)".into(),
-                y_label: "amplitude (deg)".into(),
-                series: resp,
-                log: false,
-                equal: false,
-                angle_ticks: None,
-            },
-            Chart {
-                title: "largest section's vibratory torque".into(),
-                x_label: "engine speed (rpm)".into(),
-                y_label: "torque, half peak-to-peak (N m)".into(),
-                series: vec![Series::new("largest section", rpm.iter().copied(), &tq)],
-                log: false,
-                equal: false,
-                angle_ticks: None,
-            },
-        ],
-    };
-    vec![Figure::single("campbell.svg", campbell), response]
-}
-
 /// The default speeds: 20 % to 120 % of `rpm` in [`DEFAULT_SPEEDS`] steps.
 fn default_speeds(rpm: f64) -> Vec<f64> {
     (0..DEFAULT_SPEEDS)
@@ -523,11 +394,8 @@ pub fn report_extra(
         }
         body.push_str("</ul>\n");
     }
-    let mut charts = Vec::new();
-    for fig in figures(engine.name(), &study) {
-        let svg = fig.render().map_err(|e| Failure::data(e.to_string()))?;
-        charts.push((fig.file.clone(), svg));
-    }
+    let charts = enginedyn_report::torsion_charts(engine.name(), &study)
+        .map_err(|e| Failure::data(e.to_string()))?;
     Ok(Some(enginedyn_report::Extra {
         sections: vec![("Torsional vibration".to_string(), body)],
         charts,
