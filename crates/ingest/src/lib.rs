@@ -379,9 +379,12 @@ fn binary_kind(head: &[u8]) -> Option<&'static str> {
     if let Some((_, k)) = MAGIC.iter().find(|(m, _)| head.starts_with(m)) {
         return Some(k);
     }
-    // UTF-16 text (a byte-order mark) is no binary, but not read either.
-    if head.starts_with(b"\xFF\xFE") || head.starts_with(b"\xFE\xFF") {
-        return Some("UTF-16 text (save it as UTF-8 or ASCII)");
+    // UTF-16 text (a byte-order mark): read through a transcoder.
+    if head.starts_with(b"\xFF\xFE") {
+        return Some("utf16le");
+    }
+    if head.starts_with(b"\xFE\xFF") {
+        return Some("utf16be");
     }
     // Text has no NUL bytes and few control characters.
     let control = head
@@ -402,6 +405,9 @@ pub fn parse_stream(
     let head = reader.fill_buf()?;
     let kind = binary_kind(&head[..head.len().min(4096)]);
     match kind {
+        Some(k @ ("utf16le" | "utf16be")) => {
+            text::read(text::Utf16::new(reader, k == "utf16le"), opts, sink)
+        }
         None => {
             let mut h = text::read(reader, opts, sink)?;
             if opts.sheet.is_some() {

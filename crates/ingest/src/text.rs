@@ -326,3 +326,83 @@ pub(crate) fn read<R: std::io::Read, F: FnMut(Streamed) -> Result<(), IngestErro
     }
     rd.end()
 }
+
+/// UTF-16 text (Excel's "Unicode text", LabVIEW and some DAQ software)
+/// turned into UTF-8 as it streams; the byte-order mark becomes UTF-8's,
+/// which the reader skips. An unpaired surrogate becomes U+FFFD, which no
+/// number cell holds, so it is an error where a number is needed.
+pub(crate) struct Utf16<R> {
+    inner: R,
+    little: bool,
+    raw: Vec<u8>,
+    out: Vec<u8>,
+    pos: usize,
+    eof: bool,
+}
+
+impl<R: std::io::Read> Utf16<R> {
+    pub(crate) fn new(inner: R, little: bool) -> Self {
+        Self {
+            inner,
+            little,
+            raw: Vec::with_capacity(1 << 16),
+            out: Vec::with_capacity(1 << 16),
+            pos: 0,
+            eof: false,
+        }
+    }
+
+    fn refill(&mut self) -> std::io::Result<()> {
+        self.out.clear();
+        self.pos = 0;
+        while self.out.is_empty() && !self.eof {
+            let have = self.raw.len();
+            self.raw.resize(have + (1 << 15), 0);
+            let n = loop {
+                match self.inner.read(&mut self.raw[have..]) {
+                    Ok(n) => break n,
+                    Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                    Err(e) => return Err(e),
+                }
+            };
+            self.raw.truncate(have + n);
+            self.eof = n == 0;
+            let mut units: Vec<u16> = self
+                .raw
+                .chunks_exact(2)
+                .map(|b| {
+                    if self.little {
+                        u16::from_le_bytes([b[0], b[1]])
+                    } else {
+                        u16::from_be_bytes([b[0], b[1]])
+                    }
+                })
+                .collect();
+            let mut used = units.len() * 2;
+            // Keep a high surrogate whose pair has not arrived yet.
+            if !self.eof && units.last().is_some_and(|u| (0xD800..0xDC00).contains(u)) {
+                units.pop();
+                used -= 2;
+            }
+            for c in char::decode_utf16(units) {
+                let mut b = [0u8; 4];
+                let c = c.unwrap_or(char::REPLACEMENT_CHARACTER);
+                self.out.extend_from_slice(c.encode_utf8(&mut b).as_bytes());
+            }
+            self.raw.drain(..used);
+        }
+        Ok(())
+    }
+}
+
+impl<R: std::io::Read> std::io::Read for Utf16<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if self.pos == self.out.len() {
+            self.refill()?;
+        }
+        let n = buf.len().min(self.out.len() - self.pos);
+        buf[..n].copy_from_slice(&self.out[self.pos..self.pos + n]);
+        self.pos += n;
+        Ok(n)
+    }
+}

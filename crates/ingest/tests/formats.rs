@@ -280,3 +280,35 @@ fn did_you_mean_only_when_close() {
         "{far}"
     );
 }
+
+/// UTF-16 text (Excel's "Unicode text", LabVIEW) reads as its UTF-8 twin,
+/// little- and big-endian, split across read blocks anywhere.
+#[test]
+fn utf16_text() {
+    let mut s = String::from("\u{feff}# rpm = 2000\r\nKurbelwinkel [°KW]\tDruck [bar]\r\n");
+    for k in 0..720 {
+        s.push_str(&format!("{k}\t{:.3}\r\n", p_bar(k as f64)));
+    }
+    let want = parse(s.trim_start_matches('\u{feff}').as_bytes(), &opts()).unwrap();
+    for little in [true, false] {
+        let bytes: Vec<u8> = s
+            .encode_utf16()
+            .flat_map(|u| {
+                if little {
+                    u.to_le_bytes()
+                } else {
+                    u.to_be_bytes()
+                }
+            })
+            .collect();
+        // A reader that hands over 7 bytes at a time: surrogates and code
+        // units split across reads.
+        let got = parse(
+            std::io::BufReader::with_capacity(7, bytes.as_slice()),
+            &opts(),
+        )
+        .unwrap();
+        assert_eq!(got.traces, want.traces);
+        assert_eq!(got.rpm, Some(2000.0));
+    }
+}
