@@ -18,45 +18,16 @@ pub(crate) fn read<F: FnMut(Streamed) -> Result<(), IngestError>>(
     opts: &ParseOptions,
     sink: F,
 ) -> Result<Header, IngestError> {
-    let mut book = calamine::open_workbook_auto_from_rs(std::io::Cursor::new(bytes)).map_err(|e| {
-        IngestError::Data(format!(
-            "not a text file: a ZIP or OLE archive that is no spreadsheet calamine reads (.xlsx, .xls, .ods: {e}); export the diagram as CSV"
+    // calamine parses a format of many parts; should it ever panic on a
+    // damaged file, that is this file's error, not the command's end.
+    let (names, _, range) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        open_sheet(bytes, opts)
+    }))
+    .unwrap_or_else(|_| {
+        Err(IngestError::Data(
+            "the spreadsheet is damaged (calamine could not read it): open it and save it again, or export the diagram as CSV".into(),
         ))
     })?;
-    let names = book.sheet_names();
-    if names.is_empty() {
-        return Err(IngestError::Data("the workbook has no sheet".into()));
-    }
-    let index = match &opts.sheet {
-        None => 0,
-        Some(Sheet::Index(n)) if (1..=names.len()).contains(n) => n - 1,
-        Some(Sheet::Name(s)) if names.iter().any(|x| x == s) => {
-            names.iter().position(|x| x == s).unwrap_or(0)
-        }
-        Some(Sheet::Name(s)) if names.iter().any(|x| x.eq_ignore_ascii_case(s)) => names
-            .iter()
-            .position(|x| x.eq_ignore_ascii_case(s))
-            .unwrap_or(0),
-        Some(which) => {
-            return Err(IngestError::Data(format!(
-                "--sheet {}: the workbook's sheets are {} (give a name or a number from 1 to {})",
-                match which {
-                    Sheet::Index(n) => n.to_string(),
-                    Sheet::Name(s) => format!("`{}`", enginedyn_numerics::format::quote(s)),
-                },
-                names
-                    .iter()
-                    .enumerate()
-                    .map(|(i, n)| format!("{} `{}`", i + 1, enginedyn_numerics::format::quote(n)))
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                names.len()
-            )));
-        }
-    };
-    let range = book
-        .worksheet_range(&names[index])
-        .map_err(|e| IngestError::Data(format!("sheet `{}`: {e}", names[index])))?;
     let mut rd = Reader::new(opts, sink);
     if names.len() > 1 && opts.sheet.is_none() {
         rd.head.notes.push(format!(
@@ -134,6 +105,53 @@ fn read_rows<F: FnMut(Streamed) -> Result<(), IngestError>>(
         rd.row(line, &row, || None)?;
     }
     Ok(())
+}
+
+/// The workbook's sheet names, the chosen sheet and its cells.
+fn open_sheet(
+    bytes: Vec<u8>,
+    opts: &ParseOptions,
+) -> Result<(Vec<String>, usize, calamine::Range<Data>), IngestError> {
+    let mut book = calamine::open_workbook_auto_from_rs(std::io::Cursor::new(bytes)).map_err(|e| {
+        IngestError::Data(format!(
+            "not a text file: a ZIP or OLE archive that is no spreadsheet calamine reads (.xlsx, .xls, .ods: {e}); export the diagram as CSV"
+        ))
+    })?;
+    let names = book.sheet_names();
+    if names.is_empty() {
+        return Err(IngestError::Data("the workbook has no sheet".into()));
+    }
+    let index = match &opts.sheet {
+        None => 0,
+        Some(Sheet::Index(n)) if (1..=names.len()).contains(n) => n - 1,
+        Some(Sheet::Name(s)) if names.iter().any(|x| x == s) => {
+            names.iter().position(|x| x == s).unwrap_or(0)
+        }
+        Some(Sheet::Name(s)) if names.iter().any(|x| x.eq_ignore_ascii_case(s)) => names
+            .iter()
+            .position(|x| x.eq_ignore_ascii_case(s))
+            .unwrap_or(0),
+        Some(which) => {
+            return Err(IngestError::Data(format!(
+                "--sheet {}: the workbook's sheets are {} (give a name or a number from 1 to {})",
+                match which {
+                    Sheet::Index(n) => n.to_string(),
+                    Sheet::Name(s) => format!("`{}`", enginedyn_numerics::format::quote(s)),
+                },
+                names
+                    .iter()
+                    .enumerate()
+                    .map(|(i, n)| format!("{} `{}`", i + 1, enginedyn_numerics::format::quote(n)))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                names.len()
+            )));
+        }
+    };
+    let range = book
+        .worksheet_range(&names[index])
+        .map_err(|e| IngestError::Data(format!("sheet `{}`: {e}", names[index])))?;
+    Ok((names, index, range))
 }
 
 fn first_used(cells: &[SheetCell]) -> usize {

@@ -564,3 +564,28 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(config(64))]
+    /// A damaged workbook (bytes of Excel's and LibreOffice's files changed
+    /// or cut anywhere) is an error or a diagram, never a panic or a hang.
+    #[test]
+    fn damaged_workbooks_never_panic(
+        which in 0usize..3,
+        flips in prop::collection::vec((any::<prop::sample::Index>(), any::<u8>()), 0..12),
+        cut in prop::option::of(any::<prop::sample::Index>()),
+    ) {
+        let name = ["excel_single.xlsx", "libreoffice_cycles.ods", "libreoffice_cycles.xls"][which];
+        let path = format!("{}/../../tests/fixtures/measured/{name}", env!("CARGO_MANIFEST_DIR"));
+        let mut bytes = std::fs::read(path).unwrap();
+        for (i, b) in &flips {
+            let i = i.index(bytes.len());
+            bytes[i] = *b;
+        }
+        if let Some(c) = cut {
+            let c = c.index(bytes.len()).max(8);
+            bytes.truncate(c);
+        }
+        let _ = parse(bytes.as_slice(), &ParseOptions::new(720.0));
+    }
+}
