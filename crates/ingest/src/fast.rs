@@ -7,7 +7,7 @@
 //! rule lives in the builder alone.
 
 use crate::layout::{Long, PerColumn};
-use crate::number::{PLAIN_CELLS, decimal_value, digit_run, plain_row};
+use crate::number::{PLAIN_CELLS, plain_cell, plain_row};
 use crate::template::{ROW, Template};
 #[cfg(doc)]
 use crate::trace::Track;
@@ -30,7 +30,8 @@ pub(crate) fn long(w: &[u8], eof: bool, sep: u8, l: &mut Long) -> (usize, usize)
         return (0, 0);
     }
     let tr = &mut cur.trace;
-    let track = &mut cur.track;
+    // A copy in registers, written back at the end.
+    let mut track = cur.track;
     let mut vals = [0.0; PLAIN_CELLS];
     let decimal_comma = sep != b',';
     let (mut used, mut n) = (0, 0);
@@ -91,6 +92,7 @@ pub(crate) fn long(w: &[u8], eof: bool, sep: u8, l: &mut Long) -> (usize, usize)
         used += len;
         n += 1;
     }
+    cur.track = track;
     (used, n)
 }
 
@@ -106,7 +108,7 @@ pub(crate) fn per_column(
     pc: &mut PerColumn,
     row: &mut Vec<f64>,
 ) -> (usize, usize) {
-    let Some(track) = pc.track.as_mut() else {
+    let Some(mut track) = pc.track else {
         return (0, 0);
     };
     let m = pc.cols.len();
@@ -120,40 +122,26 @@ pub(crate) fn per_column(
     'rows: while eof || used + 4096 < w.len() {
         let b = &w[used..];
         let mut i = 0;
-        for cell in row.iter_mut() {
-            let neg = b.get(i) == Some(&b'-');
-            i += usize::from(neg);
-            let mut mant = 0u64;
-            let s = i;
-            i = digit_run(b, i, &mut mant);
-            let int_digits = i - s;
-            let mut frac = 0;
-            if let Some(&c) = b.get(i)
-                && (c == b'.' || (decimal_comma && c == b','))
-            {
+        for (j, cell) in row.iter_mut().enumerate() {
+            let Some((v, end)) = plain_cell(b, i, decimal_comma) else {
+                break 'rows;
+            };
+            *cell = v;
+            i = end;
+            // A delimiter after every cell; after the last it may close the row.
+            if b.get(i) == Some(&sep) {
                 i += 1;
-                let f = i;
-                i = digit_run(b, i, &mut mant);
-                frac = i - f;
-            }
-            let digits = int_digits + frac;
-            if digits == 0 || digits > 15 {
+            } else if j < m {
                 break 'rows;
             }
-            *cell = decimal_value(mant, frac, neg);
-            match b.get(i) {
-                Some(&c) if c == sep => i += 1,
-                _ => {}
-            }
         }
-        // The row ends here: the last cell's delimiter (if any) was taken.
+        // The row ends here.
         let end = match b.get(i) {
             Some(b'\n') => i + 1,
             Some(b'\r') if b.get(i + 1) == Some(&b'\n') => i + 2,
             None if eof && i > 0 => i,
             _ => break,
         };
-        // Every cell read needs its delimiter but the last.
         let Some(a) = track.continues(row[0] - pc.tdc) else {
             break;
         };
@@ -166,5 +154,6 @@ pub(crate) fn per_column(
         used += end;
         n += 1;
     }
+    pc.track = Some(track);
     (used, n)
 }

@@ -97,9 +97,14 @@ impl Layout {
     }
 }
 
-/// A row with more cells than the names cover: an error that says so.
-fn too_many(line: usize, used: usize, ncols: usize, explicit: bool) -> IngestError {
-    at(
+/// A row with more cells than the names cover (`explicit`: named by
+/// `--columns`) is an error that says so: a column is never dropped.
+fn width(cells: &impl Cells, ncols: usize, explicit: bool, line: usize) -> Result<(), IngestError> {
+    let used = if cells.len() > ncols { cells.used() } else { 0 };
+    if used <= ncols {
+        return Ok(());
+    }
+    Err(at(
         line,
         Some(ncols + 1),
         if explicit {
@@ -109,7 +114,7 @@ fn too_many(line: usize, used: usize, ncols: usize, explicit: bool) -> IngestErr
         } else {
             format!("{used} cells, the header names {ncols}: every column needs a name")
         },
-    )
+    ))
 }
 
 /// Angle `a` does not continue its cycle and starts none: why.
@@ -220,12 +225,7 @@ impl Long {
         cells: &impl Cells,
         out: &mut Emitter<'_, F>,
     ) -> Result<(), IngestError> {
-        if cells.len() > self.ncols {
-            let used = cells.used();
-            if used > self.ncols {
-                return Err(too_many(line, used, self.ncols, self.explicit));
-            }
-        }
+        width(cells, self.ncols, self.explicit, line)?;
         let x_raw = cells.number(self.x, line)?;
         let p_raw = cells.number(self.value, line)?;
         let cyc = match self.cycle_col {
@@ -456,12 +456,7 @@ impl PerColumn {
         cells: &impl Cells,
         out: &mut Emitter<'_, F>,
     ) -> Result<(), IngestError> {
-        if cells.len() > self.ncols {
-            let used = cells.used();
-            if used > self.ncols {
-                return Err(too_many(line, used, self.ncols, self.explicit));
-            }
-        }
+        width(cells, self.ncols, self.explicit, line)?;
         let x_raw = cells.number(self.x, line)?;
         let a = x_raw * self.x_scale - self.tdc;
         let w = match self.track.as_mut() {

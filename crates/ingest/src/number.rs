@@ -24,6 +24,40 @@ pub(crate) fn decimal_value(m: u64, frac: usize, neg: bool) -> f64 {
     if neg { -v } else { v }
 }
 
+/// One plain decimal (`-12.5`, at most 15 digits, a decimal comma where
+/// `decimal_comma`) at `b[i..]`: its value and the index after it, or
+/// `None`. Every fast reader of a row's cells reads them here.
+#[inline(always)]
+pub(crate) fn plain_cell(b: &[u8], mut i: usize, decimal_comma: bool) -> Option<(f64, usize)> {
+    let neg = match b.get(i) {
+        Some(b'-') => {
+            i += 1;
+            true
+        }
+        _ => false,
+    };
+    // Integer digits, then an optional point and fraction digits; the
+    // counts come from positions, so the digit loops do nothing else.
+    let mut m = 0u64;
+    let s = i;
+    i = digit_run(b, i, &mut m);
+    let int_digits = i - s;
+    let mut frac = 0;
+    if let Some(&c) = b.get(i)
+        && (c == b'.' || (decimal_comma && c == b','))
+    {
+        i += 1;
+        let f = i;
+        i = digit_run(b, i, &mut m);
+        frac = i - f;
+    }
+    let digits = int_digits + frac;
+    if digits == 0 || digits > 15 {
+        return None;
+    }
+    Some((decimal_value(m, frac, neg), i))
+}
+
 /// Most cells a row may have for the one-pass path of [`plain_row`].
 pub(crate) const PLAIN_CELLS: usize = 8;
 
@@ -45,33 +79,9 @@ pub(crate) fn plain_row(
 ) -> Option<(usize, usize)> {
     let (mut i, mut n) = (0usize, 0usize);
     loop {
-        let neg = match b.get(i) {
-            Some(b'-') => {
-                i += 1;
-                true
-            }
-            _ => false,
-        };
-        // Integer digits, then an optional point and fraction digits; the
-        // counts come from positions, so the digit loops do nothing else.
-        let mut m = 0u64;
-        let s = i;
-        i = digit_run(b, i, &mut m);
-        let int_digits = i - s;
-        let mut frac = 0;
-        if let Some(&c) = b.get(i)
-            && (c == b'.' || (decimal_comma && c == b','))
-        {
-            i += 1;
-            let f = i;
-            i = digit_run(b, i, &mut m);
-            frac = i - f;
-        }
-        let digits = int_digits + frac;
-        if digits == 0 || digits > 15 {
-            return None;
-        }
-        out[n & (PLAIN_CELLS - 1)] = decimal_value(m, frac, neg);
+        let (v, end) = plain_cell(b, i, decimal_comma)?;
+        i = end;
+        out[n & (PLAIN_CELLS - 1)] = v;
         n += 1;
         match b.get(i) {
             None if eof => return Some((n, i)),

@@ -15,6 +15,8 @@ pub(crate) struct Track {
     /// 0, or the cycle once the angles wrapped.
     wrap: f64,
     cycle: f64,
+    /// `cycle - EPS`: how far past the first angle an angle may lie.
+    limit: f64,
 }
 
 /// The tolerance (deg) of angle comparisons against a cycle's length.
@@ -28,6 +30,7 @@ impl Track {
             last: a,
             wrap: 0.0,
             cycle,
+            limit: cycle - EPS,
         }
     }
 
@@ -38,7 +41,7 @@ impl Track {
     #[inline(always)]
     pub(crate) fn continues(&self, a: f64) -> Option<f64> {
         let w = a + self.wrap;
-        (w > self.last && w - self.first < self.cycle - EPS).then_some(w)
+        (w > self.last && w - self.first < self.limit).then_some(w)
     }
 
     /// Marks `w` (from [`Self::continues`]) as taken.
@@ -55,8 +58,7 @@ impl Track {
             return Some(w);
         }
         let w = a + self.cycle;
-        if self.wrap == 0.0 && a < self.first && w > self.last && w - self.first < self.cycle - EPS
-        {
+        if self.wrap == 0.0 && a < self.first && w > self.last && w - self.first < self.limit {
             self.wrap = self.cycle;
             self.last = w;
             return Some(w);
@@ -74,7 +76,7 @@ impl Track {
     /// past the first angle, or jumps back by more than half a cycle.
     pub(crate) fn starts_next(&self, a: f64) -> bool {
         let w = a + self.wrap;
-        w - self.first >= self.cycle - EPS || self.last - w > self.cycle / 2.0
+        w - self.first >= self.limit || self.last - w > self.cycle / 2.0
     }
 
     /// The last angle taken, as the file wrote it.
