@@ -241,6 +241,7 @@ pub fn estimate(p: &[f64], h: f64, cylinder: &Cylinder) -> Result<Estimate, Untr
     }
     let fit = Fit {
         trace: &trace,
+        p04: trace.p.iter().map(|x| x.powf(0.4)).collect(),
         table: VolumeTable::new(cylinder, h, half),
         half_deg: half,
     };
@@ -300,8 +301,6 @@ struct Segment {
     first_deg: f64,
     p: Vec<f64>,
     ln_p: Vec<f64>,
-    /// `p^0.4`, for the heat loss's `p^0.8 (p V)^-0.4`.
-    p04: Vec<f64>,
 }
 
 impl Segment {
@@ -322,7 +321,6 @@ impl Segment {
             step_deg,
             first_deg,
             ln_p: values.iter().map(|x| x.ln()).collect(),
-            p04: values.iter().map(|x| x.powf(0.4)).collect(),
             p: values,
         })
     }
@@ -455,6 +453,8 @@ fn at(table: &[(f64, f64)], i: usize, w: &[f64; 4]) -> f64 {
 /// The model of the closed part around a trial TDC.
 struct Fit<'a> {
     trace: &'a Segment,
+    /// `p^0.4` on the trace, for the heat loss's `p^0.8 (p V)^-0.4`.
+    p04: Vec<f64>,
     table: VolumeTable,
     half_deg: f64,
 }
@@ -512,7 +512,7 @@ impl Fit<'_> {
             let t = &self.table;
             let ln_v = at(&t.ln_v, node, &w);
             let v = at(&t.v, node, &w);
-            let g1 = at(&t.q, node, &w) * tr.p04[j];
+            let g1 = at(&t.q, node, &w) * self.p04[j];
             let g2 = g1 / (tr.p[j] * v);
             if i > 0 {
                 h1 += 0.5 * (g1_prev + g1) * h;
