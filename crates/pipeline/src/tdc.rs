@@ -59,19 +59,20 @@
 //!   window;
 //! - the cycle burns. Combustion adds heat the model has no term for, so a
 //!   fired trace gets no estimate, however it is phased. The test compares
-//!   `ln p` over 5° bands mirrored about a centre: on a motored trace the
-//!   expansion side is lower, unless TDC lies beyond the centre. About the
-//!   pressure peak plus 2° (a motored peak is at most 2° before TDC:
-//!   0.4°–1.3° are measured) before the fit, whatever the declared TDC;
-//!   about the fitted TDC after it. An excess above 2 % and three standard
-//!   deviations of the bands' noise is heat added;
+//!   `ln p` over 5° bands mirrored about a centre at or after TDC: each
+//!   expansion band is then at least as far from TDC as its compression
+//!   band, so on a motored trace it is lower. Before the fit the centre is
+//!   the pressure peak plus 2° (a motored peak is at most 2° before TDC,
+//!   typically 0.4°–1.3°), whatever the declared TDC; after it, the fitted
+//!   TDC. An excess above 2 % and three standard deviations of the bands'
+//!   noise is heat added;
 //! - the least misfit lies at the end of the ±6° search;
 //! - the fitted exponent is not that of air (1.2 to 1.5);
 //! - the trace is too noisy: the offset's standard error (the misfit's
 //!   curvature against the long-run variance of the residuals' noise, their
 //!   scatter about a ±5° running mean with its autocovariances to 1.5°) is
-//!   above 0.05°. The smooth misfit of an imperfect model (the compression ratio
-//!   a little off) is a bias, not noise, and is left out.
+//!   above 0.05°. The smooth misfit of an imperfect model (the compression
+//!   ratio a little off) is a bias, not noise, and is left out.
 //!
 //! The fit sees the trace on the analysis grid: a file sampled coarsely and
 //! interpolated onto a fine grid is judged by the interpolant.
@@ -86,9 +87,9 @@ pub const MAX_OFFSET_DEG: f64 = 6.0;
 /// The coarsest grid step the fit accepts (deg).
 pub const MAX_STEP_DEG: f64 = 1.0;
 
-/// The largest standard error (deg) of an estimate that is reported: with
-/// the method's bias (0.06° at most on the generated traces without noise)
-/// the estimate is then within 0.2° at three standard errors.
+/// The largest standard error (deg) of an estimate that is reported: a
+/// quarter of the 0.2° an estimate is to be within, so that noise alone
+/// leaves it there (two standard errors) with room for the method's bias.
 pub const MAX_STD_ERROR_DEG: f64 = 0.05;
 
 /// Half the fit's window around the trial TDC (deg), four-stroke: the
@@ -99,8 +100,8 @@ pub const HALF_WINDOW_FOUR_STROKE_DEG: f64 = 90.0;
 pub const HALF_WINDOW_TWO_STROKE_DEG: f64 = 75.0;
 
 /// The largest thermodynamic loss angle (deg), motored peak before TDC:
-/// 0.4°–1.3° are measured on motored engines, 1.2° on the heaviest
-/// generated losses.
+/// typically 0.4°–1.3° on motored engines, 1.2° on the heaviest losses the
+/// tests generate.
 const MAX_LOSS_ANGLE_DEG: f64 = 2.0;
 
 /// The window's tapered ends (deg): weights fall linearly to 0 over them.
