@@ -409,7 +409,7 @@ pub fn analyse_with(
                         "the trace suggests firing TDC lies {sign}{}° from the declared one (a fit of its compression and expansion with wall heat loss: n = {}, standard error {}°): add it to --tdc-deg; 1° of TDC error moves IMEP by about 4 % at full load",
                         fmt(e.offset_deg, 2),
                         fmt(e.exponent, 3),
-                        fmt(e.std_error_deg, 2),
+                        enginedyn_numerics::format::sig(e.std_error_deg, 1),
                     ));
                 }
                 Some(e.offset_deg)
