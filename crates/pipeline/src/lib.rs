@@ -22,6 +22,7 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 mod summary;
+pub mod tdc;
 pub mod torsion;
 pub use summary::{Basis, CycleSummary, KEYS, Key, Pegging, Shown, Summary, Value};
 
@@ -185,95 +186,6 @@ fn cycle_summary(r: &Resampled) -> Option<CycleSummary> {
         p_max_angle_mean_deg: a_mean,
         p_max_angle_std_deg: a_std,
     })
-}
-
-/// The TDC offset a measured trace suggests (deg): the shift of the volume
-/// law that makes compression from 100° to 30° before TDC most nearly a
-/// polytrope (`ln p` linear in `ln V`). A wrong TDC bends that line because
-/// the volume changes fastest there. `None` when the window holds too few
-/// points or the fit has no clear minimum.
-fn tdc_offset_estimate(p: &[f64], volume: &[f64], h: f64) -> Option<f64> {
-    let n = p.len();
-    let cycle = n as f64 * h;
-    // Every grid point up to one per 0.25°: enough points for the fit.
-    let stride = ((0.25_f64.to_radians() / h).round() as usize).max(1);
-    let window: Vec<usize> = (0..n)
-        .step_by(stride)
-        .filter(|&k| {
-            let a = (k as f64 * h - cycle).to_degrees();
-            (-100.0..=-30.0).contains(&a)
-        })
-        .collect();
-    if window.len() < 8 || window.iter().any(|&k| p[k] <= 0.0) {
-        return None;
-    }
-    // ln V at a shifted angle by linear interpolation of ln V on the grid
-    // (smooth; the logarithms are taken once, not once per trial shift).
-    // Only around the window: the trial shifts stay within ±6.5°, so a
-    // shift moves every window point by the same whole steps `i` and
-    // fraction `f` of a step, and nothing wraps around the cycle.
-    let margin = (7.0_f64.to_radians() / h).ceil() as usize + 2;
-    let (first, last) = (window[0], window[window.len() - 1]);
-    if first < margin || last + margin >= n {
-        return None;
-    }
-    let k_lo = first - margin;
-    let ln_v: Vec<f64> = volume[k_lo..=last + margin]
-        .iter()
-        .map(|v| v.ln())
-        .collect();
-    // ln p about its mean, once: the fit is invariant to the scale of p.
-    let mut ln_p: Vec<f64> = window.iter().map(|&k| p[k].ln()).collect();
-    let m = ln_p.len() as f64;
-    let mean_y = ln_p.iter().sum::<f64>() / m;
-    ln_p.iter_mut().for_each(|y| *y -= mean_y);
-    let mut ln_v_shifted = vec![0.0; ln_p.len()];
-    // The mean squared distance of ln p from its least-squares line in
-    // ln V, from centred values in two passes: the one-pass sums cancel
-    // about eight digits here, which moved the minimum by 1e-3°.
-    let mut residual = |delta_deg: f64| {
-        // ln V at k h - d: between grid points k + i and k + i + 1.
-        let shift = -delta_deg.to_radians() / h;
-        let whole = shift.floor();
-        let f = shift - whole;
-        // Shifts stay within ±6.5°, so every index below is in `ln_v`.
-        if !(whole.abs() < (margin - 1) as f64) {
-            return f64::INFINITY;
-        }
-        let start = (first - k_lo) as isize + whole as isize;
-        for (j, x) in ln_v_shifted.iter_mut().enumerate() {
-            let i = (start + (j * stride) as isize) as usize;
-            *x = ln_v[i] * (1.0 - f) + ln_v[i + 1] * f;
-        }
-        let mean_x = ln_v_shifted.iter().sum::<f64>() / m;
-        let (mut sxx, mut sxy) = (0.0, 0.0);
-        for (x, y) in ln_v_shifted.iter().zip(&ln_p) {
-            let x = x - mean_x;
-            sxx += x * x;
-            sxy += x * y;
-        }
-        let slope = sxy / sxx;
-        ln_v_shifted
-            .iter()
-            .zip(&ln_p)
-            .map(|(x, y)| {
-                let e = y - slope * (x - mean_x);
-                e * e
-            })
-            .sum::<f64>()
-            / m
-    };
-    // A coarse scan over ±6° (the residual is smooth in the shift), then
-    // Brent's minimisation in the bracket around the best point.
-    let (best, _) = (-12..=12)
-        .map(|i| i as f64 * 0.5)
-        .map(|d| (d, residual(d)))
-        .fold((0.0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
-    if best.abs() >= 5.99 {
-        return None;
-    }
-    let (x, _) = roots::minimize(&mut residual, best - 0.5, best + 0.5, 1e-6);
-    Some(x)
 }
 
 /// Checks the speed and grid, applies the rod model; returns the engine to
@@ -484,17 +396,34 @@ pub fn analyse_with(
         rod: extreme(|f| &f.rod),
         pin: extreme(|f| &f.pin_load),
     };
-    let tdc_offset =
-        (opts.scope > Scope::Keys && !pressure.pv && pressure.quantity == Quantity::Pressure)
-            .then(|| tdc_offset_estimate(traces[0], volume, h))
-            .flatten();
-    if let Some(d) = tdc_offset
-        && d.abs() > 0.3
+    // Measured p–φ data: where the trace puts firing TDC, or why it cannot
+    // tell (a note either way when there is something to say).
+    let tdc_offset = if opts.scope > Scope::Keys
+        && !pressure.pv
+        && pressure.quantity == Quantity::Pressure
     {
-        notes.push(format!(
-            "the trace suggests firing TDC lies {d:+.2}° from the declared one (compression is most nearly polytropic there): check --tdc-deg; 1° of TDC error moves IMEP by about 4 % at full load"
-        ));
-    }
+        match tdc::estimate(traces[0], h, engine.cylinder()) {
+            Ok(e) => {
+                if e.offset_deg.abs() > 0.3 {
+                    let fmt = &enginedyn_numerics::format::fixed;
+                    let sign = if e.offset_deg > 0.0 { "+" } else { "" };
+                    notes.push(format!(
+                        "the trace suggests firing TDC lies {sign}{}° from the declared one (a fit of its compression and expansion with wall heat loss: n = {}, standard error {}°): add it to --tdc-deg; 1° of TDC error moves IMEP by about 4 % at full load",
+                        fmt(e.offset_deg, 2),
+                        fmt(e.exponent, 3),
+                        enginedyn_numerics::format::sig(e.std_error_deg, 1),
+                    ));
+                }
+                Some(e.offset_deg)
+            }
+            Err(why) => {
+                notes.push(format!("no TDC offset estimate: {why}"));
+                None
+            }
+        }
+    } else {
+        None
+    };
     let forces = all.into_iter().next().unwrap_or_default();
     let parts = Parts {
         h,

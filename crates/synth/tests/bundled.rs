@@ -100,3 +100,38 @@ fn bad_command_lines_exit_2() {
     assert!(help.status.success());
     assert!(String::from_utf8_lossy(&help.stdout).contains("--preset"));
 }
+
+/// `--heat-j 0` with `--woschni` and `--blowby-mm2` writes a motored trace
+/// with losses, says so in its comments and repeats the flags in its
+/// command; a negative loss exits 2.
+#[test]
+fn motored_trace_with_losses() {
+    let out = Command::new(BIN)
+        .args(ARGS)
+        .args(["--heat-j", "0", "--woschni", "1", "--blowby-mm2", "0.2"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("--heat-j 0 --woschni 1 --blowby-mm2 0.2 (add --out"));
+    let losses = text.lines().find(|l| l.starts_with("# losses:")).unwrap();
+    assert!(losses.contains("at 4900 rpm"), "{losses}");
+    // Losses put the motored peak before firing TDC: 0.5° before it the
+    // pressure is above that 0.5° after it.
+    let at = |deg: &str| -> f64 {
+        let row = text.lines().find(|l| l.starts_with(deg)).unwrap();
+        row.split_once(',').unwrap().1.parse().unwrap()
+    };
+    assert!(
+        at("719.5,") > at("0.5,"),
+        "{} vs {}",
+        at("719.5,"),
+        at("0.5,")
+    );
+    let bad = Command::new(BIN)
+        .args(ARGS)
+        .args(["--woschni", "-1"])
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+}
