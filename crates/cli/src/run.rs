@@ -281,7 +281,7 @@ pub fn resolve_rpm(
     let file = engine.operating().rpm;
     let (rpm, source) = match (flag, diagram, file) {
         (Some(r), _, _) => (r, "--rpm"),
-        (None, Some(r), _) => (r, "the diagram (its `# rpm` line, banner or TDC pulses)"),
+        (None, Some(r), _) => (r, "the diagram file"),
         (None, None, Some(r)) => (r, "operating.rpm"),
         (None, None, None) => {
             return Err(Failure::usage(

@@ -117,6 +117,9 @@ pub struct Resampled {
     pub pv: bool,
     /// Cycles left out of the averages (a gap in the data).
     pub cycles_skipped: usize,
+    /// The coarsest mean spacing of the file's samples (deg): the grid
+    /// step when the data lay on the grid.
+    pub sample_step_deg: f64,
     /// Things worth telling the user.
     pub notes: Vec<String>,
 }
@@ -136,6 +139,7 @@ impl Resampled {
             rpm: None,
             pv: false,
             cycles_skipped: 0,
+            sample_step_deg: step_deg,
             notes: Vec::new(),
         }
     }
@@ -265,6 +269,9 @@ pub struct Accumulator {
     /// Traces coarser than 2° on average, the coarsest spacing (deg) and
     /// the interpolant used: said once, with a count.
     sparse: (usize, f64, Option<InterpKind>),
+    /// The coarsest mean spacing of a trace's samples (deg); the grid step
+    /// for traces on the grid.
+    spacing: f64,
 }
 
 impl Accumulator {
@@ -301,6 +308,7 @@ impl Accumulator {
             notes: Vec::new(),
             overshoot: (0, 0.0),
             sparse: (0, 0.0, None),
+            spacing: step,
         })
     }
 
@@ -326,6 +334,7 @@ impl Accumulator {
             self.buf.copy_from_slice(&tr.values);
         } else if !on_grid {
             let spacing = self.cycle_deg / tr.angle_deg.len() as f64;
+            self.spacing = self.spacing.max(spacing);
             if spacing > 2.0 {
                 self.sparse.0 += 1;
                 self.sparse.1 = self.sparse.1.max(spacing);
@@ -579,6 +588,7 @@ impl Accumulator {
             rpm,
             pv: false,
             cycles_skipped: 0,
+            sample_step_deg: self.spacing,
             notes,
         })
     }
