@@ -452,7 +452,12 @@ fn close_known(n: &str) -> Option<&'static str> {
 /// Why `name` cannot be read, as a message.
 fn unread_message(name: &str, why: &Unread) -> String {
     let q = enginedyn_numerics::format::quote(name);
-    if let Some(k) = close_known(&name.trim().to_lowercase()) {
+    // A near miss of a canonical name (`pressure_bars`): did you mean it?
+    // A plain word without its unit (`Pressure`) is told what it lacks.
+    let lower = name.trim().to_lowercase();
+    if let Some(k) = close_known(&lower)
+        && (*why == Unread::Unknown || lower.contains('_'))
+    {
         return format!("unknown column `{q}`; did you mean `{k}`?");
     }
     match why {
