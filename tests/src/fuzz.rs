@@ -26,7 +26,13 @@ fn options(pick: u8) -> (ParseOptions, GridOptions) {
         parse.tdc_deg = 123.4;
     }
     if pick & 8 != 0 {
-        parse.columns = Some(vec!["crank_deg".into(), "pressure_bar".into()]);
+        // One cycle per column (`...`) or two named columns.
+        let last = if pick & 64 != 0 {
+            "pressure_bar..."
+        } else {
+            "pressure_bar"
+        };
+        parse.columns = Some(vec!["crank_deg".into(), last.into()]);
     }
     parse.max_cylinder = 4;
     let mut grid = GridOptions::new(4.0, Interp::Auto);
@@ -36,6 +42,16 @@ fn options(pick: u8) -> (ParseOptions, GridOptions) {
         3 => grid.interp = Interp::Pchip,
         _ => {}
     }
+    if pick & 128 != 0 {
+        // A time record's flags: a clock, a charge amplifier, pegging.
+        parse.tdc_time = Some(0.001);
+        parse.rpm = Some(1500.0);
+        parse.gain_bar_per_v = Some(20.0);
+        parse.max_gap_deg = 90.0;
+        grid.peg = Some(Peg::Bar(1e5));
+    }
+    // As the CLI: pegged traces are relative.
+    parse.relative = grid.peg.is_some();
     (parse, grid)
 }
 
