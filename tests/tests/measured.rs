@@ -63,7 +63,7 @@ fn check(e: &Value) -> Vec<String> {
         bad.push(format!("notes lack {w:?}: {notes:?}"));
     }
     if let Some(imep) = e["imep_bar"].as_f64() {
-        let tol = e["imep_rel_tol"].as_f64().unwrap_or(1e-6);
+        let tol = e["imep_rel_tol"].as_f64().unwrap_or(1e-9);
         match s["imep_bar"].as_f64() {
             Some(got) if ((got - imep) / imep).abs() <= tol => {}
             got => bad.push(format!("imep_bar {got:?}, expected {imep} within {tol}")),
@@ -110,5 +110,25 @@ fn fixtures_as_other_tools_write_them() {
         "{} failed:\n{}",
         failed.len(),
         failed.join("\n")
+    );
+}
+
+/// A diagram digitised every 5° gets no TDC offset estimate, for its own
+/// spacing, though the grid it is interpolated onto is 0.1°: the fit would
+/// judge the interpolant, not the data.
+#[test]
+fn coarse_data_gets_no_tdc_estimate() {
+    let file = format!("{}/tests/fixtures/measured/digitised_sparse.csv", root());
+    let engine = format!("{}/data/single.toml", root());
+    let j = enginedyn_tests::ok_json(&["run", "--engine", &engine, "--diagram", &file, "--json"]);
+    assert!(
+        j.get("tdc_offset_estimate_deg").is_none_or(Value::is_null),
+        "{j}"
+    );
+    let notes = j["notes"].to_string();
+    assert!(
+        notes.contains("no TDC offset estimate: the points are 5.")
+            && notes.contains("apart, coarser than the 1° the fit needs"),
+        "{notes}"
     );
 }

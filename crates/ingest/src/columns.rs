@@ -14,19 +14,17 @@ use crate::error::{IngestError, at};
 /// One standard atmosphere (Pa): what `--gauge` adds.
 pub(crate) const ATM: f64 = 101_325.0;
 
-/// Pa per unit, from exact definitions (1 psi = 0.45359237 kg × 9.80665 m/s² / (0.0254 m)²).
+/// Pa per unit of a canonical pressure column (`pressure_bar`, …,
+/// `pressure_kgf_cm2`), from the one table of pressure units.
 pub fn pressure_unit(name: &str) -> Option<f64> {
-    Some(match name {
-        "pressure_bar" => 1e5,
-        "pressure_mpa" => 1e6,
-        "pressure_kpa" => 1e3,
-        "pressure_pa" => 1.0,
-        "pressure_psi" => PSI,
-        "pressure_kgf_cm2" => KGF_CM2,
-        _ => return None,
-    })
+    let unit = name.strip_prefix("pressure_")?;
+    match pressure_scale(&unit.replace('_', "")) {
+        Some(Ok(pa)) => Some(pa),
+        _ => None,
+    }
 }
 
+/// Pa per psi, from exact definitions (0.45359237 kg × 9.80665 m/s² / (0.0254 m)²).
 const PSI: f64 = 0.453_592_37 * 9.806_65 / (0.0254 * 0.0254);
 const KGF_CM2: f64 = 98_066.5;
 
@@ -88,13 +86,13 @@ impl Role {
     fn describe(self) -> String {
         match self {
             Role::Angle(s) => format!("crank angle ({})", if same(s, 1.0) { "deg" } else { "rad" }),
-            Role::Volume(s) => format!("volume ({})", volume_unit_name(s)),
-            Role::Time(s) => format!("time ({})", if same(s, 1.0) { "s" } else { "ms" }),
+            Role::Volume(s) => format!("volume ({})", unit_name(VOLUME_UNITS, s)),
+            Role::Time(s) => format!("time ({})", unit_name(TIME_UNITS, s)),
             Role::Pressure {
                 scale, cylinder, ..
             } => format!(
                 "pressure ({}){}",
-                pressure_unit_name(scale),
+                unit_name(PRESSURE_UNITS, scale),
                 cylinder
                     .map(|c| format!(", cylinder {c}"))
                     .unwrap_or_default()
@@ -120,26 +118,53 @@ pub(crate) fn same(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-12 * b.abs()
 }
 
-fn pressure_unit_name(scale: f64) -> &'static str {
-    [
-        (1e5, "bar"),
-        (1e6, "MPa"),
-        (1e3, "kPa"),
-        (1.0, "Pa"),
-        (1e2, "mbar"),
-        (PSI, "psi"),
-        (KGF_CM2, "kgf/cm²"),
-    ]
-    .iter()
-    .find(|(s, _)| same(*s, scale))
-    .map_or("?", |(_, n)| n)
+/// A unit: its spellings (lower case, letters and digits only), its
+/// factor to SI, and how notes write it.
+type Unit = (&'static [&'static str], f64, &'static str);
+
+/// Pressure units, Pa per unit: the one table for names and factors.
+const PRESSURE_UNITS: &[Unit] = &[
+    (&["bar", "bara", "barabs"], 1e5, "bar"),
+    (&["mbar", "hpa"], 1e2, "mbar"),
+    (&["mpa"], 1e6, "MPa"),
+    (&["kpa"], 1e3, "kPa"),
+    (&["pa"], 1.0, "Pa"),
+    (&["psi", "psia"], PSI, "psi"),
+    (&["kgfcm2", "kgcm2", "at", "kgf"], KGF_CM2, "kgf/cm²"),
+];
+
+/// A charge amplifier's output, volts per unit.
+const VOLT_UNITS: &[Unit] = &[(&["v", "volt", "volts"], 1.0, "V"), (&["mv"], 1e-3, "mV")];
+
+/// Volume units, m³ per unit.
+const VOLUME_UNITS: &[Unit] = &[
+    (&["cm3", "ccm", "ml", "cc"], 1e-6, "cm³"),
+    (&["m3"], 1.0, "m³"),
+    (&["l", "dm3", "litre", "liter"], 1e-3, "l"),
+    (&["mm3"], 1e-9, "mm³"),
+];
+
+/// Time units, s per unit.
+const TIME_UNITS: &[Unit] = &[
+    (&["s", "sec", "secs"], 1.0, "s"),
+    (&["ms", "msec"], 1e-3, "ms"),
+    (&["us", "usec"], 1e-6, "µs"),
+];
+
+/// The factor of spelling `u` in `table`.
+fn factor(table: &[Unit], u: &str) -> Option<f64> {
+    table
+        .iter()
+        .find(|(names, ..)| names.contains(&u))
+        .map(|(_, f, _)| *f)
 }
 
-fn volume_unit_name(scale: f64) -> &'static str {
-    [(1e-6, "cm³"), (1.0, "m³"), (1e-3, "l"), (1e-9, "mm³")]
+/// How notes write the unit of `factor` in `table`.
+fn unit_name(table: &[Unit], factor: f64) -> &'static str {
+    table
         .iter()
-        .find(|(s, _)| same(*s, scale))
-        .map_or("?", |(_, n)| n)
+        .find(|(_, f, _)| same(*f, factor))
+        .map_or("?", |(.., n)| n)
 }
 
 /// Why a name cannot be read.
@@ -269,39 +294,19 @@ fn angle_unit(u: &str) -> Option<f64> {
     }
 }
 
+/// Ok: Pa per unit; Err: volts per unit (a charge amplifier's output).
 fn pressure_scale(u: &str) -> Option<Result<f64, f64>> {
-    // Ok: Pa per unit; Err: volts per unit (a charge amplifier's output).
-    Some(match u {
-        "bar" | "bara" | "barabs" | "bara1" => Ok(1e5),
-        "mbar" | "hpa" => Ok(1e2),
-        "mpa" => Ok(1e6),
-        "kpa" => Ok(1e3),
-        "pa" => Ok(1.0),
-        "psi" | "psia" => Ok(PSI),
-        "kgfcm2" | "kgcm2" | "at" | "kgf" => Ok(KGF_CM2),
-        "v" | "volt" | "volts" => Err(1.0),
-        "mv" => Err(1e-3),
-        _ => return None,
-    })
+    factor(PRESSURE_UNITS, u)
+        .map(Ok)
+        .or_else(|| factor(VOLT_UNITS, u).map(Err))
 }
 
 fn time_unit(u: &str) -> Option<f64> {
-    match u {
-        "s" | "sec" | "secs" => Some(1.0),
-        "ms" | "msec" => Some(1e-3),
-        "us" | "usec" => Some(1e-6),
-        _ => None,
-    }
+    factor(TIME_UNITS, u)
 }
 
 fn volume_unit(u: &str) -> Option<f64> {
-    match u {
-        "cm3" | "ccm" | "ml" | "cc" => Some(1e-6),
-        "m3" => Some(1.0),
-        "l" | "dm3" | "litre" | "liter" => Some(1e-3),
-        "mm3" => Some(1e-9),
-        _ => None,
-    }
+    factor(VOLUME_UNITS, u)
 }
 
 fn is_unit_word(w: &str) -> bool {
@@ -311,6 +316,23 @@ fn is_unit_word(w: &str) -> bool {
         || matches!(w, "deg" | "rad" | "degca" | "grad")
 }
 
+/// A pressure column in `unit` (Pa per unit, or volts per unit: a
+/// charge amplifier's relative output).
+fn pressure_role(unit: Result<f64, f64>, cylinder: Option<u32>, index: Option<u32>) -> Role {
+    match unit {
+        Ok(scale) => Role::Pressure {
+            scale,
+            cylinder,
+            index,
+        },
+        Err(scale) => Role::Volts {
+            scale,
+            cylinder,
+            index,
+        },
+    }
+}
+
 /// What a column name holds.
 pub(crate) fn recognise(raw: &str) -> Result<Role, Unread> {
     let s = raw.trim().trim_matches('"').trim();
@@ -318,30 +340,24 @@ pub(crate) fn recognise(raw: &str) -> Result<Role, Unread> {
     match lower.as_str() {
         "" | "_" => return Ok(Role::Skip),
         "crank_deg" => return Ok(Role::Angle(1.0)),
-        "volume_cm3" => return Ok(Role::Volume(1e-6)),
-        "volume_m3" => return Ok(Role::Volume(1.0)),
-        "volume_l" => return Ok(Role::Volume(1e-3)),
-        "time_s" => return Ok(Role::Time(1.0)),
-        "time_ms" => return Ok(Role::Time(1e-3)),
-        "pressure_v" => {
-            return Ok(Role::Volts {
-                scale: 1.0,
-                cylinder: None,
-                index: None,
-            });
-        }
         "torque_cylinder_nm" => return Ok(Role::Torque(Quantity::CylinderTorque)),
         "torque_engine_nm" => return Ok(Role::Torque(Quantity::EngineTorque)),
         "cycle" => return Ok(Role::Cycle),
         "cylinder" => return Ok(Role::Cylinder),
         "tdc" => return Ok(Role::Tdc),
         n => {
-            if let Some(scale) = pressure_unit(n) {
-                return Ok(Role::Pressure {
-                    scale,
-                    cylinder: None,
-                    index: None,
-                });
+            // `volume_cm3`, `time_ms`, `pressure_kgf_cm2`, `pressure_v`: the
+            // unit after the quantity, read from the unit tables.
+            let (quantity, unit) = n.split_once('_').unwrap_or((n, ""));
+            let unit = unit.replace('_', "");
+            let role = match quantity {
+                "volume" => volume_unit(&unit).map(Role::Volume),
+                "time" => time_unit(&unit).map(Role::Time),
+                "pressure" => pressure_scale(&unit).map(|s| pressure_role(s, None, None)),
+                _ => None,
+            };
+            if let Some(r) = role {
+                return Ok(r);
             }
         }
     }
@@ -385,16 +401,7 @@ pub(crate) fn recognise(raw: &str) -> Result<Role, Unread> {
             unit
         };
         return match pressure_scale(u) {
-            Some(Ok(scale)) => Ok(Role::Pressure {
-                scale,
-                cylinder,
-                index,
-            }),
-            Some(Err(scale)) => Ok(Role::Volts {
-                scale,
-                cylinder,
-                index,
-            }),
+            Some(unit) => Ok(pressure_role(unit, cylinder, index)),
             None if u.is_empty() => Err(Unread::NoUnit("pressure", "Pressure [bar]")),
             None => Err(Unread::BadUnit(
                 "a pressure unit: bar, mbar, MPa, kPa, Pa, psi, kgf/cm2 or V",

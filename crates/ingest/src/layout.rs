@@ -63,14 +63,6 @@ impl Layout {
         Ok(Layout::Long(Long::new(&roles, opts, line)?))
     }
 
-    /// True for relative values (volts) that are never checked for sign.
-    pub(crate) fn relative(&self) -> bool {
-        match self {
-            Layout::Time(t) => t.relative(),
-            _ => false,
-        }
-    }
-
     pub(crate) fn row<F: FnMut(Streamed) -> Result<(), IngestError>>(
         &mut self,
         line: usize,
@@ -403,6 +395,8 @@ pub(crate) struct PerColumn {
     block: i64,
     closing: bool,
     explicit: bool,
+    /// Samples per column in the cycle before: the next one's capacity.
+    last_len: usize,
 }
 
 impl PerColumn {
@@ -442,6 +436,7 @@ impl PerColumn {
             block: 0,
             closing: false,
             explicit: opts.columns.is_some(),
+            last_len: 16,
         })
     }
 
@@ -522,8 +517,8 @@ impl PerColumn {
                     (self.block - 1) * n as i64 + j as i64 + 1
                 },
                 cylinder: c.2,
-                angle_deg: Vec::new(),
-                values: Vec::new(),
+                angle_deg: Vec::with_capacity(self.last_len),
+                values: Vec::with_capacity(self.last_len),
             })
             .collect();
         self.track = Some(Track::new(a, self.cycle_deg));
@@ -537,6 +532,9 @@ impl PerColumn {
         out: &mut Emitter<'_, F>,
     ) -> Result<(), IngestError> {
         let traces = std::mem::take(&mut self.traces);
+        if let Some(t) = traces.first() {
+            self.last_len = t.angle_deg.len().max(16);
+        }
         if self.closing && traces.iter().all(|t| t.angle_deg.len() <= 1) {
             return Ok(());
         }

@@ -360,38 +360,53 @@ pub struct Streamed {
     pub steps: Option<(f64, f64)>,
 }
 
-/// What the first bytes of a file say it is, when not text.
-fn binary_kind(head: &[u8]) -> Option<&'static str> {
-    const MAGIC: &[(&[u8], &str)] = &[
-        (b"PK\x03\x04", "zip"),
-        (b"\xD0\xCF\x11\xE0\xA1\xB1\x1A\xE1", "ole"),
-        (b"\x89PNG", "a PNG image"),
-        (b"\xFF\xD8\xFF", "a JPEG image"),
-        (b"%PDF", "a PDF document"),
-        (b"\x1F\x8B", "a gzip archive"),
-        (b"\x89HDF", "an HDF5 file (a MATLAB v7.3 .mat?)"),
-        (b"MATLAB 5.0 MAT-file", "a MATLAB .mat file"),
-        (b"TDSm", "a National Instruments TDMS file"),
-        (b"\x7FELF", "a program"),
-        (b"7z\xBC\xAF", "a 7-Zip archive"),
-        (b"Rar!", "a RAR archive"),
+/// What a file is, from its first bytes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Kind {
+    /// Text (ASCII or UTF-8).
+    Text,
+    /// UTF-16 text with its byte-order mark; little-endian when true.
+    Utf16(bool),
+    /// A ZIP (.xlsx, .ods) or OLE (.xls) container: perhaps a workbook.
+    Workbook,
+    /// Any other binary file, as the message names it.
+    Binary(&'static str),
+}
+
+/// What the first bytes of a file say it is.
+fn kind(head: &[u8]) -> Kind {
+    const MAGIC: &[(&[u8], Kind)] = &[
+        (b"PK\x03\x04", Kind::Workbook),
+        (b"\xD0\xCF\x11\xE0\xA1\xB1\x1A\xE1", Kind::Workbook),
+        (b"\xFF\xFE", Kind::Utf16(true)),
+        (b"\xFE\xFF", Kind::Utf16(false)),
+        (b"\x89PNG", Kind::Binary("a PNG image")),
+        (b"\xFF\xD8\xFF", Kind::Binary("a JPEG image")),
+        (b"%PDF", Kind::Binary("a PDF document")),
+        (b"\x1F\x8B", Kind::Binary("a gzip archive")),
+        (
+            b"\x89HDF",
+            Kind::Binary("an HDF5 file (a MATLAB v7.3 .mat?)"),
+        ),
+        (b"MATLAB 5.0 MAT-file", Kind::Binary("a MATLAB .mat file")),
+        (b"TDSm", Kind::Binary("a National Instruments TDMS file")),
+        (b"\x7FELF", Kind::Binary("a program")),
+        (b"7z\xBC\xAF", Kind::Binary("a 7-Zip archive")),
+        (b"Rar!", Kind::Binary("a RAR archive")),
     ];
     if let Some((_, k)) = MAGIC.iter().find(|(m, _)| head.starts_with(m)) {
-        return Some(k);
-    }
-    // UTF-16 text (a byte-order mark): read through a transcoder.
-    if head.starts_with(b"\xFF\xFE") {
-        return Some("utf16le");
-    }
-    if head.starts_with(b"\xFE\xFF") {
-        return Some("utf16be");
+        return *k;
     }
     // Text has no NUL bytes and few control characters.
     let control = head
         .iter()
         .filter(|&&b| b == 0 || (b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0C)))
         .count();
-    (head.contains(&0) || control * 20 > head.len()).then_some("binary data")
+    if head.contains(&0) || control * 20 > head.len() {
+        Kind::Binary("binary data")
+    } else {
+        Kind::Text
+    }
 }
 
 /// Reads the text (or spreadsheet) and hands each finished trace to
@@ -403,12 +418,9 @@ pub fn parse_stream(
     sink: impl FnMut(Streamed) -> Result<(), IngestError>,
 ) -> Result<Header, IngestError> {
     let head = reader.fill_buf()?;
-    let kind = binary_kind(&head[..head.len().min(4096)]);
-    match kind {
-        Some(k @ ("utf16le" | "utf16be")) => {
-            text::read(text::Utf16::new(reader, k == "utf16le"), opts, sink)
-        }
-        None => {
+    match kind(&head[..head.len().min(4096)]) {
+        Kind::Utf16(little) => text::read(text::Utf16::new(reader, little), opts, sink),
+        Kind::Text => {
             let mut h = text::read(reader, opts, sink)?;
             if opts.sheet.is_some() {
                 h.notes
@@ -416,7 +428,7 @@ pub fn parse_stream(
             }
             Ok(h)
         }
-        Some("zip" | "ole") => {
+        Kind::Workbook => {
             let mut bytes = Vec::new();
             std::io::Read::read_to_end(
                 &mut std::io::Read::take(&mut reader, MAX_WORKBOOK as u64 + 1),
@@ -430,8 +442,8 @@ pub fn parse_stream(
             }
             sheet::read(bytes, opts, sink)
         }
-        Some(k) => Err(IngestError::Data(format!(
-            "not a text file: it starts like {k}; a diagram is CSV text (comma, semicolon, tab or space delimited) or a spreadsheet (.xlsx, .xls, .ods)"
+        Kind::Binary(what) => Err(IngestError::Data(format!(
+            "not a text file: it starts like {what}; a diagram is CSV text (comma, semicolon, tab or space delimited) or a spreadsheet (.xlsx, .xls, .ods)"
         ))),
     }
 }

@@ -200,9 +200,9 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
         }
         self.head.quantity = roles.quantity;
         self.head.pv = matches!(roles.axis, Axis::Volume(_));
-        let layout = Layout::new(roles, self.opts, self.head.rpm, line)?;
-        self.out.absolute = !self.opts.relative && !layout.relative();
-        Ok(layout)
+        // Volts are relative, so `value_scale` refuses them unless pegged:
+        // `opts.relative` alone says whether traces are checked for sign.
+        Layout::new(roles, self.opts, self.head.rpm, line)
     }
 
     /// The end of the source.
@@ -364,8 +364,8 @@ fn banner_rpm(line: &str) -> Option<f64> {
 pub(crate) struct Emitter<'o, F> {
     opts: &'o ParseOptions,
     sink: F,
-    /// Pressures must be absolute (not pegged, not volts): checked for sign.
-    pub absolute: bool,
+    /// Pressures must be absolute (not to be pegged): checked for sign.
+    absolute: bool,
     pv_notes: Vec<String>,
     /// Per cylinder (0: one trace for all): traces seen and handed on.
     seen: Vec<(usize, usize)>,
@@ -440,7 +440,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             && let Some((t, c, _, _)) = self.held[k].take()
             && let Some(g) = c.gap
         {
-            self.skipped.push((trace::describe(&t), g));
+            self.skipped.push((trace::describe(t.cycle, t.cylinder), g));
         }
         match c.gap {
             Some(_) if self.seen[k].0 == 1 => {
@@ -448,7 +448,8 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                 Ok(())
             }
             Some(g) => {
-                self.skipped.push((trace::describe(&tr), g));
+                self.skipped
+                    .push((trace::describe(tr.cycle, tr.cylinder), g));
                 Ok(())
             }
             None => self.send(tr, c, q),
@@ -478,7 +479,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                     None,
                     format!(
                         "{} has a gap of {}° from {}° to {}° (its steps are {}°): the data covers {}° of the {}° cycle; --max-gap {} bridges gaps up to {}°",
-                        trace::describe(&tr),
+                        trace::describe(tr.cycle, tr.cylinder),
                         fmt(g.width),
                         fmt(g.from),
                         fmt((g.from + g.width) % self.opts.cycle_deg),
@@ -490,7 +491,8 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                     ),
                 ));
             }
-            self.bridged.push((trace::describe(&tr), g));
+            self.bridged
+                .push((trace::describe(tr.cycle, tr.cylinder), g));
             self.send(tr, c, q)?;
         }
         for (k, (seen, sent)) in self.seen.iter().enumerate() {

@@ -7,7 +7,7 @@ use crate::error::IngestError;
 use crate::reader::Reader;
 use crate::row::{SheetCell, SheetRow};
 use crate::{Header, ParseOptions, Sheet, Streamed};
-use calamine::{Data, DataRef, Reader as _};
+use calamine::{Data, DataType, Reader as _};
 
 /// The largest workbook read (bytes): it is held in memory.
 pub const MAX_WORKBOOK: usize = 256 << 20;
@@ -137,17 +137,7 @@ fn stream_rows<F: FnMut(Streamed) -> Result<(), IngestError>>(
         if row.len() <= col {
             row.resize(col + 1, SheetCell::Empty);
         }
-        row[col] = match c.get_value() {
-            DataRef::Float(v) => SheetCell::Number(*v),
-            DataRef::Int(v) => SheetCell::Number(*v as f64),
-            DataRef::String(s) => SheetCell::Text(s.clone()),
-            DataRef::SharedString(s) => SheetCell::Text((*s).to_string()),
-            DataRef::Bool(b) => SheetCell::Text(b.to_string()),
-            DataRef::DateTime(d) => SheetCell::Number(d.as_f64()),
-            DataRef::DateTimeIso(s) | DataRef::DurationIso(s) => SheetCell::Text(s.clone()),
-            DataRef::Error(e) => SheetCell::Text(format!("#{e:?}")),
-            DataRef::Empty => SheetCell::Empty,
-        };
+        row[col] = sheet_cell(c.get_value());
     }
     if let Some(prev) = at_row {
         hand_row(prev as usize + 1, &row, opts, rd)?;
@@ -191,16 +181,7 @@ fn read_rows<F: FnMut(Streamed) -> Result<(), IngestError>>(
         cells.clear();
         // Columns before the used range are empty: keep positions as in the sheet.
         cells.resize(col0 as usize, SheetCell::Empty);
-        cells.extend(row.iter().map(|d| match d {
-            Data::Float(v) => SheetCell::Number(*v),
-            Data::Int(v) => SheetCell::Number(*v as f64),
-            Data::String(s) => SheetCell::Text(s.clone()),
-            Data::Bool(b) => SheetCell::Text(b.to_string()),
-            Data::DateTime(d) => SheetCell::Number(d.as_f64()),
-            Data::DateTimeIso(s) | Data::DurationIso(s) => SheetCell::Text(s.clone()),
-            Data::Error(e) => SheetCell::Text(format!("#{e:?}")),
-            Data::Empty => SheetCell::Empty,
-        }));
+        cells.extend(row.iter().map(sheet_cell));
         hand_row(row0 as usize + i + 1, &cells, opts, rd)?;
     }
     Ok(())
@@ -256,6 +237,29 @@ fn choose(names: &[String], opts: &ParseOptions) -> Result<usize, IngestError> {
             )));
         }
     })
+}
+
+/// A cell as the reader sees it: a number (dates as Excel's serial
+/// numbers), text, or nothing.
+fn sheet_cell(d: &impl DataType) -> SheetCell {
+    if let Some(v) = d.get_float() {
+        SheetCell::Number(v)
+    } else if let Some(v) = d.get_int() {
+        SheetCell::Number(v as f64)
+    } else if let Some(t) = d.get_datetime() {
+        SheetCell::Number(t.as_f64())
+    } else if let Some(t) = d.get_string() {
+        SheetCell::Text(t.to_string())
+    } else if let Some(b) = d.get_bool() {
+        SheetCell::Text(b.to_string())
+    } else if let Some(e) = d.get_error() {
+        SheetCell::Text(format!("#{e:?}"))
+    } else if d.is_empty() {
+        SheetCell::Empty
+    } else {
+        // ISO dates and durations.
+        SheetCell::Text(d.as_string().unwrap_or_default())
+    }
 }
 
 fn first_used(cells: &[SheetCell]) -> usize {

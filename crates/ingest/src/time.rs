@@ -31,8 +31,6 @@ struct Building {
     index: i64,
     trace: Trace,
     line: usize,
-    /// Revolutions placed in it (pulse mode).
-    revs: usize,
     /// It began at its firing TDC (pulse mode), not midway.
     from_start: bool,
 }
@@ -48,7 +46,6 @@ impl Building {
                 values: Vec::with_capacity(capacity),
             },
             line,
-            revs: 0,
             from_start,
         }
     }
@@ -92,7 +89,6 @@ pub(crate) struct TimeRecord {
     p_col: usize,
     p_scale: f64,
     offset: f64,
-    volts: bool,
     cycle_deg: f64,
     tdc_deg: Option<f64>,
     mode: Mode,
@@ -103,6 +99,10 @@ pub(crate) struct TimeRecord {
     partial: usize,
     /// Clock mode: the angle step between the first samples (deg).
     step_deg: f64,
+    /// Pulse mode: the angle (from firing TDC) the placed revolutions reach.
+    reach: f64,
+    /// Samples in the last whole cycle: the next one's capacity.
+    last_len: usize,
 }
 
 impl TimeRecord {
@@ -167,7 +167,6 @@ impl TimeRecord {
             p_col: v.col,
             p_scale,
             offset,
-            volts: roles.volts,
             cycle_deg: opts.cycle_deg,
             tdc_deg: opts.tdc_given.then_some(opts.tdc_deg),
             mode,
@@ -176,11 +175,9 @@ impl TimeRecord {
             complete: 0,
             partial: 0,
             step_deg: 0.0,
+            reach: f64::NEG_INFINITY,
+            last_len: 1024,
         })
-    }
-
-    pub(crate) fn relative(&self) -> bool {
-        self.volts
     }
 
     pub(crate) fn row<F: FnMut(Streamed) -> Result<(), IngestError>>(
@@ -400,44 +397,43 @@ impl TimeRecord {
         parity: i64,
         out: &mut Emitter<'_, F>,
     ) -> Result<(), IngestError> {
+        // The revolution's first angle from firing TDC: the pulses are 360°
+        // apart; --tdc-deg may put firing TDC anywhere between them.
         let start = match self.tdc_deg {
             Some(x) => 360.0 * r.k as f64 - x,
             None => 360.0 * (r.k - parity) as f64,
         };
-        let c = (start / self.cycle_deg + 1e-9).floor() as i64;
-        let revs_per_cycle = (self.cycle_deg / 360.0).round() as usize;
-        if self.cur.as_ref().is_none_or(|b| b.index != c) {
-            self.close_cycle(out, revs_per_cycle)?;
-            let from_start = (start - c as f64 * self.cycle_deg).abs() < 1e-6;
-            self.cur = Some(Building::new(
-                c,
-                r.line,
-                r.samples.len() * revs_per_cycle,
-                from_start,
-            ));
-        }
-        let Some(b) = self.cur.as_mut() else {
-            return Ok(());
-        };
-        let tr = &mut b.trace;
         let dur = r.t1 - r.t0;
-        let base = start - c as f64 * self.cycle_deg;
         for (t, p) in r.samples {
-            tr.angle_deg.push(base + 360.0 * (t - r.t0) / dur);
-            tr.values.push(p);
+            let a = start + 360.0 * (t - r.t0) / dur;
+            let c = (a / self.cycle_deg + 1e-12).floor() as i64;
+            if self.cur.as_ref().is_none_or(|b| b.index != c) {
+                // A cycle is whole from its start when an earlier revolution
+                // was placed, or this one begins at or before it.
+                let from_start = self.cur.is_some() || start <= c as f64 * self.cycle_deg + 1e-6;
+                self.close_cycle(out, true)?;
+                self.cur = Some(Building::new(c, r.line, self.last_len, from_start));
+            }
+            if let Some(b) = self.cur.as_mut() {
+                b.trace.angle_deg.push(a - b.index as f64 * self.cycle_deg);
+                b.trace.values.push(p);
+            }
         }
-        b.revs += 1;
+        self.reach = start + 360.0;
         Ok(())
     }
 
+    /// Hands the cycle being assembled on when it is whole: it began at its
+    /// firing TDC and the record `reached` its end.
     fn close_cycle<F: FnMut(Streamed) -> Result<(), IngestError>>(
         &mut self,
         out: &mut Emitter<'_, F>,
-        revs_per_cycle: usize,
+        reached: bool,
     ) -> Result<(), IngestError> {
         if let Some(b) = self.cur.take() {
-            if b.from_start && b.revs == revs_per_cycle {
+            if b.from_start && reached {
                 self.complete += 1;
+                self.last_len = b.trace.angle_deg.len();
                 out.trace(b.trace, b.line, Quantity::Pressure, false)?;
             } else {
                 self.partial += 1;
@@ -497,7 +493,6 @@ impl TimeRecord {
         out: &mut Emitter<'_, F>,
         head: &mut Header,
     ) -> Result<(), IngestError> {
-        let revs_per_cycle = (self.cycle_deg / 360.0).round() as usize;
         if let Mode::Pulse {
             threshold: None, ..
         } = self.mode
@@ -555,7 +550,15 @@ impl TimeRecord {
             ),
         };
         match self.mode {
-            Mode::Pulse { .. } => self.close_cycle(out, revs_per_cycle)?,
+            Mode::Pulse { .. } => {
+                // The last cycle is whole when the last revolution reached its end.
+                let end = self
+                    .cur
+                    .as_ref()
+                    .map_or(f64::INFINITY, |b| (b.index + 1) as f64 * self.cycle_deg);
+                let reached = self.reach >= end - 1e-6;
+                self.close_cycle(out, reached)?
+            }
             Mode::Clock { .. } => self.close_clock(out)?,
         }
         if self.complete == 0 {

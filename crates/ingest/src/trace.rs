@@ -134,10 +134,13 @@ pub(crate) fn finish(
     gauge: bool,
 ) -> Result<(Trace, Checked), IngestError> {
     let n = tr.angle_deg.len();
-    let name = describe(&tr);
+    // Built only for a message: no allocation per trace on the way through.
+    let (cycle_no, cylinder_no) = (tr.cycle, tr.cylinder);
+    let name = || describe(cycle_no, cylinder_no);
     if n < 4 {
         return Err(IngestError::Data(format!(
-            "{name} has {n} points: at least 4 are needed"
+            "{} has {n} points: at least 4 are needed",
+            name()
         )));
     }
     let first = tr.angle_deg[0];
@@ -177,7 +180,8 @@ pub(crate) fn finish(
         // The largest engines make about 1e7 N m: beyond 1e9 is a unit mix-up.
         if peak > 1e9 {
             return Err(IngestError::Data(format!(
-                "{name}: torque {} N m is implausible: is the torque column in N m?",
+                "{}: torque {} N m is implausible: is the torque column in N m?",
+                name(),
                 enginedyn_numerics::format::sig(peak, 4)
             )));
         }
@@ -185,7 +189,8 @@ pub(crate) fn finish(
         // 5 kPa to 10 kbar absolute: anything outside is a unit mix-up.
         if !(5e3..=1e9).contains(&vhi.max(0.0)) {
             return Err(IngestError::Data(format!(
-                "{name}: peak pressure {} bar is implausible: is the pressure column's unit right?",
+                "{}: peak pressure {} bar is implausible: is the pressure column's unit right?",
+                name(),
                 enginedyn_numerics::format::sig(vhi.max(0.0) / 1e5, 4)
             )));
         }
@@ -212,12 +217,14 @@ pub(crate) fn finish(
             if span > 0.5 * cycle {
                 return Err(IngestError::Data(if gauge {
                     format!(
-                        "{name} lies below vacuum (below −1.01325 bar gauge) over {:.0} % of its cycle: is the pressure column's unit right?",
+                        "{} lies below vacuum (below −1.01325 bar gauge) over {:.0} % of its cycle: is the pressure column's unit right?",
+                        name(),
                         100.0 * span / cycle
                     )
                 } else {
                     format!(
-                        "{name} is below zero absolute pressure over {:.0} % of its cycle (lowest {} bar): gauge data? give --gauge; a relative (piezo) trace: --peg-bar P or --peg polytropic",
+                        "{} is below zero absolute pressure over {:.0} % of its cycle (lowest {} bar): gauge data? give --gauge; a relative (piezo) trace: --peg-bar P or --peg polytropic",
+                        name(),
                         100.0 * span / cycle,
                         enginedyn_numerics::format::sig(vlo / 1e5, 3)
                     )
@@ -227,7 +234,8 @@ pub(crate) fn finish(
         }
     } else if vhi - vlo < 5e3 {
         return Err(IngestError::Data(format!(
-            "{name}: the pressure varies by {} bar only over the cycle: is the unit (or --gain) right?",
+            "{}: the pressure varies by {} bar only over the cycle: is the unit (or --gain) right?",
+            name(),
             enginedyn_numerics::format::sig((vhi - vlo) / 1e5, 3)
         )));
     }
@@ -259,18 +267,19 @@ pub(crate) fn finish(
     tr.values.rotate_left(start);
     if tr.angle_deg.windows(2).any(|w| w[1] <= w[0]) {
         return Err(IngestError::Data(format!(
-            "{name}: two points fall on the same crank angle once wrapped into the cycle"
+            "{}: two points fall on the same crank angle once wrapped into the cycle",
+            name()
         )));
     }
     Ok((tr, checked(None)))
 }
 
 /// "cycle 3", "cycle 3 of cylinder 2", as messages name a trace.
-pub(crate) fn describe(tr: &Trace) -> String {
-    if tr.cylinder > 0 {
-        format!("cycle {} of cylinder {}", tr.cycle, tr.cylinder)
+pub(crate) fn describe(cycle: i64, cylinder: i64) -> String {
+    if cylinder > 0 {
+        format!("cycle {cycle} of cylinder {cylinder}")
     } else {
-        format!("cycle {}", tr.cycle)
+        format!("cycle {cycle}")
     }
 }
 

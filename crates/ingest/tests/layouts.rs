@@ -113,30 +113,16 @@ fn a_spreadsheet_reads_as_its_csv() {
     assert_eq!(imeps(&a), imeps(&b));
 }
 
-/// A 72 kHz time record of the same cycles: a TDC pulse per revolution
-/// (an analog ramp on a 0.3 V baseline), the speed varying ±1 % from one
-/// revolution to the next, the record starting at the gas-exchange TDC (so
-/// the firing pulse is the second: found from the pressure), and partial
-/// cycles at both ends. IMEP of each whole cycle matches the long layout's
-/// within 2e-5 (the spline's error on the long layout's 0.5° samples
-/// against the record's 0.08°; measured 3e-7 to 7e-6).
-#[test]
-fn a_time_record_reads_as_its_cycles() {
-    let (o, g) = options();
-    let mut long = String::from("cycle,crank_deg,pressure_bar\n");
-    for k in 0..CYCLES {
-        for i in 0..1440 {
-            let a = i as f64 * 0.5;
-            long.push_str(&format!("{},{a},{}\n", k + 1, cell(a, k)));
-        }
-    }
-    let want = load(long.as_bytes(), &o, &g).unwrap();
-    // Revolutions: rev j starts at θ = 360 j - 720, speed 1000 (1 + 0.01
-    // sin j) rpm; the record starts 20° before the exchange TDC at -360°.
+/// A 72 kHz record of the cycles of `p_of`: revolution j from θ = 360 j -
+/// 720 (firing TDC at θ = 0) at 1000 (1 + `variation` sin j) rpm, a TDC
+/// pulse per revolution rising through half its range at `pulse_deg`
+/// after each TDC (an analog ramp over 1° on a 0.3 V baseline), the record
+/// starting at θ = `from_deg`.
+fn record(variation: f64, pulse_deg: f64, from_deg: f64) -> String {
     let revs = 2 * CYCLES + 4;
     let mut starts = vec![0.0f64];
     for j in 0..revs {
-        let rpm = 1000.0 * (1.0 + 0.01 * (j as f64).sin());
+        let rpm = 1000.0 * (1.0 + variation * (j as f64).sin());
         starts.push(starts[j] + 60.0 / rpm);
     }
     let theta = |t: f64| -> f64 {
@@ -148,18 +134,12 @@ fn a_time_record_reads_as_its_cycles() {
     };
     let mut rec = String::from("time_s,pressure_bar,tdc\n");
     let dt = 1.0 / 72_000.0;
-    let mut t = starts[0] + (starts[1] - starts[0]) * 340.0 / 360.0;
+    let mut t = starts[0] + (starts[1] - starts[0]) * (from_deg + 720.0) / 360.0;
     while t < starts[revs] {
         let th = theta(t);
-        let in_rev = th.rem_euclid(360.0);
-        let from_tdc = if in_rev > 180.0 {
-            in_rev - 360.0
-        } else {
-            in_rev
-        };
-        // Rises through half its range exactly at TDC, over 1°.
+        let from_pulse = (th - pulse_deg + 180.0).rem_euclid(360.0) - 180.0;
         let pulse =
-            0.3 + 4.7 * ((from_tdc + 0.5) / 1.0).clamp(0.0, 1.0) * f64::from(from_tdc < 3.0);
+            0.3 + 4.7 * ((from_pulse + 0.5) / 1.0).clamp(0.0, 1.0) * f64::from(from_pulse < 3.0);
         let (cycle_angle, k) = (th.rem_euclid(720.0), (th / 720.0).floor());
         let k = if k < 0.0 {
             0
@@ -169,12 +149,42 @@ fn a_time_record_reads_as_its_cycles() {
         rec.push_str(&format!("{t:.9},{},{pulse:.6}\n", cell(cycle_angle, k)));
         t += dt;
     }
-    let got = load(rec.as_bytes(), &o, &g).unwrap();
-    let (w, gt) = (imeps(&want), imeps(&got));
+    rec
+}
+
+/// The long layout's per-cycle IMEP of the same cycles.
+fn long_imeps() -> Vec<f64> {
+    let (o, g) = options();
+    let mut long = String::from("cycle,crank_deg,pressure_bar\n");
+    for k in 0..CYCLES {
+        for i in 0..1440 {
+            let a = i as f64 * 0.5;
+            long.push_str(&format!("{},{a},{}\n", k + 1, cell(a, k)));
+        }
+    }
+    imeps(&load(long.as_bytes(), &o, &g).unwrap())
+}
+
+/// Each whole cycle's IMEP within 2e-5 of the long layout's (the spline's
+/// error on the long layout's 0.5° samples against the record's 0.08°;
+/// measured 3e-7 to 7e-6).
+fn same_cycles(got: &Resampled) {
+    let (w, gt) = (long_imeps(), imeps(got));
     assert_eq!(gt.len(), CYCLES, "whole cycles: {:?}", got.notes);
     for (a, b) in w.iter().zip(&gt) {
         assert!(((a - b) / a).abs() < 2e-5, "{a} vs {b}");
     }
+}
+
+/// A time record whose speed varies ±1 % from one revolution to the next,
+/// starting 20° before the exchange TDC (so the firing pulse is the
+/// second: found from the pressure), partial cycles at both ends: whole
+/// cycles as the long layout reads them.
+#[test]
+fn a_time_record_reads_as_its_cycles() {
+    let (o, g) = options();
+    let got = load(record(0.01, 0.0, -380.0).as_bytes(), &o, &g).unwrap();
+    same_cycles(&got);
     let rpm = got.rpm.unwrap();
     assert!((rpm - 1000.0).abs() < 10.0, "{rpm}");
     assert!(
@@ -182,4 +192,16 @@ fn a_time_record_reads_as_its_cycles() {
         "{:?}",
         got.notes
     );
+}
+
+/// A pulse 20° before each TDC, the record starting before it: `--tdc-deg
+/// 380` (firing TDC 380° after the first pulse) puts the cycles between
+/// pulses, not on them.
+#[test]
+fn a_time_record_with_the_pulse_off_tdc() {
+    let (mut o, g) = options();
+    o.tdc_deg = 380.0;
+    o.tdc_given = true;
+    let got = load(record(0.0, -20.0, -400.0).as_bytes(), &o, &g).unwrap();
+    same_cycles(&got);
 }

@@ -404,15 +404,9 @@ pub fn analyse_with(
     {
         // A file sampled coarsely is judged by its own step, not the
         // interpolant's grid.
-        let estimate = if pressure.sample_step_deg > tdc::MAX_STEP_DEG + 1e-9 {
-            Err(format!(
-                "the diagram has a point every {}° on average, coarser than the {}° the fit needs",
-                enginedyn_numerics::format::sig(pressure.sample_step_deg, 2),
-                enginedyn_numerics::format::trimmed(tdc::MAX_STEP_DEG, 2)
-            ))
-        } else {
-            tdc::estimate(traces[0], h, engine.cylinder()).map_err(|e| e.to_string())
-        };
+        let estimate = tdc::fine_enough(pressure.sample_step_deg)
+            .and_then(|()| tdc::estimate(traces[0], h, engine.cylinder()))
+            .map_err(|e| e.to_string());
         match estimate {
             Ok(e) => {
                 if e.offset_deg.abs() > 0.3 {

@@ -142,7 +142,8 @@ pub struct Estimate {
 /// Why a trace gives no estimate.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Untrusted {
-    /// The grid step (deg) is coarser than [`MAX_STEP_DEG`].
+    /// The step between points (deg), of the grid or of the data it was
+    /// interpolated from, is coarser than [`MAX_STEP_DEG`].
     Coarse {
         /// The step (deg).
         step_deg: f64,
@@ -179,7 +180,7 @@ impl std::fmt::Display for Untrusted {
         match *self {
             Untrusted::Coarse { step_deg } => write!(
                 f,
-                "the grid step {}° is coarser than the {}° the fit needs",
+                "the points are {}° apart, coarser than the {}° the fit needs",
                 format::sig(step_deg, 3),
                 format::human(MAX_STEP_DEG)
             ),
@@ -216,12 +217,24 @@ impl std::fmt::Display for Untrusted {
     }
 }
 
+/// Whether points `step_deg` apart are fine enough for the fit: the grid's
+/// step, and the file's own spacing when it was interpolated onto a finer
+/// grid (the fit would judge the interpolant, not the data).
+pub fn fine_enough(step_deg: f64) -> Result<(), Untrusted> {
+    if step_deg > 0.0 && step_deg <= MAX_STEP_DEG * (1.0 + 1e-9) {
+        Ok(())
+    } else {
+        Err(Untrusted::Coarse { step_deg })
+    }
+}
+
 /// The TDC offset of `p`, the pressure (Pa, absolute) on the uniform grid
 /// `phi_k = k h` (rad) over one cycle from the declared firing TDC, for
 /// `cylinder`'s volume law; a cycle of 360° or less is a two-stroke's.
 pub fn estimate(p: &[f64], h: f64, cylinder: &Cylinder) -> Result<Estimate, Untrusted> {
     let step_deg = h.to_degrees();
-    if !(step_deg > 0.0 && step_deg <= MAX_STEP_DEG * (1.0 + 1e-9)) || p.is_empty() {
+    fine_enough(step_deg)?;
+    if p.is_empty() {
         return Err(Untrusted::Coarse { step_deg });
     }
     let cycle_deg = p.len() as f64 * step_deg;

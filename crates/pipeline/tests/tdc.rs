@@ -292,7 +292,7 @@ fn coarse_noisy_and_far_off_traces_give_no_estimate() {
     assert_eq!(e, Untrusted::Coarse { step_deg: 5.0 });
     assert_eq!(
         e.to_string(),
-        "the grid step 5° is coarser than the 1° the fit needs"
+        "the points are 5° apart, coarser than the 1° the fit needs"
     );
     // (Straight to the estimate: the noise takes the intake stroke below
     // zero, which the reader refuses.)
