@@ -95,10 +95,9 @@ pub const POLYTROPIC_N: f64 = 1.32;
 
 /// A number from `lo` to `hi` (both included), or why not.
 fn number_in(s: &str, lo: f64, hi: f64, unit: &str) -> Result<f64, String> {
-    let v: f64 = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("`{}` is not a number", enginedyn_numerics::format::quote(s)))?;
+    // The one number rule of cells, banners and comment lines.
+    let v = enginedyn_ingest::read_number(s, false)
+        .map_err(|e| format!("`{}` {e}", enginedyn_numerics::format::quote(s)))?;
     if v.is_finite() && v >= lo && v <= hi {
         Ok(v)
     } else {
@@ -109,6 +108,20 @@ fn number_in(s: &str, lo: f64, hi: f64, unit: &str) -> Result<f64, String> {
             enginedyn_numerics::format::human(hi)
         ))
     }
+}
+
+/// `--rpm`: read by the one speed reader of the diagram's `# rpm` line and
+/// banners (`4.9e3`, `4,900`; held to the speed bound).
+fn parse_rpm(s: &str) -> Result<f64, String> {
+    enginedyn_ingest::read_rpm(s).map_err(|e| match e {
+        enginedyn_ingest::SpeedError::Number(n) => format!("`{s}` {n}"),
+        e => format!("{} rpm {e}", crate::human(read_any(s))),
+    })
+}
+
+/// The value of a number that the speed bound refused, for its message.
+fn read_any(s: &str) -> f64 {
+    enginedyn_ingest::read_number(s, false).unwrap_or(f64::NAN)
 }
 
 /// The grid step bounds (deg), INTERFACE.md's "Limits".
@@ -149,7 +162,7 @@ fn parse_peg(s: &str) -> Result<PegArg, String> {
         return Ok(PegArg::Polytropic(POLYTROPIC_N));
     }
     rest.strip_prefix('=')
-        .and_then(|v| v.trim().parse::<f64>().ok())
+        .and_then(|v| enginedyn_ingest::read_number(v, false).ok())
         .filter(|n| n.is_finite() && *n > 1.0 && *n < 2.0)
         .map(PegArg::Polytropic)
         .ok_or_else(|| format!("expected polytropic=N with 1 < N < 2, not `{t}`"))
@@ -249,7 +262,7 @@ pub struct RunArgs {
     #[arg(long, value_name = "FILE", conflicts_with = "diagram")]
     pub torque: Option<PathBuf>,
     /// Engine speed (rpm); overrides the diagram's `# rpm` line and the engine file.
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_rpm)]
     pub rpm: Option<f64>,
     /// Write summary.json, curves.csv, harmonics.csv and charts into DIR.
     #[arg(long, value_name = "DIR")]
@@ -291,7 +304,7 @@ pub struct KinematicsArgs {
     #[arg(long, value_enum, default_value = "exact")]
     pub kinematics: KinematicsArg,
     /// Engine speed (rpm) [default: the engine file's].
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_rpm)]
     pub rpm: Option<f64>,
     /// Write kinematics.csv and kinematics.svg into DIR.
     #[arg(long, value_name = "DIR")]
@@ -525,6 +538,6 @@ pub struct StudyInput {
     #[arg(long, value_name = "FILE")]
     pub diagram: Option<PathBuf>,
     /// Engine speed (rpm); overrides the diagram's `# rpm` line and the engine file.
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_rpm)]
     pub rpm: Option<f64>,
 }

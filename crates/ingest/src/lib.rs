@@ -37,6 +37,7 @@ mod trace;
 pub use columns::pressure_unit;
 pub use error::IngestError;
 pub use grid::{Accumulator, CycleStats, GridOptions, Peg, PegReport, Resampled, mean_std};
+pub use number::{NumberError, SpeedError, read_number, read_rpm};
 pub use sheet::MAX_WORKBOOK;
 pub use text::MAX_LINE;
 

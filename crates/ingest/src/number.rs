@@ -142,6 +142,8 @@ pub(crate) fn fast_decimal(b: &[u8]) -> Option<f64> {
     Some(decimal_value(m, frac, neg))
 }
 
+/// A cell's number: the fast path for plain decimals, else [`read_number`]
+/// (quotes around the cell are dropped); an error names the cell.
 pub(crate) fn number(
     cell: &[u8],
     decimal_comma: bool,
@@ -151,34 +153,176 @@ pub(crate) fn number(
     if let Some(v) = fast_decimal(cell) {
         return Ok(v);
     }
-    let Ok(cell) = std::str::from_utf8(cell) else {
-        return Err(at(
+    let text = String::from_utf8_lossy(cell);
+    let inner = text.strip_prefix('"').and_then(|t| t.strip_suffix('"'));
+    read_number(inner.unwrap_or(&text), decimal_comma).map_err(|e| {
+        at(
             line,
             Some(col),
-            format!(
-                "`{}` is not a number",
-                enginedyn_numerics::format::quote(&String::from_utf8_lossy(cell))
-            ),
-        ));
+            format!("`{}` {e}", enginedyn_numerics::format::quote(&text)),
+        )
+    })
+}
+
+/// Why a token is not read as a number (the message follows the quoted
+/// token: "`4,9` is not a number: …").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum NumberError {
+    /// Nothing, or something else than a number.
+    #[error("is not a number")]
+    NotANumber,
+    /// `nan`, `inf`, or a value beyond the largest `f64`.
+    #[error("is not a finite number")]
+    NotFinite,
+    /// Digit groups that are not thousands (`4,9`, `12,34`).
+    #[error(
+        "is not a number: a comma, space or ' between digits is read as a thousands separator only between exact groups of three digits (4,900); write a decimal point"
+    )]
+    Grouping,
+}
+
+/// Thousands separators a number may carry between exact groups of three
+/// digits: `4,900`, `4 900`, `4'900` (and the no-break spaces).
+const GROUPS: [char; 5] = [',', ' ', '\'', '\u{a0}', '\u{202f}'];
+
+/// One number, read whole, by the one rule for cells, banners, comment
+/// lines and flags (INTERFACE.md, "Hostile input"): an optional sign,
+/// digits, an optional fraction after `.` (or `,` where `decimal_comma`,
+/// where a point still reads as one),
+/// an optional exponent (`4.9e3` is 4900). A comma, space or `'` between
+/// digits is a thousands separator only between exact groups of three
+/// (`4,900`, `1 234 567`), one kind in a number; anything else is refused,
+/// never read as its prefix. The value must be finite.
+///
+/// ```
+/// use enginedyn_ingest::read_number;
+/// assert_eq!(read_number("4.9e3", false), Ok(4900.0));
+/// assert_eq!(read_number("4,900", false), Ok(4900.0));
+/// assert_eq!(read_number("4'900.5", false), Ok(4900.5));
+/// assert_eq!(read_number("2,5", true), Ok(2.5));
+/// assert!(read_number("4,9", false).is_err());
+/// assert!(read_number("nan", false).is_err());
+/// assert!(read_number("4900rpm", false).is_err());
+/// ```
+pub fn read_number(token: &str, decimal_comma: bool) -> Result<f64, NumberError> {
+    let t = token.trim();
+    let (sign, body) = match t.as_bytes().first() {
+        Some(b'-' | b'+') => t.split_at(1),
+        _ => ("", t),
     };
-    let parsed = if decimal_comma && cell.contains(',') {
-        cell.replacen(',', ".", 1).parse::<f64>()
-    } else if cell.as_bytes().first() == Some(&b'"') {
-        cell.trim_matches('"').parse::<f64>()
+    // Mantissa and exponent.
+    let (mant, exp) = match body.find(['e', 'E']) {
+        Some(i) => (&body[..i], Some(&body[i + 1..])),
+        None => (body, None),
+    };
+    // With a decimal comma a point still reads as one (`0.5` in a `;` file).
+    let point = if decimal_comma && mant.contains(',') {
+        ','
     } else {
-        cell.parse::<f64>()
+        '.'
     };
-    match parsed {
+    let (int, frac) = match mant.find(point) {
+        Some(i) => (&mant[..i], Some(&mant[i + 1..])),
+        None => (mant, None),
+    };
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    // The integer part: plain digits, or exact groups of three.
+    let mut plain = String::with_capacity(t.len());
+    plain.push_str(sign);
+    match GROUPS.iter().find(|&&g| g != point && int.contains(g)) {
+        None => {
+            if !(int.is_empty() || digits(int)) {
+                return Err(if int.chars().any(|c| GROUPS.contains(&c)) {
+                    NumberError::Grouping
+                } else {
+                    not_a_number(t)
+                });
+            }
+            plain.push_str(int);
+        }
+        Some(&g) => {
+            let mut parts = int.split(g);
+            let head = parts.next().unwrap_or("");
+            if !(digits(head) && head.len() <= 3) {
+                return Err(NumberError::Grouping);
+            }
+            plain.push_str(head);
+            for p in parts {
+                if !(digits(p) && p.len() == 3) {
+                    return Err(NumberError::Grouping);
+                }
+                plain.push_str(p);
+            }
+        }
+    }
+    if let Some(f) = frac {
+        if !(f.is_empty() || digits(f)) {
+            return Err(if f.chars().any(|c| GROUPS.contains(&c)) {
+                NumberError::Grouping
+            } else {
+                not_a_number(t)
+            });
+        }
+        plain.push('.');
+        plain.push_str(f);
+    }
+    if int.is_empty() && frac.is_none_or(str::is_empty) {
+        return Err(not_a_number(t));
+    }
+    if let Some(e) = exp {
+        let unsigned = e.strip_prefix(['-', '+']).unwrap_or(e);
+        if !digits(unsigned) {
+            return Err(NumberError::NotANumber);
+        }
+        plain.push('e');
+        plain.push_str(e);
+    }
+    match plain.parse::<f64>() {
         Ok(v) if v.is_finite() => Ok(v),
-        Ok(v) => Err(at(line, Some(col), format!("{v} is not a finite number"))),
-        Err(_) => Err(at(
-            line,
-            Some(col),
-            format!(
-                "`{}` is not a number",
-                enginedyn_numerics::format::quote(cell)
-            ),
-        )),
+        Ok(_) => Err(NumberError::NotFinite),
+        Err(_) => Err(NumberError::NotANumber),
+    }
+}
+
+/// `nan` and `inf` are words for numbers that are not finite.
+fn not_a_number(t: &str) -> NumberError {
+    let l = t.trim_start_matches(['-', '+']).to_ascii_lowercase();
+    if matches!(l.as_str(), "nan" | "inf" | "infinity") {
+        NumberError::NotFinite
+    } else {
+        NumberError::NotANumber
+    }
+}
+
+/// Why a speed is not used.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum SpeedError {
+    /// Not a number.
+    #[error("{0}")]
+    Number(NumberError),
+    /// A number outside the speed bound.
+    #[error("is outside the engine speed bound (above 0, from 0.001 to 100000 rpm)")]
+    Bound(f64),
+}
+
+/// A speed in rpm, read by [`read_number`] and held to the speed bound
+/// (`kinematics::MIN_RPM` … `MAX_RPM`): the one reader of `--rpm`, the
+/// `# rpm` line and a banner's speed.
+///
+/// ```
+/// use enginedyn_ingest::read_rpm;
+/// assert_eq!(read_rpm("4.9e3"), Ok(4900.0));
+/// assert!(read_rpm("1e308").is_err());
+/// assert!(read_rpm("-4900").is_err());
+/// assert!(read_rpm("0").is_err());
+/// ```
+pub fn read_rpm(token: &str) -> Result<f64, SpeedError> {
+    use enginedyn_kinematics::{MAX_RPM, MIN_RPM};
+    let v = read_number(token, false).map_err(SpeedError::Number)?;
+    if (MIN_RPM..=MAX_RPM).contains(&v) {
+        Ok(v)
+    } else {
+        Err(SpeedError::Bound(v))
     }
 }
 
@@ -258,6 +402,54 @@ mod tests {
             if let Some(v) = fast_decimal(s.as_bytes()) {
                 prop_assert_eq!(v.to_bits(), s.parse::<f64>().unwrap().to_bits());
             }
+        }
+    }
+
+    #[test]
+    fn numbers_are_read_whole() {
+        use super::{NumberError, read_number};
+        let ok = |s: &str, dc: bool, v: f64| {
+            assert_eq!(read_number(s, dc).map(f64::to_bits), Ok(v.to_bits()), "{s}");
+        };
+        ok("4.9e3", false, 4900.0);
+        ok("4,900", false, 4900.0);
+        ok("4 900", false, 4900.0);
+        ok("4'900", false, 4900.0);
+        ok("1,234,567.25", false, 1_234_567.25);
+        ok("-4900", false, -4900.0);
+        ok("+.5", false, 0.5);
+        ok("1e-300", false, 1e-300);
+        ok("2,5", true, 2.5);
+        ok("1 234,5", true, 1234.5);
+        for (s, dc, e) in [
+            ("4,9", false, NumberError::Grouping),
+            ("4,9000", false, NumberError::Grouping),
+            ("1234,567", false, NumberError::Grouping),
+            ("4,900 000", false, NumberError::Grouping),
+            ("1.234,5", false, NumberError::Grouping),
+            ("nan", false, NumberError::NotFinite),
+            ("-inf", false, NumberError::NotFinite),
+            ("1e400", false, NumberError::NotFinite),
+            ("4900rpm", false, NumberError::NotANumber),
+            ("4.9.3", false, NumberError::NotANumber),
+            ("1e", false, NumberError::NotANumber),
+            ("", false, NumberError::NotANumber),
+            ("-", false, NumberError::NotANumber),
+            ("0x10", false, NumberError::NotANumber),
+        ] {
+            assert_eq!(read_number(s, dc), Err(e), "{s}");
+        }
+    }
+
+    proptest! {
+        /// Every number `str::parse` reads plainly, the one rule reads the same.
+        #[test]
+        fn read_number_equals_std(x in -1e300f64..1e300, digits in 0usize..17, exp in any::<bool>()) {
+            let s = if exp { format!("{x:e}") } else { format!("{x:.digits$}") };
+            prop_assert_eq!(
+                super::read_number(&s, false).map(f64::to_bits),
+                Ok(s.parse::<f64>().unwrap().to_bits())
+            );
         }
     }
 

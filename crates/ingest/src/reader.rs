@@ -21,6 +21,9 @@ pub(crate) struct TextLine {
     /// The same line split at runs of two or more spaces (space-delimited
     /// files whose names hold single spaces: `Crank Angle [deg]`).
     pub wide: Option<Vec<String>>,
+    /// The line as written (text files), else its cells joined by a space:
+    /// what a banner's note quotes and its speed is read from.
+    pub raw: String,
 }
 
 /// Where the reader is.
@@ -111,11 +114,15 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                     ));
                 }
                 let n = cells.used();
+                let split: Vec<String> = (0..n)
+                    .map(|i| cells.text(i).trim().trim_matches('"').to_string())
+                    .collect();
                 text.push(TextLine {
                     line,
-                    cells: (0..n)
-                        .map(|i| cells.text(i).trim().trim_matches('"').to_string())
-                        .collect(),
+                    raw: cells
+                        .raw()
+                        .map_or_else(|| split.join(" "), |r| r.trim().to_string()),
+                    cells: split,
                     wide: wide(),
                 });
                 Ok(())
@@ -153,7 +160,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
         // Lines above the header: titles and banners.
         let banner = header_at.map_or(0, |h| h);
         if banner > 0 {
-            let first = text[0].cells.join(" ");
+            let first = text[0].raw.clone();
             let shown: String = first.chars().take(60).collect();
             self.head.notes.push(format!(
                 "skipped {banner} line{} above the {} (a title or banner: `{}{}`)",
@@ -173,13 +180,25 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
             if self.head.rpm.is_none()
                 && let Some((r, at_line)) = text[..banner]
                     .iter()
-                    .find_map(|t| banner_rpm(&t.cells.join(" ")).map(|r| (r, t.line)))
+                    .find_map(|t| banner_rpm(&t.raw).map(|r| (r, t.line)))
             {
-                self.head.rpm = Some(r);
-                self.head.notes.push(format!(
-                    "speed {} rpm from the banner on line {at_line}",
-                    enginedyn_numerics::format::trimmed(r, 3)
-                ));
+                match r {
+                    Ok(r) => {
+                        self.head.rpm = Some(r);
+                        self.head.notes.push(format!(
+                            "speed {} rpm from the banner on line {at_line}",
+                            enginedyn_numerics::format::human(r)
+                        ));
+                    }
+                    Err((tok, why)) => self.head.notes.push(format!(
+                        "the banner on line {at_line} gives the speed `{}`, which {}: not used (the engine file's or --rpm's speed stands)",
+                        enginedyn_numerics::format::quote(&tok),
+                        match why {
+                            crate::SpeedError::Number(e) => e.to_string(),
+                            e => e.to_string(),
+                        }
+                    )),
+                }
             }
         }
         if let Some(n) = &roles.note {
@@ -301,10 +320,9 @@ fn header(text: &[TextLine], k: usize, line: usize) -> Result<(Roles, Option<usi
 
 /// The speed a comment line gives: `None` when the comment is not a speed
 /// line (`# rpm = N` or `# rpm: N`, any case), an error when it is one
-/// whose value is not a positive number. Text after the number (a unit) is
-/// ignored, and so are delimiters at the end of the line. A comma inside
-/// the number is refused: `1,800` may be a thousands separator or a
-/// decimal comma, and either reading would go unnoticed.
+/// whose value is not a speed (read whole by [`crate::read_rpm`]: `1,800`
+/// is 1800, `1,8` is refused). A unit after the number is ignored, and so
+/// are delimiters at the end of the line.
 pub(crate) fn parse_rpm(comment: &str) -> Option<Result<f64, String>> {
     // A spreadsheet export closes the line with empty cells: `# rpm = 2200,,`.
     let c = comment
@@ -316,26 +334,62 @@ pub(crate) fn parse_rpm(comment: &str) -> Option<Result<f64, String>> {
         .filter(|k| k.eq_ignore_ascii_case("rpm"))
         .map(|_| c[3..].trim_start())?;
     let rest = rest.strip_prefix('=').or_else(|| rest.strip_prefix(':'))?;
-    let value = rest.split_whitespace().next().unwrap_or("");
-    let hint = if value.contains(',') {
-        " (write 1800 or 1800.5: a comma may be a decimal or a thousands separator)"
-    } else {
-        ""
-    };
-    use enginedyn_kinematics::{MAX_RPM, MIN_RPM};
-    Some(match value.parse::<f64>() {
-        Ok(v) if (MIN_RPM..=MAX_RPM).contains(&v) => Ok(v),
-        _ => Err(format!(
-            "`{}`: the speed must be a number of rpm from 0.001 to 100000{hint}",
-            enginedyn_numerics::format::quote(comment.trim())
-        )),
-    })
+    let value = speed_token(rest);
+    Some(crate::read_rpm(&value).map_err(|e| {
+        let why = match e {
+            crate::SpeedError::Number(n) => {
+                format!("`{}` {n}", enginedyn_numerics::format::quote(&value))
+            }
+            crate::SpeedError::Bound(v) => format!("{} rpm", enginedyn_numerics::format::human(v)),
+        };
+        format!(
+            "`{}`: {why}; the speed must be a number of rpm from 0.001 to 100000",
+            enginedyn_numerics::format::quote(comment.trim()),
+        )
+    }))
+}
+
+/// The token of a speed after its `=`: up to a run of two spaces, a tab or
+/// a `;`, single spaces kept only between digits (`4 900`), a trailing
+/// unit (`rpm`, `1/min`, `U/min`, `min-1`) and trailing commas dropped.
+fn speed_token(rest: &str) -> String {
+    let r = rest.trim_start();
+    let chars: Vec<char> = r.chars().collect();
+    let mut tok = String::new();
+    for (i, &c) in chars.iter().enumerate() {
+        if c == '\t' || c == ';' {
+            break;
+        }
+        if c == ' ' {
+            // A thousands group: three digits, then no more digits.
+            let group = |k: usize| chars.get(k).is_some_and(char::is_ascii_digit);
+            let between = i > 0
+                && chars[i - 1].is_ascii_digit()
+                && (1..=3).all(|k| group(i + k))
+                && !group(i + 4);
+            if between {
+                tok.push(c);
+                continue;
+            }
+            break;
+        }
+        tok.push(c);
+    }
+    let mut t = tok.trim_end_matches([',', '.']).to_string();
+    for unit in ["rpm", "1/min", "u/min", "min-1", "min^-1"] {
+        if t.len() > unit.len() && t.to_ascii_lowercase().ends_with(unit) {
+            t.truncate(t.len() - unit.len());
+            break;
+        }
+    }
+    t
 }
 
 /// A speed in a banner line (`----Engine speed[rpm] = 1000.0 …`): the
-/// number after the `=` or `:` that follows `rpm` (or `speed` on a line
-/// that says rpm).
-fn banner_rpm(line: &str) -> Option<f64> {
+/// value after the `=` or `:` that follows `rpm` (or `speed` on a line
+/// that says rpm), read whole by the one number rule: `Some(Ok)` a speed,
+/// `Some(Err)` the token and why it is not used, `None` no speed here.
+fn banner_rpm(line: &str) -> Option<Result<f64, (String, crate::SpeedError)>> {
     let l = line.to_ascii_lowercase();
     if !l.contains("rpm") && !l.contains("1/min") && !l.contains("u/min") {
         return None;
@@ -344,17 +398,25 @@ fn banner_rpm(line: &str) -> Option<f64> {
         .iter()
         .filter_map(|k| l.find(k))
         .min()?;
-    let rest = l[key..].replace("1/min", "").replace("u/min", "");
-    let from = rest.find(['=', ':']).map_or(0, |i| i + 1);
-    let num: String = rest[from..]
-        .trim_start_matches(|c: char| !c.is_ascii_digit())
-        .chars()
-        .take_while(|c| c.is_ascii_digit() || *c == '.')
-        .collect();
-    let v: f64 = num.parse().ok()?;
-    (enginedyn_kinematics::MIN_RPM..=enginedyn_kinematics::MAX_RPM)
-        .contains(&v)
-        .then_some(v)
+    // The unit may sit between the key and the `=`: `speed[rpm] = 4900`,
+    // `Drehzahl [1/min];3600` (cells joined by a space).
+    let rest = &line[key..];
+    let from = rest.find(['=', ':']).map(|i| i + 1).or_else(|| {
+        // No `=`: the first digit after the key's unit.
+        let after_unit = ["1/min", "u/min", "rpm", "]", ")"]
+            .iter()
+            .filter_map(|u| rest.to_ascii_lowercase().find(u).map(|i| i + u.len()))
+            .max()
+            .unwrap_or(0);
+        rest[after_unit..]
+            .find(|c: char| c.is_ascii_digit() || c == '-' || c == '+')
+            .map(|i| i + after_unit)
+    })?;
+    let tok = speed_token(&rest[from..]);
+    if tok.is_empty() {
+        return None;
+    }
+    Some(crate::read_rpm(&tok).map_err(|e| (tok, e)))
 }
 
 /// Checks each finished trace and hands it on, applying the gap rule: a

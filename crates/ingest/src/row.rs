@@ -14,6 +14,10 @@ pub(crate) trait Cells {
     fn text(&self, i: usize) -> Cow<'_, str>;
     /// Cell `i` as a number; an error names `line` and the column.
     fn number(&self, i: usize, line: usize) -> Result<f64, IngestError>;
+    /// The row as written, where the source has it (a text line).
+    fn raw(&self) -> Option<Cow<'_, str>> {
+        None
+    }
     /// Cells up to the last one that is not empty.
     fn used(&self) -> usize {
         let mut n = self.len();
@@ -48,6 +52,9 @@ impl Cells for TextRow<'_> {
     }
     fn is_blank(&self, i: usize) -> bool {
         self.spans.get(i).is_none_or(|(s, e)| s == e)
+    }
+    fn raw(&self) -> Option<Cow<'_, str>> {
+        Some(String::from_utf8_lossy(self.line))
     }
     fn text(&self, i: usize) -> Cow<'_, str> {
         match self.spans.get(i) {

@@ -202,6 +202,9 @@ fn speed_lines() {
         ("# RPM = 1800\n", Some(1800.0)),
         ("#rpm:1500.5 1/min\n", Some(1500.5)),
         ("# rpm = 2200;;\n", Some(2200.0)),
+        ("# rpm = 1,800\n", Some(1800.0)),
+        ("# rpm = 4.9e3\n", Some(4900.0)),
+        ("# rpm = 4 900 rpm\n", Some(4900.0)),
         ("# rpm = 2200\n# rpm = 2200.0\n", Some(2200.0)),
         ("# rpms = 3\n", None),
         ("# rpm_target = 3\n", None),
@@ -215,7 +218,8 @@ fn speed_lines() {
         ("# rpm =\n", 1, "from 0.001 to 100000"),
         ("# rpm = 1e999\n", 1, "from 0.001 to 100000"),
         ("# rpm = 1e300\n", 1, "from 0.001 to 100000"),
-        ("# rpm = 1,800\n", 1, "thousands separator"),
+        ("# rpm = 1,8\n", 1, "thousands separator"),
+        ("# rpm = 4900rpms\n", 1, "is not a number"),
         ("# rpm = 2200\n# rpm = 2000\n", 2, "a second speed line"),
     ] {
         match read(head) {
