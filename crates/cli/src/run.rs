@@ -304,7 +304,8 @@ pub fn resolve_rpm(
         });
     }
     let note = match file {
-        Some(f) if f.to_bits() == rpm.to_bits() => None,
+        // Two speeds within 1e-9 of each other are one speed.
+        Some(f) if (f - rpm).abs() <= 1e-9 * f.abs() => None,
         Some(f) => Some(format!(
             "speed {} rpm from {source}, not the engine file's operating.rpm = {} rpm",
             crate::human(rpm),

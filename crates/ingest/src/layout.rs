@@ -51,7 +51,7 @@ impl Layout {
     pub(crate) fn new(
         roles: Roles,
         opts: &ParseOptions,
-        rpm: Option<f64>,
+        rpm: Option<(f64, &'static str)>,
         line: usize,
     ) -> Result<Self, IngestError> {
         if let Axis::Time(_) = roles.axis {

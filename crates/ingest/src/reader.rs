@@ -40,6 +40,8 @@ pub(crate) struct Reader<'o, F> {
     pub head: Header,
     pub phase: Phase,
     pub out: Emitter<'o, F>,
+    /// Where the file's speed came from, for messages that name it.
+    pub rpm_source: &'static str,
 }
 
 impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
@@ -49,6 +51,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
             head: Header::default(),
             phase: Phase::Preamble(Vec::new()),
             out: Emitter::new(opts, sink),
+            rpm_source: "the `# rpm` line",
         }
     }
 
@@ -185,6 +188,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                 match r {
                     Ok(r) => {
                         self.head.rpm = Some(r);
+                        self.rpm_source = "the banner";
                         self.head.notes.push(format!(
                             "speed {} rpm from the banner on line {at_line}",
                             enginedyn_numerics::format::human(r)
@@ -221,7 +225,12 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
         self.head.pv = matches!(roles.axis, Axis::Volume(_));
         // Volts are relative, so `value_scale` refuses them unless pegged:
         // `opts.relative` alone says whether traces are checked for sign.
-        Layout::new(roles, self.opts, self.head.rpm, line)
+        Layout::new(
+            roles,
+            self.opts,
+            self.head.rpm.map(|r| (r, self.rpm_source)),
+            line,
+        )
     }
 
     /// The end of the source.

@@ -21,6 +21,13 @@ use crate::{Header, ParseOptions, Quantity, Streamed, Trace};
 /// Samples held to find the pulse's range (its half-way level).
 pub(crate) const PROBE: usize = 1 << 16;
 
+/// A pulse speed this far (relative) from `--rpm` or the file's speed is
+/// an error: one of them is wrong (INTERFACE.md, "Hostile input").
+const SPEED_DISAGREES: f64 = 0.1;
+
+/// Two speeds this close (relative) are the same speed: no note.
+const SAME_SPEED: f64 = 1e-9;
+
 /// A revolution at least this much longer or shorter than the one before
 /// is a missed or an extra pulse.
 const REV_JUMP: f64 = 0.3;
@@ -103,13 +110,21 @@ pub(crate) struct TimeRecord {
     reach: f64,
     /// Samples in the last whole cycle: the next one's capacity.
     last_len: usize,
+    /// The first sample's time (s).
+    first_t: Option<f64>,
+    /// The speed the file (`# rpm` line or banner) gives, and which.
+    file_rpm: Option<(f64, &'static str)>,
+    /// `--rpm`.
+    flag_rpm: Option<f64>,
+    /// The `tdc` column (0-based), for messages.
+    tdc_col: Option<usize>,
 }
 
 impl TimeRecord {
     pub(crate) fn new(
         roles: &Roles,
         opts: &ParseOptions,
-        rpm: Option<f64>,
+        rpm: Option<(f64, &'static str)>,
         line: usize,
     ) -> Result<Self, IngestError> {
         let Axis::Time(t_scale) = roles.axis else {
@@ -141,7 +156,7 @@ impl TimeRecord {
                 before_first: 0,
             },
             (None, Some(t)) => {
-                let Some(rpm) = opts.rpm.or(rpm) else {
+                let Some(rpm) = opts.rpm.or(rpm.map(|r| r.0)) else {
                     return Err(at(
                         line,
                         Some(roles.x + 1),
@@ -177,6 +192,10 @@ impl TimeRecord {
             step_deg: 0.0,
             reach: f64::NEG_INFINITY,
             last_len: 1024,
+            first_t: None,
+            file_rpm: rpm,
+            flag_rpm: opts.rpm,
+            tdc_col: roles.tdc,
         })
     }
 
@@ -202,6 +221,22 @@ impl TimeRecord {
             ));
         }
         self.last_t = Some(t);
+        if self.first_t.is_none() {
+            self.first_t = Some(t);
+            if let Mode::Clock { t0, .. } = self.mode
+                && t0 < t
+            {
+                return Err(at(
+                    line,
+                    Some(self.t_col + 1),
+                    format!(
+                        "--tdc-time {} s is before the record, which starts at {} s: T must be the time of a firing TDC within the record",
+                        enginedyn_numerics::format::human(t0),
+                        enginedyn_numerics::format::human(t)
+                    ),
+                ));
+            }
+        }
         match &mut self.mode {
             Mode::Clock { t0, deg_per_s } => {
                 let a = (t - *t0) * *deg_per_s - self.tdc_deg.unwrap_or(0.0);
@@ -274,6 +309,7 @@ impl TimeRecord {
         out: &mut Emitter<'_, F>,
     ) -> Result<(), IngestError> {
         let Mode::Pulse {
+            col,
             threshold,
             prev,
             last_edge,
@@ -312,6 +348,19 @@ impl TimeRecord {
                         }
                     }
                     let rpm = 60.0 / d;
+                    if !(enginedyn_kinematics::MIN_RPM..=enginedyn_kinematics::MAX_RPM)
+                        .contains(&rpm)
+                    {
+                        return Err(at(
+                            line,
+                            Some(*col + 1),
+                            format!(
+                                "the `tdc` column's pulses are {} s apart: {} rpm, outside the engine speed bound (0.001 to 100000 rpm); a `tdc` column holds one pulse a revolution (a crank encoder or a tooth wheel is another signal)",
+                                enginedyn_numerics::format::sig(d, 4),
+                                enginedyn_numerics::format::sig(rpm, 4)
+                            ),
+                        ));
+                    }
                     speeds.0 = speeds.0.min(rpm);
                     speeds.1 = speeds.1.max(rpm);
                     speeds.2 += 1.0 / d;
@@ -506,6 +555,17 @@ impl TimeRecord {
         {
             self.decide(out)?;
         }
+        if let (Mode::Clock { t0, .. }, Some(first), Some(last)) =
+            (&self.mode, self.first_t, self.last_t)
+            && *t0 > last
+        {
+            return Err(IngestError::Data(format!(
+                "--tdc-time {} s is after the record, which spans {} to {} s: T must be the time of a firing TDC within the record",
+                enginedyn_numerics::format::human(*t0),
+                enginedyn_numerics::format::human(first),
+                enginedyn_numerics::format::human(last)
+            )));
+        }
         let fmt = |x: f64, d: usize| enginedyn_numerics::format::trimmed(x, d);
         let (mut said, speed) = match &self.mode {
             Mode::Pulse {
@@ -576,14 +636,35 @@ impl TimeRecord {
         }
         head.notes.push(said);
         if let Some(mean) = speed {
-            match head.rpm {
-                None => head.rpm = Some(mean),
-                Some(r) if (r - mean).abs() > 0.01 * mean => head.notes.push(format!(
-                    "the file's speed line says {} rpm, the TDC pulses {} rpm",
-                    fmt(r, 1),
-                    fmt(mean, 1)
-                )),
-                Some(_) => {}
+            let col = self
+                .tdc_col
+                .map_or(String::new(), |c| format!(" (column {})", c + 1));
+            let given = self
+                .flag_rpm
+                .map(|r| (r, "--rpm"))
+                .into_iter()
+                .chain(self.file_rpm);
+            for (r, source) in given {
+                let off = (r - mean).abs() / mean;
+                if off > SPEED_DISAGREES {
+                    return Err(IngestError::Data(format!(
+                        "the `tdc` column{col} gives {} rpm (a pulse every {} s on average), {source} {} rpm: {:.0} % apart; is the speed or the pulse column wrong?",
+                        fmt(mean, 1),
+                        enginedyn_numerics::format::sig(60.0 / mean, 4),
+                        fmt(r, 1),
+                        100.0 * off
+                    )));
+                }
+                if off > SAME_SPEED {
+                    head.notes.push(format!(
+                        "{source} says {} rpm, the `tdc` column's pulses {} rpm",
+                        fmt(r, 1),
+                        fmt(mean, 1)
+                    ));
+                }
+            }
+            if head.rpm.is_none() {
+                head.rpm = Some(mean);
             }
         }
         Ok(())
