@@ -232,7 +232,7 @@ pub struct DiagramArgs {
 
 /// `--max-gap`: 0 to 360°.
 fn parse_max_gap(s: &str) -> Result<f64, String> {
-    number_in(s, 0.0, 360.0, "°")
+    number_in(s, 0.0, enginedyn_ingest::MAX_GAP_BOUND_DEG, "°")
 }
 
 /// `--tdc-time`: any finite time within ±1e9.

@@ -509,6 +509,8 @@ pub(crate) struct Roles {
     /// One column (long layout, time record) or several (one cycle, or one
     /// cylinder, per column).
     pub values: Vec<ValueCol>,
+    /// Each value column as messages name it: "column 2 `P [bar]` (in bar)".
+    pub labels: Vec<String>,
     pub quantity: Quantity,
     /// The values are a charge amplifier's volts.
     pub volts: bool,
@@ -681,6 +683,21 @@ impl Roles {
             Role::Pressure { cylinder, .. } | Role::Volts { cylinder, .. } => cylinder,
             _ => None,
         };
+        let labels: Vec<String> = values
+            .iter()
+            .map(|&(col, r)| {
+                let unit = match r {
+                    Role::Pressure { scale, .. } => unit_name(PRESSURE_UNITS, scale),
+                    Role::Volts { .. } => "V",
+                    _ => "N m",
+                };
+                format!(
+                    "column {} `{}` (in {unit})",
+                    col + 1,
+                    enginedyn_numerics::format::quote(&names[col])
+                )
+            })
+            .collect();
         let values: Vec<ValueCol> = values
             .iter()
             .map(|&(col, r)| ValueCol {
@@ -773,6 +790,7 @@ impl Roles {
             x,
             axis,
             values,
+            labels,
             quantity,
             volts: is_volts,
             per_cylinder,

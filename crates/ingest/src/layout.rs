@@ -329,7 +329,7 @@ impl Long {
                 return Ok(());
             }
             self.last_len = c.trace.angle_deg.len();
-            out.trace(c.trace, c.line, self.quantity, self.pv)?;
+            out.trace(c.trace, c.line, self.quantity, self.pv, 0)?;
         }
         Ok(())
     }
@@ -538,8 +538,8 @@ impl PerColumn {
         if self.closing && traces.iter().all(|t| t.angle_deg.len() <= 1) {
             return Ok(());
         }
-        for t in traces {
-            out.trace(t, self.line, self.quantity, false)?;
+        for (j, t) in traces.into_iter().enumerate() {
+            out.trace(t, self.line, self.quantity, false, j)?;
         }
         Ok(())
     }

@@ -25,6 +25,7 @@ mod fast;
 mod grid;
 mod layout;
 mod number;
+mod plausible;
 mod pv;
 mod reader;
 mod row;
@@ -92,6 +93,10 @@ pub enum Sheet {
 
 /// The widest gap bridged in a single digitised cycle by default (deg).
 pub const MAX_GAP_DEG: f64 = 30.0;
+
+/// The largest `--max-gap` (deg): a wider gap leaves less than half a
+/// four-stroke cycle of data, which no interpolant can stand for.
+pub const MAX_GAP_BOUND_DEG: f64 = 360.0;
 
 /// The most cylinders an engine file allows (INTERFACE.md).
 pub const MAX_CYLINDERS: usize = 24;

@@ -221,6 +221,8 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                 )
             });
         }
+        self.out.labels = roles.labels.clone();
+        self.out.volts = roles.volts;
         self.head.quantity = roles.quantity;
         self.head.pv = matches!(roles.axis, Axis::Volume(_));
         // Volts are relative, so `value_scale` refuses them unless pegged:
@@ -446,6 +448,12 @@ pub(crate) struct Emitter<'o, F> {
     /// Samples below zero, traces with any, the lowest (Pa).
     below: (usize, usize, f64),
     total: usize,
+    /// The value columns as messages name them (`Roles::labels`).
+    pub labels: Vec<String>,
+    /// The values are volts times `--gain`.
+    pub volts: bool,
+    /// The traces are p–V data (placed on angles by volume).
+    pv: bool,
 }
 
 impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
@@ -461,6 +469,9 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             bridged: Vec::new(),
             below: (0, 0, 0.0),
             total: 0,
+            labels: Vec::new(),
+            volts: false,
+            pv: false,
         }
     }
 
@@ -471,8 +482,10 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
         line: usize,
         q: Quantity,
         pv: bool,
+        value: usize,
     ) -> Result<(), IngestError> {
         let opts = self.opts;
+        self.pv = pv;
         let tr = if pv {
             let cyl = opts.cylinder.as_ref().ok_or_else(|| {
                 IngestError::Data("p–V data needs the engine's volume law".into())
@@ -489,12 +502,19 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             tr
         };
         // A trace's errors name the line it starts on.
-        let (tr, c) = trace::finish(tr, opts.cycle_deg, q, self.absolute, opts.gauge).map_err(
-            |e| match e {
-                IngestError::Data(m) => at(line, None, m),
-                e => e,
-            },
-        )?;
+        let ctx = crate::plausible::Context {
+            column: self
+                .labels
+                .get(value)
+                .map_or("the pressure column", String::as_str),
+            gain: opts.gain_bar_per_v.filter(|_| self.volts),
+            absolute: self.absolute,
+            gauge: opts.gauge,
+        };
+        let (tr, c) = trace::finish(tr, opts.cycle_deg, q, &ctx).map_err(|e| match e {
+            IngestError::Data(m) => at(line, None, m),
+            e => e,
+        })?;
         if c.below_zero.0 > 0 {
             self.below.0 += c.below_zero.0;
             self.below.1 += 1;
@@ -527,6 +547,49 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
         }
     }
 
+    /// A single cycle's gap wider than `--max-gap`: where it is, and the
+    /// `--max-gap` that bridges it, when the flag's bound allows one.
+    fn gap_error(&self, tr: &Trace, g: trace::Gap, line: usize) -> IngestError {
+        let cycle = self.opts.cycle_deg;
+        let max_gap = self.opts.max_gap_deg;
+        let needed = g.width.ceil();
+        let now = if (max_gap - crate::MAX_GAP_DEG).abs() < 1e-9 {
+            format!("the default --max-gap bridges gaps up to {}°", fmt(max_gap))
+        } else {
+            format!(
+                "--max-gap {} bridges gaps up to {}° (the default: {}°)",
+                fmt(max_gap),
+                fmt(max_gap),
+                fmt(crate::MAX_GAP_DEG)
+            )
+        };
+        let hint = if needed <= crate::MAX_GAP_BOUND_DEG {
+            format!("{now}; --max-gap {} would bridge this one", fmt(needed))
+        } else {
+            format!(
+                "that is less than half the cycle, which no --max-gap bridges (its bound is {}°): is the file cut short?",
+                fmt(crate::MAX_GAP_BOUND_DEG)
+            )
+        };
+        // The gap's own line: one sample a row from the trace's first line
+        // (p–V data is reordered by volume, so it names the first line).
+        let gap_line = if self.pv { line } else { line + g.at };
+        at(
+            gap_line,
+            None,
+            format!(
+                "{} has a gap of {}° from {}° to {}° (its steps are {}°): the data covers {}° of the {}° cycle; {hint}",
+                trace::describe(tr.cycle, tr.cylinder),
+                fmt(g.width),
+                fmt(g.from),
+                fmt((g.from + g.width) % cycle),
+                fmt(g.median),
+                fmt(cycle - g.width),
+                fmt(cycle),
+            ),
+        )
+    }
+
     fn send(&mut self, tr: Trace, c: Checked, q: Quantity) -> Result<(), IngestError> {
         let k = usize::try_from(tr.cylinder).unwrap_or(0);
         self.seen[k].1 += 1;
@@ -545,22 +608,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             };
             let Some(g) = c.gap else { continue };
             if g.width > max_gap + 1e-9 {
-                return Err(at(
-                    line,
-                    None,
-                    format!(
-                        "{} has a gap of {}° from {}° to {}° (its steps are {}°): the data covers {}° of the {}° cycle; --max-gap {} bridges gaps up to {}°",
-                        trace::describe(tr.cycle, tr.cylinder),
-                        fmt(g.width),
-                        fmt(g.from),
-                        fmt((g.from + g.width) % self.opts.cycle_deg),
-                        fmt(g.median),
-                        fmt(self.opts.cycle_deg - g.width),
-                        fmt(self.opts.cycle_deg),
-                        fmt(g.width.ceil()),
-                        fmt(max_gap)
-                    ),
-                ));
+                return Err(self.gap_error(&tr, g, line));
             }
             self.bridged
                 .push((trace::describe(tr.cycle, tr.cylinder), g));

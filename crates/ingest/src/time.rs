@@ -483,7 +483,7 @@ impl TimeRecord {
             if b.from_start && reached {
                 self.complete += 1;
                 self.last_len = b.trace.angle_deg.len();
-                out.trace(b.trace, b.line, Quantity::Pressure, false)?;
+                out.trace(b.trace, b.line, Quantity::Pressure, false, 0)?;
             } else {
                 self.partial += 1;
             }
@@ -503,7 +503,7 @@ impl TimeRecord {
             let step = self.step_deg.max(1e-9);
             if first <= 2.0 * step && self.cycle_deg - last <= 2.0 * step {
                 self.complete += 1;
-                out.trace(b.trace, b.line, Quantity::Pressure, false)?;
+                out.trace(b.trace, b.line, Quantity::Pressure, false, 0)?;
             } else {
                 self.partial += 1;
             }

@@ -105,6 +105,9 @@ pub(crate) struct Gap {
     pub width: f64,
     /// The cycle's median step (deg).
     pub median: f64,
+    /// The sample before it, counted in the order the file gives them
+    /// (its line is the trace's first line plus this, one sample a row).
+    pub at: usize,
 }
 
 /// What the checks of a finished trace found.
@@ -122,16 +125,14 @@ pub(crate) struct Checked {
 /// A gap is a spacing of more than this many median steps (INTERFACE.md).
 pub(crate) const GAP_STEPS: f64 = 5.0;
 
-/// Checks a trace and moves its angles into `[0, cycle)`, rotating so they
-/// rise. `absolute`: pressures that must be absolute (not to be pegged),
-/// so a trace below zero over more than half its cycle is refused
-/// (`gauge` says how to word it).
+/// Checks a trace (its coverage and gaps here, its values by the one
+/// plausibility pass, [`crate::plausible::check`]) and moves its angles
+/// into `[0, cycle)`, rotating so they rise.
 pub(crate) fn finish(
     mut tr: Trace,
     cycle: f64,
     quantity: Quantity,
-    absolute: bool,
-    gauge: bool,
+    ctx: &crate::plausible::Context<'_>,
 ) -> Result<(Trace, Checked), IngestError> {
     let n = tr.angle_deg.len();
     // Built only for a message: no allocation per trace on the way through.
@@ -158,87 +159,23 @@ pub(crate) fn finish(
     };
     let limit = GAP_STEPS * median;
     let mut gap: Option<Gap> = None;
-    let mut note_gap = |from: f64, width: f64| {
+    let mut note_gap = |at: usize, from: f64, width: f64| {
         if width > limit && gap.is_none_or(|g| width > g.width) {
             gap = Some(Gap {
                 from: from.rem_euclid(cycle),
                 width,
                 median,
+                at,
             });
         }
     };
-    note_gap(last, wrap_step);
+    note_gap(n - 1, last, wrap_step);
     if hi > limit {
-        for w in tr.angle_deg.windows(2) {
-            note_gap(w[0], w[1] - w[0]);
+        for (i, w) in tr.angle_deg.windows(2).enumerate() {
+            note_gap(i, w[0], w[1] - w[0]);
         }
     }
-    let (vlo, vhi) = enginedyn_numerics::scan::min_max(&tr.values);
-    let mut below_zero = (0, 0.0);
-    if quantity != Quantity::Pressure {
-        let peak = vlo.abs().max(vhi.abs()).max(0.0);
-        // The largest engines make about 1e7 N m: beyond 1e9 is a unit mix-up.
-        if peak > 1e9 {
-            return Err(IngestError::Data(format!(
-                "{}: torque {} N m is implausible: is the torque column in N m?",
-                name(),
-                enginedyn_numerics::format::sig(peak, 4)
-            )));
-        }
-    } else if absolute {
-        // 5 kPa to 10 kbar absolute: anything outside is a unit mix-up.
-        if !(5e3..=1e9).contains(&vhi.max(0.0)) {
-            return Err(IngestError::Data(format!(
-                "{}: peak pressure {} bar is implausible: is the pressure column's unit right?",
-                name(),
-                enginedyn_numerics::format::sig(vhi.max(0.0) / 1e5, 4)
-            )));
-        }
-        if vlo < 0.0 {
-            // The share of the cycle below zero: each sample stands for
-            // half the steps either side of it.
-            let (mut count, mut span) = (0usize, 0.0);
-            for i in 0..n {
-                if tr.values[i] < 0.0 {
-                    count += 1;
-                    let before = if i == 0 {
-                        wrap_step
-                    } else {
-                        tr.angle_deg[i] - tr.angle_deg[i - 1]
-                    };
-                    let after = if i + 1 == n {
-                        wrap_step
-                    } else {
-                        tr.angle_deg[i + 1] - tr.angle_deg[i]
-                    };
-                    span += 0.5 * (before + after);
-                }
-            }
-            if span > 0.5 * cycle {
-                return Err(IngestError::Data(if gauge {
-                    format!(
-                        "{} lies below vacuum (below −1.01325 bar gauge) over {:.0} % of its cycle: is the pressure column's unit right?",
-                        name(),
-                        100.0 * span / cycle
-                    )
-                } else {
-                    format!(
-                        "{} is below zero absolute pressure over {:.0} % of its cycle (lowest {} bar): gauge data? give --gauge; a relative (piezo) trace: --peg-bar P or --peg polytropic",
-                        name(),
-                        100.0 * span / cycle,
-                        enginedyn_numerics::format::sig(vlo / 1e5, 3)
-                    )
-                }));
-            }
-            below_zero = (count, vlo);
-        }
-    } else if vhi - vlo < 5e3 {
-        return Err(IngestError::Data(format!(
-            "{}: the pressure varies by {} bar only over the cycle: is the unit (or --gain) right?",
-            name(),
-            enginedyn_numerics::format::sig((vhi - vlo) / 1e5, 3)
-        )));
-    }
+    let below_zero = crate::plausible::check(&tr, wrap_step, cycle, quantity, ctx, &name)?;
     let checked = |steps| Checked {
         steps,
         gap,
@@ -304,6 +241,15 @@ mod tests {
         assert!(!u.starts_next(9.0));
     }
 
+    fn ctx(absolute: bool) -> crate::plausible::Context<'static> {
+        crate::plausible::Context {
+            column: "column 2 `p` (in Pa)",
+            gain: None,
+            absolute,
+            gauge: false,
+        }
+    }
+
     fn trace(angles: &[f64], p: f64) -> Trace {
         Trace {
             cycle: 1,
@@ -316,15 +262,15 @@ mod tests {
     #[test]
     fn gaps_are_found_anywhere() {
         let mut a: Vec<f64> = (0..720).map(f64::from).collect();
-        let (_, c) = finish(trace(&a, 1e6), 720.0, Quantity::Pressure, true, false).unwrap();
+        let (_, c) = finish(trace(&a, 1e6), 720.0, Quantity::Pressure, &ctx(true)).unwrap();
         assert!(c.gap.is_none());
         a.retain(|x| !(100.0..130.0).contains(x));
-        let (_, c) = finish(trace(&a, 1e6), 720.0, Quantity::Pressure, true, false).unwrap();
+        let (_, c) = finish(trace(&a, 1e6), 720.0, Quantity::Pressure, &ctx(true)).unwrap();
         let g = c.gap.unwrap();
-        assert_eq!((g.from, g.width, g.median), (99.0, 31.0, 1.0));
+        assert_eq!((g.from, g.width, g.median, g.at), (99.0, 31.0, 1.0, 99));
         // At the wrap: 170° of 720°.
         let short: Vec<f64> = (0..=170).map(f64::from).collect();
-        let (_, c) = finish(trace(&short, 1e6), 720.0, Quantity::Pressure, true, false).unwrap();
+        let (_, c) = finish(trace(&short, 1e6), 720.0, Quantity::Pressure, &ctx(true)).unwrap();
         assert_eq!(c.gap.map(|g| g.width), Some(550.0));
     }
 
@@ -336,14 +282,14 @@ mod tests {
         for v in &mut t.values[100..300] {
             *v = -0.5e5;
         }
-        let (_, c) = finish(t.clone(), 720.0, Quantity::Pressure, true, false).unwrap();
+        let (_, c) = finish(t.clone(), 720.0, Quantity::Pressure, &ctx(true)).unwrap();
         assert_eq!(c.below_zero, (200, -0.5e5));
         for v in &mut t.values[300..500] {
             *v = -0.5e5;
         }
-        let e = finish(t.clone(), 720.0, Quantity::Pressure, true, false).unwrap_err();
+        let e = finish(t.clone(), 720.0, Quantity::Pressure, &ctx(true)).unwrap_err();
         assert!(e.to_string().contains("--gauge"), "{e}");
         // A relative trace is not checked for sign.
-        assert!(finish(t, 720.0, Quantity::Pressure, false, false).is_ok());
+        assert!(finish(t, 720.0, Quantity::Pressure, &ctx(false)).is_ok());
     }
 }
