@@ -146,10 +146,9 @@ pub(crate) fn per_column(
             break;
         };
         track.take(a);
-        for (j, t) in pc.traces.iter_mut().enumerate() {
-            let (_, scale, _) = pc.cols[j];
-            t.angle_deg.push(a);
-            t.values.push(row[j + 1] * scale + pc.offset);
+        pc.angles.push(a);
+        for (j, &(_, scale, _)) in pc.cols.iter().enumerate() {
+            pc.values.push(row[j + 1] * scale + pc.offset);
         }
         used += end;
         n += 1;

@@ -389,13 +389,18 @@ pub(crate) struct PerColumn {
     pub offset: f64,
     pub ncols: usize,
     pub quantity: Quantity,
-    pub traces: Vec<Trace>,
+    /// The cycle's angles, one a row (deg, moved by the wrap).
+    pub angles: Vec<f64>,
+    /// The cycle's values, row by row, one per column (`cols`): 8 bytes a
+    /// value (INTERFACE.md, "Bounds"); NaN marks an empty cell, a missing
+    /// sample of that column's cycle (a cell's number is always finite).
+    pub values: Vec<f64>,
     pub track: Option<Track>,
     pub line: usize,
     block: i64,
     closing: bool,
     explicit: bool,
-    /// Samples per column in the cycle before: the next one's capacity.
+    /// Rows in the cycle before: the next one's capacity.
     last_len: usize,
 }
 
@@ -426,7 +431,8 @@ impl PerColumn {
             x_scale,
             tdc: opts.tdc_deg,
             cycle_deg: opts.cycle_deg,
-            traces: Vec::new(),
+            angles: Vec::new(),
+            values: Vec::new(),
             cols,
             offset,
             ncols: roles.ncols,
@@ -479,17 +485,26 @@ impl PerColumn {
                 }
             },
         };
-        for (j, &(col, scale, _)) in self.cols.iter().enumerate() {
+        // Every cell is read before any is kept, so an error leaves the
+        // cycle as it was.
+        let start = self.values.len();
+        for &(col, scale, _) in &self.cols {
             // An empty cell is a missing sample of that cycle.
-            if cells.is_blank(col) {
-                continue;
-            }
-            let v = cells.number(col, line)? * scale + self.offset;
-            let t = &mut self.traces[j];
-            t.angle_deg.push(w);
-            t.values.push(v);
+            let v = if cells.is_blank(col) {
+                f64::NAN
+            } else {
+                match cells.number(col, line) {
+                    Ok(x) => x * scale + self.offset,
+                    Err(e) => {
+                        self.values.truncate(start);
+                        return Err(e);
+                    }
+                }
+            };
+            self.values.push(v);
         }
-        if self.closing && self.traces.iter().any(|t| t.angle_deg.len() > 1) {
+        self.angles.push(w);
+        if self.closing && self.angles.len() > 1 {
             self.closing = false;
         }
         Ok(())
@@ -504,41 +519,49 @@ impl PerColumn {
     ) -> Result<(), IngestError> {
         self.flush(out)?;
         self.block += 1;
-        let n = self.cols.len();
-        let per_cylinder = self.cols.iter().any(|c| c.2 > 0);
-        self.traces = self
-            .cols
-            .iter()
-            .enumerate()
-            .map(|(j, c)| Trace {
-                cycle: if per_cylinder {
-                    self.block
-                } else {
-                    (self.block - 1) * n as i64 + j as i64 + 1
-                },
-                cylinder: c.2,
-                angle_deg: Vec::with_capacity(self.last_len),
-                values: Vec::with_capacity(self.last_len),
-            })
-            .collect();
+        self.angles = Vec::with_capacity(self.last_len);
+        self.values = Vec::with_capacity(self.last_len * self.cols.len());
         self.track = Some(Track::new(a, self.cycle_deg));
         self.line = line;
         self.closing = closing;
         Ok(())
     }
 
+    /// Hands the cycle's columns on, one trace at a time (one column's
+    /// samples, empty cells left out), so only one is ever built.
     fn flush<F: FnMut(Streamed) -> Result<(), IngestError>>(
         &mut self,
         out: &mut Emitter<'_, F>,
     ) -> Result<(), IngestError> {
-        let traces = std::mem::take(&mut self.traces);
-        if let Some(t) = traces.first() {
-            self.last_len = t.angle_deg.len().max(16);
-        }
-        if self.closing && traces.iter().all(|t| t.angle_deg.len() <= 1) {
+        let angles = std::mem::take(&mut self.angles);
+        let values = std::mem::take(&mut self.values);
+        if self.track.is_none() {
             return Ok(());
         }
-        for (j, t) in traces.into_iter().enumerate() {
+        self.last_len = angles.len().max(16);
+        if self.closing && angles.len() <= 1 {
+            return Ok(());
+        }
+        let m = self.cols.len();
+        let per_cylinder = self.cols.iter().any(|c| c.2 > 0);
+        for (j, c) in self.cols.iter().enumerate() {
+            let mut t = Trace {
+                cycle: if per_cylinder {
+                    self.block
+                } else {
+                    (self.block - 1) * m as i64 + j as i64 + 1
+                },
+                cylinder: c.2,
+                angle_deg: Vec::with_capacity(angles.len()),
+                values: Vec::with_capacity(angles.len()),
+            };
+            for (r, &a) in angles.iter().enumerate() {
+                let v = values[r * m + j];
+                if !v.is_nan() {
+                    t.angle_deg.push(a);
+                    t.values.push(v);
+                }
+            }
             out.trace(t, self.line, self.quantity, false, j)?;
         }
         Ok(())

@@ -373,6 +373,8 @@ enum Kind {
     Text,
     /// UTF-16 text with its byte-order mark; little-endian when true.
     Utf16(bool),
+    /// A UTF-16 byte-order mark over 8-bit text.
+    Utf16Mark,
     /// A ZIP (.xlsx, .ods) or OLE (.xls) container: perhaps a workbook.
     Workbook,
     /// Any other binary file, as the message names it.
@@ -401,14 +403,24 @@ fn kind(head: &[u8]) -> Kind {
         (b"Rar!", Kind::Binary("a RAR archive")),
     ];
     if let Some((_, k)) = MAGIC.iter().find(|(m, _)| head.starts_with(m)) {
+        // A UTF-16 mark over 8-bit text: UTF-16 of a diagram's ASCII holds
+        // a zero byte in every character, text after a wrong mark none.
+        if let Kind::Utf16(_) = k
+            && head.len() >= 18
+            && !head[2..].contains(&0)
+        {
+            return Kind::Utf16Mark;
+        }
         return *k;
     }
-    // Text has no NUL bytes and few control characters.
+    // Text has few control characters; a NUL or two in text is a damaged
+    // line, which the text reader names.
     let control = head
         .iter()
         .filter(|&&b| b == 0 || (b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0C)))
         .count();
-    if head.contains(&0) || control * 20 > head.len() {
+    let nuls = head.iter().filter(|&&b| b == 0).count();
+    if nuls > 2 || control * 20 > head.len() {
         Kind::Binary("binary data")
     } else {
         Kind::Text
@@ -425,7 +437,19 @@ pub fn parse_stream(
 ) -> Result<Header, IngestError> {
     let head = reader.fill_buf()?;
     match kind(&head[..head.len().min(4096)]) {
-        Kind::Utf16(little) => text::read(text::Utf16::new(reader, little), opts, sink),
+        Kind::Utf16(little) => {
+            let mut utf16 = text::Utf16::new(reader, little);
+            let mut h = text::read(&mut utf16, opts, sink)?;
+            if utf16.ends_mid_character() {
+                h.notes.push(
+                    "the UTF-16 text ends mid-character (an odd number of bytes): truncated? its last byte is left out, and with it perhaps the last digit of the last value".into(),
+                );
+            }
+            Ok(h)
+        }
+        Kind::Utf16Mark => Err(IngestError::Data(
+            "the file starts with a UTF-16 byte-order mark, but what follows is 8-bit text (no zero bytes, as UTF-16 of digits has): the mark is wrong; save the file as UTF-8, or remove its first two bytes".into(),
+        )),
         Kind::Text => {
             let mut h = text::read(reader, opts, sink)?;
             if opts.sheet.is_some() {

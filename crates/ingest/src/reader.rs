@@ -11,6 +11,10 @@ use crate::row::Cells;
 use crate::trace::{self, Checked, Gap};
 use crate::{Header, ParseOptions, Quantity, Streamed, Trace};
 
+/// The most columns a diagram may have (INTERFACE.md, "Bounds"): as many
+/// as a spreadsheet's row.
+pub(crate) const MAX_COLUMNS: usize = 16_384;
+
 /// Text rows above the data that the reader looks at for a header.
 pub(crate) const PREAMBLE_LINES: usize = 50;
 
@@ -142,9 +146,30 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
         text: Vec<TextLine>,
     ) -> Result<Layout, IngestError> {
         let k = cells.used();
+        if k > MAX_COLUMNS {
+            return Err(at(
+                line,
+                None,
+                format!(
+                    "{k} columns: more than the bound of {MAX_COLUMNS} a diagram may have (as in a spreadsheet); read no further"
+                ),
+            ));
+        }
         let (roles, header_at) = match &self.opts.columns {
             Some(given) => {
                 let names = expand(given, k);
+                if let Some(extra) = (k..names.len()).find(|&i| names[i].trim() != "_") {
+                    return Err(at(
+                        line,
+                        Some(extra + 1),
+                        format!(
+                            "--columns names {} columns, this file's rows have {k}: `{}` names column {}, which no row has",
+                            names.len(),
+                            enginedyn_numerics::format::quote(&names[extra]),
+                            extra + 1
+                        ),
+                    ));
+                }
                 if names.len() < k {
                     return Err(at(
                         line,

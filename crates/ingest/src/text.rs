@@ -98,7 +98,7 @@ struct LineTooLong;
 
 impl std::fmt::Display for LineTooLong {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("longer than 1 MiB with no line end")
+        f.write_str("a line longer than the 1 MiB bound")
     }
 }
 
@@ -270,7 +270,7 @@ pub(crate) fn read<R: std::io::Read, F: FnMut(Streamed) -> Result<(), IngestErro
                 return Err(at(
                     lineno + 1,
                     None,
-                    "longer than 1 MiB with no line end: not a diagram (a binary file or a device?); read no further",
+                    "this line is longer than the 1 MiB bound of a line: not a diagram (a binary file or a device?); read no further",
                 ));
             }
             Err(e) => return Err(e.into()),
@@ -284,6 +284,13 @@ pub(crate) fn read<R: std::io::Read, F: FnMut(Streamed) -> Result<(), IngestErro
         let t = line.trim_ascii();
         if t.is_empty() {
             continue;
+        }
+        if memchr::memchr(0, t).is_some() {
+            return Err(at(
+                lineno,
+                None,
+                "this line holds a NUL byte: a damaged file, or binary data inside text; read no further",
+            ));
         }
         if t[0] == b'#' {
             if let Ok(s) = std::str::from_utf8(t) {
@@ -392,6 +399,12 @@ impl<R: std::io::Read> Utf16<R> {
             self.raw.drain(..used);
         }
         Ok(())
+    }
+
+    /// True once the end is read with a byte left over: the text was cut
+    /// mid-character.
+    pub(crate) fn ends_mid_character(&self) -> bool {
+        self.eof && self.raw.len() % 2 == 1
     }
 }
 
