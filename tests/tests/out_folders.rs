@@ -147,13 +147,15 @@ fn called(kind: &str, run_folder: bool) -> &'static str {
 /// One command against every kind of thing in the way of every name it
 /// writes (learnt from a run into an empty folder).
 fn refuses_everything_in_the_way(command: &str) {
-    let (_, args) = commands()
-        .into_iter()
-        .find(|(c, _)| *c == command)
-        .unwrap();
+    let (_, args) = commands().into_iter().find(|(c, _)| *c == command).unwrap();
     let fresh = tempfile::tempdir().unwrap();
     let out = run_into(&args, fresh.path());
-    assert_eq!(out.status.code(), Some(0), "{command}: {}", text(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{command}: {}",
+        text(&out.stderr)
+    );
     let mut names: Vec<(String, bool)> = std::fs::read_dir(fresh.path())
         .unwrap()
         .map(|e| {
@@ -189,7 +191,11 @@ fn refuses_everything_in_the_way(command: &str) {
             let case = format!("{command}: {kind} as {name}");
             assert_eq!(out.status.code(), Some(2), "{case}: {err}");
             assert!(!err.contains("panicked"), "{case}: {err}");
-            let named = format!("{}: {} is in the way", at.display(), called(kind, *run_folder));
+            let named = format!(
+                "{}: {} is in the way",
+                at.display(),
+                called(kind, *run_folder)
+            );
             assert!(err.contains(&named), "{case}: wanted `{named}` in {err}");
             assert_eq!(
                 (snapshot(&dir), snapshot(&outside)),
@@ -272,10 +278,7 @@ fn batch_checks_every_run_folder_first() {
 #[test]
 fn what_enginedyn_wrote_is_replaced() {
     for command in ["run", "batch --detail", "kinematics"] {
-        let (_, args) = commands()
-            .into_iter()
-            .find(|(c, _)| *c == command)
-            .unwrap();
+        let (_, args) = commands().into_iter().find(|(c, _)| *c == command).unwrap();
         let t = tempfile::tempdir().unwrap();
         let first = run_into(&args, t.path());
         assert_eq!(first.status.code(), Some(0), "{}", text(&first.stderr));
