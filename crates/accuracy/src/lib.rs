@@ -581,11 +581,13 @@ pub fn csv(a: &Accuracy) -> String {
     }
     out.push('\n');
     let num = |v: Option<f64>| v.map(enginedyn_numerics::format::csv).unwrap_or_default();
+    // Text cells never start a formula (`format::csv_text`).
+    let text = enginedyn_numerics::format::csv_text;
     for r in &a.rows {
         out.push_str(&format!(
             "{},\"{}\",{},{}",
-            r.study.name(),
-            r.setting.replace('"', "\"\""),
+            text(r.study.name()),
+            text(&r.setting).replace('"', "\"\""),
             enginedyn_numerics::format::csv(r.time_s),
             num(r.max_relative_error())
         ));

@@ -9,9 +9,14 @@ use enginedyn_ingest::{Interp, Quantity};
 use std::fmt::Write as _;
 
 /// Runs `enginedyn accuracy`.
+/// What `accuracy --out DIR` writes.
+const FILES: [&str; 2] = ["accuracy.csv", "accuracy.svg"];
+
 pub fn run(a: &AccuracyArgs) -> Result<(), Failure> {
     let loaded = load_engine(Some(&a.input.engine))?;
     let engine = &loaded.engine;
+    // Something in the way of an output is refused before the study runs.
+    let out = crate::open_out(a.out.as_deref(), &FILES)?;
     let path = diagram_path(a.input.diagram.as_deref(), &loaded)?;
     let (parse, grid) = diagram_options(engine, &a.diagram_args, 0.1, Interp::Spline, a.input.rpm)?;
     let diagram = parse_diagram(&path, &parse)?;
@@ -70,18 +75,16 @@ pub fn run(a: &AccuracyArgs) -> Result<(), Failure> {
         );
     }
     crate::emit(&t);
-    if let Some(dir) = &a.out {
+    if let Some(dir) = &out {
         let svg = enginedyn_accuracy::figure(&study, engine.name())
             .render()
             .map_err(|e| Failure::data(e.to_string()))?;
+        let [csv, chart] = FILES.map(String::from);
         let files = vec![
-            (
-                "accuracy.csv".to_string(),
-                enginedyn_accuracy::csv(&study).into_bytes(),
-            ),
-            ("accuracy.svg".to_string(), svg.into_bytes()),
+            (csv, enginedyn_accuracy::csv(&study).into_bytes()),
+            (chart, svg.into_bytes()),
         ];
-        crate::write_out(dir, &files, false)?;
+        crate::write_out_to(dir, &files, false)?;
     }
     Ok(())
 }

@@ -50,6 +50,27 @@ fn expand(inputs: &[String]) -> Result<Vec<PathBuf>, Failure> {
     Ok(files)
 }
 
+/// The run folder of the `i`-th diagram (from 0) of a batch: its number
+/// from 1 in 4 digits, as index.html numbers its rows, then its file's stem
+/// as a folder name every system holds (`numerics::format::folder_name`:
+/// control characters and `<>:"/\|?*` become `_`).
+fn run_folder(i: usize, file: &Path) -> String {
+    let stem = file
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "diagram".into());
+    format!(
+        "{:04}_{}",
+        i + 1,
+        enginedyn_numerics::format::folder_name(&stem)
+    )
+}
+
+/// A file's name as a message line or table shows it: on one line.
+fn one_line(s: &str) -> String {
+    enginedyn_numerics::format::table_text(s).into_owned()
+}
+
 /// One diagram's outcome.
 struct Row {
     file: String,
@@ -87,11 +108,27 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
     let tables = enginedyn_pipeline::Tables::new(engine, n, &opts).ok();
     let files = expand(&a.diagrams)?;
     // The output folder, locked for the whole batch (a second batch into
-    // it waits or exits 2), cleaned of what a killed run left.
+    // it waits or exits 2), cleaned of what a killed run left; every name
+    // the batch will write (summary.csv, index.html, each run folder)
+    // checked before the first is written: something in the way is exit 2.
+    let folders: Vec<String> = if a.detail {
+        files
+            .iter()
+            .enumerate()
+            .map(|(i, f)| run_folder(i, f))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let names: &[&str] = if a.detail {
+        &["summary.csv", "index.html"]
+    } else {
+        &["summary.csv"]
+    };
     let out_dir = a
         .out
         .as_deref()
-        .map(enginedyn_report::OutDir::open)
+        .map(|d| enginedyn_report::OutDir::open_for(d, names, &folders))
         .transpose()?;
     let jobs = a.jobs.unwrap_or(0) as usize;
     let pool = rayon::ThreadPoolBuilder::new()
@@ -182,15 +219,10 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                     };
                     let s = &an.summary;
                     let mut folder = None;
-                    if a.detail
-                        && let Some(dir) = &out_dir
+                    if let Some(dir) = &out_dir
+                        && let Some(name) = folders.get(i)
                     {
-                        let stem = f
-                            .file_stem()
-                            .map(|s| s.to_string_lossy().into_owned())
-                            .unwrap_or_else(|| "diagram".into());
-                        // Numbered from 1, as index.html's rows are.
-                        let name = format!("{:04}_{stem}", i + 1);
+                        let name = name.clone();
                         let files = enginedyn_report::run_files(engine, &an, false)
                             .map_err(|e| Failure::data(e.to_string()))?;
                         dir.write_folder(&name, &files)?;
@@ -199,7 +231,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                     if !s.notes.is_empty() {
                         bar.suspend(|| {
                             for n in &s.notes {
-                                eprintln!("warning: {shown}: {n}");
+                                eprintln!("warning: {}: {n}", one_line(&shown));
                             }
                         });
                     }
@@ -234,7 +266,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                 result.unwrap_or_else(|e| {
                     // The row names the file: the message alone.
                     let msg = e.message;
-                    bar.suspend(|| eprintln!("error: {shown}: {msg}"));
+                    bar.suspend(|| eprintln!("error: {}: {msg}", one_line(&shown)));
                     Row {
                         file: shown,
                         error: msg,
@@ -362,9 +394,14 @@ pub(crate) fn speeds(spec: &str) -> Result<Vec<f64>, Failure> {
     Ok((0..=n as usize).map(|k| from + k as f64 * step).collect())
 }
 
+/// What `sweep --out DIR` writes.
+const SWEEP_FILES: [&str; 2] = ["sweep.csv", "sweep.svg"];
+
 pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
     let loaded = load_engine(Some(&a.engine))?;
     let engine = &loaded.engine;
+    // Something in the way of an output is refused before the sweep runs.
+    let out = crate::open_out(a.out.as_deref(), &SWEEP_FILES)?;
     let step = a.method.step();
     check_step(engine, step)?;
     let rpms = speeds(&a.rpm)?;
@@ -446,23 +483,18 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
         })
         .collect();
     let csv = enginedyn_report::summary_csv(&table);
-    match &a.out {
+    match &out {
         Some(dir) => {
             let summaries: Vec<&enginedyn_pipeline::Summary> =
                 results.iter().map(|an| &an.summary).collect();
             let fig = enginedyn_report::sweep_figure(engine.name(), &summaries);
             let svg = fig.render().map_err(|e| Failure::data(e.to_string()))?;
-            enginedyn_report::write_all(
-                dir,
-                &[
-                    ("sweep.csv".to_string(), csv.into_bytes()),
-                    ("sweep.svg".to_string(), svg.into_bytes()),
-                ],
-            )?;
+            let [table, chart] = SWEEP_FILES.map(String::from);
+            dir.write(&[(table, csv.into_bytes()), (chart, svg.into_bytes())])?;
             eprintln!(
                 "{} speeds; wrote sweep.csv and sweep.svg to {}",
                 rpms.len(),
-                dir.display()
+                dir.path().display()
             );
         }
         None if a.csv => crate::emit(&csv),

@@ -17,6 +17,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// Runs `enginedyn firing-orders`.
+/// What `firing-orders --out DIR` writes.
+const FILES: [&str; 2] = ["firing_orders.csv", "crank_end_view.svg"];
+
 pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
     let weights = match &a.weights {
         Some(w) => Weights::parse(w).map_err(|e| Failure::usage(e.to_string()))?,
@@ -30,6 +33,8 @@ pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
     } else {
         load_engine(Some(&a.input.engine))?.engine
     };
+    // Something in the way of an output is refused before the search.
+    let out = crate::open_out(a.out.as_deref(), &FILES)?;
     let engine = &engine;
     let step = a.method.step();
     check_step(engine, step)?;
@@ -110,15 +115,16 @@ pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
     } else {
         crate::emit(&table(engine, &shown, rpm, &weights, &result, a.all_cranks));
     }
-    if let Some(dir) = &a.out {
+    if let Some(dir) = &out {
         let svg = end_view(engine, &result)
             .render()
             .map_err(|e| Failure::data(e.to_string()))?;
+        let [table, chart] = FILES.map(String::from);
         let files = vec![
-            ("firing_orders.csv".to_string(), csv(&result).into_bytes()),
-            ("crank_end_view.svg".to_string(), svg.into_bytes()),
+            (table, csv(&result).into_bytes()),
+            (chart, svg.into_bytes()),
         ];
-        crate::write_out(dir, &files, a.json)?;
+        crate::write_out_to(dir, &files, a.json)?;
     }
     Ok(())
 }
@@ -344,19 +350,21 @@ fn csv(s: &Study) -> String {
                 .iter()
                 .map(|(a, b)| format!("{a}-{b}"))
                 .collect();
+            // Text cells never start a formula (`format::csv_text`).
+            let text = |s: String| enginedyn_numerics::format::csv_text(&s).into_owned();
             let row = [
                 (ck + 1).to_string(),
-                dashed(&c.crank_angles_deg),
+                text(dashed(&c.crank_angles_deg)),
                 c.mirror_symmetric.to_string(),
                 c.engine_crank.to_string(),
                 (ok + 1).to_string(),
-                dashed(&ord.order.order),
-                dashed(&ord.order.angles_deg),
-                dashed(&cr.intervals_deg),
-                banks(&cr.bank_intervals_deg),
-                cr.scheme.map_or(String::new(), |s| s.name().to_string()),
+                text(dashed(&ord.order.order)),
+                text(dashed(&ord.order.angles_deg)),
+                text(dashed(&cr.intervals_deg)),
+                text(banks(&cr.bank_intervals_deg)),
+                text(cr.scheme.map_or(String::new(), |s| s.name().to_string())),
                 cr.neighbour_consecutive.to_string(),
-                pairs.join(" "),
+                text(pairs.join(" ")),
                 cell(j.map(|j| j.max_torque_nm)),
                 j.map_or(String::new(), |j| j.max_torque_journal.to_string()),
                 cell(j.map(|j| j.max_harmonic_nm)),

@@ -10,9 +10,14 @@ use std::fmt::Write as _;
 const HEADER: &str =
     "crank_deg,coef_a,coef_b,coef_c,piston_x_m,piston_v_m_s,piston_a_m_s2,rod_angle_deg";
 
+/// What `kinematics --out DIR` writes.
+const FILES: [&str; 2] = ["kinematics.csv", "kinematics.svg"];
+
 pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
     let loaded = crate::run::load_engine(Some(&a.engine))?;
     let engine = &loaded.engine;
+    // Something in the way of an output is refused before the table is made.
+    let out = crate::open_out(a.out.as_deref(), &FILES)?;
     let speed = crate::run::resolve_rpm(a.rpm, None, engine)?;
     speed.warn();
     for n in engine.plausibility_notes(Some(speed.rpm)) {
@@ -103,7 +108,7 @@ pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
         }
         crate::emit(&text);
     }
-    if let Some(dir) = &a.out {
+    if let Some(dir) = &out {
         let chart = enginedyn_report::kinematics_chart(
             format!(
                 "{} — piston motion ({}), {rpm:.0} rpm",
@@ -114,13 +119,11 @@ pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
             r,
             step,
         );
-        let figure = Figure::single("kinematics.svg", chart);
+        let figure = Figure::single(FILES[1], chart);
         let svg = figure.render().map_err(|e| Failure::data(e.to_string()))?;
-        let files = vec![
-            ("kinematics.csv".to_string(), csv().into_bytes()),
-            ("kinematics.svg".to_string(), svg.into_bytes()),
-        ];
-        crate::write_out(dir, &files, a.csv)?;
+        let [table, chart] = FILES.map(String::from);
+        let files = vec![(table, csv().into_bytes()), (chart, svg.into_bytes())];
+        crate::write_out_to(dir, &files, a.csv)?;
     }
     Ok(())
 }

@@ -111,12 +111,14 @@ pub fn quote(s: &str) -> String {
     enginedyn_numerics::format::quote(s)
 }
 
-/// Output errors: another command holding the folder is a usage error
-/// (exit 2: choose another `--out`); a write that fails is exit 1.
+/// Output errors: another command holding the folder, or something not
+/// enginedyn's in the way of an output, is a usage error (exit 2: choose
+/// another `--out`); a write that fails is exit 1.
 impl From<enginedyn_report::ReportError> for Failure {
     fn from(e: enginedyn_report::ReportError) -> Self {
+        use enginedyn_report::ReportError as R;
         match e {
-            enginedyn_report::ReportError::Locked { .. } => Failure::usage(e.to_string()),
+            R::Locked { .. } | R::InTheWay { .. } => Failure::usage(e.to_string()),
             other => Failure::data(other.to_string()),
         }
     }
@@ -136,6 +138,18 @@ pub fn emit(text: &str) {
     }
 }
 
+/// Opens `--out DIR` (when given) before a command's work, checked for the
+/// `files` it will write (`report::OutDir::open_for`): something in the way
+/// is refused (exit 2) before anything is computed or written.
+pub fn open_out(
+    dir: Option<&std::path::Path>,
+    files: &[&str],
+) -> Result<Option<enginedyn_report::OutDir>, Failure> {
+    Ok(dir
+        .map(|d| enginedyn_report::OutDir::open_for(d, files, &[] as &[&str]))
+        .transpose()?)
+}
+
 /// Writes an output folder (each file whole or not at all) and, unless the
 /// standard output carries JSON, says so.
 pub fn write_out(
@@ -143,12 +157,21 @@ pub fn write_out(
     files: &[(String, Vec<u8>)],
     quiet: bool,
 ) -> Result<(), Failure> {
-    enginedyn_report::write_all(dir, files)?;
+    write_out_to(&enginedyn_report::OutDir::open(dir)?, files, quiet)
+}
+
+/// [`write_out`] into a folder already open ([`open_out`]).
+pub fn write_out_to(
+    out: &enginedyn_report::OutDir,
+    files: &[(String, Vec<u8>)],
+    quiet: bool,
+) -> Result<(), Failure> {
+    out.write(files)?;
     if !quiet {
         emit(&format!(
             "wrote {} files to {}\n",
             files.len(),
-            dir.display()
+            out.path().display()
         ));
     }
     Ok(())

@@ -13,11 +13,13 @@ pub fn heading(engine: &Engine, what: &str, rpm: f64, diagram: &str) -> String {
         String::new()
     };
     format!(
-        "{} — {what}{} {} {}-cylinder{speed}\ndiagram: {diagram}\n",
+        "{} — {what}{} {} {}-cylinder{speed}\ndiagram: {}\n",
         engine.name(),
         engine.stroke_kind().name(),
         engine.layout().name(),
         engine.cylinders(),
+        // A file name on one line, control characters escaped.
+        enginedyn_numerics::format::table_text(diagram),
     )
 }
 

@@ -19,9 +19,14 @@ const MONTE_CARLO_STEP: f64 = 0.5;
 const SHOWN: usize = 6;
 
 /// Runs `enginedyn tolerance`.
+/// What `tolerance --out DIR` writes.
+const FILES: [&str; 3] = ["tolerance.csv", "tolerance.json", "tolerance.svg"];
+
 pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
     let loaded = load_engine(Some(&a.input.engine))?;
     let engine = &loaded.engine;
+    // Something in the way of an output is refused before the study runs.
+    let out = crate::open_out(a.out.as_deref(), &FILES)?;
     let file = a.input.engine.display().to_string();
     let text = std::fs::read_to_string(&a.input.engine)
         .map_err(|e| Failure::usage(format!("{file}: cannot read: {e}")))?;
@@ -77,7 +82,7 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
         eprintln!("warning: {note}");
     }
     crate::emit(&text_table(engine, &shown, rpm, &study));
-    if let Some(dir) = &a.out {
+    if let Some(dir) = &out {
         let title = format!(
             "{} — tolerances at {rpm:.0} rpm: each parameter alone at ±t (linear model, {}° grid){}",
             engine.name(),
@@ -90,18 +95,19 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
                 None => String::new(),
             }
         );
-        let svg = enginedyn_report::tornado_svg("tolerance.svg", &title, &panels(&study), 4)
+        let svg = enginedyn_report::tornado_svg(FILES[2], &title, &panels(&study), 4)
             .map_err(|e| Failure::data(e.to_string()))?;
+        let [table, doc, chart] = FILES.map(String::from);
         let files = vec![
-            ("tolerance.csv".to_string(), csv(&study).into_bytes()),
+            (table, csv(&study).into_bytes()),
             (
-                "tolerance.json".to_string(),
+                doc,
                 (serde_json::to_string_pretty(&json(&study)).unwrap_or_default() + "\n")
                     .into_bytes(),
             ),
-            ("tolerance.svg".to_string(), svg.into_bytes()),
+            (chart, svg.into_bytes()),
         ];
-        crate::write_out(dir, &files, false)?;
+        crate::write_out_to(dir, &files, false)?;
     }
     Ok(())
 }
@@ -299,13 +305,14 @@ fn csv(s: &Study) -> String {
     let mut o =
         String::from("parameter,tolerance,result,nominal,sensitivity,influence,deviation\n");
     let cell = enginedyn_numerics::format::csv;
+    let text = enginedyn_numerics::format::csv_text;
     for r in &s.rows {
         let _ = writeln!(
             o,
             "{},{},{},{},{},{},{}",
-            r.input.name(),
+            text(&r.input.name()),
             cell(r.input.tolerance),
-            r.output.key(),
+            text(r.output.key()),
             cell(r.nominal),
             cell(r.sensitivity.value),
             r.influence.map(cell).unwrap_or_default(),

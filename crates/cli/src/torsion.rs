@@ -62,9 +62,24 @@ pub fn prepare(
     })
 }
 
+/// What `torsion --out DIR` writes (`chain.json` too with `--chain`).
+const FILES: [&str; 5] = [
+    "modes.csv",
+    "torsion.csv",
+    "torsion.json",
+    "campbell.svg",
+    "torsion.svg",
+];
+
 pub fn run(a: &TorsionArgs) -> Result<(), Failure> {
     let loaded = crate::run::load_engine(Some(&a.engine))?;
     let engine = &loaded.engine;
+    // Something in the way of an output is refused before the study runs.
+    let mut names = FILES.to_vec();
+    if a.chain {
+        names.push("chain.json");
+    }
+    let out = crate::open_out(a.out.as_deref(), &names)?;
     let file = a.engine.display().to_string();
     let spec = enginedyn_engine::file::read_torsion(&a.engine)
         .map_err(|e| Failure::usage(format!("{file}: {e}")))?
@@ -101,7 +116,7 @@ pub fn run(a: &TorsionArgs) -> Result<(), Failure> {
     }
     let doc = torsion_json(engine, &study, &opts, &notes);
     let text = serde_json::to_string_pretty(&doc).map_err(|e| Failure::data(e.to_string()))?;
-    if let Some(dir) = &a.out {
+    if let Some(dir) = &out {
         let mut files = vec![
             ("modes.csv".to_string(), modes_csv(&study).into_bytes()),
             ("torsion.csv".to_string(), torsion_csv(&study).into_bytes()),
@@ -114,7 +129,7 @@ pub fn run(a: &TorsionArgs) -> Result<(), Failure> {
             let chain = chain_json(&prepared, &study, &rpms)?;
             files.push(("chain.json".to_string(), chain.into_bytes()));
         }
-        crate::write_out(dir, &files, a.json)?;
+        crate::write_out_to(dir, &files, a.json)?;
     }
     if a.json {
         crate::emit(&format!("{text}\n"));
@@ -142,7 +157,7 @@ fn modes_csv(study: &Study) -> String {
     let mut o = String::from("mode,frequency_hz");
     for n in &study.layout.names {
         o.push(',');
-        o.push_str(&column(n));
+        o.push_str(&enginedyn_numerics::format::csv_text(&column(n)));
     }
     o.push('\n');
     for m in 1..study.modes.len() {

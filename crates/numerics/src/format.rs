@@ -2,6 +2,13 @@
 //! in tables (`fixed`, never `-0.00`) and in CSV files (`csv`, shortest
 //! round-trip, exponent notation only for tiny and huge magnitudes). The
 //! one home of number formatting; every crate that writes text calls it.
+//!
+//! Also the one home of how a name or a text cell is made safe where it
+//! goes: a CSV text cell no spreadsheet takes for a formula ([`csv_text`]),
+//! a name in a text table on one line ([`table_text`]), a name as a folder
+//! name every system can hold ([`folder_name`]).
+
+use std::borrow::Cow;
 
 /// `x` with `digits` decimals: no `-0.00` (a value that rounds to zero has
 /// no sign); 10 digits and more ask for scientific notation with two
@@ -114,6 +121,64 @@ pub fn quote(s: &str) -> String {
     out
 }
 
+/// A text cell of a CSV file (INTERFACE.md, "Other outputs"): text that
+/// starts with `=`, `+`, `-`, `@`, a tab or a carriage return gets a
+/// leading `'`, so that no spreadsheet evaluates it as a formula (Excel and
+/// LibreOffice do, quoted or not). For text only: numbers are written by
+/// [`csv`] and never pass here (`-3.2` stays `-3.2`). Quoting the cell
+/// (commas, quotes, line breaks) is the CSV writer's part.
+pub fn csv_text(s: &str) -> Cow<'_, str> {
+    if s.starts_with(['=', '+', '-', '@', '\t', '\r']) {
+        Cow::Owned(format!("'{s}"))
+    } else {
+        Cow::Borrowed(s)
+    }
+}
+
+/// A name as a text table shows it: on one line, control characters
+/// escaped (`new\nline`, `\u{1b}`), nothing else changed and nothing cut.
+pub fn table_text(s: &str) -> Cow<'_, str> {
+    if s.chars().any(char::is_control) {
+        let mut out = String::with_capacity(s.len() + 8);
+        for c in s.chars() {
+            if c.is_control() {
+                out.extend(c.escape_default());
+            } else {
+                out.push(c);
+            }
+        }
+        Cow::Owned(out)
+    } else {
+        Cow::Borrowed(s)
+    }
+}
+
+/// The longest folder name [`folder_name`] gives, in bytes (file systems
+/// hold 255; a little is left for what is put before it).
+pub const MAX_FOLDER_NAME: usize = 200;
+
+/// `name` as a folder name that every system holds and line-oriented
+/// scripts read: control characters and `<>:"/\|?*` (which Windows
+/// refuses) become `_`, and a name longer than [`MAX_FOLDER_NAME`] bytes is
+/// cut at a character's edge.
+pub fn folder_name(name: &str) -> String {
+    let mut out = String::with_capacity(name.len().min(MAX_FOLDER_NAME));
+    for c in name.chars() {
+        let c = if c.is_control()
+            || matches!(c, '<' | '>' | ':' | '"' | '/' | '\\' | '|' | '?' | '*')
+        {
+            '_'
+        } else {
+            c
+        };
+        if out.len() + c.len_utf8() > MAX_FOLDER_NAME {
+            break;
+        }
+        out.push(c);
+    }
+    out
+}
+
 /// Whether `typed` is close enough to `known` for a "did you mean": similar
 /// as a whole (at most about half the letters changed, Damerau–Levenshtein)
 /// or the beginning of it (`cyl` for `cylinders`, `bore` for `bore_mm`);
@@ -160,6 +225,46 @@ mod tests {
         assert_eq!(trim_zeros("1.000"), "1");
         assert_eq!(trim_zeros("120"), "120");
         assert_eq!(trimmed(-0.0001, 2), "0");
+    }
+
+    /// A text cell a spreadsheet would evaluate gets a leading `'`; other
+    /// text is unchanged.
+    #[test]
+    fn csv_text_cells_are_never_formulas() {
+        for (raw, cell) in [
+            (
+                "=HYPERLINK(\"http://x\",\"y\").csv",
+                "'=HYPERLINK(\"http://x\",\"y\").csv",
+            ),
+            ("+cmd.csv", "'+cmd.csv"),
+            ("-2+3", "'-2+3"),
+            ("@SUM(1).csv", "'@SUM(1).csv"),
+            ("\tx", "'\tx"),
+            ("\rx", "'\rx"),
+        ] {
+            assert_eq!(csv_text(raw), cell);
+        }
+        for plain in ["a.csv", "", "runs/=x.csv", "x=1", "'quoted", " =1"] {
+            assert_eq!(csv_text(plain), plain);
+        }
+    }
+
+    #[test]
+    fn names_on_one_line_and_as_folders() {
+        assert_eq!(table_text("new\nline.csv"), "new\\nline.csv");
+        assert_eq!(table_text("a\u{1b}[31m\tb"), "a\\u{1b}[31m\\tb");
+        assert_eq!(table_text("ünïcode ok.csv"), "ünïcode ok.csv");
+        assert_eq!(folder_name("new\nline"), "new_line");
+        assert_eq!(
+            folder_name("<img src=x onerror=alert(1)>"),
+            "_img src=x onerror=alert(1)_"
+        );
+        assert_eq!(folder_name("a<>:\"/\\|?*b\u{7f}"), "a_________b_");
+        assert_eq!(folder_name("plain name"), "plain name");
+        let long = "é".repeat(300);
+        let cut = folder_name(&long);
+        assert!(cut.len() <= MAX_FOLDER_NAME && cut.chars().all(|c| c == 'é'));
+        assert_eq!(cut.chars().count(), MAX_FOLDER_NAME / 2);
     }
 
     #[test]

@@ -10,6 +10,7 @@
 //! ```
 
 use enginedyn_engine::Engine;
+use enginedyn_numerics::format::csv_text;
 use enginedyn_pipeline::{Analysis, Summary, Value};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -57,6 +58,21 @@ pub enum ReportError {
         /// How long this command waited.
         waited: std::time::Duration,
     },
+    /// Something not enginedyn's is where an output goes: it is never
+    /// moved or removed, and nothing is written.
+    #[error(
+        "{}: {what} is in the way; enginedyn replaces only a file it wrote{}, never anything else, so nothing was written: move it away or choose another --out",
+        path.display(),
+        if *run_folder { " or a run folder holding an earlier run's summary.json" } else { "" }
+    )]
+    InTheWay {
+        /// What is in the way.
+        path: PathBuf,
+        /// What it is: "a folder", "a symbolic link", "a FIFO", "a read-only file", …
+        what: &'static str,
+        /// Whether a batch's run folder goes there.
+        run_folder: bool,
+    },
     /// A chart could not be drawn.
     #[error("chart {name}: {message}")]
     Chart {
@@ -100,16 +116,18 @@ pub fn summary_columns() -> Vec<String> {
 
 /// The summary as (column, cell) pairs: `models` and `pegging` flattened to
 /// `models.kinematics` …, `notes` joined with ` | `, null as an empty cell,
-/// numbers in shortest round-trip form. Fixed keys first, then the optional
-/// keys present.
+/// numbers in shortest round-trip form, text cells as
+/// [`enginedyn_numerics::format::csv_text`] writes them (never a formula).
+/// Fixed keys first, then the optional keys present.
 pub fn flatten(s: &Summary) -> Vec<(String, String)> {
     fn cell(v: &Value) -> String {
         match v {
             Value::Num(Some(x)) if x.is_finite() => enginedyn_numerics::format::csv(*x),
             Value::Num(_) => String::new(),
             Value::Int(i) => i.to_string(),
-            Value::Text(t) => t.to_string(),
-            Value::List(l) => l.join(" | "),
+            // Text cells never start a formula (`numerics::format::csv_text`).
+            Value::Text(t) => csv_text(t).into_owned(),
+            Value::List(l) => csv_text(&l.join(" | ")).into_owned(),
             Value::Map(_) => String::new(),
         }
     }
@@ -133,7 +151,8 @@ pub type CsvRow = (String, String, Vec<(String, String)>);
 
 /// Writes `summary.csv`: `file`, `error`, the fixed columns, then every
 /// optional column any row has (in order of first appearance). Rows are
-/// (file, error, flattened summary or empty).
+/// (file, error, flattened summary or empty); the file and error cells are
+/// written as [`enginedyn_numerics::format::csv_text`] writes text.
 pub fn summary_csv(rows: &[CsvRow]) -> String {
     let mut columns = summary_columns();
     for (_, _, r) in rows {
@@ -148,7 +167,7 @@ pub fn summary_csv(rows: &[CsvRow]) -> String {
     header.extend(columns.iter().cloned());
     let _ = w.write_record(&header);
     for (file, error, r) in rows {
-        let mut rec = vec![file.clone(), error.clone()];
+        let mut rec = vec![csv_text(file).into_owned(), csv_text(error).into_owned()];
         for c in &columns {
             rec.push(
                 r.iter()
@@ -405,4 +424,40 @@ pub fn run_files_with(
 /// (a batch) open the [`OutDir`] once and keep it.
 pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), ReportError> {
     OutDir::open(dir)?.write(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Text cells that a spreadsheet would evaluate get a leading `'`;
+    /// numbers, negative ones too, are never altered.
+    #[test]
+    fn summary_csv_cells_are_never_formulas() {
+        let mut s = Summary::empty();
+        s.mean_torque_nm = Some(-3.2);
+        s.notes = vec!["=1+1 in the file".into(), "second".into()];
+        let rows = [
+            (
+                "=HYPERLINK(\"http://x\",\"y\").csv".to_string(),
+                String::new(),
+                flatten(&s),
+            ),
+            ("+cmd.csv".to_string(), "-bad".to_string(), Vec::new()),
+            ("@SUM(1).csv".to_string(), String::new(), Vec::new()),
+        ];
+        let text = summary_csv(&rows);
+        let mut r = csv::Reader::from_reader(text.as_bytes());
+        let head = r.headers().unwrap().clone();
+        let col = |k: &str| head.iter().position(|h| h == k).unwrap();
+        let recs: Vec<csv::StringRecord> = r.records().map(Result::unwrap).collect();
+        assert_eq!(&recs[0][0], "'=HYPERLINK(\"http://x\",\"y\").csv");
+        assert_eq!(&recs[0][col("mean_torque_nm")], "-3.2");
+        assert_eq!(&recs[0][col("notes")], "'=1+1 in the file | second");
+        assert_eq!(&recs[1][0], "'+cmd.csv");
+        assert_eq!(&recs[1][1], "'-bad");
+        assert_eq!(&recs[2][0], "'@SUM(1).csv");
+        // JSON keeps the raw text.
+        assert_eq!(summary_json(&s)["notes"][0], "=1+1 in the file");
+    }
 }

@@ -13,6 +13,12 @@
 //!   ones in; a failure on the way moves the old ones back, and the staging
 //!   folder is removed in every case. A run folder of a batch
 //!   (`DIR/NNNN_STEM/`) is staged whole and renamed into place in one step.
+//! - **Only what enginedyn wrote is replaced**: a regular, writable file of
+//!   a name the command writes, or a run folder that holds an earlier
+//!   run's `summary.json`. Anything else in the way (a folder, a symbolic
+//!   link, a FIFO, a device, a read-only file) is never moved or removed:
+//!   [`OutDir::check`] refuses it ([`ReportError::InTheWay`]) before
+//!   anything is written, and every move re-checks what it moves aside.
 //! - **Leftovers of a killed run** (staging folders, whose names start with
 //!   [`STAGING_PREFIX`]) are removed when the next command takes the lock.
 
@@ -86,6 +92,61 @@ impl OutDir {
         Ok(out)
     }
 
+    /// [`OutDir::open`], then [`OutDir::check`] of the `files` and run
+    /// `folders` the command will write: a command calls it before its
+    /// work, so that a thing in the way is refused before anything is
+    /// computed or written.
+    pub fn open_for<F: AsRef<str>, D: AsRef<str>>(
+        dir: &Path,
+        files: &[F],
+        folders: &[D],
+    ) -> Result<Self, ReportError> {
+        let out = Self::open(dir)?;
+        out.check(files, folders)?;
+        Ok(out)
+    }
+
+    /// Whether every name the command will write may be written: each of
+    /// `files` is absent or a regular, writable file (an earlier run's), each
+    /// of `folders` absent or a real folder holding an earlier run's
+    /// `summary.json`. The first thing in the way is refused
+    /// ([`ReportError::InTheWay`], naming it); nothing is changed. Links are
+    /// never followed.
+    pub fn check<F: AsRef<str>, D: AsRef<str>>(
+        &self,
+        files: &[F],
+        folders: &[D],
+    ) -> Result<(), ReportError> {
+        for name in files {
+            check_name(name.as_ref())?;
+            self.replaceable(name.as_ref(), Target::File)?;
+        }
+        for name in folders {
+            check_name(name.as_ref())?;
+            self.replaceable(name.as_ref(), Target::RunFolder)?;
+        }
+        Ok(())
+    }
+
+    /// `Ok(true)` when `name` exists and may be replaced, `Ok(false)` when
+    /// it does not exist, the refusal when something else is in the way.
+    fn replaceable(&self, name: &str, target: Target) -> Result<bool, ReportError> {
+        let path = self.dir.join(name);
+        let meta = match std::fs::symlink_metadata(&path) {
+            Ok(m) => m,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(false),
+            Err(e) => return Err(io(&path)(e)),
+        };
+        match in_the_way(&path, &meta, target) {
+            None => Ok(true),
+            Some(what) => Err(ReportError::InTheWay {
+                path,
+                what,
+                run_folder: target == Target::RunFolder,
+            }),
+        }
+    }
+
     /// The folder.
     pub fn path(&self) -> &Path {
         &self.dir
@@ -118,7 +179,12 @@ impl OutDir {
     /// Writes `files` (name, bytes) into DIR: each appears whole or not at
     /// all, and either every one of them is the new version or (after a
     /// failure) every one is as it was.
+    /// Nothing but a regular, writable file is replaced: anything else of
+    /// one of the names is refused ([`OutDir::check`]) before anything is
+    /// written, and checked again as it is moved aside.
     pub fn write(&self, files: &[(String, Vec<u8>)]) -> Result<(), ReportError> {
+        let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
+        self.check::<&str, &str>(&names, &[])?;
         let stage = self.staging()?;
         let new = stage.path().join("new");
         let old = stage.path().join("old");
@@ -134,7 +200,7 @@ impl OutDir {
         let result = (|| {
             for (name, _) in files {
                 let target = self.dir.join(name);
-                if std::fs::symlink_metadata(&target).is_ok() {
+                if self.replaceable(name, Target::File)? {
                     std::fs::rename(&target, old.join(name)).map_err(io(&target))?;
                     moved_aside.push(name);
                 }
@@ -157,9 +223,11 @@ impl OutDir {
 
     /// Writes `files` as the subfolder `name` of DIR (a batch's run
     /// folder): staged whole, then renamed into place in one step, the old
-    /// folder of that name (an earlier run's) removed.
+    /// folder of that name (an earlier run's, holding its `summary.json`)
+    /// removed; anything else of that name is refused, never touched.
     pub fn write_folder(&self, name: &str, files: &[(String, Vec<u8>)]) -> Result<(), ReportError> {
         check_name(name)?;
+        self.replaceable(name, Target::RunFolder)?;
         let stage = self.staging()?;
         let folder = stage.path().join("new");
         std::fs::create_dir(&folder).map_err(io(&folder))?;
@@ -168,7 +236,7 @@ impl OutDir {
             write_new(&folder.join(file), bytes)?;
         }
         let target = self.dir.join(name);
-        if std::fs::symlink_metadata(&target).is_ok() {
+        if self.replaceable(name, Target::RunFolder)? {
             let old = stage.path().join("old");
             std::fs::rename(&target, &old).map_err(io(&target))?;
         }
@@ -176,6 +244,76 @@ impl OutDir {
         drop(stage);
         Ok(())
     }
+}
+
+/// What a name of ours is written as.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Target {
+    /// A file (`summary.csv`, `report.html`).
+    File,
+    /// A batch's run folder (`NNNN_STEM`).
+    RunFolder,
+}
+
+/// What is in the way of writing `target` at `path` (`meta` its own
+/// metadata, the link's when it is a link), `None` when it may be replaced:
+/// a regular writable file for a file, a real writable folder holding a
+/// regular `summary.json` for a run folder.
+fn in_the_way(path: &Path, meta: &std::fs::Metadata, target: Target) -> Option<&'static str> {
+    let kind = meta.file_type();
+    if kind.is_symlink() {
+        return Some("a symbolic link");
+    }
+    match target {
+        Target::File if kind.is_file() => read_only(meta).then_some("a read-only file"),
+        Target::File if kind.is_dir() => Some("a folder"),
+        Target::RunFolder if kind.is_dir() => {
+            let ours = std::fs::symlink_metadata(path.join("summary.json"))
+                .is_ok_and(|m| m.file_type().is_file());
+            if !ours {
+                Some("a folder without an earlier run's summary.json")
+            } else if read_only(meta) {
+                Some("a read-only folder")
+            } else {
+                None
+            }
+        }
+        Target::RunFolder if kind.is_file() => Some("a file"),
+        _ => Some(special(&kind)),
+    }
+}
+
+/// Whether the owner may not write it: enginedyn writes its files
+/// writable, so a read-only one is the user protecting it.
+#[cfg(unix)]
+fn read_only(meta: &std::fs::Metadata) -> bool {
+    use std::os::unix::fs::PermissionsExt as _;
+    meta.permissions().mode() & 0o200 == 0
+}
+
+#[cfg(not(unix))]
+fn read_only(meta: &std::fs::Metadata) -> bool {
+    meta.permissions().readonly()
+}
+
+/// Neither file, folder nor link: what it is, as a message names it.
+#[cfg(unix)]
+fn special(kind: &std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt as _;
+    if kind.is_fifo() {
+        "a FIFO"
+    } else if kind.is_socket() {
+        "a socket"
+    } else if kind.is_block_device() || kind.is_char_device() {
+        "a device"
+    } else {
+        "something that is not a regular file"
+    }
+}
+
+#[cfg(not(unix))]
+fn special(_: &std::fs::FileType) -> &'static str {
+    "something that is not a regular file"
 }
 
 /// A file name of ours: one plain component, never a path or a hidden name.
@@ -252,8 +390,14 @@ mod tests {
             std::fs::read_to_string(d.path().join("f3.txt")).unwrap(),
             "b 3"
         );
-        out.write_folder("0001_x", &files("c")).unwrap();
-        out.write_folder("0001_x", &files("d")).unwrap();
+        // A run folder holds its summary.json: the next run replaces it.
+        let run = |tag: &str| {
+            let mut f = files(tag);
+            f.push(("summary.json".into(), b"{}".to_vec()));
+            f
+        };
+        out.write_folder("0001_x", &run("c")).unwrap();
+        out.write_folder("0001_x", &run("d")).unwrap();
         assert_eq!(
             std::fs::read_to_string(d.path().join("0001_x/f0.txt")).unwrap(),
             "d 0"
@@ -273,6 +417,97 @@ mod tests {
         drop(first);
         let _second = OutDir::open(d.path()).unwrap();
         assert!(listing(d.path()).is_empty());
+    }
+
+    /// Every kind of thing in the way of a file or a run folder is refused,
+    /// named, and left as it was; nothing else appears.
+    #[test]
+    fn only_what_enginedyn_wrote_is_replaced() {
+        use std::os::unix::fs::{PermissionsExt as _, symlink};
+        let outside = tempfile::tempdir().unwrap();
+        std::fs::write(outside.path().join("mine.txt"), "the user's").unwrap();
+        std::fs::create_dir(outside.path().join("folder")).unwrap();
+        type Make = fn(&Path, &Path);
+        let kinds: [(&str, Make); 6] = [
+            ("a folder", |p, _| {
+                std::fs::create_dir(p).unwrap();
+                std::fs::write(p.join("kept.txt"), "x").unwrap();
+            }),
+            ("a symbolic link", |p, o| {
+                symlink(o.join("folder"), p).unwrap()
+            }),
+            ("a symbolic link", |p, o| {
+                symlink(o.join("mine.txt"), p).unwrap();
+            }),
+            ("a FIFO", |p, _| {
+                let ok = std::process::Command::new("mkfifo").arg(p).status();
+                assert!(ok.unwrap().success());
+            }),
+            ("a read-only file", |p, _| {
+                std::fs::write(p, "protected").unwrap();
+                std::fs::set_permissions(p, std::fs::Permissions::from_mode(0o444)).unwrap();
+            }),
+            ("a folder without an earlier run's summary.json", |p, _| {
+                std::fs::create_dir(p).unwrap();
+            }),
+        ];
+        for (what, make) in kinds {
+            let d = tempfile::tempdir().unwrap();
+            let out = OutDir::open(d.path()).unwrap();
+            let as_file = what != "a folder without an earlier run's summary.json";
+            let target = d.path().join(if as_file { "f1.txt" } else { "0001_x" });
+            make(&target, outside.path());
+            let before = listing(d.path());
+            let e = if as_file {
+                out.write(&files("a")).unwrap_err()
+            } else {
+                out.write_folder("0001_x", &files("a")).unwrap_err()
+            };
+            match &e {
+                ReportError::InTheWay { path, what: w, .. } => {
+                    assert_eq!(path, &target);
+                    assert!(w.starts_with(what) || what.starts_with(w), "{w} for {what}");
+                }
+                other => panic!("{what}: {other}"),
+            }
+            assert!(e.to_string().contains(&target.display().to_string()), "{e}");
+            assert_eq!(listing(d.path()), before, "{what}");
+            assert!(std::fs::symlink_metadata(&target).is_ok(), "{what} kept");
+        }
+        assert_eq!(
+            std::fs::read_to_string(outside.path().join("mine.txt")).unwrap(),
+            "the user's"
+        );
+        // A file where a run folder goes, a folder where a file goes.
+        let d = tempfile::tempdir().unwrap();
+        let out = OutDir::open(d.path()).unwrap();
+        std::fs::write(d.path().join("0002_y"), "x").unwrap();
+        std::fs::create_dir(d.path().join("f0.txt")).unwrap();
+        let e = out.check(&["f0.txt"], &["0002_y"]).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                ReportError::InTheWay {
+                    what: "a folder",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let e = out.check::<&str, _>(&[], &["0002_y"]).unwrap_err();
+        assert!(
+            matches!(e, ReportError::InTheWay { what: "a file", .. }),
+            "{e}"
+        );
+        // An earlier run's folder (its summary.json inside) is replaced.
+        out.write_folder("0003_z", &[("summary.json".into(), b"{}".to_vec())])
+            .unwrap();
+        out.write_folder("0003_z", &[("summary.json".into(), b"[]".to_vec())])
+            .unwrap();
+        assert_eq!(
+            std::fs::read_to_string(d.path().join("0003_z/summary.json")).unwrap(),
+            "[]"
+        );
     }
 
     #[test]

@@ -5,6 +5,7 @@
 
 use crate::html::{esc, percent_encode};
 use crate::{Chart, Figure, Series, fixed};
+use enginedyn_numerics::format::table_text;
 use enginedyn_pipeline::Summary;
 use std::fmt::Write as _;
 
@@ -101,7 +102,7 @@ pub fn count(n: usize, what: &str) -> String {
 /// The readable table of a batch or sweep (standard output without
 /// `--out`): one row per diagram or speed, the figures of `keys` (numbered
 /// columns, their labels and units listed below), failed rows with their
-/// error. `eta` is the mechanical efficiency the effective figures carry.
+/// error; names and errors on one line, control characters escaped. `eta` is the mechanical efficiency the effective figures carry.
 pub fn key_table(first: &str, keys: &[&str], rows: &[KeyRow], eta: f64) -> String {
     let mut s = Summary::empty();
     s.mechanical_efficiency = eta;
@@ -112,12 +113,13 @@ pub fn key_table(first: &str, keys: &[&str], rows: &[KeyRow], eta: f64) -> Strin
     let body: Vec<Vec<String>> =
         rows.iter()
             .map(|r| {
-                let mut cells = vec![r.name.clone()];
+                // A name on one line: control characters escaped (`\n`).
+                let mut cells = vec![table_text(&r.name).into_owned()];
                 match &r.figures {
                     Some(f) => cells.extend(f.iter().zip(&cols).map(|(v, c)| {
                         v.map_or("—".to_string(), |x| fixed(x * c.scale, c.digits))
                     })),
-                    None => cells.push(format!("error: {}", r.error)),
+                    None => cells.push(format!("error: {}", table_text(&r.error))),
                 }
                 cells
             })
@@ -313,6 +315,32 @@ mod tests {
         assert!(t.contains("1500"), "{t}");
         assert!(!t.contains("-0.00"), "{t}");
         assert!(t.contains("error: line 3: bad"), "{t}");
+    }
+
+    /// A name with a line break or an escape stays on its row, escaped;
+    /// the columns keep their place.
+    #[test]
+    fn control_characters_print_escaped() {
+        let row = |name: &str, error: &str| KeyRow {
+            name: name.into(),
+            figures: error
+                .is_empty()
+                .then(|| key_figures(&KEY_FIGURES, &Summary::empty())),
+            error: error.into(),
+            folder: None,
+        };
+        let rows = [
+            row("new\nline.csv", ""),
+            row("plain.csv", ""),
+            row("bad\u{1b}[31m.csv", "line 1:\nbad"),
+        ];
+        let t = key_table("diagram", &KEY_FIGURES, &rows, 0.8);
+        let lines: Vec<&str> = t.lines().collect();
+        assert!(lines[1].starts_with("new\\nline.csv "), "{t}");
+        assert!(lines[2].starts_with("plain.csv "), "{t}");
+        assert_eq!(lines[3], "bad\\u{1b}[31m.csv  error: line 1:\\nbad", "{t}");
+        assert_eq!(lines[1].chars().count(), lines[2].chars().count(), "{t}");
+        assert!(!t.contains('\u{1b}'), "{t}");
     }
 
     /// Links are percent-encoded (`run#1` and `a?b` are path characters
