@@ -474,8 +474,8 @@ impl Key {
         }
         if self == Key::DampingRatio {
             expected.push_str(" (0.02 is typical of a crankshaft)");
-        } else {
-            expected.push_str(": beyond, the chain's frequencies overflow or lose all precision");
+        } else if value > 0.0 {
+            expected.push_str(": beyond, the computation overflows or loses all precision");
         }
         let hints = unit_hints(self, value, b.plausible);
         if !hints.is_empty() && value.is_finite() {
@@ -511,11 +511,10 @@ fn unit_hints(key: Key, value: f64, window: (f64, f64)) -> String {
             let x = value * factor;
             let inside = x >= window.0 && x <= window.1 && b.inside_hard(x);
             inside.then(|| {
-                let unit = if b.unit.is_empty() { "" } else { b.unit };
-                let shown = if unit.is_empty() {
+                let shown = if b.unit.is_empty() {
                     human(x)
                 } else {
-                    format!("{} {unit}", human(x))
+                    format!("{} {}", human(x), b.unit)
                 };
                 ((x / middle).ln().abs(), format!("{name} ({shown})"))
             })
