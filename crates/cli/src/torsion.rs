@@ -105,6 +105,12 @@ pub fn run(a: &TorsionArgs) -> Result<(), Failure> {
     let prepared = prepare(&file, engine, &spec, &resampled, &analysis, &opts)?;
     let study = enginedyn_pipeline::torsion::study(&prepared.train, &prepared.excitation, &rpms)
         .map_err(|e| study_failure(&file, e))?;
+    // Implausible values first, as warnings (they may mean a wrong
+    // result), then what was assumed.
+    let warnings = &prepared.train.warnings;
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
     let mut notes = prepared.train.notes.clone();
     notes.extend(prepared.notes.iter().cloned());
     if let Some(n) = &speed.note {
@@ -114,6 +120,7 @@ pub fn run(a: &TorsionArgs) -> Result<(), Failure> {
     for n in &notes {
         eprintln!("note: {n}");
     }
+    let notes: Vec<String> = warnings.iter().chain(&notes).cloned().collect();
     let doc = torsion_json(engine, &study, &opts, &notes);
     let text = serde_json::to_string_pretty(&doc).map_err(|e| Failure::data(e.to_string()))?;
     if let Some(dir) = &out {
@@ -380,7 +387,8 @@ pub fn report_extra(
             ]
         })
         .collect();
-    let mut notes = prepared.train.notes.clone();
+    let mut notes = prepared.train.warnings.clone();
+    notes.extend(prepared.train.notes.iter().cloned());
     notes.extend(study.notes.iter().cloned());
     let mut body = format!(
         "<p>The crankshaft as a chain of inertias on torsional springs from <code>[torsion]</code>, excited by this run's pressure and inertia torques, {} to {} rpm (<code>enginedyn torsion</code> writes modes.csv, torsion.csv and torsion.json).</p>\n",

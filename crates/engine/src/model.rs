@@ -40,6 +40,17 @@ pub enum EngineError {
         /// What is expected, with the bound.
         expected: String,
     },
+    /// A value outside its bounds, its key named at run time (an item of
+    /// a list: `torsion.journal_stiffness_nm_rad[3]`).
+    #[error("`{key}` = {value}: {expected}")]
+    InvalidItem {
+        /// The key, with the item's 1-based index for a list.
+        key: String,
+        /// The value as given.
+        value: String,
+        /// What is expected, with the bound.
+        expected: String,
+    },
     /// The crank mechanism cannot exist.
     #[error("{keys}: {source}")]
     Mechanism {

@@ -6,7 +6,7 @@
 //! speed ([`study`]).
 
 use crate::{Options, PipelineError, Tables, prepare};
-use enginedyn_engine::torsion::{PerItem, TorsionSpec, shaft_stiffness};
+use enginedyn_engine::torsion::{Key, PerItem, TorsionSpec, shaft_stiffness};
 use enginedyn_engine::{Engine, EngineError};
 use enginedyn_forces::{Setup, cylinder_forces};
 use enginedyn_ingest::Resampled;
@@ -40,6 +40,15 @@ pub struct Train {
     pub diameters: Vec<Option<f64>>,
     /// How each default was taken.
     pub notes: Vec<String>,
+    /// Values that look wrong but are computed
+    /// ([`TorsionSpec::plausibility_notes`]): each names its key and the
+    /// likely mistake.
+    pub warnings: Vec<String>,
+    /// The key each mass of the chain comes from, in the chain's order
+    /// (`torsion.throw_inertia_kg_m2[2]`, or what stood in for it).
+    pub mass_keys: Vec<String>,
+    /// The key each spring of the chain comes from, in the chain's order.
+    pub spring_keys: Vec<String>,
 }
 
 fn missing(key: &'static str, why: &'static str) -> EngineError {
@@ -66,6 +75,7 @@ pub fn crank_train(
 ) -> Result<Train, TorsionStudyError> {
     let t = engine.throws();
     let mut notes = Vec::new();
+    let warnings = spec.plausibility_notes(engine, rod_model);
     let throws = match &spec.throw_inertia {
         Some(v) => v.expand(t).ok_or_else(|| {
             count_error(
@@ -107,10 +117,40 @@ pub fn crank_train(
                 "one per journal between throws",
             )
         })?;
-        Ok(d.iter()
+        // Each diameter and length is within its bounds, but d⁴ / l need
+        // not be: the stiffness itself against the journal's bounds.
+        d.iter()
             .zip(&l)
-            .map(|(d, l)| shaft_stiffness(*d, *l))
-            .collect())
+            .enumerate()
+            .map(|(i, (d, l))| {
+                let k = shaft_stiffness(*d, *l);
+                Key::JournalStiffness.check(None, k).map_err(|_| {
+                    let item = |key: Key, v: &PerItem| {
+                        key.item(matches!(v, PerItem::Each(_)).then_some(i))
+                    };
+                    let (lo, hi) = Key::JournalStiffness.bound().hard;
+                    EngineError::InvalidItem {
+                        key: format!(
+                            "{}` and `{}",
+                            item(Key::JournalDiameter, spec.journal_diameter.as_ref().unwrap_or(&PerItem::One(0.0))),
+                            item(Key::JournalLength, spec.journal_length.as_ref().unwrap_or(&PerItem::One(0.0)))
+                        ),
+                        value: format!(
+                            "{} mm and {} mm, a stiffness G π d⁴ / (32 l) of {} N m/rad",
+                            human(d * 1e3),
+                            human(l * 1e3),
+                            human(k)
+                        ),
+                        expected: format!(
+                            "a stiffness from {} to {} N m/rad, {}'s bounds: beyond, the chain's frequencies overflow or lose all precision",
+                            human(lo),
+                            human(hi),
+                            Key::JournalStiffness.name()
+                        ),
+                    }
+                })
+            })
+            .collect()
     };
     let journal_all: Vec<f64> = match (
         &spec.journal_stiffness,
@@ -208,9 +248,10 @@ pub fn crank_train(
         }
     };
     if spec.damping_ratio == 0.0 {
-        notes.push(
-            "torsion.damping_ratio = 0: undamped resonances have no finite amplitude; the response near them is not trustworthy".into(),
-        );
+        notes.push(match spec.damper {
+            Some(d) if d.damping > 0.0 => "torsion.damping_ratio = 0: only the damper's damping_nm_s_rad damps the chain; a mode that barely moves the damper ring has almost no damping, and the response near its resonances is not trustworthy".into(),
+            _ => "torsion.damping_ratio = 0: undamped resonances have no finite amplitude; the response near them is not trustworthy".into(),
+        });
     }
     let train = CrankTrain {
         front,
@@ -273,11 +314,73 @@ pub fn crank_train(
             "the load coupling's stress is not computed (null): it is no crankshaft section".into(),
         );
     }
+    let (mass_keys, spring_keys) = chain_keys(spec, &train);
     Ok(Train {
         train,
         diameters,
         notes,
+        warnings,
+        mass_keys,
+        spring_keys,
     })
+}
+
+/// The key of each mass and spring of `train`'s chain, in the chain's
+/// order ([`CrankTrain::chain`]), with the 1-based index of a list's item;
+/// a default names the key that was not given.
+fn chain_keys(spec: &TorsionSpec, train: &CrankTrain) -> (Vec<String>, Vec<String>) {
+    let each = |v: &Option<PerItem>, i: usize| matches!(v, Some(PerItem::Each(_))).then_some(i);
+    let mut masses = Vec::new();
+    let mut springs = Vec::new();
+    if train.damper.is_some() {
+        masses.push(Key::DamperInertia.item(None));
+        springs.push(Key::DamperStiffness.item(None));
+    }
+    if train.front.is_some() {
+        masses.push(Key::FrontInertia.item(None));
+        springs.push(Key::FrontStiffness.item(None));
+    }
+    let journal = |i: usize| match (&spec.journal_stiffness, &spec.journal_diameter) {
+        (Some(_), _) | (None, None) => Key::JournalStiffness.item(each(&spec.journal_stiffness, i)),
+        (None, Some(_)) => format!(
+            "{} and {}",
+            Key::JournalDiameter.item(each(&spec.journal_diameter, i)),
+            Key::JournalLength.item(each(&spec.journal_length, i))
+        ),
+    };
+    let t = train.throws.len();
+    for k in 0..t {
+        masses.push(if spec.throw_inertia.is_some() {
+            Key::ThrowInertia.item(each(&spec.throw_inertia, k))
+        } else {
+            format!("{} (not given: estimated)", Key::ThrowInertia.item(None))
+        });
+        if k + 1 < t {
+            springs.push(journal(k));
+        }
+    }
+    springs.push(if spec.flywheel_stiffness.is_some() {
+        Key::FlywheelStiffness.item(None)
+    } else {
+        format!(
+            "{} (not given: {})",
+            Key::FlywheelStiffness.item(None),
+            journal(t.saturating_sub(2))
+        )
+    });
+    masses.push(if spec.flywheel_inertia.is_some() {
+        Key::FlywheelInertia.item(None)
+    } else {
+        format!(
+            "{} (not given: the sized flywheel)",
+            Key::FlywheelInertia.item(None)
+        )
+    });
+    if train.load.is_some() {
+        springs.push(Key::LoadStiffness.item(None));
+        masses.push(Key::LoadInertia.item(None));
+    }
+    (masses, springs)
 }
 
 /// Each throw's excitation by order, gas and inertia apart.
@@ -430,6 +533,55 @@ fn vibratory(theta: &[Complex64], inertia: &[f64], total: f64, at: usize) -> Com
     theta[at] - mean
 }
 
+/// Refuses a chain whose natural frequencies in reach of the orders at
+/// `rpms` cannot be resolved: every `ω_n²` is known to about `n ε` times
+/// the largest ([`enginedyn_torsion::Chain::frequency_floor`]), so a mass
+/// that alone rings at an absurd frequency (an inertia of 1e-12 kg m² on
+/// a crankshaft's springs) leaves the low modes with no good digits. The
+/// error names that mass's key and its springs'.
+fn resolvable(
+    train: &Train,
+    chain: &enginedyn_torsion::Chain,
+    modes: &Modes,
+    excitation: &Excitation,
+    rpms: &[f64],
+) -> Result<(), EngineError> {
+    // Below this ω² a mode has fewer than six good digits.
+    let fuzzy = 1e6 * chain.frequency_floor();
+    let slowest = rpms.iter().copied().fold(f64::INFINITY, f64::min);
+    let lowest = excitation.orders.first().copied().unwrap_or(0.0) * slowest * PI / 30.0;
+    if !(lowest * lowest <= fuzzy) {
+        return Ok(());
+    }
+    let Some(m) = (1..modes.len()).find(|&m| modes.omega[m].powi(2) < fuzzy) else {
+        return Ok(());
+    };
+    let (i, ratio) = chain.stiffest_mass();
+    let hz = |w2: f64| human(w2.max(0.0).sqrt() / (2.0 * PI));
+    let mut springs: Vec<&str> = [i.checked_sub(1), Some(i)]
+        .into_iter()
+        .flatten()
+        .filter_map(|s| train.spring_keys.get(s).map(String::as_str))
+        .collect();
+    springs.dedup();
+    Err(EngineError::InvalidItem {
+        key: train
+            .mass_keys
+            .get(i)
+            .cloned()
+            .unwrap_or_else(|| format!("mass {}", i + 1)),
+        value: format!("{} kg m²", human(chain.inertia()[i])),
+        expected: format!(
+            "on its springs ({}) this mass alone rings at {} Hz, so the chain's natural frequencies below about {} Hz cannot be resolved in double precision, and mode {m} (about {} Hz) is among them, in reach of the orders from {} Hz at these speeds: check the units of these keys",
+            springs.join(", "),
+            hz(ratio),
+            hz(fuzzy),
+            hz(modes.omega[m].powi(2)),
+            hz(lowest * lowest)
+        ),
+    })
+}
+
 /// The response of `train` to `excitation` at each speed of `rpms`.
 pub fn study(
     train: &Train,
@@ -438,6 +590,7 @@ pub fn study(
 ) -> Result<Study, TorsionStudyError> {
     let (chain, layout) = train.train.chain()?;
     let solver = Solver::new(&chain)?;
+    resolvable(train, &chain, solver.modes(), excitation, rpms)?;
     let inertia = chain.inertia().to_vec();
     let stiffness = chain.stiffness().to_vec();
     let total: f64 = inertia.iter().sum();

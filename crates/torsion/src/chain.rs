@@ -51,6 +51,17 @@ impl Chain {
                 "above 0 N m/rad",
             )?;
         }
+        // Each mass's k/J (the diagonal of M^-1/2 K M^-1/2) finite: values
+        // each finite but far apart (1e308 N m/rad, 1e-300 kg m²) overflow.
+        for i in 0..n {
+            let ratio = springs_at(&stiffness, i) / inertia[i];
+            check(
+                || format!("stiffness over inertia of mass {}", i + 1),
+                ratio,
+                true,
+                "a finite (k_left + k_right) / J: springs and inertia too far apart for double precision",
+            )?;
+        }
         Ok(Self {
             spring_damping: vec![0.0; n - 1],
             mass_damping: vec![0.0; n],
@@ -161,6 +172,30 @@ impl Chain {
         &self.mass_damping
     }
 
+    /// The mass (0-based) with the largest `(k_left + k_right) / J` (s⁻²),
+    /// and that ratio: the diagonal of `M^-1/2 K M^-1/2`, so the largest
+    /// `ω_n²` lies between it and twice it.
+    pub fn stiffest_mass(&self) -> (usize, f64) {
+        (0..self.len())
+            .map(|i| (i, springs_at(&self.stiffness, i) / self.inertia[i]))
+            .fold((0, 0.0), |best, x| if x.1 > best.1 { x } else { best })
+    }
+
+    /// What the eigen solver cannot resolve (s⁻²): every `ω_n²` of
+    /// [`Chain::modes`] is known to about `n ε` times the largest, so a
+    /// mode with `ω_n²` near this floor has lost all its precision, and one
+    /// under `1e6` times it has fewer than six good digits.
+    pub fn frequency_floor(&self) -> f64 {
+        self.len() as f64 * f64::EPSILON * 2.0 * self.stiffest_mass().1
+    }
+
+    /// Whether the chain has any damping (modal or discrete).
+    pub fn is_damped(&self) -> bool {
+        self.damping_ratio > 0.0
+            || self.spring_damping.iter().any(|&c| c > 0.0)
+            || self.mass_damping.iter().any(|&c| c > 0.0)
+    }
+
     /// The tridiagonal stiffness matrix `K`.
     pub fn stiffness_matrix(&self) -> DMatrix<f64> {
         tridiagonal(self.len(), &self.stiffness)
@@ -212,6 +247,12 @@ impl Chain {
     }
 }
 
+/// The springs on mass `i` of a chain with springs `s`: `s[i-1] + s[i]`.
+fn springs_at(s: &[f64], i: usize) -> f64 {
+    let left = if i > 0 { s[i - 1] } else { 0.0 };
+    left + s.get(i).copied().unwrap_or(0.0)
+}
+
 /// The `n × n` chain matrix of springs (or dampers) `s` between neighbours.
 fn tridiagonal(n: usize, s: &[f64]) -> DMatrix<f64> {
     let mut k = DMatrix::<f64>::zeros(n, n);
@@ -259,6 +300,8 @@ impl Modes {
 #[derive(Debug, Clone)]
 pub struct Solver {
     inertia: Vec<f64>,
+    damped: bool,
+    stiffest: f64,
     k: DMatrix<f64>,
     c: DMatrix<f64>,
     modes: Modes,
@@ -294,6 +337,8 @@ impl Solver {
         }
         Ok(Self {
             inertia: j.to_vec(),
+            damped: chain.is_damped(),
+            stiffest: chain.stiffest_mass().1,
             k: chain.stiffness_matrix(),
             c,
             modes,
@@ -323,8 +368,11 @@ impl Solver {
     ///
     /// [`TorsionError::Shape`] for a torque vector of the wrong length,
     /// [`TorsionError::Invalid`] for `omega` not above 0,
-    /// [`TorsionError::Singular`] when the system cannot be solved (an
-    /// undamped resonance hit exactly).
+    /// [`TorsionError::Singular`] when an undamped chain's system is
+    /// singular (an undamped resonance hit exactly);
+    /// [`TorsionError::Precision`] when the system overflows, or a damped
+    /// chain's cannot be solved (never a resonance: its values are too far
+    /// apart for double precision).
     pub fn respond(
         &self,
         omega: f64,
@@ -349,10 +397,25 @@ impl Solver {
             let mass = if r == s { w2 * self.inertia[r] } else { 0.0 };
             Complex64::new(self.k[(r, s)] - mass, omega * self.c[(r, s)])
         });
+        let precision = TorsionError::Precision {
+            omega,
+            stiffest: self.stiffest,
+            damped: self.damped,
+        };
+        let finite = |v: &Complex64| v.re.is_finite() && v.im.is_finite();
+        // Only an undamped chain with every entry finite can be singular
+        // at a resonance; anything else that fails is precision lost.
+        let failure = if self.damped || !z.iter().all(finite) {
+            precision
+        } else {
+            TorsionError::Singular { omega }
+        };
         let b = DVector::<Complex64>::from_column_slice(torque);
-        let x = z.lu().solve(&b).ok_or(TorsionError::Singular { omega })?;
-        if x.iter().any(|v| !(v.re.is_finite() && v.im.is_finite())) {
-            return Err(TorsionError::Singular { omega });
+        let Some(x) = z.lu().solve(&b) else {
+            return Err(failure);
+        };
+        if !x.iter().all(finite) {
+            return Err(failure);
         }
         Ok(x.iter().copied().collect())
     }

@@ -81,13 +81,30 @@ pub enum TorsionError {
     /// The eigen solver did not converge (never seen on a chain).
     #[error("the symmetric eigen solver did not converge")]
     Eigen,
-    /// The dynamic stiffness is singular: an undamped resonance hit exactly.
+    /// The dynamic stiffness of an undamped chain is singular: an undamped
+    /// resonance hit exactly.
     #[error(
-        "the dynamic stiffness is singular at {omega} rad/s: an undamped resonance (give a damping ratio above 0)"
+        "the dynamic stiffness is singular at {omega} rad/s: an undamped resonance hit exactly (give a damping ratio above 0)"
     )]
     Singular {
         /// The excitation's angular frequency (rad/s).
         omega: f64,
+    },
+    /// The dynamic stiffness cannot be solved in double precision, though
+    /// the chain is damped (so no resonance is the cause) or its entries
+    /// overflow: its inertias, stiffnesses and the frequency are too far
+    /// apart.
+    #[error(
+        "the dynamic stiffness cannot be solved at {omega} rad/s: {}the chain's inertias and stiffnesses (k/J up to {stiffest} s⁻²) and the frequency are too far apart for double precision; check their units",
+        if *damped { "the chain is damped, so no resonance is the cause: " } else { "" }
+    )]
+    Precision {
+        /// The excitation's angular frequency (rad/s).
+        omega: f64,
+        /// The largest `(k_left + k_right) / J` of the chain's masses (s⁻²).
+        stiffest: f64,
+        /// Whether the chain has any damping.
+        damped: bool,
     },
 }
 

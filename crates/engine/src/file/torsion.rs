@@ -1,9 +1,11 @@
 //! `[torsion]` of the engine file (INTERFACE.md, "Torsion"): keys in the
-//! file's units, each checked here; the chain is built from them in
-//! `enginedyn_pipeline::torsion`.
+//! file's units, each checked here against its hard bounds
+//! ([`crate::torsion::BOUNDS`]); the chain is built from them in
+//! `enginedyn_pipeline::torsion`, which notes implausible values
+//! ([`TorsionSpec::plausibility_notes`]).
 
 use super::{EngineError, Raw, bad};
-use crate::torsion::{DamperSpec, PerItem, TorsionSpec};
+use crate::torsion::{DamperSpec, Key, PerItem, TorsionSpec};
 use serde::Deserialize;
 use std::path::Path;
 
@@ -54,97 +56,62 @@ pub fn parse_torsion(text: &str) -> Result<Option<TorsionSpec>, EngineError> {
     raw.torsion.map(spec).transpose()
 }
 
-/// A value above 0 (or, with `zero_ok`, 0 or more), finite.
-fn positive(key: &'static str, v: f64, zero_ok: bool) -> Result<f64, EngineError> {
-    let ok = v.is_finite() && (v > 0.0 || (zero_ok && v >= 0.0));
-    if ok {
-        Ok(v)
-    } else {
-        Err(bad(key, v, if zero_ok { "0 or more" } else { "above 0" }))
-    }
-}
-
-fn per_item(
-    key: &'static str,
-    v: Option<RawPerItem>,
-    scale: f64,
-) -> Result<Option<PerItem>, EngineError> {
+fn per_item(key: Key, v: Option<RawPerItem>) -> Result<Option<PerItem>, EngineError> {
     Ok(match v {
         None => None,
-        Some(RawPerItem::One(x)) => Some(PerItem::One(positive(key, x, false)? * scale)),
+        Some(RawPerItem::One(x)) => Some(PerItem::One(key.check(None, x)?)),
         Some(RawPerItem::Each(list)) => {
             if list.is_empty() {
-                return Err(bad(key, "[]", "one value, or one per item"));
+                return Err(bad(key.name(), "[]", "one value, or one per item"));
             }
             let checked: Result<Vec<f64>, _> = list
                 .iter()
-                .map(|&x| positive(key, x, false).map(|x| x * scale))
+                .enumerate()
+                .map(|(i, &x)| key.check(Some(i), x))
                 .collect();
             Some(PerItem::Each(checked?))
         }
     })
 }
 
+/// Every number against its bounds ([`crate::torsion::BOUNDS`], the one
+/// table): a value outside is refused naming the key, with a list's
+/// 1-based index.
 fn spec(raw: RawTorsion) -> Result<TorsionSpec, EngineError> {
-    let opt = |key, v: Option<f64>| v.map(|x| positive(key, x, false)).transpose();
-    let damping_ratio = raw.damping_ratio.unwrap_or(0.02);
-    if !(damping_ratio.is_finite() && (0.0..1.0).contains(&damping_ratio)) {
-        return Err(bad(
-            "torsion.damping_ratio",
-            damping_ratio,
-            "a modal damping ratio from 0 to below 1 (0.02 is typical of a crankshaft)",
-        ));
-    }
+    let opt = |key: Key, v: Option<f64>| v.map(|x| key.check(None, x)).transpose();
     let damper = match raw.damper {
         None => None,
         Some(d) => Some(DamperSpec {
-            inertia: positive(
-                "torsion.damper.inertia_kg_m2",
+            inertia: Key::DamperInertia.check(
+                None,
                 d.inertia_kg_m2.ok_or(EngineError::Missing {
                     key: "torsion.damper.inertia_kg_m2",
                     why: "the damper ring's inertia",
                 })?,
-                false,
             )?,
-            stiffness: positive(
-                "torsion.damper.stiffness_nm_rad",
+            stiffness: Key::DamperStiffness.check(
+                None,
                 d.stiffness_nm_rad.ok_or(EngineError::Missing {
                     key: "torsion.damper.stiffness_nm_rad",
                     why: "the spring between damper ring and hub",
                 })?,
-                false,
             )?,
-            damping: positive(
-                "torsion.damper.damping_nm_s_rad",
-                d.damping_nm_s_rad.unwrap_or(0.0),
-                true,
-            )?,
+            damping: Key::DamperDamping.check(None, d.damping_nm_s_rad.unwrap_or(0.0))?,
         }),
     };
     Ok(TorsionSpec {
-        throw_inertia: per_item("torsion.throw_inertia_kg_m2", raw.throw_inertia_kg_m2, 1.0)?,
-        journal_stiffness: per_item(
-            "torsion.journal_stiffness_nm_rad",
-            raw.journal_stiffness_nm_rad,
-            1.0,
-        )?,
-        journal_diameter: per_item("torsion.journal_diameter_mm", raw.journal_diameter_mm, 1e-3)?,
-        journal_length: per_item("torsion.journal_length_mm", raw.journal_length_mm, 1e-3)?,
-        front_inertia: positive(
-            "torsion.front_inertia_kg_m2",
-            raw.front_inertia_kg_m2.unwrap_or(0.0),
-            true,
-        )?,
-        front_stiffness: opt("torsion.front_stiffness_nm_rad", raw.front_stiffness_nm_rad)?,
-        flywheel_inertia: opt("torsion.flywheel_inertia_kg_m2", raw.flywheel_inertia_kg_m2)?,
-        flywheel_stiffness: opt(
-            "torsion.flywheel_stiffness_nm_rad",
-            raw.flywheel_stiffness_nm_rad,
-        )?,
-        load_inertia: opt("torsion.load_inertia_kg_m2", raw.load_inertia_kg_m2)?,
-        load_stiffness: opt("torsion.load_stiffness_nm_rad", raw.load_stiffness_nm_rad)?,
-        damping_ratio,
+        throw_inertia: per_item(Key::ThrowInertia, raw.throw_inertia_kg_m2)?,
+        journal_stiffness: per_item(Key::JournalStiffness, raw.journal_stiffness_nm_rad)?,
+        journal_diameter: per_item(Key::JournalDiameter, raw.journal_diameter_mm)?,
+        journal_length: per_item(Key::JournalLength, raw.journal_length_mm)?,
+        front_inertia: Key::FrontInertia.check(None, raw.front_inertia_kg_m2.unwrap_or(0.0))?,
+        front_stiffness: opt(Key::FrontStiffness, raw.front_stiffness_nm_rad)?,
+        flywheel_inertia: opt(Key::FlywheelInertia, raw.flywheel_inertia_kg_m2)?,
+        flywheel_stiffness: opt(Key::FlywheelStiffness, raw.flywheel_stiffness_nm_rad)?,
+        load_inertia: opt(Key::LoadInertia, raw.load_inertia_kg_m2)?,
+        load_stiffness: opt(Key::LoadStiffness, raw.load_stiffness_nm_rad)?,
+        damping_ratio: Key::DampingRatio.check(None, raw.damping_ratio.unwrap_or(0.02))?,
         damper,
-        shaft_diameter: per_item("torsion.shaft_diameter_mm", raw.shaft_diameter_mm, 1e-3)?,
+        shaft_diameter: per_item(Key::ShaftDiameter, raw.shaft_diameter_mm)?,
     })
 }
