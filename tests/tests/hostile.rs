@@ -519,7 +519,7 @@ fn hostile_inputs_and_unattended_runs() {
     ]);
     assert_eq!(r.code(), Some(0), "{}", r.stderr());
     let index = std::fs::read_to_string(out.join("index.html")).unwrap();
-    assert!(index.contains("href=\"0001_a%3Fb/report.html\""), "{index}");
+    assert!(index.contains("href=\"0001_a_b/report.html\""), "{index}");
     assert!(
         index.contains("href=\"0002_run%231/report.html\""),
         "{index}"

@@ -375,7 +375,7 @@ pub(crate) fn speeds(spec: &str) -> Result<Vec<f64>, Failure> {
     };
     let parts: Vec<f64> = spec
         .split(':')
-        .map(|x| x.trim().parse::<f64>())
+        .map(|x| enginedyn_ingest::read_number(x, false))
         .collect::<Result<_, _>>()
         .map_err(|_| bad())?;
     let [from, to, step] = parts[..] else {
