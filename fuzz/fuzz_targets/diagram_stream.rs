@@ -7,8 +7,8 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    // The first byte picks the CLI option combination.
-    if let Some((&pick, rest)) = data.split_first() {
-        enginedyn_tests::fuzz::diagram_stream(rest, pick);
+    // The first two bytes pick the CLI option combination.
+    if let [pick, more, rest @ ..] = data {
+        enginedyn_tests::fuzz::diagram_stream(rest, *pick, *more);
     }
 });

@@ -55,10 +55,45 @@ fn options(pick: u8) -> (ParseOptions, GridOptions) {
     (parse, grid)
 }
 
+/// [`options`], and the second round's flags (issue 29) picked by `more`:
+/// a speed that may contradict a pulse, `--tdc-time` beyond any record, a
+/// gain a million times too large, a skipped line, a second sheet, the
+/// widest `--max-gap`.
+fn options2(pick: u8, more: u8) -> (ParseOptions, GridOptions) {
+    let (mut parse, mut grid) = options(pick);
+    if more & 1 != 0 {
+        parse.rpm = Some(4900.0);
+    }
+    if more & 2 != 0 {
+        parse.tdc_time = Some(1e9);
+        parse.rpm.get_or_insert(1500.0);
+    }
+    if more & 4 != 0 {
+        parse.gain_bar_per_v = Some(1e6);
+        grid.peg = Some(Peg::Bar(1e5));
+        parse.relative = true;
+    }
+    if more & 8 != 0 {
+        parse.skip_lines = 1;
+    }
+    if more & 16 != 0 {
+        parse.sheet = Some(enginedyn_ingest::Sheet::Index(2));
+    }
+    if more & 32 != 0 {
+        parse.max_gap_deg = enginedyn_ingest::MAX_GAP_BOUND_DEG;
+    }
+    (parse, grid)
+}
+
+/// The highest pressure (Pa) a grid may hold: the plausibility pass's
+/// 1000 bar, plus the pegging offset and an interpolant's overshoot.
+const MAX_GRID_PA: f64 = 1.1e8;
+
 /// `data` through the streaming reader onto a 4° grid, under the option
-/// combination `pick`: an error, or finite values on a whole grid.
-pub fn diagram_stream(data: &[u8], pick: u8) {
-    let (parse, grid) = options(pick);
+/// combination `pick` and `more`: an error, or finite values within the
+/// plausibility bound on a whole grid.
+pub fn diagram_stream(data: &[u8], pick: u8, more: u8) {
+    let (parse, grid) = options2(pick, more);
     let Ok(r) = enginedyn_ingest::load(data, &parse, &grid) else {
         return;
     };
@@ -69,6 +104,10 @@ pub fn diagram_stream(data: &[u8], pick: u8) {
         assert!(
             trace.iter().all(|p| p.is_finite()),
             "a non-finite value on the grid"
+        );
+        assert!(
+            trace.iter().all(|p| *p <= MAX_GRID_PA),
+            "a pressure above the plausibility bound on the grid"
         );
     }
 }
