@@ -238,6 +238,33 @@ fn words(name: &str) -> (Vec<String>, Option<String>) {
     (out, unit)
 }
 
+/// True when every cell of a row that is not empty or skipped is a unit
+/// alone (`deg`, `bar`, `[V]`, `-`): a units row, which belongs to the
+/// names row above it (INTERFACE.md, "Units are not angles").
+pub(crate) fn units_row(cells: &[String]) -> bool {
+    const OTHER: &[&str] = &[
+        "deg", "degca", "degkw", "ca", "kw", "rad", "grad", "n", "nm", "rpm", "1min", "umin",
+        "min1", "hz", "khz", "degc", "c", "k", "a", "ma", "w", "kw", "percent", "",
+    ];
+    let mut any = false;
+    for c in cells {
+        let t = c.trim();
+        if t.is_empty() || t == "_" || t == "-" || t == "%" {
+            continue;
+        }
+        let u = normal_unit(t.trim_matches(['[', ']', '(', ')']));
+        let known = [PRESSURE_UNITS, VOLT_UNITS, VOLUME_UNITS, TIME_UNITS]
+            .iter()
+            .any(|table| factor(table, &u).is_some())
+            || OTHER.contains(&u.as_str());
+        if !known {
+            return false;
+        }
+        any = true;
+    }
+    any
+}
+
 fn normal_unit(u: &str) -> String {
     u.chars()
         .flat_map(char::to_lowercase)
@@ -386,7 +413,9 @@ pub(crate) fn recognise(raw: &str) -> Result<Role, Unread> {
             after_cyl = false;
             continue;
         }
-        after_cyl = CYLINDER_WORDS.contains(&x.as_str()) || x == "c";
+        // `PCYL1`, `PZYL1`: the pressure word that names a cylinder.
+        after_cyl =
+            CYLINDER_WORDS.contains(&x.as_str()) || matches!(x.as_str(), "c" | "pcyl" | "pzyl");
         names.push(x);
     }
     let has = |set: &[&str]| names.iter().any(|n| set.contains(n));

@@ -319,6 +319,17 @@ fn header(text: &[TextLine], k: usize, line: usize) -> Result<(Roles, Option<usi
         Ok(())
     };
     let names = fit(&text[last]);
+    // A units row under a names row (`CA | PCYL1` over `deg | bar`): one
+    // header, the names with their units, before the units alone.
+    if last > 0 && crate::columns::units_row(&names) {
+        let above = fit(&text[last - 1]);
+        if above.len() == names.len()
+            && let Ok(r) = Roles::resolve(&join_units(&above, &names), false, text[last - 1].line)
+        {
+            check(&above, text[last - 1].line)?;
+            return Ok((r, Some(last - 1)));
+        }
+    }
     let first_try = Roles::resolve(&names, false, text[last].line);
     if let Ok(r) = first_try {
         check(&names, text[last].line)?;
@@ -328,17 +339,7 @@ fn header(text: &[TextLine], k: usize, line: usize) -> Result<(Roles, Option<usi
         // Names, then units on the next row.
         let (a, b) = (fit(&text[last - 1]), fit(&text[last]));
         if a.len() == b.len() {
-            let joined: Vec<String> = a
-                .iter()
-                .zip(&b)
-                .map(|(n, u)| {
-                    if u == "_" || u.is_empty() {
-                        n.clone()
-                    } else {
-                        format!("{n} [{}]", u.trim_matches(['[', ']', '(', ')']))
-                    }
-                })
-                .collect();
+            let joined = join_units(&a, &b);
             if let Ok(r) = Roles::resolve(&joined, false, text[last - 1].line) {
                 check(&joined, text[last - 1].line)?;
                 return Ok((r, Some(last - 1)));
@@ -352,6 +353,21 @@ fn header(text: &[TextLine], k: usize, line: usize) -> Result<(Roles, Option<usi
     Err(first_try
         .err()
         .unwrap_or_else(|| IngestError::Data("no header".into())))
+}
+
+/// Names with the units of the row below them: `PCYL1 [bar]`.
+fn join_units(names: &[String], units: &[String]) -> Vec<String> {
+    names
+        .iter()
+        .zip(units)
+        .map(|(n, u)| {
+            if u == "_" || u.is_empty() || u == "-" {
+                n.clone()
+            } else {
+                format!("{n} [{}]", u.trim_matches(['[', ']', '(', ')']))
+            }
+        })
+        .collect()
 }
 
 /// The speed a comment line gives: `None` when the comment is not a speed
