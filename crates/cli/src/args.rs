@@ -62,6 +62,15 @@ pub enum IntegrationArg {
     Simpson,
 }
 
+/// `--cylinder-axis`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CylinderAxisArg {
+    /// Every cylinder over cylinder 1's crank angle.
+    Shared,
+    /// Each cylinder over its own angle from its own firing TDC.
+    Own,
+}
+
 /// Where p–V data starts (`--pv-start`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
 pub enum PvStart {
@@ -194,6 +203,10 @@ pub struct MethodArgs {
 /// How the diagram file is read.
 #[derive(Debug, Clone, Args)]
 pub struct DiagramArgs {
+    /// Per-cylinder traces over cylinder 1's crank angle (`shared`) or each
+    /// over its own from its firing TDC (`own`) [default: from the peaks].
+    #[arg(long, value_enum, value_name = "shared|own")]
+    pub cylinder_axis: Option<CylinderAxisArg>,
     /// The file's angle value that is firing TDC.
     #[arg(long, value_name = "X", allow_hyphen_values = true, value_parser = parse_tdc)]
     pub tdc_deg: Option<f64>,

@@ -78,6 +78,16 @@ pub fn diagram_options(
         cylinder,
         pv_start_bdc,
         max_cylinder: engine.cylinders(),
+        firing_deg: engine
+            .firing_angles()
+            .iter()
+            .map(|t| t.to_degrees())
+            .collect(),
+        cylinder_axis: d.cylinder_axis.map(|a| match a {
+            crate::args::CylinderAxisArg::Shared => enginedyn_ingest::CylinderAxis::Shared,
+            crate::args::CylinderAxisArg::Own => enginedyn_ingest::CylinderAxis::Own,
+        }),
+        as_cylinder: 0,
     };
     let mut grid = GridOptions {
         step_deg: step,
@@ -223,7 +233,13 @@ fn merge_per_cylinder(files: Vec<(String, Resampled)>) -> Result<Resampled, Fail
         first.cycles = first.cycles.min(r.cycles);
         first.stats.extend(r.stats);
         for n in r.notes {
-            if !first.notes.contains(&n) {
+            // One axis note for the files (each file's says the same kind).
+            let same_kind = n.starts_with("cylinder traces ")
+                && first
+                    .notes
+                    .iter()
+                    .any(|m| m.starts_with("cylinder traces "));
+            if !first.notes.contains(&n) && !same_kind {
                 first.notes.push(n);
             }
         }
@@ -353,12 +369,19 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     if let Some(tolerance) = a.tolerance {
         return run_within(a, &loaded, &shown, &files, &parse, &grid, tolerance);
     }
+    let several = files.len() > 1;
     let loaded_files = files
         .iter()
-        .map(|p| {
+        .enumerate()
+        .map(|(k, p)| {
             let name = p
                 .as_deref()
                 .map_or(shown.clone(), |p| p.display().to_string());
+            // Several files: the k-th is cylinder k + 1's (its axis judged so).
+            let parse = ParseOptions {
+                as_cylinder: if several { k + 1 } else { 0 },
+                ..parse.clone()
+            };
             Ok((name, load_diagram(p.as_deref(), &parse, &grid)?))
         })
         .collect::<Result<Vec<_>, Failure>>()?;
@@ -412,9 +435,15 @@ fn run_within(
     grid: &GridOptions,
     tolerance: f64,
 ) -> Result<(), Failure> {
+    let several = files.len() > 1;
     let diagrams = files
         .iter()
-        .map(|p| {
+        .enumerate()
+        .map(|(k, p)| {
+            let parse = &ParseOptions {
+                as_cylinder: if several { k + 1 } else { 0 },
+                ..parse.clone()
+            };
             let d = match p {
                 Some(p) => parse_diagram(p, parse)?,
                 None => enginedyn_ingest::parse(EXAMPLE_DIAGRAM.as_bytes(), parse)

@@ -19,6 +19,7 @@
 use enginedyn_kinematics::Cylinder;
 use std::io::BufRead;
 
+mod axis;
 mod columns;
 mod error;
 mod fast;
@@ -35,6 +36,7 @@ mod text;
 mod time;
 mod trace;
 
+pub use axis::CylinderAxis;
 pub use columns::pressure_unit;
 pub use error::IngestError;
 pub use grid::{Accumulator, CycleStats, GridOptions, Peg, PegReport, Resampled, mean_std};
@@ -80,6 +82,15 @@ pub struct ParseOptions {
     /// The speed given on the command line (rpm), for a time record without
     /// a TDC pulse.
     pub rpm: Option<f64>,
+    /// Each cylinder's firing angle (deg, cylinder 1's 0), for deciding
+    /// whether per-cylinder traces share cylinder 1's axis; empty when the
+    /// engine is not known.
+    pub firing_deg: Vec<f64>,
+    /// `--cylinder-axis`: the axis decision, not taken from the peaks.
+    pub cylinder_axis: Option<CylinderAxis>,
+    /// The file holds this cylinder's traces (one of several `--diagram`
+    /// files); 0 when it names its own cylinders or stands for all.
+    pub as_cylinder: usize,
 }
 
 /// A workbook's sheet (`--sheet NAME|N`).
@@ -124,6 +135,9 @@ impl ParseOptions {
             tdc_time: None,
             gain_bar_per_v: None,
             rpm: None,
+            firing_deg: Vec::new(),
+            cylinder_axis: None,
+            as_cylinder: 0,
         }
     }
 }

@@ -248,6 +248,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
         }
         self.out.labels = roles.labels.clone();
         self.out.volts = roles.volts;
+        self.out.time = matches!(roles.axis, Axis::Time(_));
         self.head.quantity = roles.quantity;
         self.head.pv = matches!(roles.axis, Axis::Volume(_));
         // Volts are relative, so `value_scale` refuses them unless pegged:
@@ -495,6 +496,10 @@ pub(crate) struct Emitter<'o, F> {
     pub volts: bool,
     /// The traces are p–V data (placed on angles by volume).
     pv: bool,
+    /// The traces come from a time record (its own firing-TDC rule).
+    pub time: bool,
+    /// Where each trace's firing TDC lies (the 360° rule, the cylinders' axis).
+    aligner: crate::axis::Aligner,
 }
 
 impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
@@ -513,6 +518,8 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             labels: Vec::new(),
             volts: false,
             pv: false,
+            time: false,
+            aligner: crate::axis::Aligner::new(opts),
         }
     }
 
@@ -552,10 +559,21 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             absolute: self.absolute,
             gauge: opts.gauge,
         };
-        let (tr, c) = trace::finish(tr, opts.cycle_deg, q, &ctx).map_err(|e| match e {
+        let (mut tr, mut c) = trace::finish(tr, opts.cycle_deg, q, &ctx).map_err(|e| match e {
             IngestError::Data(m) => at(line, None, m),
             e => e,
         })?;
+        if self
+            .aligner
+            .align(&mut tr, q, self.time, pv)
+            .map_err(|e| match e {
+                IngestError::Data(m) => at(line, None, m),
+                e => e,
+            })?
+        {
+            // Moved: its steps now include the joined ends.
+            c.steps = None;
+        }
         if c.below_zero.0 > 0 {
             self.below.0 += c.below_zero.0;
             self.below.1 += 1;
@@ -702,6 +720,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             ));
         }
         head.notes.append(&mut self.pv_notes);
+        head.notes.extend(self.aligner.notes());
         Ok(())
     }
 }

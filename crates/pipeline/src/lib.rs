@@ -188,6 +188,33 @@ fn cycle_summary(r: &Resampled) -> Option<CycleSummary> {
     })
 }
 
+/// What the cycle statistics' spread is over, when it is not cycle to
+/// cycle of one cylinder: traces of several cylinders mix the spread
+/// between cylinders into it.
+fn spread_note(r: &Resampled) -> Option<String> {
+    let st = &r.stats;
+    if st.len() < 2 {
+        return None;
+    }
+    let mut cylinders: Vec<i64> = st.iter().map(|s| s.cylinder).filter(|&c| c > 0).collect();
+    cylinders.sort_unstable();
+    cylinders.dedup();
+    let k = cylinders.len();
+    if k < 2 {
+        return None;
+    }
+    Some(if st.len() == k {
+        format!(
+            "imep_std_bar, imep_cov and the peak-pressure spread are over {k} cylinders, one cycle each: cylinder to cylinder, not cycle to cycle"
+        )
+    } else {
+        format!(
+            "imep_std_bar, imep_cov and the peak-pressure spread are over {} traces of {k} cylinders: cylinder to cylinder and cycle to cycle together",
+            st.len()
+        )
+    })
+}
+
 /// Checks the speed and grid, applies the rod model; returns the engine to
 /// use, the grid step (rad) and the notes so far.
 fn prepare(
@@ -429,6 +456,11 @@ pub fn analyse_with(
     } else {
         None
     };
+    if opts.scope > Scope::Keys
+        && let Some(n) = spread_note(pressure)
+    {
+        notes.push(n);
+    }
     let forces = all.into_iter().next().unwrap_or_default();
     let parts = Parts {
         h,

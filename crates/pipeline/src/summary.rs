@@ -521,7 +521,14 @@ pub const KEYS: &[Key] = &[
     },
     Key {
         key: "imep_cov",
-        shown: shown(DATA, "IMEP cycle-to-cycle CoV", "%", 100.0, 2, Basis::None),
+        shown: shown(
+            DATA,
+            "IMEP CoV (over cycles, or cylinders)",
+            "%",
+            100.0,
+            2,
+            Basis::None,
+        ),
         get: stat!(imep_cov),
     },
     Key {
