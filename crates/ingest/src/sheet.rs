@@ -7,15 +7,15 @@
 //! - stop the command with a panic, or print one: the whole read runs inside
 //!   one `catch_unwind` with panic messages silenced for this thread
 //!   ([`guarded`]); a panic is this file's error;
-//! - unpack without end: a ZIP part (a sheet, the shared strings) that says it
-//!   unpacks to more than [`MAX_SHEET_BYTES`] is refused before calamine opens
-//!   it, and the `zip` crate fails any part that unpacks to more than it says;
-//!   the chosen .xlsx sheet is also unpacked a second time as calamine reads it
-//!   ([`Watch`]), which counts its bytes and its empty `<row>` elements;
+//! - unpack without end, or into memory: every ZIP part calamine reads is
+//!   unpacked a second time, in step with it ([`Watch`]), counting its bytes
+//!   (at most [`MAX_SHEET_BYTES`]: the declared size may lie) and the
+//!   longest stretch of XML calamine would hold at once (a text or a tag, at
+//!   most [`MAX_XML_SPAN`]); past either, calamine's next read fails;
 //! - hold a worker on empty rows: a run of more than [`MAX_EMPTY_ROWS`] empty
 //!   rows ends the sheet's data, with a note (calamine's cell reader passes
-//!   over empty `<row/>` elements without returning, so the watch cuts its
-//!   stream once such a run has gone by);
+//!   over empty `<row/>` elements without returning, so the watch also
+//!   counts them, and stops the stream once such a run has gone by);
 //! - pass a date, a formula never calculated or an error value off as a number
 //!   ([`SheetCell`]).
 
@@ -40,6 +40,10 @@ pub const MAX_SHEET_BYTES: u64 = 1 << 30;
 /// The longest run of empty rows inside a sheet's data: a longer one ends it.
 pub const MAX_EMPTY_ROWS: u32 = 10_000;
 
+/// The longest stretch of a workbook's XML without a tag boundary (a
+/// cell's text, a tag with its attributes): calamine holds one whole.
+pub const MAX_XML_SPAN: u64 = 16 << 20;
+
 /// The damaged-workbook error.
 fn damaged() -> IngestError {
     IngestError::Data(
@@ -47,11 +51,14 @@ fn damaged() -> IngestError {
     )
 }
 
-/// Past [`MAX_SHEET_BYTES`].
-fn too_big(what: &str) -> IngestError {
-    IngestError::Data(format!(
-        "{what} more than 1 GiB, the bound on one sheet (a ZIP bomb?): export the diagram as CSV"
-    ))
+/// Why the watch stopped calamine, as this file's error.
+fn cut_error(cut: Cut) -> IngestError {
+    IngestError::Data(match cut {
+        Cut::Bound => "a part of the workbook (its sheet) unpacks to more than 1 GiB, the bound on one sheet (a ZIP bomb?): export the diagram as CSV".into(),
+        Cut::Span => "the workbook's XML holds a text or tag of more than 16 MiB, the bound on one (no spreadsheet writes one): export the diagram as CSV".into(),
+        // Only a sheet's data ends at a run of empty rows (`stream_rows`).
+        Cut::EmptyRows => "the spreadsheet is damaged (more than 10,000 empty rows where calamine reads no sheet): open it and save it again, or export the diagram as CSV".into(),
+    })
 }
 
 /// Reads a sheet of the workbook in `bytes`: an .xlsx cell by cell as it
@@ -99,31 +106,33 @@ fn read_book<F: FnMut(Streamed) -> Result<(), IngestError>>(
     opts: &ParseOptions,
     sink: F,
 ) -> Result<Header, IngestError> {
-    let parts = zip_parts(bytes);
-    if let Some(big) = parts.iter().find(|p| p.size > MAX_SHEET_BYTES) {
-        return Err(too_big(&format!(
-            "the workbook's part `{}` unpacks to {:.1} GiB,",
-            enginedyn_numerics::format::quote(&big.name),
-            big.size as f64 / (1u64 << 30) as f64
-        )));
-    }
-    let watch = RefCell::new(Watch::new(parts));
-    if let Ok(mut book) = calamine::Xlsx::new(Watched {
+    let watch = RefCell::new(Watch::new(zip_parts(bytes)));
+    let watched = || Watched {
         bytes,
         pos: 0,
         watch: &watch,
-    }) {
+    };
+    let cut = || watch.borrow().cut;
+    if let Ok(mut book) = calamine::Xlsx::new(watched()) {
         let names = book.sheet_names();
         let index = choose(&names, opts)?;
         let mut rd = Reader::new(opts, sink);
-        watch.borrow_mut().armed = true;
         let streamed = book
             .worksheet_cells_reader(&names[index])
-            .map_err(|e| IngestError::Data(format!("sheet `{}`: {e}", names[index])))
+            .map_err(|e| match cut() {
+                Some(c) => cut_error(c),
+                None => IngestError::Data(format!("sheet `{}`: {e}", names[index])),
+            })
             .and_then(|mut cells| stream_rows(&mut cells, opts, &mut rd, &watch));
         return finish(rd, streamed, &names, opts);
     }
-    let (names, _, range, formulas) = open_sheet(bytes, opts)?;
+    if let Some(c) = cut() {
+        return Err(cut_error(c));
+    }
+    let (names, _, range, formulas) = open_sheet(watched(), opts).map_err(|e| match cut() {
+        Some(c) => cut_error(c),
+        None => e,
+    })?;
     let mut rd = Reader::new(opts, sink);
     let rows = read_rows(&range, formulas.as_ref(), opts, &mut rd);
     finish(rd, rows, &names, opts)
@@ -233,7 +242,7 @@ fn stream_rows<F: FnMut(Streamed) -> Result<(), IngestError>>(
                         }
                         Ok(Some(ended_at(last_used)))
                     }
-                    Some(Cut::Bound) => Err(too_big("the sheet unpacks to")),
+                    Some(c) => Err(cut_error(c)),
                     None => Err(unreadable(e)),
                 };
             }
@@ -346,7 +355,7 @@ fn read_rows<F: FnMut(Streamed) -> Result<(), IngestError>>(
 /// formulas (to tell a formula never calculated from an empty cell).
 #[allow(clippy::type_complexity)]
 fn open_sheet(
-    bytes: &[u8],
+    bytes: Watched<'_>,
     opts: &ParseOptions,
 ) -> Result<
     (
@@ -357,7 +366,7 @@ fn open_sheet(
     ),
     IngestError,
 > {
-    let mut book = calamine::open_workbook_auto_from_rs(std::io::Cursor::new(bytes)).map_err(|e| {
+    let mut book = calamine::open_workbook_auto_from_rs(bytes).map_err(|e| {
         IngestError::Data(format!(
             "not a text file: a ZIP or OLE archive that is no spreadsheet calamine reads (.xlsx, .xls, .ods: {e}); export the diagram as CSV"
         ))
@@ -505,13 +514,12 @@ fn first_used(cells: &[SheetCell]) -> usize {
 /// One part of a workbook's ZIP archive: where its packed bytes lie.
 #[derive(Debug, Clone)]
 struct Part {
-    name: String,
-    /// The unpacked size the archive declares.
-    size: u64,
     /// Its packed bytes: `start..end` of the file.
     start: u64,
     end: u64,
     deflated: bool,
+    /// An XML part (`.xml`, `.rels`): its text is scanned.
+    xml: bool,
 }
 
 /// The parts of the ZIP archive in `bytes` (none when it is no ZIP
@@ -533,9 +541,9 @@ fn zip_parts(bytes: &[u8]) -> Vec<Part> {
             let name_len = u16::from_le_bytes([local[26], local[27]]) as u64;
             let extra_len = u16::from_le_bytes([local[28], local[29]]) as u64;
             let start = e.header_start() + 30 + name_len + extra_len;
+            let name = e.name().ok()?;
             Some(Part {
-                name: e.name().map(|n| n.into_owned()).unwrap_or_default(),
-                size: e.size(),
+                xml: name.ends_with(".xml") || name.ends_with(".rels"),
                 start,
                 end: start.saturating_add(e.compressed_size()),
                 deflated: e.compression() == zip::CompressionMethod::Deflated,
@@ -551,12 +559,15 @@ fn zip_parts(bytes: &[u8]) -> Vec<Part> {
 enum Cut {
     /// A run of more than [`MAX_EMPTY_ROWS`] empty rows went by.
     EmptyRows,
-    /// The sheet unpacked to more than [`MAX_SHEET_BYTES`].
+    /// A part unpacked to more than [`MAX_SHEET_BYTES`].
     Bound,
+    /// A stretch of XML longer than [`MAX_XML_SPAN`].
+    Span,
 }
 
 /// The workbook's bytes as calamine reads them, each read shown to the
 /// [`Watch`] first.
+#[derive(Clone)]
 struct Watched<'b> {
     bytes: &'b [u8],
     pos: u64,
@@ -567,7 +578,7 @@ impl Read for Watched<'_> {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         let mut watch = self.watch.borrow_mut();
         if watch.cut.is_some() {
-            return Err(std::io::Error::other("the sheet's stream was cut"));
+            return Err(std::io::Error::other("stopped: past a bound"));
         }
         let from = usize::try_from(self.pos)
             .unwrap_or(usize::MAX)
@@ -599,19 +610,17 @@ impl Seek for Watched<'_> {
     }
 }
 
-/// Unpacks, a second time, the ZIP part calamine streams a sheet from, in
-/// step with it (the packed bytes it reads), counting the bytes and the
-/// empty `<row>` elements. Once the sheet passes [`MAX_SHEET_BYTES`] or a
-/// run of more than [`MAX_EMPTY_ROWS`] empty rows, the next read fails
-/// ([`Cut`]): calamine stops within the packed bytes it already holds.
-/// The rows themselves are read, and the data ended, by [`stream_rows`],
-/// from the cells' own row numbers; this only stops the work calamine
-/// would do past them. Should calamine ever read the part other than
-/// front to back, the watch steps aside (the declared-size bound stays).
+/// Unpacks, a second time, each ZIP part calamine reads, in step with it
+/// (from the packed bytes it reads), counting the bytes, the longest
+/// stretch of XML without a tag boundary and the empty `<row>` elements.
+/// Once a part passes [`MAX_SHEET_BYTES`] or [`MAX_XML_SPAN`], or a run of
+/// more than [`MAX_EMPTY_ROWS`] empty rows goes by, calamine's next read
+/// fails ([`Cut`]): it stops within the packed bytes it already holds (a
+/// buffer of 8 KiB). The rows themselves are read, and the data ended, by
+/// [`stream_rows`] from the cells' own row numbers; the watch only stops
+/// the work calamine would do past them.
 struct Watch {
     parts: Vec<Part>,
-    /// Watching (the sheet is being streamed).
-    armed: bool,
     stream: Option<Stream>,
     cut: Option<Cut>,
 }
@@ -620,7 +629,6 @@ impl Watch {
     fn new(parts: Vec<Part>) -> Self {
         Self {
             parts,
-            armed: false,
             stream: None,
             cut: None,
         }
@@ -628,65 +636,69 @@ impl Watch {
 
     /// Bytes `data` of the file, from `pos`, handed to calamine.
     fn saw(&mut self, pos: u64, data: &[u8]) {
-        if !self.armed || self.cut.is_some() {
+        if self.cut.is_some() || data.is_empty() {
             return;
         }
         let end = pos + data.len() as u64;
-        for k in 0..self.parts.len() {
-            let p = &self.parts[k];
-            if p.start >= end {
-                break;
-            }
-            if p.end <= pos {
-                continue;
-            }
-            let (lo, hi) = (pos.max(p.start), end.min(p.end));
-            let chunk = &data[(lo - pos) as usize..(hi - pos) as usize];
-            match &self.stream {
-                Some(s) if s.part == k && s.next == lo => {}
-                _ if lo == p.start => self.stream = Some(Stream::new(k, p.deflated)),
-                _ => {
-                    // Not a read front to back: step aside.
-                    self.armed = false;
-                    self.stream = None;
-                    return;
-                }
-            }
-            if let Some(s) = self.stream.as_mut() {
-                s.next = hi;
-                self.cut = s.feed(chunk);
-                if self.cut.is_some() {
-                    return;
-                }
-            }
+        if let Some(s) = self.stream.as_mut()
+            && s.next == pos
+            && pos < s.end
+        {
+            let hi = end.min(s.end);
+            s.next = hi;
+            self.cut = s.feed(&data[..(hi - pos) as usize]);
+            return;
         }
+        // A part read from its start (the ZIP reader reads each part front
+        // to back from there; other reads, of headers and the directory,
+        // may touch a part's bytes in passing). Parts that overlap start a
+        // stream of their own where each starts.
+        let Some(p) = self.parts.iter().find(|p| pos <= p.start && p.start < end) else {
+            return;
+        };
+        let mut s = Stream::new(p);
+        let hi = end.min(p.end);
+        s.next = hi;
+        self.cut = s.feed(&data[(p.start - pos) as usize..(hi - pos) as usize]);
+        self.stream = Some(s);
     }
 }
 
 /// One part being unpacked by the watch.
 struct Stream {
-    part: usize,
-    /// The file offset of the next packed byte expected.
+    /// The file offset of the next packed byte expected, and of the end.
     next: u64,
-    /// `None` for a stored part; off once the packed data is not deflate.
+    end: u64,
+    /// `None` for a stored part.
     inflate: Option<Box<flate2::Decompress>>,
+    /// The packed data is not deflate after all (calamine will say so).
     broken: bool,
     out: Vec<u8>,
     unpacked: u64,
-    scan: Scan,
+    /// `None` for a part that is not XML.
+    scan: Option<Scan>,
 }
 
 impl Stream {
-    fn new(part: usize, deflated: bool) -> Self {
+    fn new(p: &Part) -> Self {
         Self {
-            part,
-            next: 0,
-            inflate: deflated.then(|| Box::new(flate2::Decompress::new(false))),
+            next: p.start,
+            end: p.end,
+            inflate: p.deflated.then(|| Box::new(flate2::Decompress::new(false))),
             broken: false,
-            out: vec![0; if deflated { 1 << 16 } else { 0 }],
+            out: vec![0; if p.deflated { 1 << 16 } else { 0 }],
             unpacked: 0,
-            scan: Scan::default(),
+            scan: p.xml.then(Scan::default),
         }
+    }
+
+    /// Unpacked bytes `b`: counted and scanned.
+    fn take(unpacked: &mut u64, scan: &mut Option<Scan>, b: &[u8]) -> Option<Cut> {
+        *unpacked += b.len() as u64;
+        if *unpacked > MAX_SHEET_BYTES {
+            return Some(Cut::Bound);
+        }
+        scan.as_mut().and_then(|s| s.bytes(b))
     }
 
     fn feed(&mut self, mut packed: &[u8]) -> Option<Cut> {
@@ -694,11 +706,7 @@ impl Stream {
             return None;
         }
         let Some(z) = self.inflate.as_mut() else {
-            self.unpacked += packed.len() as u64;
-            if self.unpacked > MAX_SHEET_BYTES {
-                return Some(Cut::Bound);
-            }
-            return self.scan.bytes(packed);
+            return Self::take(&mut self.unpacked, &mut self.scan, packed);
         };
         loop {
             let (was_in, was_out) = (z.total_in(), z.total_out());
@@ -707,15 +715,10 @@ impl Stream {
             let made = (z.total_out() - was_out) as usize;
             packed = &packed[used..];
             let Ok(status) = status else {
-                // Not deflate after all: calamine will say so.
                 self.broken = true;
                 return None;
             };
-            self.unpacked += made as u64;
-            if self.unpacked > MAX_SHEET_BYTES {
-                return Some(Cut::Bound);
-            }
-            if let Some(cut) = self.scan.bytes(&self.out[..made]) {
+            if let Some(cut) = Self::take(&mut self.unpacked, &mut self.scan, &self.out[..made]) {
                 return Some(cut);
             }
             if status == flate2::Status::StreamEnd || (used == 0 && made == 0) {
@@ -749,8 +752,6 @@ enum At {
     Attrs(bool),
     /// In a quoted attribute value.
     Quote(u8),
-    /// Past `</sheetData>`, or stepped aside.
-    Done,
 }
 
 /// Counts runs of empty `<row>` elements (those without a `<c>` cell) in a
@@ -764,26 +765,45 @@ struct Scan {
     name: [u8; 16],
     name_len: usize,
     in_sheet: bool,
+    /// Past `</sheetData>` (or lost): rows no longer counted.
+    rows_done: bool,
     row_open: bool,
     row_has_cell: bool,
     /// Empty rows in a row.
     run: u32,
+    /// Bytes since the last tag boundary (`<` or `>`).
+    span: u64,
 }
 
 impl Scan {
     fn bytes(&mut self, b: &[u8]) -> Option<Cut> {
         let mut i = 0;
         while i < b.len() {
+            // Text and quoted values are skipped in one step each; every
+            // other byte is one step of the machine.
+            let step = match self.at {
+                At::Text => memchr::memchr(b'<', &b[i..]),
+                At::Quote(q) => memchr::memchr(q, &b[i..]),
+                _ => Some(0),
+            };
+            let Some(k) = step else {
+                self.span += (b.len() - i) as u64;
+                return (self.span > MAX_XML_SPAN).then_some(Cut::Span);
+            };
+            self.span += k as u64;
+            if self.span > MAX_XML_SPAN {
+                return Some(Cut::Span);
+            }
+            i += k;
             let c = b[i];
+            i += 1;
+            self.span += 1;
             match self.at {
-                At::Done => return None,
-                At::Text => match memchr::memchr(b'<', &b[i..]) {
-                    Some(k) => {
-                        i += k;
-                        self.at = At::Open;
-                    }
-                    None => return None,
-                },
+                At::Text => {
+                    self.span = 0;
+                    self.at = At::Open;
+                }
+                At::Quote(_) => self.at = At::Attrs(false),
                 At::Open => {
                     self.end_tag = false;
                     self.name_len = 0;
@@ -810,28 +830,28 @@ impl Scan {
                 At::Comment(n) => {
                     self.at = match c {
                         b'-' => At::Comment(n.saturating_add(1)),
-                        b'>' if n >= 2 => At::Text,
+                        b'>' if n >= 2 => self.text(),
                         _ => At::Comment(0),
                     };
                 }
                 At::CData(n) => {
                     self.at = match c {
                         b']' => At::CData(n.saturating_add(1)),
-                        b'>' if n >= 2 => At::Text,
+                        b'>' if n >= 2 => self.text(),
                         _ => At::CData(0),
                     };
                 }
                 At::Pi(q) => {
                     self.at = match c {
-                        b'>' if q => At::Text,
+                        b'>' if q => self.text(),
                         _ => At::Pi(c == b'?'),
                     };
                 }
                 At::Decl => match c {
                     // A document type with declarations of its own: a
-                    // sheet never has one; step aside.
-                    b'[' => self.at = At::Done,
-                    b'>' => self.at = At::Text,
+                    // sheet never has one; stop counting rows.
+                    b'[' => self.rows_done = true,
+                    b'>' => self.at = self.text(),
                     _ => {}
                 },
                 At::Name => match c {
@@ -856,17 +876,15 @@ impl Scan {
                     b' ' | b'\t' | b'\r' | b'\n' => self.at = At::Attrs(slash),
                     _ => self.at = At::Attrs(false),
                 },
-                At::Quote(q) => match memchr::memchr(q, &b[i..]) {
-                    Some(k) => {
-                        i += k;
-                        self.at = At::Attrs(false);
-                    }
-                    None => return None,
-                },
             }
-            i += 1;
         }
         None
+    }
+
+    /// Back between tags: a new stretch of text starts.
+    fn text(&mut self) -> At {
+        self.span = 0;
+        At::Text
     }
 
     fn push_name(&mut self, c: u8) {
@@ -878,14 +896,17 @@ impl Scan {
 
     /// A tag ends (`closed`: `<…/>`).
     fn tag(&mut self, closed: bool) -> Option<Cut> {
-        self.at = At::Text;
+        self.at = self.text();
         let name = if self.name_len <= self.name.len() {
             &self.name[..self.name_len]
         } else {
             &[]
         };
+        if self.rows_done {
+            return None;
+        }
         match (self.end_tag, name) {
-            (true, b"sheetData") => self.at = At::Done,
+            (true, b"sheetData") => self.rows_done = true,
             (true, b"row") if self.row_open => {
                 self.row_open = false;
                 if !self.row_has_cell {
@@ -893,7 +914,7 @@ impl Scan {
                 }
                 self.run = 0;
             }
-            (false, b"sheetData") if closed => self.at = At::Done,
+            (false, b"sheetData") if closed => self.rows_done = true,
             (false, b"sheetData") => self.in_sheet = true,
             (false, b"row") if self.in_sheet && closed => return self.empty_row(),
             (false, b"row") if self.in_sheet => {
@@ -938,14 +959,27 @@ mod tests {
             let xml = format!("{head}{}</sheetData></worksheet>", rows(10_000, "<row/>"));
             assert_eq!(scan_all(&xml, chunk), (None, 10_000), "chunk {chunk}");
             // One more, in either spelling, with a prefix: a cut.
-            for row in ["<row/>", "<x:row r=\"5\" spans='1:2'></x:row>", "<row >\n</row>"] {
+            for row in [
+                "<row/>",
+                "<x:row r=\"5\" spans='1:2'></x:row>",
+                "<row >\n</row>",
+            ] {
                 let xml = format!("{head}{}", rows(10_001, row));
-                assert_eq!(scan_all(&xml, chunk).0, Some(Cut::EmptyRows), "{row} {chunk}");
+                assert_eq!(
+                    scan_all(&xml, chunk).0,
+                    Some(Cut::EmptyRows),
+                    "{row} {chunk}"
+                );
             }
             // Cells break the run; rows hidden in comments, CDATA, quotes
             // and instructions are no rows.
-            let fake = r#"<!-- <row/> --><![CDATA[<row/>]]><?pi <row/> ?><row a="<row/>"><x:c/></row>"#;
-            let xml = format!("{head}{}{fake}{}", rows(9_000, "<row/>"), rows(9_000, "<row/>"));
+            let fake =
+                r#"<!-- <row/> --><![CDATA[<row/>]]><?pi <row/> ?><row a="<row/>"><x:c/></row>"#;
+            let xml = format!(
+                "{head}{}{fake}{}",
+                rows(9_000, "<row/>"),
+                rows(9_000, "<row/>")
+            );
             assert_eq!(scan_all(&xml, chunk), (None, 9_000), "chunk {chunk}");
             // Nothing after the sheet's data counts, nor before it.
             let xml = format!(
@@ -967,6 +1001,19 @@ mod tests {
     }
 
     #[test]
+    fn the_scanner_bounds_a_stretch_of_xml() {
+        let span = MAX_XML_SPAN as usize;
+        for (xml, cut) in [
+            (format!("<a>{}</a>", "x".repeat(span)), None),
+            (format!("<a>{}</a>", "x".repeat(span + 1)), Some(Cut::Span)),
+            (format!("<a b=\"{}\"/>", "x".repeat(span)), Some(Cut::Span)),
+            (format!("<!--{}-->", "x".repeat(span)), Some(Cut::Span)),
+        ] {
+            assert_eq!(scan_all(&xml, 1 << 16).0, cut, "{}", xml.len());
+        }
+    }
+
+    #[test]
     fn the_watch_follows_every_fixture_sheet_to_its_end() {
         let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/fixtures/measured");
         for name in [
@@ -984,7 +1031,6 @@ mod tests {
             })
             .unwrap();
             let names = book.sheet_names();
-            watch.borrow_mut().armed = true;
             let mut cells = book.worksheet_cells_reader(names.last().unwrap()).unwrap();
             let mut n = 0;
             while cells.next_cell().unwrap().is_some() {
@@ -992,10 +1038,26 @@ mod tests {
             }
             let w = watch.borrow();
             assert!(n > 100, "{name}");
-            assert!(w.armed && w.cut.is_none(), "{name}");
+            assert!(w.cut.is_none(), "{name}");
             let s = w.stream.as_ref().unwrap();
-            assert!(s.scan.in_sheet && !s.broken, "{name}");
+            let scan = s.scan.as_ref().unwrap();
+            assert!(scan.in_sheet && scan.rows_done && !s.broken, "{name}");
             assert!(s.unpacked > 10_000, "{name}: {}", s.unpacked);
         }
+        // The .ods: calamine reads it whole at open, the watch in step.
+        let bytes = std::fs::read(format!("{dir}/libreoffice_cycles.ods")).unwrap();
+        let watch = RefCell::new(Watch::new(zip_parts(&bytes)));
+        let opts = ParseOptions::new(720.0);
+        let (_, _, range, _) = open_sheet(
+            Watched {
+                bytes: &bytes,
+                pos: 0,
+                watch: &watch,
+            },
+            &opts,
+        )
+        .unwrap();
+        assert!(range.height() > 100);
+        assert!(watch.borrow().cut.is_none());
     }
 }
