@@ -11,7 +11,7 @@
 //!   unpacked a second time, in step with it ([`Watch`]), counting its bytes
 //!   (at most [`MAX_SHEET_BYTES`]: the declared size may lie) and the
 //!   longest stretch of XML calamine would hold at once (a text or a tag, at
-//!   most [`MAX_XML_SPAN`]); past either, calamine's next read fails;
+//!   most [`MAX_XML_SPAN`]); past either, calamine's read fails;
 //! - hold a worker on empty rows: a run of more than [`MAX_EMPTY_ROWS`] empty
 //!   rows ends the sheet's data, with a note (calamine's cell reader passes
 //!   over empty `<row/>` elements without returning, so the watch also
@@ -54,7 +54,7 @@ fn damaged() -> IngestError {
 /// Why the watch stopped calamine, as this file's error.
 fn cut_error(cut: Cut) -> IngestError {
     IngestError::Data(match cut {
-        Cut::Bound => "a part of the workbook (its sheet) unpacks to more than 1 GiB, the bound on one sheet (a ZIP bomb?): export the diagram as CSV".into(),
+        Cut::Bound => "a sheet (a part of the workbook's ZIP archive) unpacks to more than 1 GiB, the bound on one sheet (a ZIP bomb?): export the diagram as CSV".into(),
         Cut::Span => "the workbook's XML holds a text or tag of more than 16 MiB, the bound on one (no spreadsheet writes one): export the diagram as CSV".into(),
         // Only a sheet's data ends at a run of empty rows (`stream_rows`).
         Cut::EmptyRows => "the spreadsheet is damaged (more than 10,000 empty rows where calamine reads no sheet): open it and save it again, or export the diagram as CSV".into(),
@@ -193,16 +193,16 @@ fn finish<F: FnMut(Streamed) -> Result<(), IngestError>>(
     Ok(head)
 }
 
-/// Where a run of empty rows ended the data: after 0-based row `last`
+/// Where a run of empty rows ([`MAX_EMPTY_ROWS`]) ended the data: after 0-based row `last`
 /// (the last row with a cell that is not empty), or before any.
 fn ended_at(last: Option<u32>) -> String {
     match last {
         Some(r) => format!(
-            "the sheet's data ends at row {}: more than {MAX_EMPTY_ROWS} empty rows follow, and the rest of the sheet is not read",
+            "the sheet's data ends at row {}: more than 10,000 empty rows follow, and the rest of the sheet is not read",
             r as u64 + 1
         ),
         None => format!(
-            "the sheet's first {MAX_EMPTY_ROWS} rows are empty, and the rest of the sheet is not read"
+            "the sheet's first 10,000 rows are empty, and the rest of the sheet is not read"
         ),
     }
 }
@@ -586,8 +586,17 @@ impl Read for Watched<'_> {
         let n = buf.len().min(self.bytes.len() - from);
         buf[..n].copy_from_slice(&self.bytes[from..from + n]);
         watch.saw(self.pos, &self.bytes[from..from + n]);
-        self.pos += n as u64;
-        Ok(n)
+        match watch.cut {
+            // Past a bound: calamine gets none of these bytes, so it holds
+            // no more of the part than it had.
+            Some(Cut::Bound | Cut::Span) => Err(std::io::Error::other("stopped: past a bound")),
+            // The rows before an empty run are in these bytes: calamine
+            // gets them, and stops at its next read.
+            _ => {
+                self.pos += n as u64;
+                Ok(n)
+            }
+        }
     }
 }
 
@@ -613,10 +622,11 @@ impl Seek for Watched<'_> {
 /// Unpacks, a second time, each ZIP part calamine reads, in step with it
 /// (from the packed bytes it reads), counting the bytes, the longest
 /// stretch of XML without a tag boundary and the empty `<row>` elements.
-/// Once a part passes [`MAX_SHEET_BYTES`] or [`MAX_XML_SPAN`], or a run of
-/// more than [`MAX_EMPTY_ROWS`] empty rows goes by, calamine's next read
-/// fails ([`Cut`]): it stops within the packed bytes it already holds (a
-/// buffer of 8 KiB). The rows themselves are read, and the data ended, by
+/// Once a part passes [`MAX_SHEET_BYTES`] or [`MAX_XML_SPAN`], the read
+/// that took it there fails, so calamine never holds those bytes; once a
+/// run of more than [`MAX_EMPTY_ROWS`] empty rows goes by, the next read
+/// fails ([`Cut`]), and calamine stops within the packed bytes it already
+/// holds (its buffer: 8 KiB). The rows themselves are read, and the data ended, by
 /// [`stream_rows`] from the cells' own row numbers; the watch only stops
 /// the work calamine would do past them.
 struct Watch {
