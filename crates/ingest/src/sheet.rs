@@ -201,9 +201,8 @@ fn ended_at(last: Option<u32>) -> String {
             "the sheet's data ends at row {}: more than 10,000 empty rows follow, and the rest of the sheet is not read",
             r as u64 + 1
         ),
-        None => format!(
-            "the sheet's first 10,000 rows are empty, and the rest of the sheet is not read"
-        ),
+        None => "the sheet starts with more than 10,000 empty rows, and the rest of it is not read"
+            .to_string(),
     }
 }
 
