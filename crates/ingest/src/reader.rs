@@ -46,6 +46,9 @@ pub(crate) struct Reader<'o, F> {
     pub out: Emitter<'o, F>,
     /// Where the file's speed came from, for messages that name it.
     pub rpm_source: &'static str,
+    /// The angle, pressure and volume columns (cells a source may refuse:
+    /// `Cells::measured`).
+    pub measured: Vec<usize>,
 }
 
 impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
@@ -56,6 +59,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
             phase: Phase::Preamble(Vec::new()),
             out: Emitter::new(opts, sink),
             rpm_source: "the `# rpm` line",
+            measured: Vec::new(),
         }
     }
 
@@ -100,7 +104,10 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
         wide: impl FnOnce() -> Option<Vec<String>>,
     ) -> Result<(), IngestError> {
         match &mut self.phase {
-            Phase::Data(layout) => layout.row(line, cells, &mut self.out),
+            Phase::Data(layout) => {
+                cells.measured(&self.measured, line)?;
+                layout.row(line, cells, &mut self.out)
+            }
             Phase::Preamble(text) => {
                 if cells.is_data() {
                     let text = std::mem::take(text);
@@ -109,6 +116,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                     let Phase::Data(layout) = &mut self.phase else {
                         return Ok(());
                     };
+                    cells.measured(&self.measured, line)?;
                     return layout.row(line, cells, &mut self.out);
                 }
                 if text.len() >= PREAMBLE_LINES {
@@ -251,6 +259,10 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
         self.out.time = matches!(roles.axis, Axis::Time(_));
         self.head.quantity = roles.quantity;
         self.head.pv = matches!(roles.axis, Axis::Volume(_));
+        self.measured = roles.values.iter().map(|v| v.col).collect();
+        if matches!(roles.axis, Axis::Angle(_) | Axis::Volume(_)) {
+            self.measured.push(roles.x);
+        }
         // Volts are relative, so `value_scale` refuses them unless pegged:
         // `opts.relative` alone says whether traces are checked for sign.
         Layout::new(

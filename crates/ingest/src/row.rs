@@ -18,6 +18,13 @@ pub(crate) trait Cells {
     fn raw(&self) -> Option<Cow<'_, str>> {
         None
     }
+    /// Checks that the cells of columns `cols` (angle, pressure or volume
+    /// columns) may hold such a value: a spreadsheet cell formatted as a
+    /// date or time may not. Text cells always may.
+    #[inline(always)]
+    fn measured(&self, _cols: &[usize], _line: usize) -> Result<(), IngestError> {
+        Ok(())
+    }
     /// Cells up to the last one that is not empty.
     fn used(&self) -> usize {
         let mut n = self.len();
@@ -98,10 +105,52 @@ pub(crate) enum SheetCell {
     Number(f64),
     Text(String),
     Empty,
+    /// A number formatted as a date, time or duration (Excel's serial day
+    /// number where there is one), or an ISO date or duration (.ods).
+    Date(Box<DateCell>),
+    /// A formula the file stores no value for: never calculated.
+    Formula,
+    /// An error value, as the spreadsheet shows it (`#DIV/0!`).
+    Error(&'static str),
+}
+
+/// A date- or time-formatted cell: what the format makes of it.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct DateCell {
+    /// `a date`, `a time of day`, `a date and time`, `a duration`.
+    pub kind: &'static str,
+    /// The cell as the spreadsheet shows it (`2020-01-01`).
+    pub shown: String,
+    /// Excel's serial number (days), where the file stores one.
+    pub serial: Option<f64>,
 }
 
 /// A spreadsheet row.
 pub(crate) struct SheetRow<'a>(pub &'a [SheetCell]);
+
+/// Excel's name of a column (1-based: 1 is `A`, 27 is `AA`).
+pub(crate) fn column_name(mut col: usize) -> String {
+    let mut name = Vec::new();
+    while col > 0 {
+        col -= 1;
+        name.push(b'A' + (col % 26) as u8);
+        col /= 26;
+    }
+    name.reverse();
+    String::from_utf8(name).unwrap_or_default()
+}
+
+impl SheetRow<'_> {
+    /// Cell `i` holds something a measured value or a number stands for:
+    /// a date, a formula or an error value (read, and refused, where a
+    /// number is needed).
+    fn value_like(&self, i: usize) -> bool {
+        matches!(
+            self.0.get(i),
+            Some(SheetCell::Date(_) | SheetCell::Formula | SheetCell::Error(_))
+        )
+    }
+}
 
 impl Cells for SheetRow<'_> {
     fn len(&self) -> usize {
@@ -111,13 +160,20 @@ impl Cells for SheetRow<'_> {
         match self.0.get(i) {
             None | Some(SheetCell::Empty) => true,
             Some(SheetCell::Text(t)) => t.trim().is_empty(),
-            Some(SheetCell::Number(_)) => false,
+            Some(
+                SheetCell::Number(_)
+                | SheetCell::Date(_)
+                | SheetCell::Formula
+                | SheetCell::Error(_),
+            ) => false,
         }
     }
     fn text(&self, i: usize) -> Cow<'_, str> {
         match self.0.get(i) {
             Some(SheetCell::Text(t)) => Cow::Borrowed(t.as_str()),
             Some(SheetCell::Number(v)) => Cow::Owned(v.to_string()),
+            Some(SheetCell::Date(d)) => Cow::Borrowed(d.shown.as_str()),
+            Some(SheetCell::Error(e)) => Cow::Borrowed(e),
             _ => Cow::Borrowed(""),
         }
     }
@@ -128,9 +184,72 @@ impl Cells for SheetRow<'_> {
             Some(SheetCell::Text(t)) => {
                 crate::number::number(t.trim().as_bytes(), true, line, i + 1)
             }
+            // Outside an angle, pressure or volume column (`measured`
+            // refuses it there) a date is its serial number.
+            Some(SheetCell::Date(d)) if d.serial.is_some_and(f64::is_finite) => {
+                Ok(d.serial.unwrap_or_default())
+            }
+            Some(SheetCell::Date(d)) => Err(date_error(d, i, line)),
+            Some(SheetCell::Formula) => Err(at(
+                line,
+                Some(i + 1),
+                format!(
+                    "cell {}{line} holds a formula that was never calculated (the file stores no value for it): open the file in a spreadsheet program and save it, which calculates it",
+                    column_name(i + 1)
+                ),
+            )),
+            Some(SheetCell::Error(e)) => Err(at(
+                line,
+                Some(i + 1),
+                format!(
+                    "cell {}{line} holds `{e}`, an error value of the spreadsheet, where a number is needed",
+                    column_name(i + 1)
+                ),
+            )),
             _ => Err(missing(i, line)),
         }
     }
+    fn measured(&self, cols: &[usize], line: usize) -> Result<(), IngestError> {
+        for &i in cols {
+            if let Some(SheetCell::Date(d)) = self.0.get(i) {
+                return Err(date_error(d, i, line));
+            }
+        }
+        Ok(())
+    }
+    /// As for text, but a date, formula or error cell first in the row is
+    /// passed over (a timestamp column, a date banner), and one after the
+    /// first number counts as a number (it is read, and refused, where a
+    /// number is needed).
+    fn is_data(&self) -> bool {
+        let n = self.used();
+        let Some(first) = (0..n).find(|&i| !self.is_blank(i) && !self.value_like(i)) else {
+            return false;
+        };
+        self.number(first, 0).is_ok()
+            && (n == first + 1
+                || (first + 1..n).any(|i| {
+                    !self.is_blank(i) && (self.value_like(i) || self.number(i, 0).is_ok())
+                }))
+    }
+}
+
+/// A date- or time-formatted cell where an angle, pressure or volume is
+/// needed.
+fn date_error(d: &DateCell, i: usize, line: usize) -> IngestError {
+    at(
+        line,
+        Some(i + 1),
+        format!(
+            "cell {}{line} is formatted as {} (it shows {}{}), where an angle, pressure or volume is needed: format the column as numbers in the spreadsheet (or export the diagram as CSV)",
+            column_name(i + 1),
+            d.kind,
+            enginedyn_numerics::format::quote(&d.shown),
+            d.serial
+                .map(|s| format!(", Excel's day number {}", crate::error::shown_number(s)))
+                .unwrap_or_default()
+        ),
+    )
 }
 
 fn missing(i: usize, line: usize) -> IngestError {
