@@ -58,3 +58,32 @@ seed("record_pulse_rpm_contradicts", record(False), pick=16, more=1)
 seed("record_fast_pulse", record(True), pick=16, more=1)
 seed("record_gain_1e6", record(False), pick=16, more=4)
 seed("record_clock_tdc_time_beyond", record(False, with_pulse=False), pick=128, more=2)
+
+
+# Spreadsheets (issue 29, items 2-4), small copies built from the committed
+# fixture `excel_single.xlsx`: empty rows past the 10,000 bound after the
+# diagram, an error cell, a formula never calculated, and damaged bytes.
+import io, zipfile
+
+FIXTURES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests", "fixtures", "measured")
+
+
+def xlsx_with(sheet_edit):
+    src = zipfile.ZipFile(os.path.join(FIXTURES, "excel_single.xlsx"))
+    out = io.BytesIO()
+    with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as z:
+        for info in src.infolist():
+            data = src.read(info.filename)
+            if info.filename == "xl/worksheets/sheet1.xml":
+                data = sheet_edit(data.decode()).encode()
+            z.writestr(info.filename, data)
+    return out.getvalue()
+
+
+seed("xlsx_empty_rows_bomb", xlsx_with(lambda s: s.replace("</sheetData>", "<row/>" * 20000 + "</sheetData>")))
+seed("xlsx_error_cell", xlsx_with(lambda s: s.replace('<c r="B3" t="n"><v>', '<c r="B3" t="e"><v>#DIV/0!</v></c><c r="Z3" t="n"><v>', 1)))
+seed("xlsx_formula_never_calculated", xlsx_with(lambda s: s.replace('<c r="B4" t="n"><v>', '<c r="B4"><f>B3*2</f></c><c r="Z4" t="n"><v>', 1)))
+whole = xlsx_with(lambda s: s)
+seed("xlsx_cut", whole[: len(whole) // 2])
+xls = open(os.path.join(FIXTURES, "libreoffice_cycles.xls"), "rb").read()
+seed("xls_damaged_fat", xls[:76] + b"\xff" * 8 + xls[84:])

@@ -234,7 +234,8 @@ fn hostile_inputs_and_unattended_runs() {
     let r = run(&["run", "--engine", &e, "--diagram", &s(&long)]);
     assert_eq!(r.code(), Some(1));
     assert!(
-        r.stderr().contains("line 2: longer than 1 MiB"),
+        r.stderr()
+            .contains("line 2: this line is longer than the 1 MiB bound"),
         "{}",
         r.stderr()
     );

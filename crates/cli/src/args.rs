@@ -123,7 +123,9 @@ fn number_in(s: &str, lo: f64, hi: f64, unit: &str) -> Result<f64, String> {
 /// banners (`4.9e3`, `4,900`; held to the speed bound).
 fn parse_rpm(s: &str) -> Result<f64, String> {
     enginedyn_ingest::read_rpm(s).map_err(|e| match e {
-        enginedyn_ingest::SpeedError::Number(n) => format!("`{s}` {n}"),
+        enginedyn_ingest::SpeedError::Number(n) => {
+            format!("`{s}` {n}: the engine speed must be a number of rpm from 0.001 to 100000 rpm")
+        }
         e => format!("{} rpm {e}", crate::human(read_any(s))),
     })
 }

@@ -25,8 +25,6 @@ const FILES: [&str; 3] = ["tolerance.csv", "tolerance.json", "tolerance.svg"];
 pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
     let loaded = load_engine(Some(&a.input.engine))?;
     let engine = &loaded.engine;
-    // Something in the way of an output is refused before the study runs.
-    let out = crate::open_out(a.out.as_deref(), &FILES)?;
     let file = a.input.engine.display().to_string();
     let text = std::fs::read_to_string(&a.input.engine)
         .map_err(|e| Failure::usage(format!("{file}: cannot read: {e}")))?;
@@ -39,6 +37,9 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
              throw_angle_deg = 0.2\ntdc_deg = 0.1"
         )));
     }
+    // Something in the way of an output is refused before the study runs
+    // (and a file with nothing to study leaves no folder behind).
+    let out = crate::open_out(a.out.as_deref(), &FILES)?;
     let (inputs, input_notes) = enginedyn_tolerance::inputs(engine, &tolerances)
         .map_err(|e| Failure::usage(format!("{file}: {e}")))?;
     let step = a.method.step();

@@ -280,9 +280,9 @@ mod tests {
             values: (0..720).map(f64::from).collect(),
         };
         rotate(&mut t, 540.0, 720.0);
-        assert_eq!(t.angle_deg[0], 0.0);
-        assert_eq!(t.values[0], 540.0);
-        assert_eq!(t.values[180], 0.0);
+        assert_eq!(t.angle_deg[0].to_bits(), 0.0f64.to_bits());
+        assert_eq!(t.values[0].to_bits(), 540.0f64.to_bits());
+        assert_eq!(t.values[180].to_bits(), 0.0f64.to_bits());
         assert!(t.angle_deg.windows(2).all(|w| w[1] > w[0]));
         assert_eq!(t.angle_deg.len(), 720);
     }

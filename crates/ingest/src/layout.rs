@@ -15,7 +15,7 @@ use crate::{Header, MAX_CYCLE, MAX_CYLINDERS, ParseOptions, Quantity, Streamed, 
 pub(crate) enum Layout {
     Long(Long),
     PerColumn(PerColumn),
-    Time(TimeRecord),
+    Time(Box<TimeRecord>),
 }
 
 /// Pa per file unit and the offset added (Pa) for value column `v`.
@@ -55,7 +55,9 @@ impl Layout {
         line: usize,
     ) -> Result<Self, IngestError> {
         if let Axis::Time(_) = roles.axis {
-            return Ok(Layout::Time(TimeRecord::new(&roles, opts, rpm, line)?));
+            return Ok(Layout::Time(Box::new(TimeRecord::new(
+                &roles, opts, rpm, line,
+            )?)));
         }
         if roles.values.len() > 1 {
             return Ok(Layout::PerColumn(PerColumn::new(&roles, opts, line)?));
