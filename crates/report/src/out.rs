@@ -26,9 +26,10 @@
 //!   ([`MANIFEST`], `DIR/.enginedyn-manifest`: each file, run folders'
 //!   files too, with its SHA-256, in `sha256sum` format) and removes what
 //!   the earlier run's manifest lists and this run did not write, when it is
-//!   still as that run wrote it (its hash unchanged). A file changed since
-//!   is kept, with a note; a file the manifest does not list (the user's
-//!   own) is never touched. The manifest is staged with the other files and
+//!   still as that run wrote it (its hash unchanged; a run folder when every
+//!   file in it is, and it holds nothing else). A file or run folder changed
+//!   since is kept, with a note; a file the manifest does not list (the
+//!   user's own) is never touched. The manifest is staged with the other files and
 //!   moved into place last: a killed run leaves the earlier run's manifest,
 //!   never one that lists files this run did not write.
 
@@ -258,7 +259,8 @@ impl OutDir {
     ///
     /// Then the folder is made to hold this command's outputs alone: what
     /// the earlier run's [`MANIFEST`] lists and this command did not write
-    /// is removed when it is unchanged (a run folder with it, once empty),
+    /// is removed when it is unchanged (a run folder whole, when every file
+    /// in it is and it holds nothing else),
     /// and the new manifest, staged with the files, is moved into place
     /// last. Returns the notes to print as warnings: the earlier outputs
     /// kept because they changed since (they may be stale).
@@ -326,11 +328,14 @@ impl OutDir {
     }
 
     /// Removes what the earlier run's manifest lists and `listed` (this
-    /// command's outputs) does not, when it is a regular file still as that
-    /// run wrote it; then the run folders this left empty. Links are never
-    /// followed; a file changed since is kept, and the note saying so is
-    /// returned.
+    /// command's outputs) does not, when it is still as that run wrote it:
+    /// a file when its hash is unchanged; a run folder whole when every
+    /// file it lists is unchanged (or gone) and the folder holds nothing
+    /// else. A file changed since, or a run folder holding such a file or
+    /// one the user added, is kept, and the note saying so returned. Links
+    /// are never followed.
     fn remove_stale(&self, listed: &[(String, String)]) -> Vec<String> {
+        use std::collections::BTreeMap;
         let ours: BTreeSet<&str> = listed.iter().map(|(p, _)| p.as_str()).collect();
         // A run folder this command wrote was replaced whole.
         let our_folders: BTreeSet<&str> = listed
@@ -338,50 +343,95 @@ impl OutDir {
             .filter_map(|(p, _)| p.split_once('/').map(|(f, _)| f))
             .collect();
         let mut notes = Vec::new();
-        let mut folders = BTreeSet::new();
+        let mut folders: BTreeMap<&str, Vec<(&str, &str)>> = BTreeMap::new();
         for (path, hash) in &self.earlier {
             if ours.contains(path.as_str()) {
                 continue;
             }
-            if let Some((folder, _)) = path.split_once('/') {
-                if our_folders.contains(folder) {
-                    continue;
-                }
-                let f = self.dir.join(folder);
-                let real_folder = std::fs::symlink_metadata(&f).is_ok_and(|m| m.is_dir());
-                if !real_folder {
-                    continue;
-                }
-                folders.insert(folder);
-            }
-            let file = self.dir.join(path);
-            let Ok(meta) = std::fs::symlink_metadata(&file) else {
-                continue;
-            };
-            if !meta.file_type().is_file() {
-                // Something else took the name since: not ours.
-                continue;
-            }
-            match sha256_file(&file) {
-                Ok(h) if h == *hash => {
-                    if let Err(e) = std::fs::remove_file(&file) {
-                        notes.push(format!(
-                            "{}: an earlier run's output that this run does not write, left in place: cannot remove it ({e}); it may be stale",
-                            file.display()
-                        ));
+            match path.split_once('/') {
+                Some((folder, file)) => {
+                    if !our_folders.contains(folder) {
+                        folders.entry(folder).or_default().push((file, hash));
                     }
                 }
-                _ => notes.push(format!(
-                    "{}: an earlier run wrote it and this run does not, but it changed since, so it is kept; it may be stale",
-                    file.display()
-                )),
+                None => match self.unchanged(path, hash) {
+                    Some(true) => {
+                        let file = self.dir.join(path);
+                        if let Err(e) = std::fs::remove_file(&file) {
+                            notes.push(format!(
+                                "{}: an earlier run's output that this run does not write; cannot remove it ({e}), so it may be stale",
+                                file.display()
+                            ));
+                        }
+                    }
+                    Some(false) => notes.push(format!(
+                        "{}: an earlier run wrote it and this run does not, but it changed since, so it is kept; it may be stale",
+                        self.dir.join(path).display()
+                    )),
+                    None => {}
+                },
             }
         }
-        for folder in folders {
-            // Only an empty folder goes: what the user put in it stays.
-            let _ = std::fs::remove_dir(self.dir.join(folder));
+        for (folder, files) in folders {
+            let dir = self.dir.join(folder);
+            // Only a real folder, never a link to one.
+            if !std::fs::symlink_metadata(&dir).is_ok_and(|m| m.is_dir()) {
+                continue;
+            }
+            let changed: Vec<&str> = files
+                .iter()
+                .filter(|(f, h)| self.unchanged(&format!("{folder}/{f}"), h) == Some(false))
+                .map(|(f, _)| *f)
+                .collect();
+            let listed: BTreeSet<&str> = files.iter().map(|(f, _)| *f).collect();
+            let mut others: Vec<String> = std::fs::read_dir(&dir)
+                .map(|r| {
+                    r.flatten()
+                        .map(|e| e.file_name().to_string_lossy().into_owned())
+                        .filter(|n| !listed.contains(n.as_str()))
+                        .collect()
+                })
+                .unwrap_or_default();
+            others.sort();
+            if changed.is_empty() && others.is_empty() {
+                // Every file as the earlier run wrote it: the folder goes.
+                for (f, _) in &files {
+                    let _ = std::fs::remove_file(dir.join(f));
+                }
+                if let Err(e) = std::fs::remove_dir(&dir) {
+                    notes.push(format!(
+                        "{}: an earlier run's run folder that this run does not write; cannot remove it ({e}), so it may be stale",
+                        dir.display()
+                    ));
+                }
+            } else {
+                let why = if changed.is_empty() {
+                    format!(
+                        "it holds files that run did not write ({})",
+                        others.join(", ")
+                    )
+                } else {
+                    format!("{} changed since", changed.join(", "))
+                };
+                notes.push(format!(
+                    "{}: an earlier run wrote this run folder and this run does not, but {why}, so it is kept whole; it may be stale",
+                    dir.display()
+                ));
+            }
         }
         notes
+    }
+
+    /// Whether the file `path` (relative to DIR) is still as the earlier
+    /// run wrote it (`hash`): `None` when it is gone or no longer a regular
+    /// file (then it is not ours to judge).
+    fn unchanged(&self, path: &str, hash: &str) -> Option<bool> {
+        let file = self.dir.join(path);
+        let meta = std::fs::symlink_metadata(&file).ok()?;
+        if !meta.file_type().is_file() {
+            return None;
+        }
+        Some(sha256_file(&file).is_ok_and(|h| h == hash))
     }
 
     /// Writes `files` as the subfolder `name` of DIR (a batch's run
@@ -653,12 +703,21 @@ mod tests {
                 MANIFEST, "0001_x", "0002_y", "f0.txt", "f1.txt", "f3.txt", "mine.txt"
             ]
         );
-        assert_eq!(listing(&d.path().join("0002_y")), ["mine.txt"]);
-        assert_eq!(notes.len(), 1, "{notes:?}");
+        // A run folder holding a file of the user's is kept whole.
+        assert_eq!(
+            listing(&d.path().join("0002_y")),
+            ["a.svg", "mine.txt", "summary.json"]
+        );
+        assert_eq!(notes.len(), 2, "{notes:?}");
         assert!(
             notes[0].contains("f3.txt") && notes[0].contains("may be stale"),
             "{}",
             notes[0]
+        );
+        assert!(
+            notes[1].contains("0002_y") && notes[1].contains("(mine.txt)"),
+            "{}",
+            notes[1]
         );
         assert!(outside.path().join("victim").exists());
         let manifest = std::fs::read_to_string(d.path().join(MANIFEST)).unwrap();
@@ -667,17 +726,22 @@ mod tests {
             listed,
             ["0001_x/a.svg", "0001_x/summary.json", "f0.txt", "f1.txt"]
         );
-        // A run folder left empty goes with its files.
+        // A run folder as the earlier run wrote it goes whole; one with a
+        // file changed since is kept whole.
+        let with_y = format!(
+            "{manifest}{}  0002_y/a.svg\n{}  0002_y/summary.json\n",
+            sha256_hex(b"<svg/>"),
+            sha256_hex(b"{}")
+        );
         std::fs::remove_file(d.path().join("0002_y/mine.txt")).unwrap();
-        std::fs::write(
-            d.path().join(MANIFEST),
-            format!(
-                "{manifest}{}  0002_y/a.svg\n{}  0002_y/summary.json\n",
-                sha256_hex(b"<svg/>"),
-                sha256_hex(b"{}")
-            ),
-        )
-        .unwrap();
+        std::fs::write(d.path().join("0002_y/a.svg"), "<svg>edited</svg>").unwrap();
+        std::fs::write(d.path().join(MANIFEST), &with_y).unwrap();
+        let notes = write(&fewer, &[]);
+        assert_eq!(notes.len(), 1, "{notes:?}");
+        assert!(notes[0].contains("a.svg changed since"), "{}", notes[0]);
+        assert_eq!(listing(&d.path().join("0002_y")), ["a.svg", "summary.json"]);
+        std::fs::write(d.path().join("0002_y/a.svg"), "<svg/>").unwrap();
+        std::fs::write(d.path().join(MANIFEST), &with_y).unwrap();
         let notes = write(&fewer, &[]);
         assert!(notes.is_empty(), "{notes:?}");
         assert_eq!(
