@@ -274,4 +274,7 @@ fn the_manifest_never_reaches_outside_the_folder() {
     ]);
     assert_eq!(std::fs::read_to_string(&victim).unwrap(), "keep me");
     assert!(d.join(".hidden").is_file());
+    // The manifest now lists what kinematics wrote, and nothing else.
+    let listed: Vec<String> = manifest(&d).into_keys().collect();
+    assert_eq!(listed, ["kinematics.csv", "kinematics.svg"]);
 }
