@@ -664,7 +664,8 @@ mod tests {
     fn a_folder_written_again_holds_this_runs_outputs_alone() {
         let d = tempfile::tempdir().unwrap();
         let outside = tempfile::tempdir().unwrap();
-        let write = |files: &[(String, Vec<u8>)], folders: &[(&str, &[(String, Vec<u8>)])]| {
+        type Files = [(String, Vec<u8>)];
+        let write = |files: &Files, folders: &[(&str, &Files)]| {
             let out = OutDir::open(d.path()).unwrap();
             for (name, f) in folders {
                 out.write_folder(name, f).unwrap();
