@@ -162,7 +162,13 @@ pub fn whole_run(data: &[u8]) -> bool {
             }
         }
     }
-    let files = enginedyn_report::run_files(&engine, &a, false).expect("the outputs render");
+    let inputs = enginedyn_report::Inputs::new(
+        enginedyn_report::Source::Bundled(b"engine"),
+        &[enginedyn_report::Source::Bundled(b"diagram")],
+    )
+    .expect("hashes of bytes");
+    let files =
+        enginedyn_report::run_files(&engine, &a, false, &inputs).expect("the outputs render");
     let curves = files
         .iter()
         .find(|(name, _)| name == "curves.csv")

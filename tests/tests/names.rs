@@ -213,7 +213,12 @@ fn run_folders_are_names_every_system_holds() {
     ];
     assert_eq!(
         listed,
-        [&folders[..], &["index.html", "summary.csv"]].concat()
+        [
+            &[enginedyn_report::MANIFEST][..],
+            &folders[..],
+            &["index.html", "summary.csv"]
+        ]
+        .concat()
     );
     for f in folders {
         assert!(dir.join(f).join("summary.json").is_file(), "{f}");

@@ -410,7 +410,7 @@ pub struct BatchArgs {
     /// Engine file (TOML).
     #[arg(long, value_name = "FILE")]
     pub engine: PathBuf,
-    /// Diagram files, folders (every .csv inside) or glob patterns.
+    /// Diagram files, folders (every .csv, .txt, .dat, .tsv, .xlsx, .xls, .ods, .mf4 inside) or glob patterns.
     #[arg(value_name = "DIAGRAM", required = true)]
     pub diagrams: Vec<String>,
     /// Write summary.csv (and with --detail one run folder per diagram) into DIR.
@@ -425,6 +425,9 @@ pub struct BatchArgs {
     /// Without --out: print summary.csv instead of the readable table.
     #[arg(long, conflicts_with = "out")]
     pub csv: bool,
+    /// Print a JSON array of the summary.json objects (each with `file` and `error`) on standard output.
+    #[arg(long, conflicts_with = "csv")]
+    pub json: bool,
     /// Benchmarks only: read and check every file, compute nothing (the parse floor).
     #[arg(long, hide = true)]
     pub parse_only: bool,
@@ -459,6 +462,9 @@ pub struct SweepArgs {
     /// Without --out: print sweep.csv instead of the readable table.
     #[arg(long, conflicts_with = "out")]
     pub csv: bool,
+    /// Print a JSON array of the per-speed summary.json objects on standard output.
+    #[arg(long, conflicts_with = "csv")]
+    pub json: bool,
     #[command(flatten)]
     pub diagram_args: DiagramArgs,
     #[command(flatten)]

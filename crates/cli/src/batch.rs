@@ -14,20 +14,42 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-/// Files, folders (every `.csv` inside, sorted) and glob patterns, in the
+/// The extensions (any case) of the files a folder gives: every kind the
+/// reader reads (INTERFACE.md, `batch`).
+pub const KINDS: [&str; 8] = ["csv", "txt", "dat", "tsv", "xlsx", "xls", "ods", "mf4"];
+
+/// The most names a passed-over note lists.
+const PASSED_OVER_SHOWN: usize = 5;
+
+/// Files, folders (every file of the [`KINDS`] inside, sorted; a note
+/// counts the files of other kinds passed over) and glob patterns, in the
 /// order given.
 fn expand(inputs: &[String]) -> Result<Vec<PathBuf>, Failure> {
     let mut files = Vec::new();
     for input in inputs {
         let p = Path::new(input);
         if p.is_dir() {
-            let mut inside: Vec<PathBuf> = std::fs::read_dir(p)
-                .map_err(|e| Failure::usage(format!("{input}: cannot list: {e}")))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| f.extension().is_some_and(|x| x.eq_ignore_ascii_case("csv")))
-                .collect();
+            let mut inside = Vec::new();
+            let mut other = Vec::new();
+            let entries = std::fs::read_dir(p)
+                .map_err(|e| Failure::usage(format!("{input}: cannot list: {e}")))?;
+            for e in entries.flatten() {
+                let f = e.path();
+                let readable = f
+                    .extension()
+                    .and_then(|x| x.to_str())
+                    .is_some_and(|x| KINDS.iter().any(|k| x.eq_ignore_ascii_case(k)));
+                if readable {
+                    inside.push(f);
+                } else if !f.is_dir() {
+                    other.push(e.file_name().to_string_lossy().into_owned());
+                }
+            }
             inside.sort();
             files.extend(inside);
+            if let Some(note) = passed_over(input, other) {
+                eprintln!("note: {note}");
+            }
         } else if p.exists() {
             files.push(p.to_path_buf());
         } else if input.contains(['*', '?', '[']) {
@@ -45,9 +67,40 @@ fn expand(inputs: &[String]) -> Result<Vec<PathBuf>, Failure> {
         }
     }
     if files.is_empty() {
-        return Err(Failure::usage("no diagram files found"));
+        return Err(Failure::usage(format!(
+            "no diagram files found (a folder gives its .{} files)",
+            KINDS.join(", .")
+        )));
     }
     Ok(files)
+}
+
+/// The note on the files of other kinds a folder held: how many, and the
+/// first few names; `None` when there were none.
+fn passed_over(folder: &str, mut names: Vec<String>) -> Option<String> {
+    if names.is_empty() {
+        return None;
+    }
+    names.sort();
+    let mut shown: Vec<String> = names
+        .iter()
+        .take(PASSED_OVER_SHOWN)
+        .map(|n| one_line(n))
+        .collect();
+    if names.len() > PASSED_OVER_SHOWN {
+        shown.push("…".to_string());
+    }
+    Some(format!(
+        "{} passed over in {}: {} (a folder gives its .{} files)",
+        if names.len() == 1 {
+            "1 file of another kind".to_string()
+        } else {
+            format!("{} files of other kinds", names.len())
+        },
+        one_line(folder),
+        shown.join(", "),
+        KINDS.join(", .")
+    ))
 }
 
 /// The run folder of the `i`-th diagram (from 0) of a batch: its number
@@ -79,6 +132,38 @@ struct Row {
     /// Key figures for the tables, one per `report::KEY_FIGURES` column.
     key: Option<Vec<Option<f64>>>,
     folder: Option<String>,
+    /// With `--json`: its `summary.json` object, on one line.
+    json: Option<String>,
+}
+
+/// A batch row as `--json` prints it: `file`, `error` (null when it ran),
+/// then its `summary.json` keys when it ran.
+fn json_row(file: &str, error: &str, summary: Option<serde_json::Value>) -> String {
+    let mut o = serde_json::Map::new();
+    o.insert("file".into(), file.into());
+    o.insert(
+        "error".into(),
+        if error.is_empty() {
+            serde_json::Value::Null
+        } else {
+            error.into()
+        },
+    );
+    if let Some(serde_json::Value::Object(m)) = summary {
+        o.extend(m);
+    }
+    serde_json::to_string(&serde_json::Value::Object(o)).unwrap_or_default()
+}
+
+/// A JSON array of objects already written as text, one a line.
+fn json_array<'a>(objects: impl Iterator<Item = &'a str>) -> String {
+    let mut s = String::from("[");
+    for (k, o) in objects.enumerate() {
+        s.push_str(if k == 0 { "\n" } else { ",\n" });
+        s.push_str(o);
+    }
+    s.push_str("\n]\n");
+    s
 }
 
 pub fn run(a: &BatchArgs) -> Result<(), Failure> {
@@ -107,6 +192,13 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
     let n = (engine.cycle().to_degrees() / step).round() as usize;
     let tables = enginedyn_pipeline::Tables::new(engine, n, &opts).ok();
     let files = expand(&a.diagrams)?;
+    // What each summary came from (`inputs`): the engine hashed once, each
+    // diagram as it is analysed; only when a summary.json is written.
+    let engine_inputs = if a.detail || a.json {
+        Some(crate::inputs::of(&loaded, &[])?)
+    } else {
+        None
+    };
     // The output folder, locked for the whole batch (a second batch into
     // it waits or exits 2), cleaned of what a killed run left; every name
     // the batch will write (summary.csv, index.html, each run folder)
@@ -170,6 +262,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                             cells: Vec::new(),
                             key: None,
                             folder: None,
+                            json: None,
                         });
                     }
                     let an = match a.tolerance {
@@ -218,16 +311,29 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                         }
                     };
                     let s = &an.summary;
+                    let inputs = engine_inputs
+                        .as_ref()
+                        .map(|e| e.with_diagrams(&[enginedyn_report::Source::File(f)]))
+                        .transpose()?;
                     let mut folder = None;
                     if let Some(dir) = &out_dir
                         && let Some(name) = folders.get(i)
+                        && let Some(inputs) = &inputs
                     {
                         let name = name.clone();
-                        let files = enginedyn_report::run_files(engine, &an, false)
+                        let files = enginedyn_report::run_files(engine, &an, false, inputs)
                             .map_err(|e| Failure::data(e.to_string()))?;
                         dir.write_folder(&name, &files)?;
                         folder = Some(name);
                     }
+                    let json = match &inputs {
+                        Some(inputs) if a.json => Some(json_row(
+                            &shown,
+                            "",
+                            Some(enginedyn_report::summary_json(s, inputs)),
+                        )),
+                        _ => None,
+                    };
                     if !s.notes.is_empty() {
                         bar.suspend(|| {
                             for n in &s.notes {
@@ -247,6 +353,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                             s,
                         )),
                         folder,
+                        json,
                     })
                 }))
                 .unwrap_or_else(|panic| {
@@ -268,6 +375,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                     let msg = e.message;
                     bar.suspend(|| eprintln!("error: {}: {msg}", one_line(&shown)));
                     Row {
+                        json: a.json.then(|| json_row(&shown, &msg, None)),
                         file: shown,
                         error: msg,
                         cells: Vec::new(),
@@ -304,6 +412,18 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
             folder: r.folder.clone(),
         })
         .collect();
+    // `--json`: the summary.json objects, each with `file` and `error`.
+    let json = a.json.then(|| {
+        let each: Vec<String> = rows
+            .iter()
+            .map(|r| {
+                r.json
+                    .clone()
+                    .unwrap_or_else(|| json_row(&r.file, &r.error, None))
+            })
+            .collect();
+        json_array(each.iter().map(String::as_str))
+    });
     match &out_dir {
         Some(dir) => {
             let mut out = vec![("summary.csv".to_string(), csv.into_bytes())];
@@ -313,7 +433,9 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                     enginedyn_report::index_html(engine.name(), &key_rows, eta).into_bytes(),
                 ));
             }
-            dir.write(&out)?;
+            for note in dir.write(&out)? {
+                eprintln!("warning: {note}");
+            }
             eprintln!(
                 "{} ({} failed) in {:.2} s; wrote {}",
                 enginedyn_report::count(rows.len(), "diagram"),
@@ -321,7 +443,11 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                 started.elapsed().as_secs_f64(),
                 dir.path().join("summary.csv").display()
             );
+            if let Some(json) = &json {
+                crate::emit(json);
+            }
         }
+        None if a.json => crate::emit(&json.unwrap_or_default()),
         None if a.csv || a.parse_only => crate::emit(&csv),
         None => {
             let mut text = crate::table::heading(
@@ -483,6 +609,20 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
         })
         .collect();
     let csv = enginedyn_report::summary_csv(&table);
+    // `--json`: the per-speed summary.json objects.
+    let json = if a.json {
+        let inputs = crate::inputs::of(&loaded, &[Some(&path)])?;
+        let each: Vec<String> = results
+            .iter()
+            .map(|an| {
+                serde_json::to_string(&enginedyn_report::summary_json(&an.summary, &inputs))
+                    .unwrap_or_default()
+            })
+            .collect();
+        Some(json_array(each.iter().map(String::as_str)))
+    } else {
+        None
+    };
     match &out {
         Some(dir) => {
             let summaries: Vec<&enginedyn_pipeline::Summary> =
@@ -490,13 +630,19 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
             let fig = enginedyn_report::sweep_figure(engine.name(), &summaries);
             let svg = fig.render().map_err(|e| Failure::data(e.to_string()))?;
             let [table, chart] = SWEEP_FILES.map(String::from);
-            dir.write(&[(table, csv.into_bytes()), (chart, svg.into_bytes())])?;
+            for note in dir.write(&[(table, csv.into_bytes()), (chart, svg.into_bytes())])? {
+                eprintln!("warning: {note}");
+            }
             eprintln!(
                 "{} speeds; wrote sweep.csv and sweep.svg to {}",
                 rpms.len(),
                 dir.path().display()
             );
+            if let Some(json) = &json {
+                crate::emit(json);
+            }
         }
+        None if a.json => crate::emit(&json.unwrap_or_default()),
         None if a.csv => crate::emit(&csv),
         None => {
             let rows: Vec<enginedyn_report::KeyRow> = results

@@ -6,6 +6,7 @@ mod accuracy;
 mod args;
 mod batch;
 mod firing;
+mod inputs;
 mod kinematics;
 mod run;
 mod table;
@@ -166,7 +167,9 @@ pub fn write_out_to(
     files: &[(String, Vec<u8>)],
     quiet: bool,
 ) -> Result<(), Failure> {
-    out.write(files)?;
+    for note in out.write(files)? {
+        eprintln!("warning: {note}");
+    }
     if !quiet {
         emit(&format!(
             "wrote {} files to {}\n",

@@ -7,8 +7,8 @@ use enginedyn_ingest::{GridOptions, ParseOptions, Peg, Quantity, Resampled};
 use std::path::{Path, PathBuf};
 
 /// The bundled example, compiled in so `enginedyn run` works from anywhere.
-const EXAMPLE_ENGINE: &str = include_str!("../../../data/vaz2108.toml");
-const EXAMPLE_DIAGRAM: &str = include_str!("../../../data/vaz2108.csv");
+pub(crate) const EXAMPLE_ENGINE: &str = include_str!("../../../data/vaz2108.toml");
+pub(crate) const EXAMPLE_DIAGRAM: &str = include_str!("../../../data/vaz2108.csv");
 const EXAMPLE_NAME: &str = "data/vaz2108.toml (bundled)";
 
 /// Where the engine came from: a file or the bundled example.
@@ -399,7 +399,10 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
 
 /// The diagram files of `run` (`None`: the bundled example) and how to
 /// name them: one file, or one per cylinder in order 1..z.
-fn diagram_files(a: &RunArgs, loaded: &Loaded) -> Result<(String, Vec<Option<PathBuf>>), Failure> {
+pub(crate) fn diagram_files(
+    a: &RunArgs,
+    loaded: &Loaded,
+) -> Result<(String, Vec<Option<PathBuf>>), Failure> {
     let z = loaded.engine.cylinders();
     match (a.diagram.as_slice(), &loaded.path) {
         ([], None) => Ok(("data/vaz2108.csv (bundled)".to_string(), vec![None])),
@@ -547,8 +550,9 @@ fn finish(
     for note in &analysis.summary.notes {
         eprintln!("warning: {note}");
     }
+    let inputs = crate::inputs::of_run(a, loaded)?;
     if a.json {
-        let json = enginedyn_report::summary_json(&analysis.summary);
+        let json = enginedyn_report::summary_json(&analysis.summary, &inputs);
         crate::emit(&(serde_json::to_string_pretty(&json).unwrap_or_default() + "\n"));
     } else {
         crate::emit(&crate::table::summary_table(
@@ -572,7 +576,7 @@ fn finish(
             extra.sections.extend(t.sections);
             extra.charts.extend(t.charts);
         }
-        let files = enginedyn_report::run_files_with(engine, analysis, centered, &extra)?;
+        let files = enginedyn_report::run_files_with(engine, analysis, centered, &inputs, &extra)?;
         crate::write_out(dir, &files, a.json)?;
     }
     Ok(())

@@ -69,8 +69,13 @@ fn stages(c: &mut Criterion) {
         b.iter(|| analyse(&engine, black_box(&r), 4900.0, &Options::default()).unwrap())
     });
     let a = analyse(&engine, &r, 4900.0, &Options::default()).unwrap();
+    let inputs = enginedyn_report::Inputs::new(
+        enginedyn_report::Source::Bundled(b"engine"),
+        &[enginedyn_report::Source::Bundled(b"diagram")],
+    )
+    .unwrap();
     c.bench_function("all charts, report.html and CSVs", |b| {
-        b.iter(|| enginedyn_report::run_files(&engine, black_box(&a), false).unwrap())
+        b.iter(|| enginedyn_report::run_files(&engine, black_box(&a), false, &inputs).unwrap())
     });
 }
 

@@ -1,5 +1,6 @@
 //! `report.html`: one self-contained page (no external files, no scripts)
-//! with the engine, the operating point, the models, the summary, the notes
+//! with the engine, the operating point, the summary, the data and method
+//! (input files with their SHA-256, the version, the models), the notes
 //! and every chart inlined as SVG.
 
 use enginedyn_engine::Engine;
@@ -56,10 +57,12 @@ pub fn table(head: &[&str], rows: &[Vec<String>], numeric: &[bool]) -> String {
 }
 
 /// The page, with `charts` as (file name, SVG text) inlined in order and
-/// `sections` as (heading, HTML body) before the charts.
+/// `sections` as (heading, HTML body) before the charts; `inputs` under
+/// "Data and method".
 pub fn report_html(
     engine: &Engine,
     a: &Analysis,
+    inputs: &crate::Inputs,
     sections: &[(String, String)],
     charts: &[(String, String)],
 ) -> String {
@@ -74,6 +77,7 @@ h1{{font-size:22px}}h2{{font-size:17px;margin-top:28px;border-bottom:1px solid #
 table{{border-collapse:collapse;font-size:14px}}td,th{{padding:3px 10px;border-bottom:1px solid #eee;text-align:left}}\
 td.v{{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}}.grid{{display:flex;gap:40px;flex-wrap:wrap}}\
 figure{{margin:12px 0}}figure svg{{max-width:100%;height:auto}}figcaption{{font-size:13px;color:#555}}\
+code{{font-size:12px;word-break:break-all}}\
 </style></head><body>\n<h1>{}</h1>\n",
         esc(&title),
         esc(&title)
@@ -169,16 +173,6 @@ figure{{margin:12px 0}}figure svg{{max-width:100%;height:auto}}figcaption{{font-
     for (k, v) in geometry {
         let _ = writeln!(o, "<tr><th>{}</th><td>{}</td></tr>", esc(k), esc(&v));
     }
-    let _ = writeln!(o, "</table><h2>Models</h2><table>");
-    for (k, v) in [
-        ("kinematics", s.kinematics.to_string()),
-        ("rod model", s.rod_model.to_string()),
-        ("interpolation", s.interpolation.to_string()),
-        ("grid step", format!("{}°", s.grid_step_deg)),
-        ("integration", s.integration.to_string()),
-    ] {
-        let _ = writeln!(o, "<tr><th>{k}</th><td>{}</td></tr>", esc(&v));
-    }
     let _ = writeln!(o, "</table></div><div><h2>Summary</h2><table>");
     for row in crate::summary_rows(&a.summary) {
         let (label, unit, v) = (&row.label, row.unit, row.shown());
@@ -190,6 +184,7 @@ figure{{margin:12px 0}}figure svg{{max-width:100%;height:auto}}figcaption{{font-
         );
     }
     let _ = writeln!(o, "</table></div></div>");
+    data_and_method(&mut o, a, inputs);
     let _ = writeln!(o, "<h2>Notes</h2>");
     if s.notes.is_empty() {
         let _ = writeln!(o, "<p>None.</p>");
@@ -215,4 +210,60 @@ figure{{margin:12px 0}}figure svg{{max-width:100%;height:auto}}figcaption{{font-
     }
     let _ = writeln!(o, "</body></html>");
     o
+}
+
+/// "Data and method": what the results came from (`summary.json`'s
+/// `inputs`: the files as given with their SHA-256, the version) and the
+/// models and method options that computed them.
+fn data_and_method(o: &mut String, a: &Analysis, inputs: &crate::Inputs) {
+    let s = &a.summary;
+    let _ = writeln!(o, "<h2>Data and method</h2><table>");
+    // `inputs` writes "bundled" for the bundled example's files.
+    let shown = |f: &str| {
+        if f == "bundled" {
+            "the bundled example".to_string()
+        } else {
+            esc(f)
+        }
+    };
+    let _ = writeln!(
+        o,
+        "<tr><th>engine file</th><td>{}</td><td>SHA-256 <code>{}</code></td></tr>",
+        shown(&inputs.engine_file),
+        esc(&inputs.engine_sha256)
+    );
+    let several = inputs.diagram_files.len() > 1;
+    for (k, (file, hash)) in inputs
+        .diagram_files
+        .iter()
+        .zip(&inputs.diagram_sha256)
+        .enumerate()
+    {
+        let label = if several {
+            format!("diagram file {}", k + 1)
+        } else {
+            "diagram file".to_string()
+        };
+        let _ = writeln!(
+            o,
+            "<tr><th>{label}</th><td>{}</td><td>SHA-256 <code>{}</code></td></tr>",
+            shown(file),
+            esc(hash)
+        );
+    }
+    let _ = writeln!(
+        o,
+        "<tr><th>computed by</th><td colspan=\"2\">enginedyn {}</td></tr>",
+        esc(inputs.enginedyn_version)
+    );
+    for (k, v) in [
+        ("kinematics", s.kinematics.to_string()),
+        ("rod model", s.rod_model.to_string()),
+        ("interpolation", s.interpolation.to_string()),
+        ("grid step", format!("{}°", s.grid_step_deg)),
+        ("integration", s.integration.to_string()),
+    ] {
+        let _ = writeln!(o, "<tr><th>{k}</th><td colspan=\"2\">{}</td></tr>", esc(&v));
+    }
+    let _ = writeln!(o, "</table>");
 }

@@ -4,7 +4,12 @@
 //!
 //! ```no_run
 //! # fn demo(engine: &enginedyn_engine::Engine, a: &enginedyn_pipeline::Analysis) {
-//! let files = enginedyn_report::run_files(engine, a, false).unwrap();
+//! let inputs = enginedyn_report::Inputs::new(
+//!     enginedyn_report::Source::File("engine.toml".as_ref()),
+//!     &[enginedyn_report::Source::File("diagram.csv".as_ref())],
+//! )
+//! .unwrap();
+//! let files = enginedyn_report::run_files(engine, a, false, &inputs).unwrap();
 //! enginedyn_report::write_all(std::path::Path::new("out"), &files).unwrap();
 //! # }
 //! ```
@@ -26,7 +31,7 @@ pub use chart::{
     tick_label,
 };
 pub use html::{esc, percent_encode, report_html, table as html_table};
-pub use out::{LOCK_WAIT, OutDir, STAGING_PREFIX};
+pub use out::{LOCK_WAIT, MANIFEST, OutDir, STAGING_PREFIX, sha256_file, sha256_hex};
 pub use tables::{
     KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_table, sweep_figure,
 };
@@ -41,6 +46,14 @@ pub enum ReportError {
     /// Writing a file failed.
     #[error("cannot write {path}: {source}")]
     Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// Reading an input file (to record its hash) failed.
+    #[error("cannot read {path}: {source}")]
+    Read {
         /// The file.
         path: PathBuf,
         /// The cause.
@@ -83,9 +96,93 @@ pub enum ReportError {
     },
 }
 
-/// The summary as a JSON object, keys in INTERFACE.md's order. Non-finite
-/// numbers never reach the output: they become `null`.
-pub fn summary_json(summary: &Summary) -> serde_json::Value {
+/// What a result came from (`summary.json`'s `inputs`): the engine file
+/// and the diagram (or torque) files as given, their SHA-256 hashes, and
+/// the version of enginedyn. No date: a rerun is byte-identical.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Inputs {
+    /// The engine file's path as given, or `bundled` for the bundled example.
+    pub engine_file: String,
+    /// The SHA-256 of the engine file's bytes (of the bundled TOML text).
+    pub engine_sha256: String,
+    /// The diagram files' paths as given (`bundled` for the bundled one).
+    pub diagram_files: Vec<String>,
+    /// Their SHA-256 hashes, in the same order.
+    pub diagram_sha256: Vec<String>,
+    /// The version of enginedyn that computed the result.
+    pub enginedyn_version: &'static str,
+}
+
+/// Where an input came from: a file, or text bundled into the binary.
+#[derive(Debug, Clone, Copy)]
+pub enum Source<'a> {
+    /// A file, named as the user gave it.
+    File(&'a Path),
+    /// The bundled example's text.
+    Bundled(&'a [u8]),
+}
+
+impl Source<'_> {
+    /// The name `inputs` gives it and its hash (the file read now).
+    fn record(&self) -> Result<(String, String), ReportError> {
+        Ok(match self {
+            Source::File(p) => (p.display().to_string(), out::sha256_file(p)?),
+            Source::Bundled(text) => ("bundled".to_string(), out::sha256_hex(text)),
+        })
+    }
+}
+
+impl Inputs {
+    /// The record of `engine` and `diagrams` (each file read and hashed).
+    pub fn new(engine: Source<'_>, diagrams: &[Source<'_>]) -> Result<Self, ReportError> {
+        let (engine_file, engine_sha256) = engine.record()?;
+        let (diagram_files, diagram_sha256) = diagrams
+            .iter()
+            .map(Source::record)
+            .collect::<Result<Vec<_>, _>>()?
+            .into_iter()
+            .unzip();
+        Ok(Self {
+            engine_file,
+            engine_sha256,
+            diagram_files,
+            diagram_sha256,
+            enginedyn_version: env!("CARGO_PKG_VERSION"),
+        })
+    }
+
+    /// The same engine with other diagrams (a batch's files: the engine
+    /// hashed once).
+    pub fn with_diagrams(&self, diagrams: &[Source<'_>]) -> Result<Self, ReportError> {
+        let (diagram_files, diagram_sha256) = diagrams
+            .iter()
+            .map(Source::record)
+            .collect::<Result<Vec<_>, _>>()?
+            .into_iter()
+            .unzip();
+        Ok(Self {
+            diagram_files,
+            diagram_sha256,
+            ..self.clone()
+        })
+    }
+
+    /// `inputs` as `summary.json` writes it.
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "engine_file": self.engine_file,
+            "engine_sha256": self.engine_sha256,
+            "diagram_files": self.diagram_files,
+            "diagram_sha256": self.diagram_sha256,
+            "enginedyn_version": self.enginedyn_version,
+        })
+    }
+}
+
+/// The summary as a JSON object, keys in INTERFACE.md's order, `inputs`
+/// right after `notes`. Non-finite numbers never reach the output: they
+/// become `null`.
+pub fn summary_json(summary: &Summary, inputs: &Inputs) -> serde_json::Value {
     fn conv(v: &Value) -> serde_json::Value {
         match v {
             Value::Num(Some(x)) if x.is_finite() => serde_json::Value::from(*x),
@@ -98,13 +195,17 @@ pub fn summary_json(summary: &Summary) -> serde_json::Value {
             }
         }
     }
-    serde_json::Value::Object(
-        summary
-            .fields()
-            .iter()
-            .map(|(k, v)| (k.to_string(), conv(v)))
-            .collect(),
-    )
+    let mut o = serde_json::Map::new();
+    for (k, v) in summary.fields() {
+        o.insert(k.to_string(), conv(&v));
+        if k == "notes" {
+            o.insert("inputs".to_string(), inputs.json());
+        }
+    }
+    if !o.contains_key("inputs") {
+        o.insert("inputs".to_string(), inputs.json());
+    }
+    serde_json::Value::Object(o)
 }
 
 /// The fixed columns of `summary.csv` after `file` and `error`: the summary
@@ -368,13 +469,15 @@ pub fn harmonics_csv(a: &Analysis) -> String {
     s
 }
 
-/// Every file of `run --out DIR`, as (name, contents); `centered` as in [`curves_csv`].
+/// Every file of `run --out DIR`, as (name, contents); `centered` as in
+/// [`curves_csv`], `inputs` what the results came from.
 pub fn run_files(
     engine: &Engine,
     a: &Analysis,
     centered: bool,
+    inputs: &Inputs,
 ) -> Result<Vec<(String, Vec<u8>)>, ReportError> {
-    run_files_with(engine, a, centered, &Extra::default())
+    run_files_with(engine, a, centered, inputs, &Extra::default())
 }
 
 /// What a run folder holds besides the standard files: page sections
@@ -393,9 +496,11 @@ pub fn run_files_with(
     engine: &Engine,
     a: &Analysis,
     centered: bool,
+    inputs: &Inputs,
     extra: &Extra,
 ) -> Result<Vec<(String, Vec<u8>)>, ReportError> {
-    let json = serde_json::to_string_pretty(&summary_json(&a.summary)).unwrap_or_default() + "\n";
+    let json =
+        serde_json::to_string_pretty(&summary_json(&a.summary, inputs)).unwrap_or_default() + "\n";
     let mut files = vec![
         ("summary.json".to_string(), json.into_bytes()),
         (
@@ -411,7 +516,7 @@ pub fn run_files_with(
     charts.extend(extra.charts.iter().cloned());
     files.push((
         "report.html".to_string(),
-        html::report_html(engine, a, &extra.sections, &charts).into_bytes(),
+        html::report_html(engine, a, inputs, &extra.sections, &charts).into_bytes(),
     ));
     for (name, svg) in charts {
         files.push((name, svg.into_bytes()));
@@ -422,7 +527,8 @@ pub fn run_files_with(
 /// Writes `files` (name, bytes) into `dir` through an [`OutDir`]: locked,
 /// staged, each file whole or not at all. Commands that write several times
 /// (a batch) open the [`OutDir`] once and keep it.
-pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), ReportError> {
+/// Returns the notes [`OutDir::write`] returns.
+pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<String>, ReportError> {
     OutDir::open(dir)?.write(files)
 }
 
@@ -458,6 +564,7 @@ mod tests {
         assert_eq!(&recs[1][1], "'-bad");
         assert_eq!(&recs[2][0], "'@SUM(1).csv");
         // JSON keeps the raw text.
-        assert_eq!(summary_json(&s)["notes"][0], "=1+1 in the file");
+        let inputs = Inputs::new(Source::Bundled(b"engine"), &[Source::Bundled(b"p")]).unwrap();
+        assert_eq!(summary_json(&s, &inputs)["notes"][0], "=1+1 in the file");
     }
 }

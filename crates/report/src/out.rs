@@ -21,11 +21,25 @@
 //!   anything is written, and every move re-checks what it moves aside.
 //! - **Leftovers of a killed run** (staging folders, whose names start with
 //!   [`STAGING_PREFIX`]) are removed when the next command takes the lock.
+//! - **A folder written again holds this run's outputs alone**: every
+//!   command's last [`OutDir::write`] records what the command wrote
+//!   ([`MANIFEST`], `DIR/.enginedyn-manifest`: each file, run folders'
+//!   files too, with its SHA-256, in `sha256sum` format) and removes what
+//!   the earlier run's manifest lists and this run did not write, when it is
+//!   still as that run wrote it (its hash unchanged; a run folder when every
+//!   file in it is, and it holds nothing else). A file or run folder changed
+//!   since is kept, with a note; a file the manifest does not list (the
+//!   user's own) is never touched. The manifest is staged with the other files and
+//!   moved into place last: a killed run leaves the earlier run's manifest,
+//!   never one that lists files this run did not write.
 
 use crate::ReportError;
+use sha2::{Digest as _, Sha256};
+use std::collections::BTreeSet;
 use std::fs::File;
-use std::io::Write as _;
+use std::io::{BufRead as _, Read as _, Write as _};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 /// How long a command waits for another one writing the same folder.
@@ -34,6 +48,16 @@ pub const LOCK_WAIT: Duration = Duration::from_secs(30);
 /// The start of every staging folder's name.
 pub const STAGING_PREFIX: &str = ".enginedyn-staging-";
 
+/// The record of what the last run wrote into an output folder: one line
+/// per file, `HASH  PATH` as `sha256sum` writes it (`sha256sum -c
+/// .enginedyn-manifest` inside the folder checks it), PATH relative to the
+/// folder (`report.html`, `0001_a/summary.json`), sorted.
+pub const MANIFEST: &str = ".enginedyn-manifest";
+
+/// The largest manifest read: one larger (not enginedyn's) is ignored, and
+/// then nothing is removed.
+const MAX_MANIFEST: u64 = 256 << 20;
+
 /// An output folder held by this command: locked, cleaned of what a killed
 /// run left, written file set by file set.
 #[derive(Debug)]
@@ -41,6 +65,51 @@ pub struct OutDir {
     dir: PathBuf,
     /// The lock: held while this value lives.
     _lock: File,
+    /// What the earlier run's manifest lists: (path, SHA-256 in hex).
+    earlier: Vec<(String, String)>,
+    /// What this command has written so far: (path, SHA-256 in hex), run
+    /// folders' files as `FOLDER/NAME`.
+    written: Mutex<Vec<(String, String)>>,
+}
+
+/// The SHA-256 of `bytes` in lowercase hex, as `sha256sum` prints it.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    hex(&Sha256::digest(bytes))
+}
+
+/// The SHA-256 of the regular file at `path` in lowercase hex, read in
+/// blocks (a FIFO or device is refused before it is opened).
+pub fn sha256_file(path: &Path) -> Result<String, ReportError> {
+    let read = |source| ReportError::Read {
+        path: path.to_path_buf(),
+        source,
+    };
+    if !std::fs::metadata(path).map_err(read)?.is_file() {
+        return Err(read(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file",
+        )));
+    }
+    let mut f = File::open(path).map_err(read)?;
+    let mut h = Sha256::new();
+    let mut buf = vec![0u8; 1 << 16];
+    loop {
+        let n = f.read(&mut buf).map_err(read)?;
+        if n == 0 {
+            break;
+        }
+        h.update(&buf[..n]);
+    }
+    Ok(hex(&h.finalize()))
+}
+
+fn hex(bytes: &[u8]) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::with_capacity(2 * bytes.len());
+    for b in bytes {
+        let _ = write!(s, "{b:02x}");
+    }
+    s
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> ReportError + '_ {
@@ -84,11 +153,14 @@ impl OutDir {
                 Err(std::fs::TryLockError::Error(e)) => return Err(io(dir)(e)),
             }
         }
-        let out = Self {
+        let mut out = Self {
             dir: dir.to_path_buf(),
             _lock: lock,
+            earlier: Vec::new(),
+            written: Mutex::new(Vec::new()),
         };
         out.remove_leftovers();
+        out.earlier = read_manifest(&out.dir.join(MANIFEST));
         Ok(out)
     }
 
@@ -109,14 +181,15 @@ impl OutDir {
     /// Whether every name the command will write may be written: each of
     /// `files` is absent or a regular, writable file (an earlier run's), each
     /// of `folders` absent or a real folder holding an earlier run's
-    /// `summary.json`. The first thing in the way is refused
-    /// ([`ReportError::InTheWay`], naming it); nothing is changed. Links are
-    /// never followed.
+    /// `summary.json`; and so is the [`MANIFEST`]. The first thing in the
+    /// way is refused ([`ReportError::InTheWay`], naming it); nothing is
+    /// changed. Links are never followed.
     pub fn check<F: AsRef<str>, D: AsRef<str>>(
         &self,
         files: &[F],
         folders: &[D],
     ) -> Result<(), ReportError> {
+        self.replaceable(MANIFEST, Target::File)?;
         for name in files {
             check_name(name.as_ref())?;
             self.replaceable(name.as_ref(), Target::File)?;
@@ -176,13 +249,22 @@ impl OutDir {
             .map_err(io(&self.dir))
     }
 
-    /// Writes `files` (name, bytes) into DIR: each appears whole or not at
-    /// all, and either every one of them is the new version or (after a
-    /// failure) every one is as it was.
+    /// Writes `files` (name, bytes) into DIR, the command's last write
+    /// (after its run folders, [`OutDir::write_folder`]): each appears whole
+    /// or not at all, and either every one of them is the new version or
+    /// (after a failure) every one is as it was.
     /// Nothing but a regular, writable file is replaced: anything else of
     /// one of the names is refused ([`OutDir::check`]) before anything is
     /// written, and checked again as it is moved aside.
-    pub fn write(&self, files: &[(String, Vec<u8>)]) -> Result<(), ReportError> {
+    ///
+    /// Then the folder is made to hold this command's outputs alone: what
+    /// the earlier run's [`MANIFEST`] lists and this command did not write
+    /// is removed when it is unchanged (a run folder whole, when every file
+    /// in it is and it holds nothing else),
+    /// and the new manifest, staged with the files, is moved into place
+    /// last. Returns the notes to print as warnings: the earlier outputs
+    /// kept because they changed since (they may be stale).
+    pub fn write(&self, files: &[(String, Vec<u8>)]) -> Result<Vec<String>, ReportError> {
         let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
         self.check::<&str, &str>(&names, &[])?;
         let stage = self.staging()?;
@@ -190,10 +272,25 @@ impl OutDir {
         let old = stage.path().join("old");
         std::fs::create_dir(&new).map_err(io(&new))?;
         std::fs::create_dir(&old).map_err(io(&old))?;
+        let mut record = Vec::with_capacity(files.len());
         for (name, bytes) in files {
             check_name(name)?;
             write_new(&new.join(name), bytes)?;
+            record.push((name.clone(), sha256_hex(bytes)));
         }
+        let mut listed = self
+            .written
+            .lock()
+            .map_or_else(|e| e.into_inner().clone(), |w| w.clone());
+        listed.extend(record.iter().cloned());
+        listed.sort();
+        listed.dedup_by(|a, b| a.0 == b.0);
+        let manifest_text: String = listed
+            .iter()
+            .map(|(path, hash)| format!("{hash}  {path}\n"))
+            .collect();
+        let staged_manifest = stage.path().join("manifest");
+        write_new(&staged_manifest, manifest_text.as_bytes())?;
         // Old aside, new in; on a failure undo what was done.
         let mut moved_aside: Vec<&str> = Vec::new();
         let mut moved_in: Vec<&str> = Vec::new();
@@ -217,8 +314,124 @@ impl OutDir {
                 let _ = std::fs::rename(old.join(name), self.dir.join(name));
             }
         }
+        result?;
+        if let Ok(mut w) = self.written.lock() {
+            *w = listed.clone();
+        }
+        let notes = self.remove_stale(&listed);
+        // The manifest last: it lists only what is now in place.
+        let target = self.dir.join(MANIFEST);
+        self.replaceable(MANIFEST, Target::File)?;
+        std::fs::rename(&staged_manifest, &target).map_err(io(&target))?;
         drop(stage);
-        result
+        Ok(notes)
+    }
+
+    /// Removes what the earlier run's manifest lists and `listed` (this
+    /// command's outputs) does not, when it is still as that run wrote it:
+    /// a file when its hash is unchanged; a run folder whole when every
+    /// file it lists is unchanged (or gone) and the folder holds nothing
+    /// else. A file changed since, or a run folder holding such a file or
+    /// one the user added, is kept, and the note saying so returned. Links
+    /// are never followed.
+    fn remove_stale(&self, listed: &[(String, String)]) -> Vec<String> {
+        use std::collections::BTreeMap;
+        let ours: BTreeSet<&str> = listed.iter().map(|(p, _)| p.as_str()).collect();
+        // A run folder this command wrote was replaced whole.
+        let our_folders: BTreeSet<&str> = listed
+            .iter()
+            .filter_map(|(p, _)| p.split_once('/').map(|(f, _)| f))
+            .collect();
+        let mut notes = Vec::new();
+        let mut folders: BTreeMap<&str, Vec<(&str, &str)>> = BTreeMap::new();
+        for (path, hash) in &self.earlier {
+            if ours.contains(path.as_str()) {
+                continue;
+            }
+            match path.split_once('/') {
+                Some((folder, file)) => {
+                    if !our_folders.contains(folder) {
+                        folders.entry(folder).or_default().push((file, hash));
+                    }
+                }
+                None => match self.unchanged(path, hash) {
+                    Some(true) => {
+                        let file = self.dir.join(path);
+                        if let Err(e) = std::fs::remove_file(&file) {
+                            notes.push(format!(
+                                "{}: an earlier run's output that this run does not write; cannot remove it ({e}), so it may be stale",
+                                file.display()
+                            ));
+                        }
+                    }
+                    Some(false) => notes.push(format!(
+                        "{}: an earlier run wrote it and this run does not, but it changed since, so it is kept; it may be stale",
+                        self.dir.join(path).display()
+                    )),
+                    None => {}
+                },
+            }
+        }
+        for (folder, files) in folders {
+            let dir = self.dir.join(folder);
+            // Only a real folder, never a link to one.
+            if !std::fs::symlink_metadata(&dir).is_ok_and(|m| m.is_dir()) {
+                continue;
+            }
+            let changed: Vec<&str> = files
+                .iter()
+                .filter(|(f, h)| self.unchanged(&format!("{folder}/{f}"), h) == Some(false))
+                .map(|(f, _)| *f)
+                .collect();
+            let listed: BTreeSet<&str> = files.iter().map(|(f, _)| *f).collect();
+            let mut others: Vec<String> = std::fs::read_dir(&dir)
+                .map(|r| {
+                    r.flatten()
+                        .map(|e| e.file_name().to_string_lossy().into_owned())
+                        .filter(|n| !listed.contains(n.as_str()))
+                        .collect()
+                })
+                .unwrap_or_default();
+            others.sort();
+            if changed.is_empty() && others.is_empty() {
+                // Every file as the earlier run wrote it: the folder goes.
+                for (f, _) in &files {
+                    let _ = std::fs::remove_file(dir.join(f));
+                }
+                if let Err(e) = std::fs::remove_dir(&dir) {
+                    notes.push(format!(
+                        "{}: an earlier run's run folder that this run does not write; cannot remove it ({e}), so it may be stale",
+                        dir.display()
+                    ));
+                }
+            } else {
+                let why = if changed.is_empty() {
+                    format!(
+                        "it holds files that run did not write ({})",
+                        others.join(", ")
+                    )
+                } else {
+                    format!("{} changed since", changed.join(", "))
+                };
+                notes.push(format!(
+                    "{}: an earlier run wrote this run folder and this run does not, but {why}, so it is kept whole; it may be stale",
+                    dir.display()
+                ));
+            }
+        }
+        notes
+    }
+
+    /// Whether the file `path` (relative to DIR) is still as the earlier
+    /// run wrote it (`hash`): `None` when it is gone or no longer a regular
+    /// file (then it is not ours to judge).
+    fn unchanged(&self, path: &str, hash: &str) -> Option<bool> {
+        let file = self.dir.join(path);
+        let meta = std::fs::symlink_metadata(&file).ok()?;
+        if !meta.file_type().is_file() {
+            return None;
+        }
+        Some(sha256_file(&file).is_ok_and(|h| h == hash))
     }
 
     /// Writes `files` as the subfolder `name` of DIR (a batch's run
@@ -242,6 +455,13 @@ impl OutDir {
         }
         std::fs::rename(&folder, &target).map_err(io(&target))?;
         drop(stage);
+        let record = files
+            .iter()
+            .map(|(file, bytes)| (format!("{name}/{file}"), sha256_hex(bytes)));
+        match self.written.lock() {
+            Ok(mut w) => w.extend(record),
+            Err(e) => e.into_inner().extend(record),
+        }
         Ok(())
     }
 }
@@ -332,6 +552,37 @@ fn check_name(name: &str) -> Result<(), ReportError> {
     }
 }
 
+/// The earlier run's manifest at `path`: (path, hash) of every well-formed
+/// line naming a file of ours (`NAME` or `FOLDER/NAME`, plain names). A
+/// manifest that is missing, not a regular file or too large lists nothing.
+fn read_manifest(path: &Path) -> Vec<(String, String)> {
+    let regular = std::fs::symlink_metadata(path)
+        .is_ok_and(|m| m.file_type().is_file() && m.len() <= MAX_MANIFEST);
+    if !regular {
+        return Vec::new();
+    }
+    let Ok(f) = File::open(path) else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for line in std::io::BufReader::new(f.take(MAX_MANIFEST)).lines() {
+        let Ok(line) = line else {
+            break;
+        };
+        let Some((hash, file)) = line.split_once("  ") else {
+            continue;
+        };
+        let hash_ok =
+            hash.len() == 64 && hash.bytes().all(|b| matches!(b, b'0'..=b'9' | b'a'..=b'f'));
+        let parts: Vec<&str> = file.split('/').collect();
+        let path_ok = (1..=2).contains(&parts.len()) && parts.iter().all(|p| check_name(p).is_ok());
+        if hash_ok && path_ok {
+            out.push((file.to_string(), hash.to_string()));
+        }
+    }
+    out
+}
+
 /// Creates `path` (which must not exist: never through a link) and writes
 /// `bytes` to it, flushed to the disk.
 fn write_new(path: &Path, bytes: &[u8]) -> Result<(), ReportError> {
@@ -384,7 +635,7 @@ mod tests {
         out.write(&files("b")).unwrap();
         assert_eq!(
             listing(d.path()),
-            ["f0.txt", "f1.txt", "f2.txt", "f3.txt", "f4.txt"]
+            [MANIFEST, "f0.txt", "f1.txt", "f2.txt", "f3.txt", "f4.txt"]
         );
         assert_eq!(
             std::fs::read_to_string(d.path().join("f3.txt")).unwrap(),
@@ -402,7 +653,125 @@ mod tests {
             std::fs::read_to_string(d.path().join("0001_x/f0.txt")).unwrap(),
             "d 0"
         );
-        assert_eq!(listing(d.path()).len(), 6);
+        assert_eq!(listing(d.path()).len(), 7);
+    }
+
+    /// The manifest: what the earlier run wrote and this one does not is
+    /// removed when unchanged, kept with a note when changed; a file the
+    /// manifest does not list, or a line that names something outside the
+    /// folder, is never touched.
+    #[test]
+    fn a_folder_written_again_holds_this_runs_outputs_alone() {
+        let d = tempfile::tempdir().unwrap();
+        let outside = tempfile::tempdir().unwrap();
+        type Files = [(String, Vec<u8>)];
+        let write = |files: &Files, folders: &[(&str, &Files)]| {
+            let out = OutDir::open(d.path()).unwrap();
+            for (name, f) in folders {
+                out.write_folder(name, f).unwrap();
+            }
+            out.write(files).unwrap()
+        };
+        let summary = [
+            ("summary.json".to_string(), b"{}".to_vec()),
+            ("a.svg".to_string(), b"<svg/>".to_vec()),
+        ];
+        let notes = write(&files("a"), &[("0001_x", &summary), ("0002_y", &summary)]);
+        assert!(notes.is_empty(), "{notes:?}");
+        let manifest = std::fs::read_to_string(d.path().join(MANIFEST)).unwrap();
+        assert_eq!(manifest.lines().count(), 9, "{manifest}");
+        assert!(manifest.contains(&format!("{}  0002_y/a.svg\n", sha256_hex(b"<svg/>"))));
+        assert!(manifest.contains(&format!("{}  f4.txt\n", sha256_hex(b"a 4"))));
+        // The user changes one output, adds a file of their own (one in a
+        // run folder too), and a line pointing outside the folder.
+        std::fs::write(d.path().join("f3.txt"), "edited").unwrap();
+        std::fs::write(d.path().join("mine.txt"), "the user's").unwrap();
+        std::fs::write(d.path().join("0002_y/mine.txt"), "the user's").unwrap();
+        std::fs::write(outside.path().join("victim"), "x").unwrap();
+        let evil = format!(
+            "{}{}  ../{}/victim\n",
+            manifest,
+            sha256_hex(b"x"),
+            outside.path().file_name().unwrap().to_string_lossy()
+        );
+        std::fs::write(d.path().join(MANIFEST), evil).unwrap();
+        // The next run writes f0 and f1 and one run folder only.
+        let fewer: Vec<_> = files("b").into_iter().take(2).collect();
+        let notes = write(&fewer, &[("0001_x", &summary)]);
+        assert_eq!(
+            listing(d.path()),
+            [
+                MANIFEST, "0001_x", "0002_y", "f0.txt", "f1.txt", "f3.txt", "mine.txt"
+            ]
+        );
+        // A run folder holding a file of the user's is kept whole.
+        assert_eq!(
+            listing(&d.path().join("0002_y")),
+            ["a.svg", "mine.txt", "summary.json"]
+        );
+        assert_eq!(notes.len(), 2, "{notes:?}");
+        assert!(
+            notes[0].contains("f3.txt") && notes[0].contains("may be stale"),
+            "{}",
+            notes[0]
+        );
+        assert!(
+            notes[1].contains("0002_y") && notes[1].contains("(mine.txt)"),
+            "{}",
+            notes[1]
+        );
+        assert!(outside.path().join("victim").exists());
+        let manifest = std::fs::read_to_string(d.path().join(MANIFEST)).unwrap();
+        let listed: Vec<&str> = manifest.lines().map(|l| &l[66..]).collect();
+        assert_eq!(
+            listed,
+            ["0001_x/a.svg", "0001_x/summary.json", "f0.txt", "f1.txt"]
+        );
+        // A run folder as the earlier run wrote it goes whole; one with a
+        // file changed since is kept whole.
+        let with_y = format!(
+            "{manifest}{}  0002_y/a.svg\n{}  0002_y/summary.json\n",
+            sha256_hex(b"<svg/>"),
+            sha256_hex(b"{}")
+        );
+        std::fs::remove_file(d.path().join("0002_y/mine.txt")).unwrap();
+        std::fs::write(d.path().join("0002_y/a.svg"), "<svg>edited</svg>").unwrap();
+        std::fs::write(d.path().join(MANIFEST), &with_y).unwrap();
+        let notes = write(&fewer, &[]);
+        assert_eq!(notes.len(), 1, "{notes:?}");
+        assert!(notes[0].contains("a.svg changed since"), "{}", notes[0]);
+        assert_eq!(listing(&d.path().join("0002_y")), ["a.svg", "summary.json"]);
+        std::fs::write(d.path().join("0002_y/a.svg"), "<svg/>").unwrap();
+        std::fs::write(d.path().join(MANIFEST), &with_y).unwrap();
+        let notes = write(&fewer, &[]);
+        assert!(notes.is_empty(), "{notes:?}");
+        assert_eq!(
+            listing(d.path()),
+            [MANIFEST, "f0.txt", "f1.txt", "f3.txt", "mine.txt"]
+        );
+    }
+
+    /// The manifest is one of the names written: something in its way is
+    /// refused before anything is written.
+    #[test]
+    fn a_link_at_the_manifest_is_in_the_way() {
+        let d = tempfile::tempdir().unwrap();
+        let outside = tempfile::tempdir().unwrap();
+        std::os::unix::fs::symlink(outside.path().join("m"), d.path().join(MANIFEST)).unwrap();
+        let out = OutDir::open(d.path()).unwrap();
+        let e = out.write(&files("a")).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                ReportError::InTheWay {
+                    what: "a symbolic link",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        assert_eq!(listing(d.path()), [MANIFEST]);
+        assert!(!outside.path().join("m").exists());
     }
 
     #[test]
