@@ -337,7 +337,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                     if !s.notes.is_empty() {
                         bar.suspend(|| {
                             for n in &s.notes {
-                                eprintln!("warning: {}: {n}", one_line(&shown));
+                                crate::say(Some(&one_line(&shown)), n);
                             }
                         });
                     }
@@ -434,7 +434,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                 ));
             }
             for note in dir.write(&out)? {
-                eprintln!("warning: {note}");
+                crate::say(None, &note);
             }
             eprintln!(
                 "{} ({} failed) in {:.2} s; wrote {}",
@@ -631,7 +631,7 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
             let svg = fig.render().map_err(|e| Failure::data(e.to_string()))?;
             let [table, chart] = SWEEP_FILES.map(String::from);
             for note in dir.write(&[(table, csv.into_bytes()), (chart, svg.into_bytes())])? {
-                eprintln!("warning: {note}");
+                crate::say(None, &note);
             }
             eprintln!(
                 "{} speeds; wrote sweep.csv and sweep.svg to {}",

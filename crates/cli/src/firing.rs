@@ -91,9 +91,7 @@ pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
     let mut result = study(&setup, a.all_cranks).map_err(|e| Failure::usage(e.to_string()))?;
     notes.append(&mut result.notes);
     result.notes = notes;
-    for n in &result.notes {
-        eprintln!("warning: {n}");
-    }
+    crate::say_all(&result.notes);
     if a.json {
         let doc = if a.all_cranks {
             json!({

@@ -20,9 +20,7 @@ pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
     let out = crate::open_out(a.out.as_deref(), &FILES)?;
     let speed = crate::run::resolve_rpm(a.rpm, None, engine)?;
     speed.warn();
-    for n in engine.plausibility_notes(Some(speed.rpm)) {
-        eprintln!("warning: {n}");
-    }
+    crate::say_all(&engine.plausibility_notes(Some(speed.rpm)));
     let rpm = speed.rpm;
     let omega = rpm * PI / 30.0;
     let model = a.kinematics.model();

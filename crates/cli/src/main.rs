@@ -125,6 +125,34 @@ impl From<enginedyn_report::ReportError> for Failure {
     }
 }
 
+/// Says a note on standard error, once per command: `note:` for what was
+/// decided or assumed, `warning:` for what may be wrong
+/// (`enginedyn_pipeline::notes::severity`, the one home of that choice).
+/// `about` names the file a batch note is about.
+pub fn say(about: Option<&str>, note: &str) {
+    use std::sync::Mutex;
+    static SAID: Mutex<Vec<String>> = Mutex::new(Vec::new());
+    let line = match about {
+        Some(f) => format!("{f}: {note}"),
+        None => note.to_string(),
+    };
+    if let Ok(mut said) = SAID.lock() {
+        if said.contains(&line) {
+            return;
+        }
+        said.push(line.clone());
+    }
+    let label = enginedyn_pipeline::notes::severity(note).label();
+    eprintln!("{label}: {line}");
+}
+
+/// [`say`] for each of `notes`.
+pub fn say_all<'a>(notes: impl IntoIterator<Item = &'a String>) {
+    for n in notes {
+        say(None, n);
+    }
+}
+
 /// Writes to standard output; a closed pipe (`enginedyn run | head`) ends the
 /// program quietly instead of panicking.
 pub fn emit(text: &str) {
@@ -168,7 +196,7 @@ pub fn write_out_to(
     quiet: bool,
 ) -> Result<(), Failure> {
     for note in out.write(files)? {
-        eprintln!("warning: {note}");
+        say(None, &note);
     }
     if !quiet {
         emit(&format!(

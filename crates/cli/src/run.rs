@@ -88,6 +88,7 @@ pub fn diagram_options(
             crate::args::CylinderAxisArg::Own => enginedyn_ingest::CylinderAxis::Own,
         }),
         as_cylinder: 0,
+        torque: false,
     };
     let mut grid = GridOptions {
         step_deg: step,
@@ -283,7 +284,7 @@ impl Speed {
     /// no notes of its own.
     pub fn warn(&self) {
         if let Some(n) = &self.note {
-            eprintln!("warning: {n}");
+            crate::say(None, n);
         }
     }
 }
@@ -348,7 +349,11 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
             peg: None,
             ..grid.clone()
         };
-        let resampled = load_diagram(Some(path), &parse, &torque_grid)?;
+        let torque_parse = ParseOptions {
+            torque: true,
+            ..parse.clone()
+        };
+        let resampled = load_diagram(Some(path), &torque_parse, &torque_grid)?;
         if resampled.quantity == Quantity::Pressure {
             return Err(Failure::data(format!(
                 "{shown}: a pressure diagram; --torque reads `crank_deg` with `torque_cylinder_nm` or `torque_engine_nm` (use --diagram for pressure)"
@@ -547,9 +552,7 @@ fn finish(
     opts: &enginedyn_pipeline::Options,
 ) -> Result<(), Failure> {
     let engine = &loaded.engine;
-    for note in &analysis.summary.notes {
-        eprintln!("warning: {note}");
-    }
+    crate::say_all(&analysis.summary.notes);
     let inputs = crate::inputs::of_run(a, loaded)?;
     if a.json {
         let json = enginedyn_report::summary_json(&analysis.summary, &inputs);

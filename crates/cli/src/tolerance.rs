@@ -79,9 +79,7 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
     study.notes.splice(0..0, input_notes);
     study.notes.extend(offset_note(engine, &study));
     study.notes.extend(speed.note);
-    for note in &study.notes {
-        eprintln!("warning: {note}");
-    }
+    crate::say_all(&study.notes);
     crate::emit(&text_table(engine, &shown, rpm, &study));
     if let Some(dir) = &out {
         let title = format!(

@@ -310,6 +310,9 @@ const TIME_WORDS: &[&str] = &["time", "t", "zeit", "timestamp"];
 const VOLUME_WORDS: &[&str] = &["volume", "vol", "v", "hubraum"];
 const TDC_WORDS: &[&str] = &["tdc", "ot", "trigger", "pulse", "marker"];
 const CYCLE_WORDS: &[&str] = &["cycle", "cyc", "zyklus", "arbeitsspiel", "cycles"];
+/// Words that name a torque column (`Torque [Nm]`, `Drehmoment [N m]`).
+const TORQUE_WORDS: &[&str] = &["torque", "drehmoment", "moment", "trq", "tq"];
+
 const CYLINDER_WORDS: &[&str] = &["cylinder", "cyl", "zylinder", "zyl"];
 
 fn angle_unit(u: &str) -> Option<f64> {
@@ -420,6 +423,25 @@ pub(crate) fn recognise(raw: &str) -> Result<Role, Unread> {
     }
     let has = |set: &[&str]| names.iter().any(|n| set.contains(n));
     let unit = unit.as_str();
+    // Torque, as dynamometers write it: `Torque [Nm]`, `Drehmoment [N m]`,
+    // `M [Nm]`; the engine's unless the name says a cylinder's.
+    let torque_unit = if unit.is_empty() && names.contains(&"nm") {
+        "nm"
+    } else {
+        unit
+    };
+    if has(TORQUE_WORDS) || (matches!(names.as_slice(), ["m"] | ["md"]) && torque_unit == "nm") {
+        let q = if has(CYLINDER_WORDS) || cylinder.is_some() {
+            Quantity::CylinderTorque
+        } else {
+            Quantity::EngineTorque
+        };
+        return match torque_unit {
+            "nm" => Ok(Role::Torque(q)),
+            "" => Err(Unread::NoUnit("torque", "Torque [Nm]")),
+            u => Err(Unread::BadUnit("a torque unit: N m", u.to_string())),
+        };
+    }
     if has(PRESSURE_WORDS)
         || (names.is_empty() || names == ["deg"]) && pressure_scale(unit).is_some()
         || names.len() == 1 && pressure_scale(names[0]).is_some()
@@ -577,6 +599,7 @@ impl Roles {
         names: &[String],
         explicit: bool,
         line: usize,
+        want_torque: bool,
     ) -> Result<Roles, IngestError> {
         let mut read: Vec<(usize, Role)> = Vec::new();
         let mut unread: Vec<(usize, Unread)> = Vec::new();
@@ -623,8 +646,9 @@ impl Roles {
                 m.push_str(&format!("; read: {}", readable.join(", ")));
             }
             m.push_str(&format!(
-                "; known names: {} and spellings such as `Crank Angle [deg]` or `Pressure [bar]`; --columns names the columns",
-                KNOWN.join(", ")
+                "; known names: {} and spellings such as `Crank Angle [deg]` or {}; --columns names the columns",
+                KNOWN.join(", "),
+                if want_torque { "`Torque [Nm]` (the engine's; `Torque Cyl [Nm]` one cylinder's)" } else { "`Pressure [bar]`" }
             ));
             at(line, None, m)
         };
@@ -699,6 +723,8 @@ impl Roles {
             }
             (true, false, true) => (pressures, Quantity::Pressure, false),
             (true, true, false) => (volts, Quantity::Pressure, true),
+            // A turning-moment file (`--torque`) is told about torque.
+            (true, true, true) if want_torque => return Err(missing("torque")),
             (true, true, true) => return Err(missing("pressure")),
             _ => {
                 return Err(at(
@@ -886,13 +912,17 @@ mod tests {
         let names: Vec<String> = ["CA [deg]", "p_1 [bar]", "p_2 [bar]"]
             .map(String::from)
             .to_vec();
-        let r = Roles::resolve(&names, false, 1).unwrap();
+        let r = Roles::resolve(&names, false, 1, false).unwrap();
         assert_eq!(r.values.len(), 2);
         assert!(!r.per_cylinder);
         let names: Vec<String> = ["CA [deg]", "Pressure[bar]_Cyl01", "Pressure[bar]_Cyl02"]
             .map(String::from)
             .to_vec();
-        assert!(Roles::resolve(&names, false, 1).unwrap().per_cylinder);
+        assert!(
+            Roles::resolve(&names, false, 1, false)
+                .unwrap()
+                .per_cylinder
+        );
         assert_eq!(
             expand(&["crank_deg".into(), "pressure_bar...".into()], 4).len(),
             4

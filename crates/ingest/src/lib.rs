@@ -91,6 +91,8 @@ pub struct ParseOptions {
     /// The file holds this cylinder's traces (one of several `--diagram`
     /// files); 0 when it names its own cylinders or stands for all.
     pub as_cylinder: usize,
+    /// A turning-moment file is expected (`--torque`): errors speak of torque.
+    pub torque: bool,
 }
 
 /// A workbook's sheet (`--sheet NAME|N`).
@@ -138,6 +140,7 @@ impl ParseOptions {
             firing_deg: Vec::new(),
             cylinder_axis: None,
             as_cylinder: 0,
+            torque: false,
         }
     }
 }

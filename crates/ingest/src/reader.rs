@@ -188,10 +188,10 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                         ),
                     ));
                 }
-                let roles = Roles::resolve(&names, true, line)?;
+                let roles = Roles::resolve(&names, true, line, self.opts.torque)?;
                 (roles, text.len().checked_sub(1))
             }
-            None => header(&text, k, line)?,
+            None => header(&text, k, line, self.opts.torque)?,
         };
         // Lines above the header: titles and banners.
         let banner = header_at.map_or(0, |h| h);
@@ -292,7 +292,12 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
 /// The header among the text rows above the data (`k` cells wide): the
 /// last row, or the last two as names and units, or the one before a
 /// units row. Returns the roles and the header's index in `text`.
-fn header(text: &[TextLine], k: usize, line: usize) -> Result<(Roles, Option<usize>), IngestError> {
+fn header(
+    text: &[TextLine],
+    k: usize,
+    line: usize,
+    torque: bool,
+) -> Result<(Roles, Option<usize>), IngestError> {
     let Some(last) = text.len().checked_sub(1) else {
         return Err(at(
             line,
@@ -337,13 +342,18 @@ fn header(text: &[TextLine], k: usize, line: usize) -> Result<(Roles, Option<usi
     if last > 0 && crate::columns::units_row(&names) {
         let above = fit(&text[last - 1]);
         if above.len() == names.len()
-            && let Ok(r) = Roles::resolve(&join_units(&above, &names), false, text[last - 1].line)
+            && let Ok(r) = Roles::resolve(
+                &join_units(&above, &names),
+                false,
+                text[last - 1].line,
+                torque,
+            )
         {
             check(&above, text[last - 1].line)?;
             return Ok((r, Some(last - 1)));
         }
     }
-    let first_try = Roles::resolve(&names, false, text[last].line);
+    let first_try = Roles::resolve(&names, false, text[last].line, torque);
     if let Ok(r) = first_try {
         check(&names, text[last].line)?;
         return Ok((r, Some(last)));
@@ -353,12 +363,12 @@ fn header(text: &[TextLine], k: usize, line: usize) -> Result<(Roles, Option<usi
         let (a, b) = (fit(&text[last - 1]), fit(&text[last]));
         if a.len() == b.len() {
             let joined = join_units(&a, &b);
-            if let Ok(r) = Roles::resolve(&joined, false, text[last - 1].line) {
+            if let Ok(r) = Roles::resolve(&joined, false, text[last - 1].line, torque) {
                 check(&joined, text[last - 1].line)?;
                 return Ok((r, Some(last - 1)));
             }
         }
-        if let Ok(r) = Roles::resolve(&a, false, text[last - 1].line) {
+        if let Ok(r) = Roles::resolve(&a, false, text[last - 1].line, torque) {
             check(&a, text[last - 1].line)?;
             return Ok((r, Some(last - 1)));
         }
@@ -501,6 +511,9 @@ pub(crate) struct Emitter<'o, F> {
     bridged: Vec<(String, Gap)>,
     /// Samples below zero, traces with any, the lowest (Pa).
     below: (usize, usize, f64),
+    /// Traces whose mean around intake BDC is below [`LOW_INTAKE_PA`], and
+    /// the lowest such mean (Pa).
+    low_intake: (usize, f64),
     total: usize,
     /// The value columns as messages name them (`Roles::labels`).
     pub labels: Vec<String>,
@@ -526,6 +539,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             skipped: Vec::new(),
             bridged: Vec::new(),
             below: (0, 0, 0.0),
+            low_intake: (0, f64::INFINITY),
             total: 0,
             labels: Vec::new(),
             volts: false,
@@ -585,6 +599,15 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
         {
             // Moved: its steps now include the joined ends.
             c.steps = None;
+        }
+        if self.absolute
+            && q == Quantity::Pressure
+            && !pv
+            && let Some(m) = intake_bdc_mean(&tr, opts.cycle_deg)
+            && m < LOW_INTAKE_PA
+        {
+            self.low_intake.0 += 1;
+            self.low_intake.1 = self.low_intake.1.min(m);
         }
         if c.below_zero.0 > 0 {
             self.below.0 += c.below_zero.0;
@@ -731,10 +754,43 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                 if self.total > 1 { format!(" in {} of {} traces", self.below.1, self.total) } else { String::new() }
             ));
         }
+        if self.low_intake.0 > 0 {
+            head.notes.push(format!(
+                "the pressure around intake BDC averages {} bar absolute{}, below the {} bar an engine's intake holds: gauge data (relative to the atmosphere) read as absolute? give --gauge, or peg a relative trace (--peg-bar P)",
+                enginedyn_numerics::format::sig(self.low_intake.1 / 1e5, 3),
+                if self.total > 1 {
+                    format!(" (lowest) in {} of {} traces", self.low_intake.0, self.total)
+                } else {
+                    String::new()
+                },
+                enginedyn_numerics::format::human(LOW_INTAKE_PA / 1e5)
+            ));
+        }
         head.notes.append(&mut self.pv_notes);
         head.notes.extend(self.aligner.notes());
         Ok(())
     }
+}
+
+/// The lowest mean absolute pressure around intake BDC (Pa) a running
+/// engine's intake holds: below it the trace is likely gauge data.
+const LOW_INTAKE_PA: f64 = 0.2e5;
+
+/// The mean of a trace (angles from firing TDC, in `[0, cycle)`) over ±5°
+/// around intake BDC (540° four-stroke, 180° two-stroke), when it has
+/// samples there.
+fn intake_bdc_mean(tr: &Trace, cycle: f64) -> Option<f64> {
+    let bdc = if cycle > 400.0 { 540.0 } else { 180.0 };
+    let (mut sum, mut n) = (0.0, 0usize);
+    let lo = tr.angle_deg.partition_point(|&a| a < bdc - 5.0);
+    for (a, p) in tr.angle_deg[lo..].iter().zip(&tr.values[lo..]) {
+        if *a > bdc + 5.0 {
+            break;
+        }
+        sum += p;
+        n += 1;
+    }
+    (n > 0).then(|| sum / n as f64)
 }
 
 fn fmt(x: f64) -> String {

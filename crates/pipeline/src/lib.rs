@@ -21,6 +21,7 @@ use enginedyn_torque::{EngineTorque, Harmonic};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
+pub mod notes;
 mod summary;
 pub mod tdc;
 pub mod torsion;
