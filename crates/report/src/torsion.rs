@@ -42,8 +42,8 @@ pub struct CampbellMark {
     pub mode: usize,
     /// A major order (a multiple of the firings per revolution).
     pub major: bool,
-    /// The free end's amplitude of that order there (deg): the labels go
-    /// to the strongest resonances first.
+    /// The peak of that order's free-end amplitude near the crossing
+    /// (deg): the labels go to the strongest resonances first.
     pub amplitude_deg: f64,
 }
 
@@ -125,7 +125,7 @@ impl CampbellChart {
             .resonances
             .iter()
             .map(|r| CampbellMark {
-                rpm: r.rpm,
+                rpm: r.crossing_rpm,
                 frequency_hz: study.modes.frequency_hz(r.mode),
                 order: r.order,
                 mode: r.mode,

@@ -44,12 +44,14 @@
 
 mod campbell;
 mod chain;
+mod peak;
 mod train;
 
 pub use campbell::{Crossing, critical_speed_rpm, crossings, is_major_order, order_frequency_hz};
 pub use chain::{Chain, Modes, Solver};
 pub use enginedyn_numerics::fourier::Synthesis;
 pub use nalgebra::Complex;
+pub use peak::{Peak, climb};
 pub use train::{CrankTrain, Damper, Layout, Section};
 
 /// A complex amplitude `X` of `Re(X e^{i ω t})`.
