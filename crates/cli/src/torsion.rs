@@ -232,42 +232,28 @@ fn torsion_json(
     let freqs: Vec<f64> = (1..study.modes.len())
         .map(|m| study.modes.frequency_hz(m))
         .collect();
-    let (fe_row, _) =
-        study
-            .rows
-            .iter()
-            .enumerate()
-            .fold((0, f64::NEG_INFINITY), |(bi, bv), (i, r)| {
-                if r.free_end_deg > bv {
-                    (i, r.free_end_deg)
-                } else {
-                    (bi, bv)
-                }
-            });
-    let (t_row, t_sec, t_val) =
-        study
-            .rows
-            .iter()
-            .enumerate()
-            .fold((0, 0, f64::NEG_INFINITY), |(bi, bs, bv), (i, r)| {
-                let (s, v) = largest(&r.section_torque);
-                if v > bv { (i, s, v) } else { (bi, bs, bv) }
-            });
-    let rows = &study.rows;
+    let resonance = |r: &enginedyn_pipeline::torsion::Resonance| {
+        json!({
+            "order": r.order,
+            "mode": r.mode,
+            "crossing_rpm": r.crossing_rpm,
+            "rpm": r.rpm,
+            "amplitude_deg": r.amplitude_deg,
+            "crossing_amplitude_deg": r.crossing_amplitude_deg,
+            "edge": r.edge.map(|e| e.name()),
+        })
+    };
+    let fe = study.max_free_end.as_ref();
+    let tq = study.max_section_torque.as_ref();
     json!({
         "engine": engine.name(),
         "natural_frequencies_hz": freqs,
-        "resonances": study.resonances.iter().map(|r| json!({
-            "order": r.order,
-            "mode": r.mode,
-            "rpm": r.rpm,
-            "amplitude_deg": r.amplitude_deg,
-        })).collect::<Vec<_>>(),
-        "max_free_end_amplitude_deg": rows.get(fe_row).map(|r| r.free_end_deg),
-        "max_free_end_amplitude_rpm": rows.get(fe_row).map(|r| r.rpm),
-        "max_section_torque_nm": rows.get(t_row).map(|_| t_val),
-        "max_section_torque_rpm": rows.get(t_row).map(|r| r.rpm),
-        "max_section_torque_section": rows.get(t_row).map(|_| t_sec),
+        "resonances": study.resonances.iter().map(resonance).collect::<Vec<_>>(),
+        "max_free_end_amplitude_deg": fe.map(|m| m.value),
+        "max_free_end_amplitude_rpm": fe.map(|m| m.rpm),
+        "max_section_torque_nm": tq.map(|m| m.value),
+        "max_section_torque_rpm": tq.map(|m| m.rpm),
+        "max_section_torque_section": tq.and_then(|m| m.section).map(|s| s + 1),
         "masses": study.layout.names.iter().zip(&study.inertia).map(|(n, j)| json!({"name": n, "inertia_kg_m2": j})).collect::<Vec<_>>(),
         "sections": study.layout.sections.iter().enumerate().map(|(i, s)| json!({
             "section": i + 1,
@@ -281,6 +267,8 @@ fn torsion_json(
             "highest_order": study.orders.last(),
             "damping": "modal ratio on every mode plus the damper's viscous coefficient",
             "free_end_amplitude": "half peak-to-peak of all orders summed in time, relative to the chain's rigid rotation",
+            "resonance_peak": "the order's free-end amplitude climbed to from the crossing over the speeds and refined between them by Brent's method to 0.01 rpm, within the speed range and the mode's band (to the geometric means of its natural frequency and its neighbours'); edge names the end where it still rises (no peak)",
+            "maxima": "the largest on the speeds and at the resonances' peaks, refined between them by Brent's method to 0.01 rpm",
         },
         "notes": notes,
     })
@@ -370,23 +358,8 @@ pub fn report_extra(
     let study = enginedyn_pipeline::torsion::study(&prepared.train, &prepared.excitation, &rpms)
         .map_err(|e| study_failure(&file, e))?;
     let esc = enginedyn_report::esc;
-    let modes: Vec<Vec<String>> = (1..study.modes.len())
-        .map(|m| vec![m.to_string(), fixed(study.modes.frequency_hz(m), 1)])
-        .collect();
-    let mut worst = study.resonances.clone();
-    worst.sort_by(|a, b| b.amplitude_deg.total_cmp(&a.amplitude_deg));
-    let resonances: Vec<Vec<String>> = worst
-        .iter()
-        .take(8)
-        .map(|r| {
-            vec![
-                order_name(r.order),
-                r.mode.to_string(),
-                fixed(r.rpm, 0),
-                enginedyn_numerics::format::sig(r.amplitude_deg, 3),
-            ]
-        })
-        .collect();
+    let modes = mode_rows(&study);
+    let resonances = worst_resonances(&study, 8);
     let mut notes = prepared.train.warnings.clone();
     notes.extend(prepared.train.notes.iter().cloned());
     notes.extend(study.notes.iter().cloned());
@@ -395,20 +368,21 @@ pub fn report_extra(
         fixed(rpms[0], 0),
         fixed(rpms[rpms.len() - 1], 0)
     );
+    let heads = mode_heads(&study);
+    let heads: Vec<&str> = heads.iter().map(String::as_str).collect();
+    let mut numeric = vec![true; heads.len()];
+    numeric[0] = false;
+    body.push_str(
+        "<p>Natural frequencies and mode shapes: the relative amplitude of each mass, the free end = 1.</p>\n",
+    );
+    body.push_str(&enginedyn_report::html_table(&heads, &modes, &numeric));
+    body.push_str(
+        "<p>The worst resonances: where an order meets a natural frequency (the crossing), and the peak of that order's free-end amplitude near it, which the damping moves off the crossing; the largest peak first.</p>\n",
+    );
     body.push_str(&enginedyn_report::html_table(
-        &["mode", "natural frequency (Hz)"],
-        &modes,
-        &[false, true],
-    ));
-    body.push_str(&enginedyn_report::html_table(
-        &[
-            "order",
-            "mode",
-            "resonance (rpm)",
-            "free-end amplitude (deg)",
-        ],
+        &RESONANCE_HEADS,
         &resonances,
-        &[false, true, true, true],
+        &[false, true, true, true, true],
     ));
     if !notes.is_empty() {
         body.push_str("<ul>");
@@ -425,33 +399,100 @@ pub fn report_extra(
     }))
 }
 
+/// The worst resonances' rows, the largest peak first: order, mode, the
+/// crossing and the peak speed (rpm; "(range end)" or "(mode band edge)"
+/// where the amplitude still rises there: no peak), the peak's free-end
+/// amplitude (deg).
+fn worst_resonances(study: &Study, count: usize) -> Vec<Vec<String>> {
+    study
+        .resonances
+        .iter()
+        .take(count)
+        .map(|r| {
+            let end = r.edge.map_or(String::new(), |e| format!(" ({})", e.name()));
+            vec![
+                order_name(r.order),
+                r.mode.to_string(),
+                fixed(r.crossing_rpm, 0),
+                format!("{}{end}", fixed(r.rpm, 1)),
+                enginedyn_numerics::format::sig(r.amplitude_deg, 3),
+            ]
+        })
+        .collect()
+}
+
+/// The worst resonances' column heads.
+const RESONANCE_HEADS: [&str; 5] = [
+    "order",
+    "mode",
+    "crossing (rpm)",
+    "peak (rpm)",
+    "free-end amplitude at the peak (deg)",
+];
+
+/// The mode table's rows: mode, frequency, then the relative amplitude of
+/// each mass (normalised to the free end), under [`mode_heads`].
+fn mode_rows(study: &Study) -> Vec<Vec<String>> {
+    (1..study.modes.len())
+        .map(|m| {
+            let mut row = vec![m.to_string(), fixed(study.modes.frequency_hz(m), 1)];
+            row.extend(normalised(study, m).iter().map(|x| fixed(*x, 2)));
+            row
+        })
+        .collect()
+}
+
+/// The mode table's column heads: mode, frequency, and each mass by name
+/// (damper ring, front, throw 1 … throw n, flywheel, load).
+fn mode_heads(study: &Study) -> Vec<String> {
+    let mut heads = vec!["mode".to_string(), "frequency (Hz)".to_string()];
+    heads.extend(study.layout.names.iter().cloned());
+    heads
+}
+
+/// Rows under heads, each column right-aligned to its widest cell, two
+/// spaces apart.
+fn text_table(heads: &[String], rows: &[Vec<String>]) -> String {
+    let width = |c: usize| {
+        rows.iter()
+            .filter_map(|r| r.get(c))
+            .chain(heads.get(c))
+            .map(|x| x.chars().count())
+            .max()
+            .unwrap_or(0)
+    };
+    let widths: Vec<usize> = (0..heads.len()).map(width).collect();
+    let line = |cells: &[String]| {
+        let mut o = cells
+            .iter()
+            .zip(&widths)
+            .map(|(c, &w)| format!("{c:>w$}"))
+            .collect::<Vec<_>>()
+            .join("  ");
+        o.push('\n');
+        o
+    };
+    let mut o = line(heads);
+    for r in rows {
+        o.push_str(&line(r));
+    }
+    o
+}
+
 fn table(study: &Study) -> String {
-    let mut o = String::from("mode  frequency_hz  free end → flywheel (relative amplitude)\n");
-    for m in 1..study.modes.len() {
-        let v = normalised(study, m);
-        let shape: Vec<String> = v.iter().map(|x| fixed(*x, 2)).collect();
-        o.push_str(&format!(
-            "{m:>4}  {:>12}  {}\n",
-            fixed(study.modes.frequency_hz(m), 1),
-            shape.join(" ")
-        ));
-    }
-    let mut worst = study.resonances.clone();
-    worst.sort_by(|a, b| b.amplitude_deg.total_cmp(&a.amplitude_deg));
-    o.push_str(
-        "\nworst resonances in the speed range\norder  mode      rpm  free-end amplitude (deg)\n",
+    let mut o = String::from(
+        "natural frequencies and mode shapes (relative amplitude of each mass, the free end = 1)\n",
     );
-    for r in worst.iter().take(8) {
-        o.push_str(&format!(
-            "{:>5}  {:>4}  {:>7}  {}\n",
-            order_name(r.order),
-            r.mode,
-            fixed(r.rpm, 0),
-            enginedyn_numerics::format::sig(r.amplitude_deg, 3)
-        ));
-    }
+    o.push_str(&text_table(&mode_heads(study), &mode_rows(study)));
+    o.push_str(
+        "\nworst resonances in the speed range, by the peak of the order's free-end amplitude near the crossing\n",
+    );
+    let heads: Vec<String> = RESONANCE_HEADS.iter().map(|h| h.to_string()).collect();
+    let worst = worst_resonances(study, 8);
     if worst.is_empty() {
         o.push_str("(none)\n");
+    } else {
+        o.push_str(&text_table(&heads, &worst));
     }
     o
 }

@@ -10,7 +10,7 @@ use enginedyn_engine::torsion::{Key, PerItem, TorsionSpec, shaft_stiffness};
 use enginedyn_engine::{Engine, EngineError};
 use enginedyn_forces::{Setup, cylinder_forces};
 use enginedyn_ingest::Resampled;
-use enginedyn_numerics::format::human;
+use enginedyn_numerics::format::{fixed, human, sig};
 use enginedyn_torsion::{
     Complex64, CrankTrain, Damper, Layout, Modes, Solver, Synthesis, critical_speed_rpm, crossings,
 };
@@ -483,17 +483,89 @@ pub struct Row {
     pub order_deg: Vec<f64>,
 }
 
-/// A resonance in the speed range.
+impl Row {
+    /// The largest section's vibratory torque: (section index into
+    /// [`Layout::sections`], torque in N m); `None` without sections.
+    pub fn largest_section(&self) -> Option<(usize, f64)> {
+        self.section_torque.iter().copied().enumerate().fold(
+            None,
+            |best: Option<(usize, f64)>, (i, t)| match best {
+                Some((_, b)) if !(t > b) => best,
+                _ => Some((i, t)),
+            },
+        )
+    }
+}
+
+/// How closely a peak's speed is found (rpm): Brent's method stops within
+/// this, well inside the 0.1 rpm INTERFACE.md asks for.
+pub const PEAK_TOLERANCE_RPM: f64 = 0.01;
+
+/// A resonance in the speed range: where an engine order's line meets an
+/// undamped natural frequency, and that order's response peak near it
+/// (the damping, a tuned damper above all, moves the peak off the
+/// crossing).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Resonance {
     /// Engine order.
     pub order: f64,
     /// Mode (1 = the first elastic mode).
     pub mode: usize,
-    /// Speed (rpm), [`enginedyn_torsion::critical_speed_rpm`]: `60 f / k`.
+    /// Where the order meets the mode's undamped natural frequency (rpm):
+    /// [`enginedyn_torsion::critical_speed_rpm`], `60 f / k`.
+    pub crossing_rpm: f64,
+    /// Speed of that order's free-end response peak near the crossing
+    /// (rpm): climbed to from the crossing over the grid speeds and refined
+    /// between them by Brent's method to [`PEAK_TOLERANCE_RPM`]
+    /// ([`enginedyn_torsion::climb`]), within the speed range and the
+    /// mode's band (up to the geometric means of its natural frequency and
+    /// its neighbours', so that two modes never claim one peak). An
+    /// undamped chain has no finite peak: the crossing.
     pub rpm: f64,
-    /// The free end's amplitude of that order at that speed (deg).
+    /// The free end's amplitude of that order at `rpm` (deg).
     pub amplitude_deg: f64,
+    /// The free end's amplitude of that order at the crossing (deg).
+    pub crossing_amplitude_deg: f64,
+    /// `None` for a peak; else where the order's amplitude still rises:
+    /// no peak of this mode in the speed range, and `rpm` is that end.
+    pub edge: Option<PeakEdge>,
+}
+
+/// Where a resonance's search ended without a peak.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PeakEdge {
+    /// The amplitude still rises at an end of the speed range.
+    RangeEnd,
+    /// The amplitude still rises at the edge of the mode's band (the
+    /// geometric mean of its frequency and its neighbour's, as a speed of
+    /// the order): it rises towards the neighbouring mode's resonance (a
+    /// mode the damper damps out has no peak of its own).
+    ModeBand,
+}
+
+impl PeakEdge {
+    /// As `torsion.json` and the tables write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::RangeEnd => "range end",
+            Self::ModeBand => "mode band edge",
+        }
+    }
+}
+
+/// The largest value of a response over the speed range, found between
+/// the grid speeds as well as on them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Largest {
+    /// Speed (rpm).
+    pub rpm: f64,
+    /// The value (deg for the free end, N m for a section's torque).
+    pub value: f64,
+    /// For the largest section torque: the section (index into
+    /// [`Layout::sections`]).
+    pub section: Option<usize>,
+    /// Still rising at an end of the speed range.
+    pub at_range_end: bool,
 }
 
 /// The torsion study over speed.
@@ -516,9 +588,17 @@ pub struct Study {
     pub firings_per_revolution: f64,
     /// One row per speed.
     pub rows: Vec<Row>,
-    /// Resonances in the speed range, by speed.
+    /// Resonances in the speed range, the largest peak amplitude first
+    /// (ties by crossing speed).
     pub resonances: Vec<Resonance>,
-    /// Stability notes (modes beyond the orders computed, …).
+    /// The free end's largest vibratory angle (all orders, deg) over the
+    /// speed range; `None` without speeds.
+    pub max_free_end: Option<Largest>,
+    /// The largest section torque (N m) over the speed range and its
+    /// section; `None` without speeds or sections.
+    pub max_section_torque: Option<Largest>,
+    /// Stability notes (modes beyond the orders computed, …) and what the
+    /// peak search found (resonances with no peak inside the range).
     pub notes: Vec<String>,
 }
 
@@ -582,6 +662,144 @@ fn resolvable(
     })
 }
 
+/// The response of the chain to the excitation at any speed: one order's
+/// free-end amplitude, or a whole [`Row`].
+struct Response<'a> {
+    solver: Solver,
+    excitation: &'a Excitation,
+    layout: &'a Layout,
+    diameters: &'a [Option<f64>],
+    inertia: Vec<f64>,
+    stiffness: Vec<f64>,
+    total: f64,
+    harmonics: Vec<usize>,
+    synth: Synthesis,
+    scratch: Vec<f64>,
+    throw_t: Vec<Complex64>,
+    torque: Vec<Complex64>,
+}
+
+impl Response<'_> {
+    /// The chain's angles under order index `o` at crank speed `omega`.
+    fn theta(
+        &mut self,
+        o: usize,
+        omega: f64,
+    ) -> Result<Vec<Complex64>, enginedyn_torsion::TorsionError> {
+        self.excitation.at(o, omega, &mut self.throw_t);
+        self.torque
+            .iter_mut()
+            .for_each(|x| *x = Complex64::new(0.0, 0.0));
+        for (t, &i) in self.layout.throws.iter().enumerate() {
+            self.torque[i] = self.throw_t[t];
+        }
+        self.solver
+            .respond(self.excitation.orders[o] * omega, &self.torque)
+    }
+
+    /// The free end's amplitude of order index `o` alone at `rpm` (deg).
+    fn order_deg(&mut self, o: usize, rpm: f64) -> Result<f64, enginedyn_torsion::TorsionError> {
+        let th = self.theta(o, rpm * PI / 30.0)?;
+        Ok(
+            vibratory(&th, &self.inertia, self.total, self.layout.free_end)
+                .norm()
+                .to_degrees(),
+        )
+    }
+
+    /// Every order at `rpm`, summed in time.
+    fn row(&mut self, rpm: f64) -> Result<Row, enginedyn_torsion::TorsionError> {
+        let omega = rpm * PI / 30.0;
+        let orders = self.excitation.orders.len();
+        let mut responses = Vec::with_capacity(orders);
+        for o in 0..orders {
+            responses.push(self.theta(o, omega)?);
+        }
+        let free: Vec<(usize, Complex64)> = responses
+            .iter()
+            .zip(&self.harmonics)
+            .map(|(th, &h)| {
+                (
+                    h,
+                    vibratory(th, &self.inertia, self.total, self.layout.free_end),
+                )
+            })
+            .collect();
+        let order_deg = free.iter().map(|(_, x)| x.norm().to_degrees()).collect();
+        let free_end_deg = self
+            .synth
+            .half_peak_to_peak(&free, &mut self.scratch)
+            .to_degrees();
+        let sections = &self.layout.sections;
+        let mut section_torque = Vec::with_capacity(sections.len());
+        let mut section_stress = Vec::with_capacity(sections.len());
+        let mut terms = Vec::with_capacity(free.len());
+        for (s, sec) in sections.iter().enumerate() {
+            let j = sec.spring;
+            terms.clear();
+            terms.extend(
+                responses
+                    .iter()
+                    .zip(&self.harmonics)
+                    .map(|(th, &h)| (h, (th[j] - th[j + 1]) * self.stiffness[j])),
+            );
+            let tq = self.synth.half_peak_to_peak(&terms, &mut self.scratch);
+            section_torque.push(tq);
+            section_stress.push(
+                self.diameters
+                    .get(s)
+                    .copied()
+                    .flatten()
+                    .map(|d| 16.0 * tq / (PI * d * d * d)),
+            );
+        }
+        Ok(Row {
+            rpm,
+            free_end_deg,
+            section_torque,
+            section_stress,
+            order_deg,
+        })
+    }
+}
+
+/// Samples `(rpm, value)` sorted by speed, one per speed (the first given
+/// of equal speeds kept).
+fn sorted(mut samples: Vec<(f64, f64)>) -> (Vec<f64>, Vec<f64>) {
+    samples.sort_by(|a, b| a.0.total_cmp(&b.0));
+    samples.dedup_by(|b, a| a.0.to_bits() == b.0.to_bits());
+    samples.into_iter().unzip()
+}
+
+/// The largest of `value` over `rows` and the extra rows at `extra`,
+/// refined between its neighbours by [`enginedyn_torsion::climb`] on
+/// `value` of a whole row.
+fn largest(
+    response: &mut Response<'_>,
+    rows: &[Row],
+    extra: &[Row],
+    value: impl Fn(&Row) -> Option<f64>,
+) -> Result<Option<(f64, f64, bool)>, enginedyn_torsion::TorsionError> {
+    let (xs, ys) = sorted(
+        rows.iter()
+            .chain(extra)
+            .filter_map(|r| value(r).map(|v| (r.rpm, v)))
+            .collect(),
+    );
+    if xs.is_empty() {
+        return Ok(None);
+    }
+    let best = enginedyn_numerics::scan::arg_min_max(&ys).1;
+    let p = enginedyn_torsion::climb(
+        &xs,
+        &ys,
+        best,
+        |rpm| Ok(value(&response.row(rpm)?).unwrap_or(f64::NEG_INFINITY)),
+        PEAK_TOLERANCE_RPM,
+    )?;
+    Ok(Some((p.x, p.y, p.at_end)))
+}
+
 /// The response of `train` to `excitation` at each speed of `rpms`.
 pub fn study(
     train: &Train,
@@ -596,89 +814,192 @@ pub fn study(
     let total: f64 = inertia.iter().sum();
     let n = chain.len();
     let revs = excitation.revolutions;
-    let harmonic = |k: f64| (k * revs).round() as usize;
-    let max_h = excitation.orders.last().map_or(1, |&k| harmonic(k));
-    let synth = Synthesis::new(max_h);
-    let mut scratch = Vec::new();
-    let mut throw_t = vec![Complex64::new(0.0, 0.0); layout.throws.len()];
-    let mut torque = vec![Complex64::new(0.0, 0.0); n];
-    let mut respond = |o: usize, omega: f64, torque: &mut Vec<Complex64>| {
-        excitation.at(o, omega, &mut throw_t);
-        torque
-            .iter_mut()
-            .for_each(|x| *x = Complex64::new(0.0, 0.0));
-        for (t, &i) in layout.throws.iter().enumerate() {
-            torque[i] = throw_t[t];
-        }
-        solver.respond(excitation.orders[o] * omega, torque)
+    let harmonics: Vec<usize> = excitation
+        .orders
+        .iter()
+        .map(|&k| (k * revs).round() as usize)
+        .collect();
+    let max_h = harmonics.last().copied().unwrap_or(1);
+    let modes = solver.modes().clone();
+    let mut response = Response {
+        solver,
+        excitation,
+        layout: &layout,
+        diameters: &train.diameters,
+        inertia: inertia.clone(),
+        stiffness: stiffness.clone(),
+        total,
+        harmonics,
+        synth: Synthesis::new(max_h),
+        scratch: Vec::new(),
+        throw_t: vec![Complex64::new(0.0, 0.0); layout.throws.len()],
+        torque: vec![Complex64::new(0.0, 0.0); n],
     };
     let mut rows = Vec::with_capacity(rpms.len());
-    let sections = &layout.sections;
     for &rpm in rpms {
-        let omega = rpm * PI / 30.0;
-        let mut responses = Vec::with_capacity(excitation.orders.len());
-        for o in 0..excitation.orders.len() {
-            responses.push(respond(o, omega, &mut torque)?);
-        }
-        let free: Vec<(usize, Complex64)> = responses
-            .iter()
-            .zip(&excitation.orders)
-            .map(|(th, &k)| (harmonic(k), vibratory(th, &inertia, total, layout.free_end)))
-            .collect();
-        let order_deg = free.iter().map(|(_, x)| x.norm().to_degrees()).collect();
-        let free_end_deg = synth.half_peak_to_peak(&free, &mut scratch).to_degrees();
-        let mut section_torque = Vec::with_capacity(sections.len());
-        let mut section_stress = Vec::with_capacity(sections.len());
-        let mut terms = Vec::with_capacity(free.len());
-        for (s, sec) in sections.iter().enumerate() {
-            let j = sec.spring;
-            terms.clear();
-            terms.extend(
-                responses
-                    .iter()
-                    .zip(&excitation.orders)
-                    .map(|(th, &k)| (harmonic(k), (th[j] - th[j + 1]) * stiffness[j])),
-            );
-            let tq = synth.half_peak_to_peak(&terms, &mut scratch);
-            section_torque.push(tq);
-            section_stress.push(
-                train
-                    .diameters
-                    .get(s)
-                    .copied()
-                    .flatten()
-                    .map(|d| 16.0 * tq / (PI * d * d * d)),
-            );
-        }
-        rows.push(Row {
-            rpm,
-            free_end_deg,
-            section_torque,
-            section_stress,
-            order_deg,
-        });
+        rows.push(response.row(rpm)?);
     }
-    let modes = solver.modes().clone();
     let (lo, hi) = rpms
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &r| {
             (a.min(r), b.max(r))
         });
-    let mut resonances = Vec::new();
     let mut notes = Vec::new();
     let top = excitation.orders.last().copied().unwrap_or(0.0);
     // Mode 0 (the rigid rotation, 0 Hz) meets no order.
     let freqs: Vec<f64> = (0..modes.len()).map(|m| modes.frequency_hz(m)).collect();
-    for c in crossings(&freqs, &excitation.orders, lo, hi) {
-        let th = respond(c.order, c.rpm * PI / 30.0, &mut torque)?;
+    let found = crossings(&freqs, &excitation.orders, lo, hi);
+    // Each crossing's own amplitude: a sample of its order's curve beside
+    // the grid speeds (a sharp peak near it is then never missed).
+    let mut at_crossing = Vec::with_capacity(found.len());
+    for c in &found {
+        at_crossing.push(response.order_deg(c.order, c.rpm)?);
+    }
+    let damped = chain.is_damped();
+    let mut resonances = Vec::with_capacity(found.len());
+    for (i, c) in found.iter().enumerate() {
+        let o = c.order;
+        let k = excitation.orders[o];
+        // The mode's band: up to the geometric means with its neighbours'
+        // frequencies, as speeds of this order, inside the speed range.
+        let m = c.mode;
+        let below = if m > 1 {
+            (freqs[m - 1] * freqs[m]).sqrt()
+        } else {
+            0.0
+        };
+        let above = freqs
+            .get(m + 1)
+            .map_or(f64::INFINITY, |f| (freqs[m] * f).sqrt());
+        let band = (
+            critical_speed_rpm(below, k).max(lo),
+            critical_speed_rpm(above, k).min(hi),
+        );
+        let (rpm, amplitude_deg, edge) = if damped {
+            let inside = |x: f64| x >= band.0 && x <= band.1;
+            let mut samples: Vec<(f64, f64)> = vec![(c.rpm, at_crossing[i])];
+            for e in [band.0, band.1] {
+                if e > lo && e < hi {
+                    samples.push((e, response.order_deg(o, e)?));
+                }
+            }
+            samples.extend(
+                found
+                    .iter()
+                    .zip(&at_crossing)
+                    .filter(|(d, _)| d.order == o && inside(d.rpm))
+                    .map(|(d, &a)| (d.rpm, a)),
+            );
+            samples.extend(
+                rows.iter()
+                    .filter(|r| inside(r.rpm))
+                    .map(|r| (r.rpm, r.order_deg[o])),
+            );
+            let (xs, ys) = sorted(samples);
+            let start = xs.partition_point(|&x| x < c.rpm);
+            let p = enginedyn_torsion::climb(
+                &xs,
+                &ys,
+                start,
+                |rpm| response.order_deg(o, rpm),
+                PEAK_TOLERANCE_RPM,
+            )?;
+            let near = |e: f64| (p.x - e).abs() <= 2.0 * PEAK_TOLERANCE_RPM + 1e-9 * e.abs();
+            let edge = if !p.at_end {
+                None
+            } else if near(lo) || near(hi) {
+                Some(PeakEdge::RangeEnd)
+            } else {
+                Some(PeakEdge::ModeBand)
+            };
+            (p.x, p.y, edge)
+        } else {
+            // No damping: no finite peak; the crossing, as the note says.
+            (c.rpm, at_crossing[i], None)
+        };
         resonances.push(Resonance {
-            order: excitation.orders[c.order],
-            mode: c.mode,
-            rpm: c.rpm,
-            amplitude_deg: vibratory(&th, &inertia, total, layout.free_end)
-                .norm()
-                .to_degrees(),
+            order: k,
+            mode: m,
+            crossing_rpm: c.rpm,
+            rpm,
+            amplitude_deg,
+            crossing_amplitude_deg: at_crossing[i],
+            edge,
         });
+    }
+    resonances.sort_by(|a, b| {
+        b.amplitude_deg
+            .total_cmp(&a.amplitude_deg)
+            .then(a.crossing_rpm.total_cmp(&b.crossing_rpm))
+    });
+    // The largest free-end angle and section torque: on the grid, at every
+    // resonance's peak, and refined between.
+    let mut peaks: Vec<f64> = resonances.iter().map(|r| r.rpm).collect();
+    peaks.sort_by(f64::total_cmp);
+    peaks.dedup_by(|b, a| (*b - *a).abs() < PEAK_TOLERANCE_RPM);
+    let mut extra = Vec::with_capacity(peaks.len());
+    for &rpm in &peaks {
+        extra.push(response.row(rpm)?);
+    }
+    let max_free_end = largest(&mut response, &rows, &extra, |r| Some(r.free_end_deg))?.map(
+        |(rpm, value, at_range_end)| Largest {
+            rpm,
+            value,
+            section: None,
+            at_range_end,
+        },
+    );
+    let max_section_torque = match largest(&mut response, &rows, &extra, |r| {
+        r.largest_section().map(|s| s.1)
+    })? {
+        Some((rpm, _, at_range_end)) => {
+            let row = response.row(rpm)?;
+            row.largest_section().map(|(s, value)| Largest {
+                rpm,
+                value,
+                section: Some(s),
+                at_range_end,
+            })
+        }
+        None => None,
+    };
+    for edge in [PeakEdge::RangeEnd, PeakEdge::ModeBand] {
+        let ends: Vec<&Resonance> = resonances.iter().filter(|r| r.edge == Some(edge)).collect();
+        if ends.is_empty() {
+            continue;
+        }
+        let shown = 6;
+        let mut list: Vec<String> = ends
+            .iter()
+            .take(shown)
+            .map(|r| {
+                format!(
+                    "{} × mode {} (crossing {} rpm; {} deg at {} rpm)",
+                    human(r.order),
+                    r.mode,
+                    fixed(r.crossing_rpm, 0),
+                    sig(r.amplitude_deg, 3),
+                    fixed(r.rpm, 0)
+                )
+            })
+            .collect();
+        if ends.len() > shown {
+            list.push(format!("{} smaller", ends.len() - shown));
+        }
+        let why = match edge {
+            PeakEdge::RangeEnd => {
+                "the order's free-end amplitude still rises at the speed range's end, whose value is reported"
+            }
+            PeakEdge::ModeBand => {
+                "the order's free-end amplitude still rises where the mode's band meets the next mode's (the geometric mean of their frequencies), towards the next mode's resonance: a mode the damping smooths out has no peak of its own; the band edge's value is reported"
+            }
+        };
+        notes.push(format!(
+            "{} of {} resonances have no peak near their crossing ({why}): {}",
+            ends.len(),
+            resonances.len(),
+            list.join(", ")
+        ));
     }
     // Modes that orders above the highest computed meet in the range.
     let beyond: Vec<(usize, f64)> = (1..modes.len())
@@ -688,21 +1009,21 @@ pub fn study(
     // Said once, with the modes it concerns.
     if let (Some(&(m0, f0)), Some(&(m1, f1))) = (beyond.first(), beyond.last()) {
         let which = if m0 == m1 {
-            format!("mode {m0} ({} Hz)", human(f0))
+            format!("mode {m0} ({} Hz) meets", human(f0))
         } else {
             format!(
-                "{} modes, {m0} to {m1} ({} to {} Hz),",
+                "{} modes, {m0} to {m1} ({} to {} Hz), meet",
                 beyond.len(),
                 human(f0),
                 human(f1)
             )
         };
         notes.push(format!(
-            "{which} meet orders above {} in the speed range: those orders are not computed, so their resonances there are missing",
+            "{which} orders above {} in the speed range: those orders are not computed, so their resonances there are missing",
             human(top)
         ));
     }
-    resonances.sort_by(|a, b| a.rpm.total_cmp(&b.rpm));
+    drop(response);
     Ok(Study {
         layout,
         inertia,
@@ -712,6 +1033,8 @@ pub fn study(
         firings_per_revolution: excitation.firings_per_revolution,
         rows,
         resonances,
+        max_free_end,
+        max_section_torque,
         notes,
     })
 }

@@ -37,7 +37,8 @@ pub use tables::{
 };
 pub use tornado::{TornadoBar, TornadoPanel, tornado_svg};
 pub use torsion::{
-    CampbellChart, CampbellLayout, CampbellMark, PlacedLabel, torsion_charts, torsion_response,
+    CampbellChart, CampbellLayout, CampbellMark, LABEL_GAP, Leader, PlacedLabel, segment_hits,
+    torsion_charts, torsion_response,
 };
 
 /// Why output could not be produced.

@@ -42,8 +42,8 @@ pub struct CampbellMark {
     pub mode: usize,
     /// A major order (a multiple of the firings per revolution).
     pub major: bool,
-    /// The free end's amplitude of that order there (deg): the labels go
-    /// to the strongest resonances first.
+    /// The peak of that order's free-end amplitude near the crossing
+    /// (deg): the labels go to the strongest resonances first.
     pub amplitude_deg: f64,
 }
 
@@ -93,6 +93,41 @@ pub struct CampbellLayout {
     pub resonances: Vec<PlacedLabel>,
     /// Order numbers at the lines' ends.
     pub orders: Vec<PlacedLabel>,
+    /// Every resonance marker as drawn, in the order of
+    /// [`CampbellChart::marks`]: its box in pixels (left, top, right,
+    /// bottom), the ring's stroke included. A label's white ground is its
+    /// box a pixel wider on each side.
+    pub markers: Vec<(i32, i32, i32, i32)>,
+    /// Leader lines from a marker to a label placed further out.
+    pub leaders: Vec<Leader>,
+}
+
+/// A leader line from a resonance's marker to its label.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Leader {
+    /// The label's index in [`CampbellLayout::resonances`].
+    pub label: usize,
+    /// The marker's index in [`CampbellLayout::markers`].
+    pub marker: usize,
+    /// From the marker's centre (pixels).
+    pub from: (i32, i32),
+    /// To the label's edge (pixels).
+    pub to: (i32, i32),
+}
+
+/// The clear gap (px) kept between two labels, so that each reads apart.
+pub const LABEL_GAP: i32 = 4;
+
+/// Whether the segment `a`–`b` passes through the box `r` (left, top,
+/// right, bottom; edges included), sampled every half pixel.
+pub fn segment_hits(a: (i32, i32), b: (i32, i32), r: (i32, i32, i32, i32)) -> bool {
+    let (dx, dy) = ((b.0 - a.0) as f64, (b.1 - a.1) as f64);
+    let steps = (2.0 * dx.abs().max(dy.abs())).ceil().max(1.0) as i32;
+    (0..=steps).any(|i| {
+        let t = i as f64 / steps as f64;
+        let (x, y) = (a.0 as f64 + t * dx, a.1 as f64 + t * dy);
+        x >= r.0 as f64 && x <= r.2 as f64 && y >= r.1 as f64 && y <= r.3 as f64
+    })
 }
 
 /// A box in pixels: (left, top, right, bottom).
@@ -125,7 +160,7 @@ impl CampbellChart {
             .resonances
             .iter()
             .map(|r| CampbellMark {
-                rpm: r.rpm,
+                rpm: r.crossing_rpm,
                 frequency_hz: study.modes.frequency_hz(r.mode),
                 order: r.order,
                 mode: r.mode,
@@ -270,12 +305,14 @@ impl CampbellChart {
             ))?;
         }
         let order_labels = self.order_labels(&root, &px, (lo, hi, top), plot)?;
-        let resonances = self.mark_resonances(&root, &px, plot, &mode_rows)?;
+        let (resonances, markers, leaders) = self.mark_resonances(&root, &px, plot, &mode_rows)?;
         root.present()?;
         Ok(CampbellLayout {
             plot,
             resonances,
             orders: order_labels,
+            markers,
+            leaders,
         })
     }
 
@@ -390,26 +427,30 @@ impl CampbellChart {
 
     /// Markers at every resonance and the `order × mode` labels: major
     /// orders first (further out, with a leader, when the near places are
-    /// taken), then the others by amplitude where a near place is free.
+    /// taken), then the others by amplitude where a near place is free. A
+    /// label covers no marker, keeps [`LABEL_GAP`] from every other label
+    /// and crosses no leader; a leader crosses no other label or marker.
+    #[allow(clippy::type_complexity)]
     fn mark_resonances(
         &self,
         root: &Area,
         px: &dyn Fn(f64, f64) -> (i32, i32),
         plot: (i32, i32, i32, i32),
         mode_rows: &[i32],
-    ) -> Result<Vec<PlacedLabel>, Box<dyn std::error::Error>> {
+    ) -> Result<(Vec<PlacedLabel>, Vec<Bounds>, Vec<Leader>), Box<dyn std::error::Error>> {
         let colour = |mode: usize| {
             self.modes
                 .iter()
                 .position(|&(m, _)| m == mode)
                 .map_or(GREY, |i| PALETTE[i % PALETTE.len()])
         };
-        let mut taken: Vec<(i32, i32, i32, i32)> = Vec::new();
+        // Each marker's box as drawn (the major's ring has a 1 px stroke).
+        let mut markers: Vec<Bounds> = Vec::with_capacity(self.marks.len());
         let mut at = Vec::with_capacity(self.marks.len());
         for m in &self.marks {
             let p = px(m.rpm, m.frequency_hz);
-            let r = if m.major { 5 } else { 3 };
-            taken.push((p.0 - r - 1, p.1 - r - 1, p.0 + r + 1, p.1 + r + 1));
+            let r = if m.major { 6 } else { 4 };
+            markers.push((p.0 - r, p.1 - r, p.0 + r, p.1 + r));
             at.push(p);
         }
         // Majors under the minors' rings, so that none hides one.
@@ -439,6 +480,8 @@ impl CampbellChart {
                 .then(mb.amplitude_deg.total_cmp(&ma.amplitude_deg))
         });
         let th = text_height(MARK_FONT);
+        // The label's white ground is a pixel wider than its text.
+        let drawn = |b: Bounds| (b.0 - 1, b.1, b.2 + 1, b.3);
         // The other orders' resonances are labelled only where they matter:
         // a tenth of the largest resonance's amplitude or more.
         let floor = 0.1
@@ -447,73 +490,155 @@ impl CampbellChart {
                 .iter()
                 .map(|m| m.amplitude_deg)
                 .fold(0.0, f64::max);
-        let mut placed = Vec::new();
-        for i in order {
-            let m = &self.marks[i];
-            if !m.major && !(m.amplitude_deg >= floor) {
-                continue;
-            }
-            let (x, y) = at[i];
-            let text = format!("{} × mode {}", human(m.order), m.mode);
-            let w = text_width(&text, MARK_FONT);
-            let rings = if m.major { 4 } else { 1 };
-            let mut best: Option<(Bounds, i64, i32)> = None;
-            for ring in 1..=rings {
-                let d = 6 + (ring - 1) * (th + 2);
-                for (dx, dy) in [
-                    (d, -d - th),
-                    (-d - w, -d - th),
-                    (-w / 2, -d - th - 2),
-                    (d, d),
-                    (-d - w, d),
-                    (-w / 2, d + 2),
-                ] {
-                    let b = (x + dx, y + dy, x + dx + w, y + dy + th);
-                    if !inside(b, plot) || taken.iter().any(|t| overlap(*t, b) > 0) {
-                        continue;
+        // Places the labels in `order`: (labels with their marks, leaders,
+        // the major resonances left without a label).
+        let place = |order: &[usize]| {
+            let mut placed: Vec<(usize, PlacedLabel)> = Vec::new();
+            let mut leaders: Vec<Leader> = Vec::new();
+            let mut missed = Vec::new();
+            for &i in order {
+                let m = &self.marks[i];
+                if !m.major && !(m.amplitude_deg >= floor) {
+                    continue;
+                }
+                let (x, y) = at[i];
+                let text = format!("{} × mode {}", human(m.order), m.mode);
+                let w = text_width(&text, MARK_FONT);
+                let rings = if m.major { 4 } else { 1 };
+                // Where a label's leader ends: on its edge nearest the marker.
+                let leader_end = |b: Bounds| ((x).clamp(b.0, b.2), if b.1 > y { b.1 } else { b.3 });
+                let free = |b: Bounds, ring: i32| {
+                    if !inside(b, plot)
+                        || markers.iter().any(|t| overlap(*t, drawn(b)) > 0)
+                        || placed
+                            .iter()
+                            .any(|(_, p)| overlap(inflate(p.bounds, LABEL_GAP), b) > 0)
+                        || leaders
+                            .iter()
+                            .any(|l| segment_hits(l.from, l.to, inflate(b, 1)))
+                    {
+                        return false;
                     }
-                    let crossing: i64 = lines.iter().map(|l| overlap(*l, b) as i64).sum();
-                    let cost = crossing + 40 * i64::from(ring);
-                    if best.is_none_or(|(_, c, _)| cost < c) {
-                        best = Some((b, cost, ring));
+                    if ring == 1 {
+                        return true;
+                    }
+                    // The leader passes no other marker and no other label.
+                    let end = leader_end(b);
+                    markers
+                        .iter()
+                        .enumerate()
+                        .all(|(k, t)| k == i || !segment_hits((x, y), end, *t))
+                        && placed
+                            .iter()
+                            .all(|(_, p)| !segment_hits((x, y), end, inflate(p.bounds, 1)))
+                };
+                let mut best: Option<(Bounds, i64, i32)> = None;
+                for ring in 1..=rings {
+                    let d = 6 + (ring - 1) * (th + 2);
+                    // Above or below the marker, from beside it on the
+                    // left (the label's right end on the diagonal) to
+                    // beside it on the right, every few pixels: the nearer
+                    // to centred, the cheaper.
+                    let mut shifts: Vec<i32> = (0..)
+                        .map(|k| -w - d + 6 * k)
+                        .take_while(|&dx| dx <= d)
+                        .collect();
+                    shifts.extend([d, -w / 2]);
+                    for (dx, dy) in shifts.iter().flat_map(|&dx| [(dx, -d - th), (dx, d)]) {
+                        let b = (x + dx, y + dy, x + dx + w, y + dy + th);
+                        if !free(b, ring) {
+                            continue;
+                        }
+                        let crossing: i64 = lines.iter().map(|l| overlap(*l, b) as i64).sum();
+                        let off = i64::from((dx + w / 2).abs() / 12);
+                        let cost = crossing + 40 * i64::from(ring) + off;
+                        if best.is_none_or(|(_, c, _)| cost < c) {
+                            best = Some((b, cost, ring));
+                        }
+                    }
+                    // A farther ring cannot beat this one.
+                    if best.is_some_and(|(_, c, _)| c <= 40 * i64::from(ring + 1)) {
+                        break;
                     }
                 }
-                if best.is_some_and(|(_, c, _)| c == 40 * i64::from(ring)) {
-                    break;
+                let Some((b, _, ring)) = best else {
+                    if m.major {
+                        missed.push(i);
+                    }
+                    continue;
+                };
+                if ring > 1 {
+                    leaders.push(Leader {
+                        label: placed.len(),
+                        marker: i,
+                        from: (x, y),
+                        to: leader_end(b),
+                    });
                 }
+                placed.push((
+                    i,
+                    PlacedLabel {
+                        text,
+                        major: m.major,
+                        bounds: b,
+                    },
+                ));
             }
-            let Some((b, _, ring)) = best else {
-                continue;
+            (placed, leaders, missed)
+        };
+        // A major resonance left without a label goes first next time, so
+        // that crowds of markers (the low speeds of a high mode) still get
+        // every major label; the try with the fewest left out is kept.
+        let mut first: Vec<usize> = Vec::new();
+        let mut best = place(&order);
+        for _ in 0..self.marks.len() {
+            let Some(&next) = best.2.first() else {
+                break;
             };
-            if ring > 1 {
-                let ex = (x).clamp(b.0, b.2);
-                let ey = if b.1 > y { b.1 } else { b.3 };
-                root.draw(&PathElement::new(
-                    vec![(x, y), (ex, ey)],
-                    colour(m.mode).mix(0.7).stroke_width(1),
-                ))?;
+            if first.contains(&next) {
+                break;
             }
+            first.push(next);
+            let tried: Vec<usize> = first
+                .iter()
+                .copied()
+                .chain(order.iter().copied().filter(|i| !first.contains(i)))
+                .collect();
+            let attempt = place(&tried);
+            if attempt.2.len() <= best.2.len() {
+                best = attempt;
+            }
+        }
+        let (placed, leaders, _) = best;
+        for l in &leaders {
+            let mode = self.marks[l.marker].mode;
+            root.draw(&PathElement::new(
+                vec![l.from, l.to],
+                colour(mode).mix(0.7).stroke_width(1),
+            ))?;
+        }
+        for (i, p) in &placed {
+            let g = drawn(p.bounds);
             root.draw(&Rectangle::new(
-                [(b.0 - 1, b.1), (b.2 + 1, b.3)],
+                [(g.0, g.1), (g.2, g.3)],
                 WHITE.mix(0.85).filled(),
             ))?;
-            let color = if m.major { BLACK } else { RGBColor(70, 70, 70) };
+            let color = if self.marks[*i].major {
+                BLACK
+            } else {
+                RGBColor(70, 70, 70)
+            };
             root.draw(&Text::new(
-                text.clone(),
-                (b.0, b.1 + 1),
+                p.text.clone(),
+                (p.bounds.0, p.bounds.1 + 1),
                 ("sans-serif", MARK_FONT)
                     .into_font()
                     .color(&color)
                     .pos(Pos::new(HPos::Left, VPos::Top)),
             ))?;
-            taken.push(inflate(b, 1));
-            placed.push(PlacedLabel {
-                text,
-                major: m.major,
-                bounds: b,
-            });
         }
-        Ok(placed)
+        let placed = placed.into_iter().map(|(_, p)| p).collect();
+        Ok((placed, markers, leaders))
     }
 }
 

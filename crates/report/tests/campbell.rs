@@ -1,13 +1,14 @@
 //! The torsion charts of the bundled engines with `[torsion]`: every
 //! resonance of a major order labelled `order × mode`, no two labels
-//! overlapping, major order lines heavier than the others, the order
-//! numbers at the lines' ends. `ENGINEDYN_CHARTS_OUT=DIR` also writes the
+//! overlapping (and [`LABEL_GAP`] apart), no label on a marker, no leader
+//! through another label or marker, major order lines heavier than the
+//! others, the order numbers at the lines' ends. `ENGINEDYN_CHARTS_OUT=DIR` also writes the
 //! SVGs there, to look at.
 
 use enginedyn_ingest::{GridOptions, Interp, ParseOptions, load};
 use enginedyn_pipeline::torsion::{Study, crank_train, excitation, study};
 use enginedyn_pipeline::{MAX_ORDER, Options, analyse};
-use enginedyn_report::{CampbellChart, PlacedLabel, torsion_charts};
+use enginedyn_report::{CampbellChart, LABEL_GAP, PlacedLabel, segment_hits, torsion_charts};
 
 /// The study `enginedyn torsion` runs on a bundled engine: its default
 /// speeds, 20 % to 120 % of the operating speed in 50 steps.
@@ -53,6 +54,15 @@ fn check(stem: &str, majors: f64) {
     assert!((s.firings_per_revolution - majors).abs() < 1e-12);
     let chart = CampbellChart::from_study(&name, &s);
     let layout = chart.layout().unwrap();
+    let svg = torsion_charts(&name, &s).unwrap();
+    // Written before the checks, to look at when one fails.
+    if let Some(dir) = std::env::var_os("ENGINEDYN_CHARTS_OUT") {
+        let dir = std::path::Path::new(&dir).join(stem);
+        std::fs::create_dir_all(&dir).unwrap();
+        for (file, text) in &svg {
+            std::fs::write(dir.join(file), text).unwrap();
+        }
+    }
     // Every resonance is marked; every major one is labelled.
     assert_eq!(chart.marks.len(), s.resonances.len());
     let majors: Vec<String> = chart
@@ -90,8 +100,61 @@ fn check(stem: &str, majors: f64) {
             l.text
         );
     }
+    // Labels read apart: a clear gap between any two resonance labels.
+    let labels = &layout.resonances;
+    for (i, a) in labels.iter().enumerate() {
+        for b in &labels[i + 1..] {
+            let g = LABEL_GAP;
+            let (p, q) = (a.bounds, b.bounds);
+            let apart = p.2 + g <= q.0 || q.2 + g <= p.0 || p.3 + g <= q.1 || q.3 + g <= p.1;
+            assert!(
+                apart,
+                "{stem}: {} and {} closer than {g} px",
+                a.text, b.text
+            );
+        }
+    }
+    // No label (its white ground a pixel wider) on any marker.
+    assert_eq!(layout.markers.len(), chart.marks.len());
+    for l in labels {
+        let g = (l.bounds.0 - 1, l.bounds.1, l.bounds.2 + 1, l.bounds.3);
+        for (k, m) in layout.markers.iter().enumerate() {
+            let hit = g.0 < m.2 && m.0 < g.2 && g.1 < m.3 && m.1 < g.3;
+            let mark = &chart.marks[k];
+            assert!(
+                !hit,
+                "{stem}: {} covers the marker of {} × mode {} at {:?}",
+                l.text,
+                enginedyn_numerics::format::human(mark.order),
+                mark.mode,
+                m
+            );
+        }
+    }
+    // A leader runs from its marker to its label and through nothing else.
+    for d in &layout.leaders {
+        let own = &labels[d.label];
+        for (k, l) in labels.iter().enumerate() {
+            if k != d.label {
+                assert!(
+                    !segment_hits(d.from, d.to, l.bounds),
+                    "{stem}: the leader of {} crosses {}",
+                    own.text,
+                    l.text
+                );
+            }
+        }
+        for (k, m) in layout.markers.iter().enumerate() {
+            if k != d.marker {
+                assert!(
+                    !segment_hits(d.from, d.to, *m),
+                    "{stem}: the leader of {} crosses a marker at {m:?}",
+                    own.text
+                );
+            }
+        }
+    }
     // Every major order that reaches the plot has its number at its end.
-    let svg = torsion_charts(&name, &s).unwrap();
     let top = chart.modes.iter().map(|m| m.1).fold(0.0, f64::max) * 1.1;
     for &k in &s.orders {
         let major = enginedyn_torsion::is_major_order(k, s.firings_per_revolution);
@@ -108,13 +171,6 @@ fn check(stem: &str, majors: f64) {
     let campbell = &svg[0].1;
     assert!(campbell.contains(r##"stroke="#1E1E1E" stroke-width="2""##));
     assert!(campbell.contains(r##"stroke="#BEBEBE" stroke-width="1""##));
-    if let Some(dir) = std::env::var_os("ENGINEDYN_CHARTS_OUT") {
-        let dir = std::path::Path::new(&dir).join(stem);
-        std::fs::create_dir_all(&dir).unwrap();
-        for (file, text) in &svg {
-            std::fs::write(dir.join(file), text).unwrap();
-        }
-    }
 }
 
 #[test]

@@ -18,7 +18,11 @@
 //! - several orders summed in time with their phases ([`Synthesis`]);
 //! - where engine orders meet the natural frequencies: the critical speed
 //!   `60 f / k` ([`critical_speed_rpm`], [`crossings`]) and the major
-//!   orders ([`is_major_order`]), which the Campbell diagram draws.
+//!   orders ([`is_major_order`]), which the Campbell diagram draws;
+//! - a response's peak between sampled speeds ([`climb`]: uphill over the
+//!   samples, then Brent's method between the best one's neighbours),
+//!   which the study uses for each resonance's peak and the largest
+//!   free-end angle and section torque.
 //!
 //! Mode shapes here are mass-normalised (`vᵀ M v = 1`, [`Modes`]). What
 //! `enginedyn torsion` writes to `modes.csv` is each elastic mode divided
@@ -44,12 +48,14 @@
 
 mod campbell;
 mod chain;
+mod peak;
 mod train;
 
 pub use campbell::{Crossing, critical_speed_rpm, crossings, is_major_order, order_frequency_hz};
 pub use chain::{Chain, Modes, Solver};
 pub use enginedyn_numerics::fourier::Synthesis;
 pub use nalgebra::Complex;
+pub use peak::{Peak, climb};
 pub use train::{CrankTrain, Damper, Layout, Section};
 
 /// A complex amplitude `X` of `Re(X e^{i ω t})`.
