@@ -1261,7 +1261,7 @@ pub struct ScatterGroup {
 }
 
 /// A log-log chart of labelled markers in groups, a step line (a Pareto
-/// front) and labelled horizontal guides (e.g. tolerances): the accuracy
+/// front) and horizontal guides named in the legend (e.g. tolerances): the accuracy
 /// chart.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScatterChart {
@@ -1279,7 +1279,7 @@ pub struct ScatterChart {
     /// right to the next one's x, then down (or up) to it, and on to the
     /// right edge after the last.
     pub steps: Option<(String, Vec<(f64, f64)>)>,
-    /// Horizontal guides: y and the text written on the line at the right.
+    /// Horizontal guides: y and the text naming the line in the legend.
     pub guides: Vec<(f64, String)>,
 }
 
@@ -1304,8 +1304,6 @@ pub struct ScatterLayout {
     pub markers: Vec<(i32, i32, i32, i32)>,
     /// Each point's label.
     pub labels: Vec<crate::PlacedLabel>,
-    /// The guides' texts.
-    pub guides: Vec<crate::PlacedLabel>,
 }
 
 /// Half the size of a marker's box (px): the largest shape, a diamond of
@@ -1323,7 +1321,7 @@ impl ScatterChart {
         Ok(svg)
     }
 
-    /// Where the markers, labels and guide texts are placed (as
+    /// Where the markers and labels are placed (as
     /// [`ScatterChart::render`] draws them).
     pub fn layout(&self) -> Result<ScatterLayout, ReportError> {
         let mut svg = String::new();
@@ -1351,7 +1349,7 @@ impl ScatterChart {
         if x0 > x1 {
             (x0, x1, y0, y1) = (0.1, 10.0, 1e-6, 1e-2);
         }
-        // Room for the labels to the right and the guides' text.
+        // Room for the labels to the right.
         let (x0, x1) = (x0 / 1.3, x1 * 2.5);
         let (y0, y1) = (y0 / 2.0, y1 * 2.0);
         let mut keys: Vec<(String, Key)> = self
@@ -1378,6 +1376,21 @@ impl ScatterChart {
                 },
             ));
         }
+        // The guides are named in the legend: a text on its line would
+        // cover the markers that crowd near it.
+        let guide = RGBColor(150, 150, 150);
+        for (y, text) in &self.guides {
+            if (y0..=y1).contains(y) {
+                keys.push((
+                    text.clone(),
+                    Key::Line {
+                        color: guide,
+                        width: 1,
+                        dashed: true,
+                    },
+                ));
+            }
+        }
         let (head, body) = root.split_vertically(head_height(&keys, SCATTER.0 as i32));
         draw_head(&head, &self.title, &keys)?;
         let (xt, yt) = (Ticks::log(x0, x1), Ticks::log(y0, y1));
@@ -1397,19 +1410,17 @@ impl ScatterChart {
                 .pos(Pos::new(h, v))
         };
         let th = (POINT_FONT as f64 / 1.24).ceil() as i32 + 2;
-        // Boxes no label may touch: markers, guide texts, placed labels.
+        // Boxes no label may touch: markers and placed labels.
         let mut hard: Vec<(i32, i32, i32, i32)> = Vec::new();
         let mut layout = ScatterLayout {
             plot: (base.0, base.1, base.0 + pw as i32, base.1 + ph as i32),
             markers: Vec::new(),
             labels: Vec::new(),
-            guides: Vec::new(),
         };
         let whole =
             |b: (i32, i32, i32, i32)| (b.0 + base.0, b.1 + base.1, b.2 + base.0, b.3 + base.1);
-        // Guides, faint, with their text above the line at the right.
-        let guide = RGBColor(150, 150, 150);
-        for (y, text) in &self.guides {
+        // Guides, faint dashes across the plot (the legend names them).
+        for (y, _) in &self.guides {
             if !(y0..=y1).contains(y) {
                 continue;
             }
@@ -1421,19 +1432,6 @@ impl ScatterChart {
                     guide.stroke_width(1),
                 ))?;
             }
-            plot.draw(&Text::new(
-                text.clone(),
-                (pw as i32 - 6, py - 3),
-                font(POINT_FONT, RGBColor(80, 80, 80), HPos::Right, VPos::Bottom),
-            ))?;
-            let w = text_width(text, POINT_FONT);
-            let b = (pw as i32 - 6 - w, py - 3 - th, pw as i32 - 6, py - 3);
-            hard.push(b);
-            layout.guides.push(crate::PlacedLabel {
-                text: text.clone(),
-                major: false,
-                bounds: whole(b),
-            });
         }
         // The step line (labels kept off it where they can be).
         let mut steps = Vec::new();
@@ -1471,9 +1469,9 @@ impl ScatterChart {
                 })
                 .collect();
         }
-        // Markers, then labels placed greedily: never on a marker, a guide's
-        // text or another label, as near their point as that allows, off
-        // the step line where they can be.
+        // Markers, then labels placed greedily: never on a marker or
+        // another label, as near their point as that allows, off the step
+        // line where they can be.
         let mut marks = Vec::new();
         for g in &self.groups {
             let color = PALETTE[g.style % PALETTE.len()];

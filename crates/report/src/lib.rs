@@ -22,8 +22,8 @@ mod tables;
 mod tornado;
 mod torsion;
 pub use chart::{
-    Chart, Figure, RUN_CHARTS, ScatterChart, ScatterGroup, ScatterPoint, Series, kinematics_chart,
-    periodic, run_figures, run_figures_with, tick_label,
+    Chart, Figure, RUN_CHARTS, ScatterChart, ScatterGroup, ScatterLayout, ScatterPoint, Series,
+    kinematics_chart, periodic, run_figures, run_figures_with, tick_label,
 };
 pub use html::{esc, percent_encode, report_html, table as html_table};
 pub use out::{LOCK_WAIT, OutDir, STAGING_PREFIX};
