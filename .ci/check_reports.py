@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Checks generated report folders: every SVG parses as XML and names the
-series it should; report.html inlines every chart and its internal links
-resolve. usage: check_reports.py DIR... (each a `run --out` folder)."""
+series it should, draws its curves between whole pixels and ends an angle
+axis on 720 (or 360); report.html inlines every chart and its internal
+links resolve. usage: check_reports.py DIR... (each a `run --out` folder)."""
 import os, re, sys, xml.dom.minidom
 
 EXPECT = {
@@ -20,6 +21,28 @@ TORSION = {
     "campbell.svg": ["mode 1", "resonance", "engine speed (rpm)"],
     "torsion.svg": ["all orders (half peak-to-peak)", "largest section"],
 }
+
+
+def check_curves(p, doc, words):
+    """Curves drawn between whole pixels (no stair-steps), and an angle
+    axis that ends on its labelled dead centre (720 or 360)."""
+    problems = 0
+    longest = max(
+        (l.getAttribute("points").split() for l in doc.getElementsByTagName("polyline")),
+        key=len,
+        default=[],
+    )
+    if len(longest) > 100:
+        coords = [float(c) for pt in longest for c in pt.split(",")]
+        whole = sum(1 for c in coords if c == int(c))
+        if whole > len(coords) // 2:
+            print(f"{p}: {whole} of {len(coords)} curve coordinates on whole pixels (stair-steps)")
+            problems += 1
+    labels = [t.firstChild.data.strip() for t in doc.getElementsByTagName("text") if t.firstChild]
+    if "crank angle" in words and not ({"720", "360"} & set(labels)):
+        print(f"{p}: the angle axis does not end on a labelled 720 or 360")
+        problems += 1
+    return problems
 
 
 def main():
@@ -43,6 +66,7 @@ def main():
             if not doc.getElementsByTagName("polyline") and not doc.getElementsByTagName("path"):
                 print(f"{p}: draws no curve")
                 problems += 1
+            problems += check_curves(p, doc, words)
         acc = os.path.join(d, "accuracy.svg")
         if os.path.exists(acc):
             try:

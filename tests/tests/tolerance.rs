@@ -163,7 +163,7 @@ fn every_bundled_engine_gives_the_study() {
         }
         let svg = std::fs::read_to_string(dir.path().join("tolerance.svg")).unwrap();
         assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
-        assert!(svg.contains("mean_torque_nm"));
+        assert!(svg.contains("mean torque = "));
         // The three files and the manifest of what the run wrote.
         let leftovers: Vec<_> = std::fs::read_dir(dir.path())
             .unwrap()

@@ -291,15 +291,22 @@ fn table(engine: &Engine, shown: &str, rpm: f64, w: &Weights, s: &Study, all: bo
             .max()
             .unwrap_or(20);
         let ws = if two_banks { 17 } else { 0 };
+        // An inline engine's one bank: its intervals are the engine's.
+        let intervals = if two_banks {
+            "bank intervals (deg)"
+        } else {
+            "intervals (deg)"
+        };
         let _ = writeln!(
             o,
-            "\n{:>4}  {:<wo$} {:<ws$} {:<wb$} {:>10} {:>12} {:>12} {:>6} {:>8}",
+            "\n{:>4}  {:<wo$} {:<ws$} {:<wb$} {:>10} {:>12} {:>11} {:>12} {:>6} {:>8}",
             "rank",
             "firing order",
             if two_banks { "scheme" } else { "" },
-            "bank intervals (deg)",
+            intervals,
             "neighbours",
             "journal N m",
+            "after throw",
             "harmonic N m",
             "order",
             "score"
@@ -309,21 +316,52 @@ fn table(engine: &Engine, shown: &str, rpm: f64, w: &Weights, s: &Study, all: bo
             let j = ord.journal.as_ref();
             let _ = writeln!(
                 o,
-                "{:>4}  {:<wo$} {:<ws$} {:<wb$} {:>10} {:>12} {:>12} {:>6} {:>8.4}",
+                "{:>4}  {:<wo$} {:<ws$} {:<wb$} {:>10} {:>12} {:>11} {:>12} {:>6} {:>8.4}",
                 k + 1,
                 dashed(&ord.order.order),
                 cr.scheme.map_or("", |s| s.name()),
                 banks(&cr.bank_intervals_deg),
                 cr.neighbour_consecutive,
                 opt(j.map(|j| j.max_torque_nm), 1),
+                j.map_or_else(|| "null".to_string(), |j| j.max_torque_journal.to_string()),
                 opt(j.map(|j| j.max_harmonic_nm), 1),
                 opt(j.map(|j| j.harmonic_order), 1),
                 ord.score
             );
         }
+        let journals = c.orders.iter().any(|x| x.journal.is_some());
+        let _ = write!(o, "\n{}", legend(two_banks, journals));
     }
     for n in &s.notes {
         let _ = writeln!(o, "note: {n}");
+    }
+    o
+}
+
+/// The lines under the firing-order table that say what its columns hold.
+fn legend(two_banks: bool, journals: bool) -> String {
+    let mut o = String::new();
+    if two_banks {
+        o.push_str(
+            "bank intervals: crank degrees between consecutive firings on each bank, the banks \
+             split by |; scheme: how the banks' firings interleave\n",
+        );
+    } else {
+        o.push_str("intervals: crank degrees between consecutive firings\n");
+    }
+    o.push_str("neighbours: consecutive firings of adjacent cylinders on one bank\n");
+    if journals {
+        o.push_str(
+            "journal N m: the largest torque on any main journal; after throw K: the journal \
+             that carries it, the one after throw K counted from the free end\n\
+             harmonic N m / order: the largest harmonic amplitude of any journal's torque, and \
+             its engine order (per revolution)\n",
+        );
+    } else {
+        o.push_str(
+            "journal N m, after throw, harmonic N m / order: the main-journal torques, from a \
+             pressure diagram (none given: null)\n",
+        );
     }
     o
 }

@@ -145,6 +145,18 @@ fn num(x: f64) -> String {
     }
 }
 
+/// A result's nominal as every output writes it: 0 when it is rounding
+/// noise against the result's scale (`Stack::zero`: a balanced engine's
+/// order-0.5 torque of 1.6e-13 N m cancels to 0).
+fn shown_nominal(st: &Stack) -> f64 {
+    if st.zero { 0.0 } else { st.nominal }
+}
+
+/// [`shown_nominal`] of result `o`.
+fn nominal_of(s: &Study, o: Output) -> Option<f64> {
+    s.stacks.iter().find(|st| st.output == o).map(shown_nominal)
+}
+
 fn opt(x: Option<f64>) -> String {
     x.map(num).unwrap_or_else(|| "—".into())
 }
@@ -223,7 +235,7 @@ fn text_table(engine: &Engine, diagram: &str, rpm: f64, s: &Study) -> String {
             o,
             "  {:<24} {:>12} {:>11} {:>11} {:>11} {:>11} {:>9}  {}",
             st.output.key(),
-            num(st.nominal),
+            num(shown_nominal(st)),
             num(st.worst_case),
             num(st.rss),
             opt(st.monte_carlo_std),
@@ -243,7 +255,8 @@ fn text_table(engine: &Engine, diagram: &str, rpm: f64, s: &Study) -> String {
             untouched.push(st.output.key());
             continue;
         }
-        let shown = format!("{} {}", num(st.nominal), unit(st.output));
+        let nominal = shown_nominal(st);
+        let shown = format!("{} {}", num(nominal), unit(st.output));
         let _ = writeln!(
             o,
             "  {} = {}{}",
@@ -312,7 +325,7 @@ fn csv(s: &Study) -> String {
             text(&r.input.name()),
             cell(r.input.tolerance),
             text(r.output.key()),
-            cell(r.nominal),
+            cell(nominal_of(s, r.output).unwrap_or(r.nominal)),
             cell(r.sensitivity.value),
             r.influence.map(cell).unwrap_or_default(),
             cell(r.deviation)
@@ -330,7 +343,7 @@ fn json(s: &Study) -> serde_json::Value {
     let mut map = serde_json::Map::new();
     for st in &s.stacks {
         let mut m = serde_json::Map::new();
-        m.insert("nominal".into(), n(Some(st.nominal)));
+        m.insert("nominal".into(), n(Some(shown_nominal(st))));
         m.insert("worst_case".into(), n(Some(st.worst_case)));
         m.insert("rss".into(), n(Some(st.rss)));
         m.insert("monte_carlo_std".into(), n(st.monte_carlo_std));
@@ -376,20 +389,26 @@ fn panels(s: &Study) -> Vec<TornadoPanel> {
                 (r.sensitivity.value, r.sensitivity.value)
             };
             TornadoBar {
-                label: r.input.name(),
+                label: r.input.label(),
                 minus: -bwd * r.input.tolerance * scale,
                 plus: fwd * r.input.tolerance * scale,
             }
         };
-        let mut bars: Vec<TornadoBar> = rows.iter().take(SHOWN).map(|r| bar(r)).collect();
-        if rows.len() > SHOWN {
-            let rest = rows[SHOWN..]
+        // One more bar rather than "1 others": the rest in one RSS bar.
+        let own = if rows.len() == SHOWN + 1 {
+            SHOWN + 1
+        } else {
+            SHOWN
+        };
+        let mut bars: Vec<TornadoBar> = rows.iter().take(own).map(|r| bar(r)).collect();
+        if rows.len() > own {
+            let rest = rows[own..]
                 .iter()
                 .map(|r| (r.deviation * scale).powi(2))
                 .sum::<f64>()
                 .sqrt();
             bars.push(TornadoBar {
-                label: format!("{} others (RSS)", rows.len() - SHOWN),
+                label: format!("{} others (RSS)", rows.len() - own),
                 minus: -rest,
                 plus: rest,
             });
@@ -398,10 +417,10 @@ fn panels(s: &Study) -> Vec<TornadoPanel> {
         if let Some(m) = st.monte_carlo_std {
             marks.push(("Monte Carlo σ".to_string(), m * scale));
         }
-        let shown = if st.zero { 0.0 } else { st.nominal };
+        let shown = shown_nominal(st);
         let nominal = format!("{} {}", num(shown), unit(st.output));
         out.push(TornadoPanel {
-            title: format!("{} = {}", st.output.key(), nominal.trim_end()),
+            title: format!("{} = {}", st.output.label(), nominal.trim_end()),
             x_label,
             bars,
             marks,

@@ -30,7 +30,8 @@ const MAX_POINTS: usize = 1500;
 pub struct Series {
     /// Legend text.
     pub name: String,
-    /// (x, y) points.
+    /// (x, y) points; a point that is not finite lifts the pen (on log
+    /// axes, so does one at or below 0).
     pub points: Vec<(f64, f64)>,
     /// Drawn dashed and grey (reference lines such as a mean or a target).
     pub dashed: bool,
@@ -47,10 +48,12 @@ impl Series {
         name: impl Into<String>,
         pts: impl ExactSizeIterator<Item = (f64, f64)>,
     ) -> Self {
-        let stride = pts.len().div_ceil(MAX_POINTS).max(1);
+        let n = pts.len();
+        let stride = n.div_ceil(MAX_POINTS).max(1);
+        // Every `stride`-th point, and the last (the curve's end stays put).
         let points = pts
             .enumerate()
-            .filter(|(k, _)| k % stride == 0)
+            .filter(|(k, _)| k % stride == 0 || *k + 1 == n)
             .map(|(_, p)| p)
             .collect();
         Self {
@@ -377,6 +380,13 @@ pub(crate) enum Key {
         width: u32,
         dashed: bool,
     },
+    /// A dashed line of its own pattern (on, off, on, off; px): the second
+    /// and later reference lines of a chart, told apart from the first.
+    Dash {
+        color: RGBColor,
+        width: u32,
+        pattern: [i32; 4],
+    },
     /// A marker of a [`ScatterChart`] group.
     Marker {
         shape: usize,
@@ -525,6 +535,22 @@ pub(crate) fn draw_head(
                     head.draw(&PathElement::new(vec![(x, y), (x + KEY_W - 2, y)], style))?;
                 }
             }
+            Key::Dash {
+                color,
+                width,
+                pattern,
+            } => {
+                let style = color.stroke_width(width);
+                let (mut a, mut k) = (x, 0);
+                while a < x + KEY_W - 2 {
+                    let b = (a + pattern[k % 4]).min(x + KEY_W - 2);
+                    if k % 2 == 0 {
+                        head.draw(&PathElement::new(vec![(a, y), (b, y)], style))?;
+                    }
+                    a = b;
+                    k += 1;
+                }
+            }
             Key::Marker {
                 shape,
                 color,
@@ -536,17 +562,37 @@ pub(crate) fn draw_head(
     Ok(())
 }
 
+/// The dashed series' styles after the first (grey, width 1, 6 on 4 off),
+/// in turn: colour, width and pattern (on, off, on, off; px). Two
+/// reference lines of one chart (an indicated and an effective mean) are
+/// told apart by colour and dash.
+const DASHES: [(RGBColor, u32, [i32; 4]); 2] = [
+    (RGBColor(0, 0, 0), 2, [12, 4, 3, 4]),
+    (RGBColor(150, 150, 150), 2, [2, 3, 2, 3]),
+];
+
 /// How a series is drawn: colour, width, dash (the legend key repeats it).
 fn series_keys(series: &[Series]) -> Vec<(String, Key)> {
     let mut solid = 0;
+    let mut dashed = 0;
     series
         .iter()
         .map(|s| {
             let key = if s.dashed {
-                Key::Line {
-                    color: GREY,
-                    width: 1,
-                    dashed: true,
+                dashed += 1;
+                if dashed == 1 {
+                    Key::Line {
+                        color: GREY,
+                        width: 1,
+                        dashed: true,
+                    }
+                } else {
+                    let (color, width, pattern) = DASHES[(dashed - 2) % DASHES.len()];
+                    Key::Dash {
+                        color,
+                        width,
+                        pattern,
+                    }
                 }
             } else {
                 solid += 1;
@@ -581,20 +627,80 @@ impl AxisRange {
     }
 }
 
+impl AxisRange {
+    /// The pixel of `v` between the pixel limits, unrounded: what
+    /// plotters' whole-pixel `map` rounds down.
+    fn map_fine(&self, v: f64, limit: (i32, i32)) -> f64 {
+        let span = self.hi - self.lo;
+        if span == 0.0 || !span.is_finite() {
+            return ((limit.0 + limit.1) / 2) as f64;
+        }
+        let u = ((v - self.lo) / span).clamp(-10.0, 10.0);
+        if !u.is_finite() {
+            return limit.0 as f64;
+        }
+        limit.0 as f64 + (limit.1 - limit.0) as f64 * u
+    }
+}
+
+/// The pixel of a data point on `chart`, unrounded (in the whole SVG's
+/// coordinates): plotters maps to whole pixels, which shows as stair-steps
+/// on a smooth curve, so curves are written by [`svg_polyline`] from these.
+pub(crate) fn fine_pixel(chart: &Plot, (x, y): (f64, f64)) -> (f64, f64) {
+    let (px, py) = chart.plotting_area().get_pixel_range();
+    let spec = chart.as_coord_spec();
+    // ChartBuilder's limits: the last pixel inside, y from the bottom up.
+    (
+        spec.x_spec().map_fine(x, (px.start, px.end - 1)),
+        spec.y_spec().map_fine(y, (py.end - 1, py.start)),
+    )
+}
+
+/// An SVG polyline through pixel points at a hundredth of a pixel, in the
+/// attribute order plotters writes (`fill`, `opacity`, `stroke`,
+/// `stroke-width`, `points`), with round joins and an optional dash
+/// pattern (on, off, …; px).
+pub(crate) fn svg_polyline(
+    pts: &[(f64, f64)],
+    color: RGBColor,
+    width: f64,
+    dash: Option<&[i32]>,
+) -> String {
+    let mut o = format!(
+        "<polyline fill=\"none\" opacity=\"1\" stroke=\"#{:02X}{:02X}{:02X}\" stroke-width=\"{}\"",
+        color.0,
+        color.1,
+        color.2,
+        trimmed(width, 2)
+    );
+    if let Some(d) = dash {
+        let d: Vec<String> = d.iter().map(i32::to_string).collect();
+        o.push_str(&format!(" stroke-dasharray=\"{}\"", d.join(" ")));
+    }
+    o.push_str(" stroke-linejoin=\"round\" points=\"");
+    for &(x, y) in pts {
+        o.push_str(&trimmed(x, 2));
+        o.push(',');
+        o.push_str(&trimmed(y, 2));
+        o.push(' ');
+    }
+    o.push_str("\"/>\n");
+    o
+}
+
+/// Inserts SVG elements at the end of a document (drawn last, on top).
+pub(crate) fn append_svg(svg: &mut String, elements: &[String]) {
+    if let Some(i) = svg.rfind("</svg>") {
+        svg.insert_str(i, &elements.concat());
+    }
+}
+
 impl Ranged for AxisRange {
     type FormatOption = DefaultFormatting;
     type ValueType = f64;
 
     fn map(&self, v: &f64, limit: (i32, i32)) -> i32 {
-        let span = self.hi - self.lo;
-        if span == 0.0 || !span.is_finite() {
-            return (limit.0 + limit.1) / 2;
-        }
-        let u = ((v - self.lo) / span).clamp(-10.0, 10.0);
-        if !u.is_finite() {
-            return limit.0;
-        }
-        limit.0 + ((limit.1 - limit.0) as f64 * u + 1e-3).floor() as i32
+        (self.map_fine(*v, limit) + 1e-3).floor() as i32
     }
 
     fn key_points<H: KeyPointHint>(&self, hint: H) -> Vec<f64> {
@@ -659,7 +765,9 @@ pub(crate) fn axes_with<'a, 'b>(
 }
 
 impl Chart {
-    fn draw(&self, area: &Area) -> Result<(), Box<dyn std::error::Error>> {
+    /// Draws the panel on `area`; returns its curves as SVG elements at
+    /// sub-pixel precision ([`svg_polyline`]), for the caller to append.
+    fn draw(&self, area: &Area) -> Result<Vec<String>, Box<dyn std::error::Error>> {
         let ((mut x0, mut x1), (mut y0, mut y1)) = bounds(&self.series, self.log);
         let keys = series_keys(&self.series);
         // A series without a name draws no legend entry (marks that a
@@ -680,6 +788,16 @@ impl Chart {
             let aspect = (w as f64 - 110.0) / (h as f64 - 70.0);
             (x0, x1, y0, y1) = (-r * aspect, r * aspect, -r, r);
         }
+        if let (false, Some(step)) = (self.log, self.angle_ticks) {
+            // An angle axis runs over whole dead-centre intervals, so that
+            // it ends on a labelled 720 (360, or 360 centred).
+            if step > 0.0 && x1 > x0 && (x1 - x0) / step < 100.0 {
+                (x0, x1) = (
+                    (x0 / step + 1e-9).floor() * step,
+                    (x1 / step - 1e-9).ceil() * step,
+                );
+            }
+        }
         let (xt, yt, xr, yr) = if self.log {
             (
                 Ticks::log(x0, x1),
@@ -699,52 +817,57 @@ impl Chart {
                 (y0, y1),
             )
         };
-        let mut chart = axes(&body, (xr, &xt), (yr, &yt), (&self.x_label, &self.y_label))?;
+        let chart = axes(&body, (xr, &xt), (yr, &yt), (&self.x_label, &self.y_label))?;
+        let mut out = Vec::new();
         if let (false, Some(step)) = (self.log, self.angle_ticks) {
             // Dead-centre markers every `step` degrees (no legend entry).
-            let n = ((x1 - x0) / step).floor().clamp(0.0, 100.0) as usize;
+            let n = ((x1 - x0) / step + 1e-9).floor().clamp(0.0, 100.0) as usize;
             for k in 1..=n {
                 let x = x0 + k as f64 * step;
-                chart.draw_series(DashedLineSeries::new(
-                    [(x, y0), (x, y1)],
-                    3,
-                    5,
-                    RGBColor(170, 170, 170).stroke_width(1),
-                ))?;
+                out.push(svg_polyline(
+                    &[fine_pixel(&chart, (x, y0)), fine_pixel(&chart, (x, y1))],
+                    RGBColor(170, 170, 170),
+                    1.0,
+                    Some(&[3, 5]),
+                ));
             }
         }
         for (s, (_, key)) in self.series.iter().zip(&keys) {
-            let Key::Line {
-                color,
-                width,
-                dashed,
-            } = *key
-            else {
-                continue;
+            let (color, width, dash): (RGBColor, u32, Option<&[i32]>) = match key {
+                Key::Line {
+                    color,
+                    width,
+                    dashed,
+                } => (*color, *width, dashed.then_some(&[6, 4][..])),
+                Key::Dash {
+                    color,
+                    width,
+                    pattern,
+                } => (*color, *width, Some(&pattern[..])),
+                Key::Marker { .. } => continue,
             };
-            let style = color.stroke_width(width);
-            let pts: Vec<(f64, f64)> = s
-                .points
-                .iter()
-                .copied()
-                .filter(|(x, y)| {
-                    x.is_finite() && y.is_finite() && (!self.log || (*x > 0.0 && *y > 0.0))
-                })
-                .map(|(x, y)| {
-                    if self.log {
-                        (x.log10(), y.log10())
-                    } else {
-                        (x, y)
-                    }
-                })
-                .collect();
-            if dashed {
-                chart.draw_series(DashedLineSeries::new(pts, 6, 4, style))?;
-            } else {
-                chart.draw_series(LineSeries::new(pts, style))?;
+            // A point that is not finite lifts the pen: one polyline per run.
+            let shown = |&(x, y): &(f64, f64)| {
+                x.is_finite() && y.is_finite() && (!self.log || (x > 0.0 && y > 0.0))
+            };
+            for run in s.points.split(|p| !shown(p)) {
+                let pts: Vec<(f64, f64)> = run
+                    .iter()
+                    .map(|&(x, y)| {
+                        let p = if self.log {
+                            (x.log10(), y.log10())
+                        } else {
+                            (x, y)
+                        };
+                        fine_pixel(&chart, p)
+                    })
+                    .collect();
+                if !pts.is_empty() {
+                    out.push(svg_polyline(&pts, color, width as f64, dash));
+                }
             }
         }
-        Ok(())
+        Ok(out)
     }
 }
 
@@ -770,48 +893,102 @@ impl Figure {
             (PANEL.0 * n * 7 / 10, PANEL.1)
         };
         let mut svg = String::new();
+        let mut curves = Vec::new();
         {
             let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
             root.fill(&WHITE).map_err(|e| err(&e))?;
             let areas = root.split_evenly((1, n as usize));
             for (chart, area) in self.panels.iter().zip(&areas) {
-                chart.draw(area).map_err(|e| err(&e))?;
+                curves.extend(chart.draw(area).map_err(|e| err(&e))?);
             }
             root.present().map_err(|e| err(&e))?;
         }
+        append_svg(&mut svg, &curves);
         Ok(svg)
     }
 }
+/// A periodic curve sampled at `k * step_deg` (k = 0 … y.len() − 1) as a
+/// series over one whole period, back to its start at the period's end:
+/// from 0, or with `centered` from minus half the period (the samples
+/// rotated by half, as `curves.csv` writes them with `--angles centered`).
+pub fn periodic(name: impl Into<String>, y: &[f64], step_deg: f64, centered: bool) -> Series {
+    let n = y.len();
+    if n == 0 {
+        return Series::from_points(name, std::iter::empty::<(f64, f64)>());
+    }
+    let shift = if centered { n / 2 } else { 0 };
+    let x0 = -(shift as f64) * step_deg;
+    Series::from_points(
+        name,
+        (0..n + 1).map(move |k| (x0 + k as f64 * step_deg, y[(k + shift) % n])),
+    )
+}
+
 /// The kinematics chart (shared by `run` and `kinematics`): the seeds'
 /// coefficients A = x/R, B = v/(R w), C = a/(R w^2) and the rod angle over
-/// one revolution, from a table on the grid `k * step_deg`.
+/// the table's period, from a table on the grid `k * step_deg`.
 pub fn kinematics_chart(title: impl Into<String>, t: &Table, r: f64, step_deg: f64) -> Chart {
-    let deg = || (0..t.len()).map(|k| k as f64 * step_deg);
+    kinematics_chart_with(title, t, r, step_deg, false)
+}
+
+/// [`kinematics_chart`], centred on TDC with `centered`.
+fn kinematics_chart_with(
+    title: impl Into<String>,
+    t: &Table,
+    r: f64,
+    step_deg: f64,
+    centered: bool,
+) -> Chart {
     let scale = |v: &[f64], f: f64| v.iter().map(|x| x * f).collect::<Vec<_>>();
+    let curve = |name: &str, v: &[f64], f: f64| periodic(name, &scale(v, f), step_deg, centered);
     let mut c = Chart::angle(
         title,
         "x/R, v/(Rω), a/(Rω²); β (deg/10)",
         vec![
-            Series::new("A = x/R", deg(), &scale(&t.x, 1.0 / r)),
-            Series::new("B = v/(Rω)", deg(), &scale(&t.dx, 1.0 / r)),
-            Series::new("C = a/(Rω²)", deg(), &scale(&t.d2x, 1.0 / r)),
-            Series::new(
-                "rod angle β (deg/10)",
-                deg(),
-                &scale(&t.beta, 18.0 / std::f64::consts::PI),
-            ),
+            curve("A = x/R", &t.x, 1.0 / r),
+            curve("B = v/(Rω)", &t.dx, 1.0 / r),
+            curve("C = a/(Rω²)", &t.d2x, 1.0 / r),
+            curve("rod angle β (deg/10)", &t.beta, 18.0 / std::f64::consts::PI),
         ],
     );
     c.x_label = "crank angle from TDC (deg)".into();
     c
 }
 
-/// The charts of `run --out DIR`, in report order.
+/// The file names of [`run_figures`] for a pressure diagram, in report
+/// order (a turning-moment run has no pressure, forces or crank-pin chart).
+pub const RUN_CHARTS: [&str; 8] = [
+    "pressure.svg",
+    "kinematics.svg",
+    "forces.svg",
+    "torque.svg",
+    "journal_torques.svg",
+    "crankpin_polar.svg",
+    "flywheel.svg",
+    "harmonics.svg",
+];
+
+/// The charts of `run --out DIR`, in report order (angles from 0).
 pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
+    run_figures_with(engine, a, false)
+}
+
+/// [`run_figures`]; with `centered` the angle axes run from minus half the
+/// cycle to plus half (−360…360, two-stroke −180…180), the curves rotated
+/// accordingly (`--angles centered`).
+pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Figure> {
     let n = a.torque.total.len();
     let has_pressure = !a.pressure.is_empty();
-    let deg = || (0..n).map(|k| (k as f64 * a.step).to_degrees());
-    let cycle = (n as f64 * a.step).to_degrees();
+    let step_deg = a.step.to_degrees();
+    let cycle = n as f64 * step_deg;
+    // Reference lines span the axis: [0, cycle), or centred.
+    let (lo, hi) = if centered {
+        let lo = -((n / 2) as f64) * step_deg;
+        (lo, lo + cycle)
+    } else {
+        (0.0, cycle)
+    };
+    let curve = |name: &str, y: &[f64]| periodic(name, y, step_deg, centered);
     let name = engine.name();
     let rpm = a.summary.rpm;
     let kn = |v: &[f64]| v.iter().map(|x| x / 1e3).collect::<Vec<_>>();
@@ -846,7 +1023,7 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
                 Chart::angle(
                     format!("{name} — cylinder pressure, {rpm:.0} rpm"),
                     "pressure (bar, absolute)",
-                    vec![Series::new("p(φ)", deg(), &bar)],
+                    vec![curve("p(φ)", &bar)],
                 ),
                 pv,
             ],
@@ -857,11 +1034,12 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
     let r = engine.mechanism().r();
     figs.push(Figure::single(
         "kinematics.svg",
-        kinematics_chart(
+        kinematics_chart_with(
             format!("{name} — piston motion ({})", a.summary.kinematics),
             &a.kinematics,
             r,
-            a.step.to_degrees(),
+            step_deg,
+            centered,
         ),
     ));
 
@@ -877,12 +1055,12 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
                 ),
                 "force (kN), positive toward the crank / driving",
                 vec![
-                    Series::new("gas P_g", deg(), &kn(&f.gas)),
-                    Series::new("inertia P_j", deg(), &kn(&f.inertia)),
-                    Series::new("total P", deg(), &kn(&f.total)),
-                    Series::new("side thrust N", deg(), &kn(&f.side)),
-                    Series::new("radial K", deg(), &kn(&f.radial)),
-                    Series::new("tangential T", deg(), &kn(&f.tangential)),
+                    curve("gas P_g", &kn(&f.gas)),
+                    curve("inertia P_j", &kn(&f.inertia)),
+                    curve("total P", &kn(&f.total)),
+                    curve("side thrust N", &kn(&f.side)),
+                    curve("radial K", &kn(&f.radial)),
+                    curve("tangential T", &kn(&f.tangential)),
                 ],
             ),
         ));
@@ -893,17 +1071,16 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
     let mean = a.uniformity.mean;
     let eta = a.summary.mechanical_efficiency;
     let mut torque = vec![
-        Series::new("cylinder 1, indicated", deg(), &f.torque),
-        Series::new(
-            format!("engine ({} cylinders), indicated", engine.cylinders()),
-            deg(),
+        curve("cylinder 1, indicated", &f.torque),
+        curve(
+            &format!("engine ({} cylinders), indicated", engine.cylinders()),
             &a.torque.total,
         ),
         Series::hline(
             format!("mean, indicated {} N m", crate::fixed(mean, 1)),
             mean,
-            0.0,
-            cycle,
+            lo,
+            hi,
         ),
     ];
     if (eta - 1.0).abs() > 1e-12 {
@@ -913,8 +1090,8 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
                 crate::fixed(mean * eta, 1)
             ),
             mean * eta,
-            0.0,
-            cycle,
+            lo,
+            hi,
         ));
     }
     figs.push(Figure::single(
@@ -932,7 +1109,7 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
         .journals
         .iter()
         .enumerate()
-        .map(|(k, j)| Series::new(format!("journal after throw {}", k + 1), deg(), j))
+        .map(|(k, j)| curve(&format!("journal after throw {}", k + 1), j))
         .collect();
     figs.push(Figure::single(
         "journal_torques.svg",
@@ -974,7 +1151,7 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
             a.uniformity.excess_work
         ),
         "E (J)",
-        vec![Series::new("E(φ)", deg(), &a.uniformity.excess_energy)],
+        vec![curve("E(φ)", &a.uniformity.excess_energy)],
     )];
     if let Some(fw) = &a.flywheel {
         let rpm_trace: Vec<f64> = fw
@@ -982,7 +1159,7 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
             .iter()
             .map(|w| w * 30.0 / std::f64::consts::PI)
             .collect();
-        let (lo, hi) = rpm_trace
+        let (slow, fast) = rpm_trace
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
                 (a.min(x), b.max(x))
@@ -994,9 +1171,20 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
             ),
             "speed (rpm)",
             vec![
-                Series::new("n(φ)", deg(), &rpm_trace),
-                Series::hline(format!("max {hi:.1}"), hi, 0.0, cycle),
-                Series::hline(format!("min {lo:.1}"), lo, 0.0, cycle),
+                curve("n(φ)", &rpm_trace),
+                // The two limits in one style: one series, the pen lifted
+                // between them.
+                Series {
+                    name: format!("max {fast:.1}, min {slow:.1}"),
+                    points: vec![
+                        (lo, fast),
+                        (hi, fast),
+                        (f64::NAN, f64::NAN),
+                        (lo, slow),
+                        (hi, slow),
+                    ],
+                    dashed: true,
+                },
             ],
         ));
     }
@@ -1073,7 +1261,7 @@ pub struct ScatterGroup {
 }
 
 /// A log-log chart of labelled markers in groups, a step line (a Pareto
-/// front) and labelled horizontal guides (e.g. tolerances): the accuracy
+/// front) and horizontal guides named in the legend (e.g. tolerances): the accuracy
 /// chart.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScatterChart {
@@ -1091,7 +1279,7 @@ pub struct ScatterChart {
     /// right to the next one's x, then down (or up) to it, and on to the
     /// right edge after the last.
     pub steps: Option<(String, Vec<(f64, f64)>)>,
-    /// Horizontal guides: y and the text written on the line at the right.
+    /// Horizontal guides: y and the text naming the line in the legend.
     pub guides: Vec<(f64, String)>,
 }
 
@@ -1106,6 +1294,22 @@ pub(crate) fn overlap(a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)) -> i32 {
     w * h
 }
 
+/// Where a [`ScatterChart`]'s marks and texts went, in pixels of the whole
+/// chart: (left, top, right, bottom).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScatterLayout {
+    /// The plot area.
+    pub plot: (i32, i32, i32, i32),
+    /// Each marker's box.
+    pub markers: Vec<(i32, i32, i32, i32)>,
+    /// Each point's label.
+    pub labels: Vec<crate::PlacedLabel>,
+}
+
+/// Half the size of a marker's box (px): the largest shape, a diamond of
+/// radius 6 reaching 8 px up and down, with its stroke.
+const MARK_HALF: i32 = 9;
+
 impl ScatterChart {
     /// Renders to an SVG document.
     pub fn render(&self) -> Result<String, ReportError> {
@@ -1117,7 +1321,17 @@ impl ScatterChart {
         Ok(svg)
     }
 
-    fn draw(&self, svg: &mut String) -> Result<(), Box<dyn std::error::Error>> {
+    /// Where the markers and labels are placed (as
+    /// [`ScatterChart::render`] draws them).
+    pub fn layout(&self) -> Result<ScatterLayout, ReportError> {
+        let mut svg = String::new();
+        self.draw(&mut svg).map_err(|e| ReportError::Chart {
+            name: self.file.clone(),
+            message: e.to_string(),
+        })
+    }
+
+    fn draw(&self, svg: &mut String) -> Result<ScatterLayout, Box<dyn std::error::Error>> {
         use plotters::style::text_anchor::{HPos, Pos, VPos};
         let root = SVGBackend::with_string(svg, SCATTER).into_drawing_area();
         root.fill(&WHITE)?;
@@ -1135,7 +1349,7 @@ impl ScatterChart {
         if x0 > x1 {
             (x0, x1, y0, y1) = (0.1, 10.0, 1e-6, 1e-2);
         }
-        // Room for the labels to the right and the guides' text.
+        // Room for the labels to the right.
         let (x0, x1) = (x0 / 1.3, x1 * 2.5);
         let (y0, y1) = (y0 / 2.0, y1 * 2.0);
         let mut keys: Vec<(String, Key)> = self
@@ -1162,6 +1376,21 @@ impl ScatterChart {
                 },
             ));
         }
+        // The guides are named in the legend: a text on its line would
+        // cover the markers that crowd near it.
+        let guide = RGBColor(150, 150, 150);
+        for (y, text) in &self.guides {
+            if (y0..=y1).contains(y) {
+                keys.push((
+                    text.clone(),
+                    Key::Line {
+                        color: guide,
+                        width: 1,
+                        dashed: true,
+                    },
+                ));
+            }
+        }
         let (head, body) = root.split_vertically(head_height(&keys, SCATTER.0 as i32));
         draw_head(&head, &self.title, &keys)?;
         let (xt, yt) = (Ticks::log(x0, x1), Ticks::log(y0, y1));
@@ -1180,9 +1409,18 @@ impl ScatterChart {
                 .color(&color)
                 .pos(Pos::new(h, v))
         };
-        // Guides, faint, with their text above the line at the right.
-        let guide = RGBColor(150, 150, 150);
-        for (y, text) in &self.guides {
+        let th = (POINT_FONT as f64 / 1.24).ceil() as i32 + 2;
+        // Boxes no label may touch: markers and placed labels.
+        let mut hard: Vec<(i32, i32, i32, i32)> = Vec::new();
+        let mut layout = ScatterLayout {
+            plot: (base.0, base.1, base.0 + pw as i32, base.1 + ph as i32),
+            markers: Vec::new(),
+            labels: Vec::new(),
+        };
+        let whole =
+            |b: (i32, i32, i32, i32)| (b.0 + base.0, b.1 + base.1, b.2 + base.0, b.3 + base.1);
+        // Guides, faint dashes across the plot (the legend names them).
+        for (y, _) in &self.guides {
             if !(y0..=y1).contains(y) {
                 continue;
             }
@@ -1194,13 +1432,8 @@ impl ScatterChart {
                     guide.stroke_width(1),
                 ))?;
             }
-            plot.draw(&Text::new(
-                text.clone(),
-                (pw as i32 - 6, py - 3),
-                font(POINT_FONT, RGBColor(80, 80, 80), HPos::Right, VPos::Bottom),
-            ))?;
         }
-        // The step line (its segments kept clear of the labels).
+        // The step line (labels kept off it where they can be).
         let mut steps = Vec::new();
         if let Some((_, corners)) = &self.steps {
             let mut c: Vec<(f64, f64)> = corners
@@ -1236,7 +1469,9 @@ impl ScatterChart {
                 })
                 .collect();
         }
-        // Markers, then labels placed greedily where they hit the least.
+        // Markers, then labels placed greedily: never on a marker or
+        // another label, as near their point as that allows, off the step
+        // line where they can be.
         let mut marks = Vec::new();
         for g in &self.groups {
             let color = PALETTE[g.style % PALETTE.len()];
@@ -1247,24 +1482,27 @@ impl ScatterChart {
                 let at = px(p.x, p.y);
                 draw_marker(&plot, at, g.style, color, g.filled, 6)?;
                 marks.push((at, p.label.clone(), color));
+                let b = (
+                    at.0 - MARK_HALF,
+                    at.1 - MARK_HALF,
+                    at.0 + MARK_HALF,
+                    at.1 + MARK_HALF,
+                );
+                hard.push(b);
+                layout.markers.push(whole(b));
             }
         }
-        let mut taken: Vec<(i32, i32, i32, i32)> = marks
-            .iter()
-            .map(|&((x, y), _, _)| (x - 7, y - 7, x + 8, y + 8))
-            .chain(steps)
-            .collect();
-        let th = (POINT_FONT as f64 / 1.24).ceil() as i32 + 2;
         for ((x, y), label, color) in &marks {
             if label.is_empty() {
                 continue;
             }
             let w = text_width(label, POINT_FONT);
-            // Candidates: right, left, above, below, then diagonals and
-            // further out; a leader line joins a label placed away.
-            let mut best: Option<((i32, i32, i32, i32), i32)> = None;
-            'search: for ring in 1..=4 {
-                let d = 10 * ring;
+            // Candidates ring by ring: right, left, above, below, the
+            // diagonals and between; a leader line joins a label placed away.
+            let mut best: Option<((i32, i32, i32, i32), i64)> = None;
+            'search: for ring in 1..=14 {
+                let d = MARK_HALF + 2 + 9 * (ring - 1);
+                let mut found = false;
                 for (dx, dy) in [
                     (d, -th / 2),
                     (-d - w, -th / 2),
@@ -1274,27 +1512,39 @@ impl ScatterChart {
                     (d, d - th / 2),
                     (-d - w, -d - th / 2),
                     (-d - w, d - th / 2),
+                    (d / 2, -d - th),
+                    (d / 2, d),
+                    (-d / 2 - w, -d - th),
+                    (-d / 2 - w, d),
                 ] {
                     let b = (x + dx, y + dy, x + dx + w, y + dy + th);
                     let outside = b.0 < 0 || b.1 < 0 || b.2 > pw as i32 || b.3 > ph as i32;
-                    let cost = taken.iter().map(|t| overlap(*t, b)).sum::<i32>()
-                        + if outside { 100_000 } else { 0 }
-                        + ring * 8;
+                    let blocked = outside || hard.iter().any(|t| overlap(*t, b) > 0);
+                    let soft: i64 = steps.iter().map(|t| overlap(*t, b) as i64).sum();
+                    let cost = if blocked { 1 << 40 } else { 0 } + soft * 4 + ring as i64 * 40;
                     if best.is_none_or(|(_, c)| cost < c) {
                         best = Some((b, cost));
                     }
-                    if cost == ring * 8 {
-                        break 'search;
-                    }
+                    found |= !blocked && soft == 0;
+                }
+                if found {
+                    break 'search;
                 }
             }
             let Some((b, _)) = best else { continue };
             let (cx, cy) = ((b.0 + b.2) / 2, (b.1 + b.3) / 2);
-            if (cx - x).abs() > w / 2 + 16 || (cy - y).abs() > th + 14 {
+            if (cx - x).abs() > w / 2 + 2 * MARK_HALF || (cy - y).abs() > th + 2 * MARK_HALF {
+                // From the marker's edge to the label's nearest side.
                 let ex = cx.clamp(b.0, b.2);
                 let ey = if cy > *y { b.1 } else { b.3 };
+                let (vx, vy) = ((ex - x) as f64, (ey - y) as f64);
+                let len = vx.hypot(vy).max(1.0);
+                let start = (
+                    x + (vx / len * MARK_HALF as f64) as i32,
+                    y + (vy / len * MARK_HALF as f64) as i32,
+                );
                 plot.draw(&PathElement::new(
-                    vec![(*x, *y), (ex, ey)],
+                    vec![start, (ex, ey)],
                     color.mix(0.6).stroke_width(1),
                 ))?;
             }
@@ -1303,9 +1553,14 @@ impl ScatterChart {
                 (b.0, b.1 + 1),
                 font(POINT_FONT, BLACK, HPos::Left, VPos::Top),
             ))?;
-            taken.push(b);
+            hard.push(b);
+            layout.labels.push(crate::PlacedLabel {
+                text: label.clone(),
+                major: false,
+                bounds: whole(b),
+            });
         }
         root.present()?;
-        Ok(())
+        Ok(layout)
     }
 }

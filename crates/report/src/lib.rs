@@ -27,8 +27,8 @@ mod tables;
 mod tornado;
 mod torsion;
 pub use chart::{
-    Chart, Figure, ScatterChart, ScatterGroup, ScatterPoint, Series, kinematics_chart, run_figures,
-    tick_label,
+    Chart, Figure, RUN_CHARTS, ScatterChart, ScatterGroup, ScatterLayout, ScatterPoint, Series,
+    kinematics_chart, periodic, run_figures, run_figures_with, tick_label,
 };
 pub use html::{esc, percent_encode, report_html, table as html_table};
 pub use out::{LOCK_WAIT, MANIFEST, OutDir, STAGING_PREFIX, sha256_file, sha256_hex};
@@ -471,7 +471,8 @@ pub fn harmonics_csv(a: &Analysis) -> String {
 }
 
 /// Every file of `run --out DIR`, as (name, contents); `centered` as in
-/// [`curves_csv`], `inputs` what the results came from.
+/// [`curves_csv`], for the charts' angle axes too; `inputs` what the
+/// results came from.
 pub fn run_files(
     engine: &Engine,
     a: &Analysis,
@@ -511,7 +512,7 @@ pub fn run_files_with(
         ("harmonics.csv".to_string(), harmonics_csv(a).into_bytes()),
     ];
     let mut charts = Vec::new();
-    for fig in chart::run_figures(engine, a) {
+    for fig in chart::run_figures_with(engine, a, centered) {
         charts.push((fig.file.clone(), fig.render()?));
     }
     charts.extend(extra.charts.iter().cloned());

@@ -218,7 +218,8 @@ td,th{{padding:3px 10px;border-bottom:1px solid #eee;text-align:left}}td.v{{text
 }
 
 /// `sweep.svg`: torque, peak forces and the required inertia against speed,
-/// one unit per panel.
+/// one unit per panel. A sweep runs one diagram at every speed: the title
+/// says that the pressures are the same at every speed.
 pub fn sweep_figure(engine_name: &str, summaries: &[&Summary]) -> Figure {
     let get = |f: fn(&Summary) -> Option<f64>| -> Vec<(f64, f64)> {
         summaries
@@ -245,7 +246,7 @@ pub fn sweep_figure(engine_name: &str, summaries: &[&Summary]) -> Figure {
         file: "sweep.svg".into(),
         panels: vec![
             panel(
-                &format!("{engine_name} — torque against speed"),
+                &format!("{engine_name} — torque, the same pressures at every speed"),
                 "torque (N m)",
                 vec![
                     s(
@@ -260,7 +261,7 @@ pub fn sweep_figure(engine_name: &str, summaries: &[&Summary]) -> Figure {
             // One unit per panel: the crank-pin load against the peak gas
             // force shows inertia taking over as speed rises.
             panel(
-                "peak forces",
+                "peak forces: gas load fixed, inertia growing with n²",
                 "force (kN)",
                 vec![
                     s(
@@ -359,5 +360,25 @@ mod tests {
             "{html}"
         );
         assert!(html.contains("<tr><td>1</td>"), "{html}");
+    }
+
+    /// The sweep chart says that one pressure trace serves every speed.
+    #[test]
+    fn sweep_title_says_the_pressures_are_the_same() {
+        let mut a = Summary::empty();
+        a.rpm = 2000.0;
+        a.mean_torque_nm = Some(100.0);
+        let mut b = a.clone();
+        b.rpm = 4000.0;
+        let fig = sweep_figure("E", &[&a, &b]);
+        assert!(
+            fig.panels[0]
+                .title
+                .contains("the same pressures at every speed"),
+            "{}",
+            fig.panels[0].title
+        );
+        let svg = fig.render().unwrap();
+        assert!(svg.contains("the same pressures at every speed"));
     }
 }

@@ -269,3 +269,178 @@ fn log_axes_have_distinct_labels_and_no_band() {
         assert!(gap >= 3.0, "{ylo}..{yhi}: grid lines {gap} px apart");
     }
 }
+
+/// The polylines of a given stroke colour, as point lists (in document
+/// order), with their `stroke-dasharray` if any.
+type Line = (Vec<(f64, f64)>, Option<String>);
+
+fn lines_of(svg: &str, stroke: &str) -> Vec<Line> {
+    tags(svg, "polyline")
+        .into_iter()
+        .filter(|t| attr(t, "stroke") == Some(stroke))
+        .map(|t| {
+            let pts = attr(t, "points")
+                .unwrap_or("")
+                .split_whitespace()
+                .filter_map(|p| {
+                    let (x, y) = p.split_once(',')?;
+                    Some((x.parse().ok()?, y.parse().ok()?))
+                })
+                .collect();
+            (pts, attr(t, "stroke-dasharray").map(str::to_string))
+        })
+        .collect()
+}
+
+fn svg_of(figs: &[enginedyn_report::Figure], file: &str) -> String {
+    figs.iter()
+        .find(|f| f.file == file)
+        .unwrap_or_else(|| panic!("no {file}"))
+        .render()
+        .unwrap()
+}
+
+/// Smooth curves are written at sub-pixel precision: plotters' whole
+/// pixels drew them as stair-steps (every coordinate a whole number).
+#[test]
+fn curves_are_drawn_between_whole_pixels() {
+    let (engine, a) = bundled("vaz2108");
+    let figs = run_figures(&engine, &a);
+    for (file, stroke) in [
+        ("torque.svg", "#D62728"),
+        ("torque.svg", "#1F77B4"),
+        ("crankpin_polar.svg", "#1F77B4"),
+    ] {
+        let svg = svg_of(&figs, file);
+        let (pts, _) = lines_of(&svg, stroke)
+            .into_iter()
+            .max_by_key(|l| l.0.len())
+            .unwrap();
+        assert!(pts.len() > 500, "{file}: {} points", pts.len());
+        let frac = |v: f64| ((v - v.floor()) * 100.0).round() as i64 % 100;
+        let off_grid = pts
+            .iter()
+            .filter(|p| frac(p.0) != 0 || frac(p.1) != 0)
+            .count();
+        assert!(
+            off_grid * 10 >= pts.len() * 9,
+            "{file} {stroke}: {off_grid} of {} points between whole pixels",
+            pts.len()
+        );
+        let distinct: std::collections::HashSet<i64> = pts.iter().map(|p| frac(p.1)).collect();
+        assert!(
+            distinct.len() > 50,
+            "{file} {stroke}: {} distinct hundredths of a pixel",
+            distinct.len()
+        );
+        // Consecutive points of a smooth curve never repeat a pixel row
+        // for long: a stair-step holds y over several points.
+        let mut run = 0;
+        let mut longest = 0;
+        for w in pts.windows(2) {
+            run = if (w[1].1 - w[0].1).abs() < 1e-9 {
+                run + 1
+            } else {
+                0
+            };
+            longest = longest.max(run);
+        }
+        assert!(longest < 3, "{file} {stroke}: y held over {longest} steps");
+    }
+}
+
+/// The labels of a figure's angle axis: numbers among the texts.
+fn has_label(svg: &str, label: &str) -> bool {
+    texts(svg).iter().any(|t| t == label)
+}
+
+/// Every angle axis ends on its labelled dead centre (720, two-stroke
+/// 360), and `centered` runs it from minus half the cycle to plus half,
+/// the curves rotated by half a cycle.
+#[test]
+fn angle_axes_end_on_a_labelled_dead_centre() {
+    for (name, cycle) in [("vaz2108", 720.0), ("i3_two_stroke", 360.0)] {
+        let (engine, a) = bundled(name);
+        let half = format!("{}", cycle / 2.0);
+        let end = format!("{cycle}");
+        let plain = run_figures(&engine, &a);
+        let centred = enginedyn_report::run_figures_with(&engine, &a, true);
+        let mut angle_charts = 0;
+        for (p, c) in plain.iter().zip(&centred) {
+            let (p, c) = (p.render().unwrap(), c.render().unwrap());
+            if !texts(&p).iter().any(|t| t.starts_with("crank angle")) {
+                continue;
+            }
+            angle_charts += 1;
+            assert!(
+                has_label(&p, "0") && has_label(&p, &end),
+                "{name}: no {end}"
+            );
+            assert!(!has_label(&c, &end), "{name}: centred axis to {end}");
+            assert!(
+                has_label(&c, &format!("-{half}")) && has_label(&c, &half),
+                "{name}: centred axis not ±{half}"
+            );
+        }
+        assert!(angle_charts >= 5, "{name}: {angle_charts} angle charts");
+        // The engine torque, one point per degree: the centred curve's
+        // first point is the plain one's at half the cycle, and both start
+        // at the axis's left end and reach its right end.
+        let n = (cycle / a.step.to_degrees()).round() as usize;
+        let line = |figs: &[enginedyn_report::Figure]| {
+            lines_of(&svg_of(figs, "torque.svg"), "#D62728")
+                .into_iter()
+                .max_by_key(|l| l.0.len())
+                .unwrap()
+                .0
+        };
+        let (p, c) = (line(&plain), line(&centred));
+        assert_eq!(p.len(), n + 1, "{name}: closed over the cycle");
+        assert_eq!(c.len(), n + 1);
+        for k in [0, 1, n / 4, n / 2, n - 1, n] {
+            let j = (k + n / 2) % n;
+            assert!((c[k].1 - p[j].1).abs() < 0.02, "{name}: point {k}");
+        }
+        assert!((c[0].0 - p[0].0).abs() < 1e-9 && (c[n].0 - p[n].0).abs() < 1e-9);
+    }
+}
+
+/// The indicated and the effective mean torque are two reference lines of
+/// their own colour and dash, each named in the legend.
+#[test]
+fn torque_means_are_told_apart() {
+    let (engine, a) = bundled("vaz2108");
+    assert!(a.summary.mechanical_efficiency < 1.0);
+    let svg = svg_of(&run_figures(&engine, &a), "torque.svg");
+    let words = texts(&svg);
+    for label in ["mean, indicated", "mean, effective"] {
+        assert!(words.iter().any(|t| t.starts_with(label)), "{label}");
+    }
+    // The plot's dashed lines: dead-centre markers (#AAAAAA) aside.
+    let dashed: Vec<(String, String, f64)> = tags(&svg, "polyline")
+        .into_iter()
+        .filter(|t| attr(t, "stroke-dasharray").is_some() && attr(t, "stroke") != Some("#AAAAAA"))
+        .map(|t| {
+            let y: f64 = attr(t, "points")
+                .unwrap()
+                .split_whitespace()
+                .next()
+                .unwrap()
+                .split_once(',')
+                .unwrap()
+                .1
+                .parse()
+                .unwrap();
+            (
+                attr(t, "stroke").unwrap().to_string(),
+                attr(t, "stroke-dasharray").unwrap().to_string(),
+                y,
+            )
+        })
+        .collect();
+    assert_eq!(dashed.len(), 2, "{dashed:?}");
+    assert_ne!(dashed[0].0, dashed[1].0, "same colour: {dashed:?}");
+    assert_ne!(dashed[0].1, dashed[1].1, "same dash: {dashed:?}");
+    // Effective below indicated (η_m < 1): y pixels grow downwards.
+    assert!(dashed[1].2 > dashed[0].2, "{dashed:?}");
+}

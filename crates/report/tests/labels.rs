@@ -167,3 +167,159 @@ fn scatter_labels_every_point() {
         );
     }
 }
+
+/// `accuracy.svg` as `enginedyn_accuracy::figure` builds it, from a
+/// committed `accuracy.csv`: a group per study and basis (filled: against
+/// the reference or the generated diagram's truth; hollow: differences on
+/// this diagram), each point labelled with its setting, the Pareto front,
+/// and guides at 1e-2, 1e-3 and 1e-4 naming the cheapest setting.
+fn accuracy_chart(path: &std::path::Path) -> ScatterChart {
+    let mut r = csv::Reader::from_path(path).unwrap();
+    let mut groups: Vec<ScatterGroup> = Vec::new();
+    let mut rows: Vec<(String, String, f64, f64)> = Vec::new();
+    for rec in r.records() {
+        let rec = rec.unwrap();
+        let (study, setting) = (rec[0].to_string(), rec[1].to_string());
+        let (Ok(t), Ok(e)) = (rec[2].parse::<f64>(), rec[3].parse::<f64>()) else {
+            continue;
+        };
+        let (x, y) = (t * 1e3, e.max(1e-12));
+        let differences = setting.contains("difference");
+        let basis = if setting.contains("generated") {
+            " (generated diagram)"
+        } else if differences {
+            " (this diagram, difference)"
+        } else {
+            ""
+        };
+        let name = format!("{study}{basis}");
+        let label = setting.split(" (").next().unwrap().replace(" at ", " ");
+        let style = [
+            "kinematics",
+            "rod_model",
+            "interpolation",
+            "grid_step",
+            "integration",
+        ]
+        .iter()
+        .position(|s| *s == study)
+        .unwrap();
+        let p = ScatterPoint { x, y, label };
+        match groups.iter_mut().find(|g| g.name == name) {
+            Some(g) => g.points.push(p),
+            None => groups.push(ScatterGroup {
+                name,
+                style,
+                filled: !differences,
+                points: vec![p],
+            }),
+        }
+        rows.push((study, setting, x, y));
+    }
+    let mut front: Vec<&(String, String, f64, f64)> = rows
+        .iter()
+        .filter(|a| {
+            !rows
+                .iter()
+                .any(|b| b.2 <= a.2 && b.3 <= a.3 && (b.2 < a.2 || b.3 < a.3))
+        })
+        .collect();
+    front.sort_by(|a, b| a.2.total_cmp(&b.2));
+    let guides = [1e-2, 1e-3, 1e-4]
+        .into_iter()
+        .map(|tol: f64| {
+            let text = match front.iter().find(|r| r.3 <= tol) {
+                Some(r) => format!(
+                    "tolerance {tol:.0e}: cheapest {} {}, {:.3} ms",
+                    r.0,
+                    r.1.split(" (").next().unwrap(),
+                    r.2
+                ),
+                None => format!("tolerance {tol:.0e}: no setting"),
+            };
+            (tol, text)
+        })
+        .collect();
+    ScatterChart {
+        file: "accuracy.svg".into(),
+        title: "accuracy against cost of each method setting".into(),
+        x_label: "time per analysis (ms)".into(),
+        y_label: "largest relative error of the key results".into(),
+        groups,
+        steps: Some((
+            "Pareto front (nothing both faster and more exact)".into(),
+            front.iter().map(|r| (r.2, r.3)).collect(),
+        )),
+        guides,
+    }
+}
+
+fn overlapping(p: (i32, i32, i32, i32), q: (i32, i32, i32, i32)) -> bool {
+    p.0 < q.2 && q.0 < p.2 && p.1 < q.3 && q.1 < p.3
+}
+
+/// No label of `accuracy.svg` covers a marker or another label (the
+/// guides are named in the legend), in the committed accuracy studies of
+/// every bundled engine (their crowded corner near the reference settings
+/// included) and in a cluster of coincident points; every label stays
+/// inside the plot.
+#[test]
+fn accuracy_labels_cover_no_marker_and_no_label() {
+    let reports = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../reports");
+    let mut charts: Vec<(String, ScatterChart)> = Vec::new();
+    for e in std::fs::read_dir(&reports).unwrap() {
+        let path = e.unwrap().path().join("accuracy.csv");
+        if path.exists() {
+            charts.push((path.display().to_string(), accuracy_chart(&path)));
+        }
+    }
+    assert!(charts.len() >= 6, "{} accuracy studies", charts.len());
+    // Eight settings on one spot and six a hair apart.
+    let pile = ScatterGroup {
+        name: "pile".into(),
+        style: 0,
+        filled: true,
+        points: (0..14)
+            .map(|k| ScatterPoint {
+                x: if k < 8 {
+                    0.5
+                } else {
+                    0.5 * (1.0 + 0.01 * k as f64)
+                },
+                y: 1e-6,
+                label: format!("setting {k}"),
+            })
+            .collect(),
+    };
+    let mut crowded = charts[0].1.clone();
+    crowded.groups.push(pile);
+    charts.push(("crowded".into(), crowded));
+    for (name, chart) in &charts {
+        let l = chart.layout().unwrap();
+        let n: usize = chart.groups.iter().map(|g| g.points.len()).sum();
+        assert_eq!(l.labels.len(), n, "{name}: every point labelled");
+        for (i, a) in l.labels.iter().enumerate() {
+            let p = l.plot;
+            assert!(
+                a.bounds.0 >= p.0 && a.bounds.1 >= p.1 && a.bounds.2 <= p.2 && a.bounds.3 <= p.3,
+                "{name}: {} outside the plot",
+                a.text
+            );
+            for m in &l.markers {
+                assert!(
+                    !overlapping(a.bounds, *m),
+                    "{name}: {} covers a marker",
+                    a.text
+                );
+            }
+            for b in &l.labels[i + 1..] {
+                assert!(
+                    !overlapping(a.bounds, b.bounds),
+                    "{name}: {} covers {}",
+                    a.text,
+                    b.text
+                );
+            }
+        }
+    }
+}

@@ -73,6 +73,21 @@ impl Parameter {
         }
     }
 
+    /// What it is, as an engineer names it (charts and readable tables).
+    pub fn label(self) -> &'static str {
+        match self {
+            Parameter::Stroke => "stroke (2R)",
+            Parameter::RodLength => "rod length",
+            Parameter::PinOffset => "pin offset",
+            Parameter::Bore => "bore",
+            Parameter::PistonGroup => "piston group mass",
+            Parameter::RodMass => "rod mass",
+            Parameter::ThrowAngle => "throw angle",
+            Parameter::Tdc => "firing TDC position",
+            Parameter::YokeSlotSquareness => "yoke slot squareness",
+        }
+    }
+
     /// SI units per written unit (m per mm, rad per deg, 1 for kg).
     pub fn to_si(self) -> f64 {
         match self.unit() {
@@ -195,6 +210,29 @@ impl Output {
         }
     }
 
+    /// What it is, as an engineer names it (charts and readable tables);
+    /// [`Output::unit`] beside it.
+    pub fn label(self) -> &'static str {
+        match self {
+            Output::MeanTorque => "mean torque",
+            Output::Imep => "IMEP",
+            Output::TorqueMax => "torque max",
+            Output::TorqueMin => "torque min",
+            Output::ExcessWork => "excess work ΔE",
+            Output::RequiredInertia => "required inertia I₀",
+            Output::CrankpinLoadMax => "crank-pin load max",
+            Output::CompressionRatio => "compression ratio",
+            Output::ClearanceVolume => "clearance volume",
+            Output::Stroke => "stroke",
+            Output::FreeForce1 => "free force, 1st order",
+            Output::FreeForce2 => "free force, 2nd order",
+            Output::FreeMoment1 => "free moment, 1st order",
+            Output::FreeMoment2 => "free moment, 2nd order",
+            Output::TorqueOrderHalf => "torque harmonic, order 0.5",
+            Output::TorqueOrder1 => "torque harmonic, order 1",
+        }
+    }
+
     /// Index in [`Output::ALL`].
     pub fn index(self) -> usize {
         Output::ALL
@@ -235,6 +273,19 @@ impl Input {
         match self.index {
             Some(i) => format!("{}[{}]", self.parameter.key(), i + 1),
             None => self.parameter.key().to_string(),
+        }
+    }
+    /// Readable, with its unit: `stroke (2R), mm`, `piston group mass,
+    /// cylinder 3, kg`, `throw angle, throw 2, deg`.
+    pub fn label(&self) -> String {
+        match (self.index, self.per()) {
+            (Some(i), Some(per)) => format!(
+                "{}, {per} {}, {}",
+                self.parameter.label(),
+                i + 1,
+                self.parameter.unit()
+            ),
+            _ => format!("{}, {}", self.parameter.label(), self.parameter.unit()),
         }
     }
     /// What the index counts, for a per-cylinder or per-throw parameter.
