@@ -61,11 +61,11 @@ impl Cells for TextRow<'_> {
         self.spans.get(i).is_none_or(|(s, e)| s == e)
     }
     fn raw(&self) -> Option<Cow<'_, str>> {
-        Some(String::from_utf8_lossy(self.line))
+        Some(decode(self.line))
     }
     fn text(&self, i: usize) -> Cow<'_, str> {
         match self.spans.get(i) {
-            Some(&(s, e)) => String::from_utf8_lossy(&self.line[s..e]),
+            Some(&(s, e)) => decode(&self.line[s..e]),
             None => Cow::Borrowed(""),
         }
     }
@@ -254,4 +254,28 @@ fn date_error(d: &DateCell, i: usize, line: usize) -> IngestError {
 
 fn missing(i: usize, line: usize) -> IngestError {
     at(line, Some(i + 1), "an empty cell where a number is needed")
+}
+
+/// Text as a file holds it: UTF-8 when it is, else Windows-1252 (what
+/// Windows tools write: `°` as the byte 0xB0), so a header is echoed as
+/// its author wrote it, never with U+FFFD.
+pub(crate) fn decode(bytes: &[u8]) -> Cow<'_, str> {
+    match std::str::from_utf8(bytes) {
+        Ok(s) => Cow::Borrowed(s),
+        Err(_) => Cow::Owned(bytes.iter().map(|&b| cp1252(b)).collect()),
+    }
+}
+
+/// One Windows-1252 byte: Latin-1 but for 0x80-0x9F (the five bytes it
+/// leaves undefined kept as their C1 code points).
+fn cp1252(b: u8) -> char {
+    const HIGH: [char; 32] = [
+        '€', '\u{81}', '‚', 'ƒ', '„', '…', '†', '‡', 'ˆ', '‰', 'Š', '‹', 'Œ', '\u{8d}', 'Ž',
+        '\u{8f}', '\u{90}', '‘', '’', '“', '”', '•', '–', '—', '˜', '™', 'š', '›', 'œ', '\u{9d}',
+        'ž', 'Ÿ',
+    ];
+    match b {
+        0x80..=0x9f => HIGH[(b - 0x80) as usize],
+        _ => b as char,
+    }
 }

@@ -210,7 +210,7 @@ pub(crate) fn sep_line(line: &[u8]) -> bool {
 /// The same line split at runs of two or more blanks: header names that
 /// hold single spaces in a space-delimited file.
 fn wide_split(line: &[u8]) -> Vec<String> {
-    String::from_utf8_lossy(line)
+    crate::row::decode(line)
         .split("  ")
         .map(str::trim)
         .filter(|s| !s.is_empty())
