@@ -9,6 +9,7 @@ mod firing;
 mod kinematics;
 mod run;
 mod table;
+mod template;
 mod tolerance;
 mod torsion;
 
@@ -216,6 +217,7 @@ fn main() -> ExitCode {
         args::Command::Tolerance(a) => tolerance::run(&a),
         args::Command::Accuracy(a) => accuracy::run(&a),
         args::Command::Torsion(a) => torsion::run(&a),
+        args::Command::Template(a) => template::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
