@@ -31,6 +31,29 @@ pub enum Command {
     Accuracy(AccuracyArgs),
     /// The crankshaft's torsional vibration: modes, Campbell diagram, forced response over speed.
     Torsion(TorsionArgs),
+    /// Print a commented engine file (every key: unit, default, meaning) that runs as it is.
+    Template(TemplateArgs),
+}
+
+/// `enginedyn template`: the layouts it writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TemplateLayoutArg {
+    Inline,
+    Vee,
+    Boxer,
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct TemplateArgs {
+    /// Number of cylinders (1 to 24; even for a vee or a boxer).
+    #[arg(long, value_name = "N", default_value_t = 4, value_parser = clap::value_parser!(u8).range(1..=24))]
+    pub cylinders: u8,
+    /// Cylinder layout.
+    #[arg(long, value_enum, default_value_t = TemplateLayoutArg::Inline)]
+    pub layout: TemplateLayoutArg,
+    /// Add the `[torsion]` section (the crankshaft's torsional chain).
+    #[arg(long)]
+    pub torsion: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

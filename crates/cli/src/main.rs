@@ -10,6 +10,7 @@ mod inputs;
 mod kinematics;
 mod run;
 mod table;
+mod template;
 mod tolerance;
 mod torsion;
 
@@ -247,6 +248,7 @@ fn main() -> ExitCode {
         args::Command::Tolerance(a) => tolerance::run(&a),
         args::Command::Accuracy(a) => accuracy::run(&a),
         args::Command::Torsion(a) => torsion::run(&a),
+        args::Command::Template(a) => template::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -9,51 +9,6 @@ use std::path::{Path, PathBuf};
 mod torsion;
 pub use torsion::{parse_torsion, read_torsion};
 
-const ROOT_KEYS: &[&str] = &[
-    "name",
-    "cycle",
-    "mechanism",
-    "cylinders",
-    "layout",
-    "bank_angle_deg",
-    "firing_order",
-    "firing_angles_deg",
-    "crank_angles_deg",
-    "bore_mm",
-    "stroke_mm",
-    "rod_length_mm",
-    "lambda",
-    "pin_offset_mm",
-    "cylinder_spacing_mm",
-    "compression_ratio",
-    "rod_model",
-    "diagram",
-    "masses",
-    "operating",
-    "flywheel",
-    "tolerances",
-    "torsion",
-];
-const MASS_KEYS: &[&str] = &[
-    "piston_group_kg",
-    "rod_kg",
-    "rod_cg_from_small_end_mm",
-    "rod_inertia_kg_m2",
-    "crank_unbalanced_kg",
-    "yoke_kg",
-    "slider_block_kg",
-];
-const OPERATING_KEYS: &[&str] = &["rpm", "crankcase_pressure_bar", "mechanical_efficiency"];
-const FLYWHEEL_KEYS: &[&str] = &[
-    "speed_fluctuation",
-    "other_rotating_inertia_kg_m2",
-    "include_crank_train",
-    "max_rim_speed_m_s",
-    "outer_diameter_mm",
-    "density_kg_m3",
-    "shape",
-    "rim_inner_ratio",
-];
 /// The tolerance keys of INTERFACE.md's `[tolerances]` section.
 pub const TOLERANCE_KEYS: &[&str] = &[
     "stroke_mm",
@@ -65,29 +20,6 @@ pub const TOLERANCE_KEYS: &[&str] = &[
     "throw_angle_deg",
     "tdc_deg",
     "yoke_slot_squareness_deg",
-];
-/// The keys of INTERFACE.md's `[torsion]` section.
-const TORSION_KEYS: &[&str] = &[
-    "throw_inertia_kg_m2",
-    "journal_stiffness_nm_rad",
-    "journal_diameter_mm",
-    "journal_length_mm",
-    "front_inertia_kg_m2",
-    "front_stiffness_nm_rad",
-    "flywheel_inertia_kg_m2",
-    "flywheel_stiffness_nm_rad",
-    "load_inertia_kg_m2",
-    "load_stiffness_nm_rad",
-    "damping_ratio",
-    "damper",
-    "shaft_diameter_mm",
-];
-const SECTIONS: &[(&str, &[&str])] = &[
-    ("masses", MASS_KEYS),
-    ("torsion", TORSION_KEYS),
-    ("operating", OPERATING_KEYS),
-    ("flywheel", FLYWHEEL_KEYS),
-    ("tolerances", TOLERANCE_KEYS),
 ];
 
 #[derive(Deserialize)]
@@ -175,7 +107,9 @@ fn read_with(
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "engine".into());
-    let mut engine = build(raw_builder(&text, &stem)?)?;
+    let (builder, defaults) = raw_builder(&text, &stem)?;
+    let mut engine = build(builder)?;
+    engine.defaults_taken = defaults;
     if let Some(d) = &engine.diagram
         && d.is_relative()
     {
@@ -190,22 +124,53 @@ pub const MAX_NAME: usize = 200;
 
 /// Parses engine-file text; `stem` is the default name.
 pub fn parse(text: &str, stem: &str) -> Result<Engine, EngineError> {
-    raw_builder(text, stem)?.build()
+    let (builder, defaults) = raw_builder(text, stem)?;
+    let mut engine = builder.build()?;
+    engine.defaults_taken = defaults;
+    Ok(engine)
 }
 
 /// [`parse`] for a search of every crank: `firing_order` may be left out
 /// (see [`EngineBuilder::build_for_crank_search`]).
 pub fn parse_for_crank_search(text: &str, stem: &str) -> Result<Engine, EngineError> {
-    raw_builder(text, stem)?.build_for_crank_search()
+    let (builder, defaults) = raw_builder(text, stem)?;
+    let mut engine = builder.build_for_crank_search()?;
+    engine.defaults_taken = defaults;
+    Ok(engine)
 }
 
 /// The keys of an engine file as an unchecked builder (known keys, types,
-/// units and per-key bounds checked; the rest is `build`'s).
-fn raw_builder(text: &str, stem: &str) -> Result<EngineBuilder, EngineError> {
+/// units and per-key bounds checked; the rest is `build`'s), and the
+/// defaults it leaves to enginedyn that shape the results.
+fn raw_builder(text: &str, stem: &str) -> Result<(EngineBuilder, Vec<TakenDefault>), EngineError> {
     let table: toml::Table = toml::from_str(text).map_err(|e| EngineError::Toml(e.to_string()))?;
     check_keys(&table, text)?;
     let raw: Raw = toml::from_str(text).map_err(|e| EngineError::Toml(e.to_string()))?;
-    builder(raw, stem)
+    let defaults = taken_defaults(&raw);
+    Ok((builder(raw, stem)?, defaults))
+}
+
+/// The keys left out whose defaults shape the results (issue 30, item 11):
+/// η_m, δ, the rim speed (unless the diameter is given) and the crank's
+/// unbalanced mass.
+fn taken_defaults(raw: &Raw) -> Vec<TakenDefault> {
+    let fw = raw.flywheel.as_ref();
+    let mut taken = Vec::new();
+    if raw.operating.mechanical_efficiency.is_none() {
+        taken.push(TakenDefault::MechanicalEfficiency);
+    }
+    if fw.and_then(|f| f.speed_fluctuation).is_none() {
+        taken.push(TakenDefault::SpeedFluctuation);
+    }
+    if fw.and_then(|f| f.max_rim_speed_m_s).is_none()
+        && fw.and_then(|f| f.outer_diameter_mm).is_none()
+    {
+        taken.push(TakenDefault::RimSpeed);
+    }
+    if raw.masses.crank_unbalanced_kg.is_none() {
+        taken.push(TakenDefault::CrankUnbalance);
+    }
+    taken
 }
 
 /// The tolerances section as (key, value) pairs, each checked as a number >= 0.
@@ -228,25 +193,45 @@ pub fn tolerances(text: &str) -> Result<Vec<(String, f64)>, EngineError> {
         .collect()
 }
 
+/// Every key against [`crate::keys::KEYS`], the one table of known keys:
+/// the top of the file, each section, and `[torsion]`'s `damper`.
 fn check_keys(table: &toml::Table, text: &str) -> Result<(), EngineError> {
+    let root = section_keys("");
     for (key, value) in table {
-        if !ROOT_KEYS.contains(&key.as_str()) {
-            return Err(unknown(key, "root", ROOT_KEYS, text));
+        if !root.contains(&key.as_str()) {
+            return Err(unknown(key, "root", &root, text));
         }
-        if let Some((section, keys)) = SECTIONS.iter().find(|(s, _)| s == key) {
+        if crate::keys::SECTIONS.contains(&key.as_str()) {
+            let section = key.as_str();
             let Some(sub) = value.as_table() else {
                 return Err(EngineError::Toml(format!(
                     "`{section}` must be a table: [{section}]"
                 )));
             };
-            for k in sub.keys() {
+            let keys = section_keys(section);
+            for (k, v) in sub {
                 if !keys.contains(&k.as_str()) {
-                    return Err(unknown(k, section, keys, text));
+                    return Err(unknown(k, section, &keys, text));
+                }
+                if section == "torsion"
+                    && k == "damper"
+                    && let Some(damper) = v.as_table()
+                {
+                    let inner = section_keys("torsion.damper");
+                    for d in damper.keys() {
+                        if !inner.contains(&d.as_str()) {
+                            return Err(unknown(d, "torsion.damper", &inner, text));
+                        }
+                    }
                 }
             }
         }
     }
     Ok(())
+}
+
+fn section_keys(section: &str) -> Vec<&'static str> {
+    crate::keys::section_keys(section)
 }
 
 fn unknown(key: &str, section: &str, known: &[&str], text: &str) -> EngineError {
@@ -268,27 +253,47 @@ fn unknown(key: &str, section: &str, known: &[&str], text: &str) -> EngineError 
         .map(|(_, k)| k.to_string());
     if suggestion.is_none() {
         // The key may belong to another section: `rpm` at the root.
-        for (s, keys) in SECTIONS {
-            if *s != section && keys.contains(&key) {
+        for s in crate::keys::SECTIONS {
+            if *s != section && section_keys(s).contains(&key) {
                 suggestion = Some(format!("{key}` in [{s}]; or `{s}.{key}"));
             }
         }
-        if section != "root" && ROOT_KEYS.contains(&key) {
+        if section != "root" && section_keys("").contains(&key) {
             suggestion = Some(format!(
                 "{key}` at the top of the file, before any [section]; or `{key}"
             ));
         }
     }
+    // With nothing close, the section's keys: the user need not guess.
+    let valid = if suggestion.is_none() {
+        known
+            .iter()
+            .filter(|k| !crate::keys::SECTIONS.contains(k) || section != "root")
+            .map(|k| k.to_string())
+            .collect()
+    } else {
+        Vec::new()
+    };
     EngineError::UnknownKey {
         key: key.to_string(),
         section: section.to_string(),
         suggestion,
+        valid,
         line: find_line(text, section, key),
     }
 }
 
 /// 1-based line where `key` is set in `section` (`root` = before any header).
+/// A key of an inline table (`damper = { … }` in `[torsion]`) is found
+/// on its parent's line when the file has no `[torsion.damper]` header.
 fn find_line(text: &str, section: &str, key: &str) -> Option<usize> {
+    scan_line(text, section, key).or_else(|| {
+        let (parent, child) = section.rsplit_once('.')?;
+        scan_line(text, parent, child)
+    })
+}
+
+fn scan_line(text: &str, section: &str, key: &str) -> Option<usize> {
     let mut current = "root".to_string();
     for (n, line) in text.lines().enumerate() {
         let t = line.trim();
@@ -553,4 +558,92 @@ fn builder(raw: Raw, stem: &str) -> Result<EngineBuilder, EngineError> {
         operating,
         flywheel,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    //! The keys serde accepts are the keys of [`crate::keys::KEYS`]: a
+    //! field of a `Raw*` struct is read from each struct's own field list
+    //! (what `#[derive(Deserialize)]` hands `deserialize_struct`), so a key
+    //! added to the reader without its documentation, or the other way
+    //! round, fails here.
+    use super::torsion::{RawDamper, RawTorsion};
+    use super::*;
+    use serde::de::{self, Visitor};
+
+    #[derive(Debug)]
+    struct Fields(Vec<&'static str>);
+
+    impl std::fmt::Display for Fields {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            write!(f, "{:?}", self.0)
+        }
+    }
+
+    impl std::error::Error for Fields {}
+
+    impl de::Error for Fields {
+        fn custom<T: std::fmt::Display>(_: T) -> Self {
+            Fields(Vec::new())
+        }
+    }
+
+    /// A deserializer that answers a struct with its field names.
+    struct Catch;
+
+    impl<'de> de::Deserializer<'de> for Catch {
+        type Error = Fields;
+        fn deserialize_any<V: Visitor<'de>>(self, _: V) -> Result<V::Value, Fields> {
+            Err(Fields(Vec::new()))
+        }
+        fn deserialize_struct<V: Visitor<'de>>(
+            self,
+            _: &'static str,
+            fields: &'static [&'static str],
+            _: V,
+        ) -> Result<V::Value, Fields> {
+            Err(Fields(fields.to_vec()))
+        }
+        serde::forward_to_deserialize_any! {
+            bool i8 i16 i32 i64 i128 u8 u16 u32 u64 u128 f32 f64 char str string
+            bytes byte_buf option unit unit_struct newtype_struct seq tuple
+            tuple_struct map enum identifier ignored_any
+        }
+    }
+
+    fn fields<T: for<'de> Deserialize<'de>>() -> Vec<&'static str> {
+        let Err(Fields(mut f)) = T::deserialize(Catch) else {
+            panic!("a struct reads from nothing")
+        };
+        f.sort_unstable();
+        f
+    }
+
+    fn documented(section: &str) -> Vec<&'static str> {
+        let mut k = crate::keys::section_keys(section);
+        k.sort_unstable();
+        k
+    }
+
+    #[test]
+    fn serde_fields_are_the_documented_keys() {
+        assert_eq!(fields::<Raw>(), documented(""));
+        assert_eq!(fields::<RawMasses>(), documented("masses"));
+        assert_eq!(fields::<RawOperating>(), documented("operating"));
+        assert_eq!(fields::<RawFlywheel>(), documented("flywheel"));
+        assert_eq!(fields::<RawTorsion>(), documented("torsion"));
+        assert_eq!(fields::<RawDamper>(), documented("torsion.damper"));
+        let mut tol = TOLERANCE_KEYS.to_vec();
+        tol.sort_unstable();
+        assert_eq!(tol, documented("tolerances"));
+        // Every documented key has a unit, a default and a meaning.
+        for k in crate::keys::KEYS {
+            assert!(
+                !k.default.is_empty() && !k.meaning.is_empty() && !k.example.is_empty(),
+                "{}",
+                k.path()
+            );
+            assert!(!k.bounds_text().is_empty(), "{} has no bounds", k.path());
+        }
+    }
 }

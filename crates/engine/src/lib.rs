@@ -30,7 +30,9 @@
 //! ```
 
 pub mod file;
+pub mod keys;
 mod model;
+pub mod template;
 pub mod torsion;
 
 pub use model::*;

@@ -11,7 +11,7 @@ pub enum EngineError {
     #[error("{0}")]
     Toml(String),
     /// A key the engine file does not know.
-    #[error("unknown key `{key}` in [{section}]{}{}", line.map(|l| format!(" (line {l})")).unwrap_or_default(), suggestion.as_ref().map(|s| format!("; did you mean `{s}`?")).unwrap_or_default())]
+    #[error("unknown key `{key}` in [{section}]{}{}{}", line.map(|l| format!(" (line {l})")).unwrap_or_default(), suggestion.as_ref().map(|s| format!("; did you mean `{s}`?")).unwrap_or_default(), valid_keys(section, valid))]
     UnknownKey {
         /// The key as written.
         key: String,
@@ -19,6 +19,9 @@ pub enum EngineError {
         section: String,
         /// The nearest known key, if any is close.
         suggestion: Option<String>,
+        /// With no close key, every key the section takes (the top of
+        /// the file: its keys, then the sections).
+        valid: Vec<String>,
         /// 1-based line of the key, when found.
         line: Option<usize>,
     },
@@ -59,6 +62,30 @@ pub enum EngineError {
         /// The geometric reason.
         source: KinematicsError,
     },
+}
+
+/// "; [masses] takes: piston_group_kg, rod_kg, …" for an unknown key
+/// with no close match, so that the user need not guess.
+fn valid_keys(section: &str, valid: &[String]) -> String {
+    if valid.is_empty() {
+        return String::new();
+    }
+    let list = valid.join(", ");
+    let what = if section == "root" {
+        format!(
+            "the top of the file takes {list}, then the sections {}",
+            crate::keys::SECTIONS
+                .iter()
+                .map(|s| format!("[{s}]"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    } else {
+        format!("[{section}] takes {list}")
+    };
+    format!(
+        "; {what} (docs/engine-file.md gives each key's unit and default; `enginedyn template` prints a commented file)"
+    )
 }
 
 /// Two-stroke or four-stroke working cycle.
@@ -241,6 +268,63 @@ pub struct Engine {
     pub(crate) operating: Operating,
     pub(crate) flywheel: FlywheelSpec,
     pub(crate) notes: Vec<String>,
+    pub(crate) defaults_taken: Vec<TakenDefault>,
+}
+
+/// A default that shapes the results, taken because the engine file left
+/// the key out (INTERFACE.md: a default taken is said in a `note:`).
+/// Only the engine file's reader knows what was given: an engine built
+/// from an [`EngineBuilder`] has none.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TakenDefault {
+    /// `operating.mechanical_efficiency` = 1: effective = indicated.
+    MechanicalEfficiency,
+    /// `flywheel.speed_fluctuation` = 0.01, the δ the flywheel is sized for.
+    SpeedFluctuation,
+    /// `flywheel.max_rim_speed_m_s` = 60 sets the flywheel's diameter
+    /// (no `outer_diameter_mm` either).
+    RimSpeed,
+    /// `masses.crank_unbalanced_kg` = 0: no unbalanced crank mass.
+    CrankUnbalance,
+}
+
+impl TakenDefault {
+    /// The key, with its section.
+    pub fn key(self) -> &'static str {
+        match self {
+            TakenDefault::MechanicalEfficiency => "operating.mechanical_efficiency",
+            TakenDefault::SpeedFluctuation => "flywheel.speed_fluctuation",
+            TakenDefault::RimSpeed => "flywheel.max_rim_speed_m_s",
+            TakenDefault::CrankUnbalance => "masses.crank_unbalanced_kg",
+        }
+    }
+
+    /// "key = value (what it does)", the value from [`FlywheelSpec::default`]
+    /// and the reader's defaults.
+    pub fn describe(self) -> String {
+        let d = FlywheelSpec::default();
+        let value = |x: f64| enginedyn_numerics::format::human(x);
+        match self {
+            TakenDefault::MechanicalEfficiency => format!(
+                "{} = 1 (torque and power are indicated: the effective figures equal them)",
+                self.key()
+            ),
+            TakenDefault::SpeedFluctuation => format!(
+                "{} = {} (the δ the flywheel is sized for)",
+                self.key(),
+                value(d.speed_fluctuation)
+            ),
+            TakenDefault::RimSpeed => format!(
+                "{} = {} m/s (sets the flywheel's diameter; or give flywheel.outer_diameter_mm)",
+                self.key(),
+                value(d.max_rim_speed)
+            ),
+            TakenDefault::CrankUnbalance => format!(
+                "{} = 0 (no unbalanced crank mass in the main-bearing loads or the crank train's inertia)",
+                self.key()
+            ),
+        }
+    }
 }
 
 /// Everything an engine is built from, SI, unchecked. Fields left `None`
@@ -673,6 +757,7 @@ impl EngineBuilder {
             operating: op,
             flywheel: self.flywheel,
             notes,
+            defaults_taken: Vec::new(),
         })
     }
 }
@@ -1148,6 +1233,24 @@ impl Engine {
     /// What was assumed while reading the file.
     pub fn notes(&self) -> &[String] {
         &self.notes
+    }
+    /// The defaults that shape the results which the engine file left to
+    /// enginedyn (empty for an engine not read from a file).
+    pub fn defaults_taken(&self) -> &[TakenDefault] {
+        &self.defaults_taken
+    }
+    /// One note listing [`Engine::defaults_taken`]: "defaults taken (not in
+    /// the engine file): operating.mechanical_efficiency = 1 (…), …";
+    /// `None` when the file gives every one of them.
+    pub fn defaults_note(&self) -> Option<String> {
+        if self.defaults_taken.is_empty() {
+            return None;
+        }
+        let list: Vec<String> = self.defaults_taken.iter().map(|d| d.describe()).collect();
+        Some(format!(
+            "defaults taken (not in the engine file): {}",
+            list.join(", ")
+        ))
     }
     /// Notes on data that is physically implausible but still computed
     /// (INTERFACE.md, "Limits"), each naming the key and the likely

@@ -159,6 +159,8 @@ pub fn analyse(
                 width * 1e3,
                 d * 1e3
             ));
+        } else if width < THIN * d {
+            notes.push(thin_note(spec, i_f, d, width));
         }
         (i_f, Some(d), mass, Some(width), Some(4.0 * G * i_f))
     };
@@ -191,6 +193,54 @@ pub fn same_part(u: &Uniformity, part: &Flywheel, omega: f64) -> Flywheel {
     }
 }
 
+/// A flywheel thinner than this fraction of its diameter is no real part
+/// (a 570 mm rim 3.4 mm wide): it gets a warning.
+pub const THIN: f64 = 0.02;
+
+/// The width a flywheel of this shape and inertia takes at diameter `d`
+/// (m): `32 I / (ρ π d⁴ (1 − r⁴))`, `r` the rim's inner ratio (0 for a
+/// disc).
+pub fn width_at(spec: &FlywheelSpec, inertia: f64, d: f64) -> f64 {
+    let r = match spec.shape {
+        FlywheelShape::Disc => 0.0,
+        FlywheelShape::Rim => spec.rim_inner_ratio,
+    };
+    32.0 * inertia / (spec.density * std::f64::consts::PI * d.powi(4) * (1.0 - r.powi(4)))
+}
+
+/// The warning for a flywheel thinner than [`THIN`] of its diameter: it
+/// names `outer_diameter_mm` and the diameter at which the same inertia is
+/// a tenth of the diameter wide (the width goes as `1/d⁴`).
+fn thin_note(spec: &FlywheelSpec, inertia: f64, d: f64, width: f64) -> String {
+    let h = enginedyn_numerics::format::human;
+    // width(D) / D = 0.1: D = d (width / (0.1 d))^(1/5).
+    let target = d * (width / (0.1 * d)).powf(0.2);
+    let target_mm = (target * 1e3).round().max(1.0);
+    let why = match spec.outer_diameter {
+        Some(_) => "flywheel.outer_diameter_mm".to_string(),
+        None => format!(
+            "the rim speed (flywheel.max_rim_speed_m_s = {} m/s)",
+            h(spec.max_rim_speed)
+        ),
+    };
+    let shape = match spec.shape {
+        FlywheelShape::Rim => "rim",
+        FlywheelShape::Disc => "disc",
+    };
+    format!(
+        "the flywheel ({shape}) is {} mm wide at {} mm diameter, under {} % of it: no practical part. Its diameter comes from {why}; set flywheel.outer_diameter_mm smaller (outer_diameter_mm = {} gives {} mm, a tenth of it){}",
+        h((width * 1e3 * 10.0).round() / 10.0),
+        h((d * 1e3).round()),
+        h(THIN * 100.0),
+        h(target_mm),
+        h((width_at(spec, inertia, target_mm * 1e-3) * 1e3).round()),
+        match spec.shape {
+            FlywheelShape::Disc => "; a rim (shape = \"rim\") is wider for the same inertia",
+            FlywheelShape::Rim => "",
+        }
+    )
+}
+
 /// `w(phi) = sqrt(w_0^2 + 2 E(phi) / I)` with `w_0` such that
 /// `(w_max + w_min)/2 = omega`; returns the trace and its `delta`.
 pub fn speed_trace(e: &[f64], inertia: f64, omega: f64) -> (Vec<f64>, f64) {
@@ -214,6 +264,75 @@ pub fn speed_trace(e: &[f64], inertia: f64, omega: f64) -> (Vec<f64>, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The case: a rim sized by the default rim speed at about
+    /// 2000 rpm, 570 mm in diameter and 3.4 mm wide, gets the warning that
+    /// names outer_diameter_mm, and the diameter it suggests gives a width
+    /// of a tenth of itself; a practical part gets none.
+    #[test]
+    fn thin_flywheel_is_warned() {
+        let n = 3600;
+        let h = 2.0 * std::f64::consts::PI / n as f64;
+        let spec = FlywheelSpec::default();
+        let omega: f64 = 2.0 * 60.0 / (0.57 * 1.005);
+        // I_f = 32 I / ... : choose dE so that the rim is 3.4 mm wide.
+        let inertia = 0.0034 * width_at(&spec, 1.0, 0.57).recip();
+        let de = inertia * spec.speed_fluctuation * omega * omega;
+        let m: Vec<f64> = (0..n)
+            .map(|k| 100.0 + de * (2.0 * k as f64 * h).cos())
+            .collect();
+        let u = Uniformity::new(&m, h, Rule::Trapezoid);
+        let f = analyse(&u, &spec, omega, 0.0).unwrap();
+        let d = f.outer_diameter.unwrap();
+        let w = f.width.unwrap();
+        assert!((d - 0.57).abs() < 1e-9, "{d}");
+        assert!((w - 0.0034).abs() < 2e-5, "{w}");
+        let note = f.notes.iter().find(|n| n.contains("under 2 %")).unwrap();
+        assert!(
+            note.starts_with(
+                "the flywheel (rim) is 3.4 mm wide at 570 mm diameter, under 2 % of it"
+            ),
+            "{note}"
+        );
+        assert!(
+            note.contains("flywheel.max_rim_speed_m_s = 60 m/s"),
+            "{note}"
+        );
+        assert!(
+            note.contains("set flywheel.outer_diameter_mm smaller"),
+            "{note}"
+        );
+        // The suggested diameter: width 10 % of it (to the rounding of 1 mm).
+        let suggested: f64 = note
+            .split("(outer_diameter_mm = ")
+            .nth(1)
+            .and_then(|s| s.split(' ').next())
+            .unwrap()
+            .parse()
+            .unwrap();
+        let ratio = width_at(&spec, f.inertia, suggested * 1e-3) / (suggested * 1e-3);
+        assert!((ratio - 0.1).abs() < 0.002, "{suggested} mm: {ratio}");
+        // A given diameter is named as the cause.
+        let given = FlywheelSpec {
+            outer_diameter: Some(0.57),
+            ..spec
+        };
+        let f = analyse(&u, &given, omega, 0.0).unwrap();
+        assert!(
+            f.notes
+                .iter()
+                .any(|n| n.contains("comes from flywheel.outer_diameter_mm")),
+            "{:?}",
+            f.notes
+        );
+        // 280 mm: about 60 mm wide, no warning.
+        let small = FlywheelSpec {
+            outer_diameter: Some(0.28),
+            ..spec
+        };
+        let f = analyse(&u, &small, omega, 0.0).unwrap();
+        assert!(f.notes.is_empty(), "{:?}", f.notes);
+    }
 
     /// The part sized at one speed gives that speed's δ there, and about a
     /// quarter of it at twice the speed (δ ≈ ΔE / (I ω²), to O(δ²)); its

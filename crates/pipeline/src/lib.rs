@@ -242,6 +242,8 @@ fn prepare(
     let mut notes = engine.notes().to_vec();
     // Implausible engine data is computed, with a note naming the key.
     notes.extend(engine.plausibility_notes(Some(rpm)));
+    // Defaults that shape the results, said (issue 30, item 11).
+    notes.extend(engine.defaults_note());
     let series = engine.mechanism().series_error(opts.kinematics)?;
     if series > 0.01 {
         notes.push(format!(
