@@ -445,6 +445,9 @@ pub struct BatchArgs {
     /// One run folder per diagram, DIR/NNNN_STEM/, and index.html.
     #[arg(long, requires = "out")]
     pub detail: bool,
+    /// Angles in the run folders (--detail): `cycle` [0, cycle) or `centered` [-cycle/2, cycle/2).
+    #[arg(long, value_enum, default_value = "cycle")]
+    pub angles: Angles,
     /// Without --out: print summary.csv instead of the readable table.
     #[arg(long, conflicts_with = "out")]
     pub csv: bool,

@@ -321,7 +321,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                         && let Some(inputs) = &inputs
                     {
                         let name = name.clone();
-                        let files = enginedyn_report::run_files(engine, &an, false, inputs)
+                        let files = enginedyn_report::run_files(engine, &an, a.angles == crate::args::Angles::Centered, inputs)
                             .map_err(|e| Failure::data(e.to_string()))?;
                         dir.write_folder(&name, &files)?;
                         folder = Some(name);

@@ -137,19 +137,14 @@ impl Inputs {
     /// The record of `engine` and `diagrams` (each file read and hashed).
     pub fn new(engine: Source<'_>, diagrams: &[Source<'_>]) -> Result<Self, ReportError> {
         let (engine_file, engine_sha256) = engine.record()?;
-        let (diagram_files, diagram_sha256) = diagrams
-            .iter()
-            .map(Source::record)
-            .collect::<Result<Vec<_>, _>>()?
-            .into_iter()
-            .unzip();
-        Ok(Self {
+        Self {
             engine_file,
             engine_sha256,
-            diagram_files,
-            diagram_sha256,
+            diagram_files: Vec::new(),
+            diagram_sha256: Vec::new(),
             enginedyn_version: env!("CARGO_PKG_VERSION"),
-        })
+        }
+        .with_diagrams(diagrams)
     }
 
     /// The same engine with other diagrams (a batch's files: the engine
