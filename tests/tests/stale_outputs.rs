@@ -49,10 +49,12 @@ fn sha256sum(path: &Path) -> String {
         .to_string()
 }
 
-/// The manifest as path → hash, each line `HASH  PATH`.
+/// The manifest as path → hash, each line `HASH  PATH` under a
+/// `# enginedyn COMMAND` heading.
 fn manifest(dir: &Path) -> BTreeMap<String, String> {
     let text = std::fs::read_to_string(dir.join(MANIFEST)).expect("the manifest");
     text.lines()
+        .filter(|l| !l.starts_with("# enginedyn "))
         .map(|l| {
             let (hash, path) = l.split_once("  ").expect("HASH  PATH");
             (path.to_string(), hash.to_string())
@@ -277,4 +279,26 @@ fn the_manifest_never_reaches_outside_the_folder() {
     // The manifest now lists what kinematics wrote, and nothing else.
     let listed: Vec<String> = manifest(&d).into_keys().collect();
     assert_eq!(listed, ["kinematics.csv", "kinematics.svg"]);
+}
+
+/// Another command's outputs are not this one's: `accuracy --out D` after
+/// `run --out D` (as `reports/` holds both) removes none of the run's files,
+/// and a rerun of `run` removes none of the accuracy's.
+#[test]
+fn another_commands_outputs_stay() {
+    let t = tempfile::tempdir().unwrap();
+    let d = t.path().join("d");
+    let ds = d.to_str().unwrap();
+    let engine = enginedyn_tests::data("single.toml");
+    for args in [
+        vec!["run", "--engine", &engine, "--out", ds],
+        vec!["accuracy", "--engine", &engine, "--out", ds],
+        vec!["run", "--engine", &engine, "--out", ds],
+    ] {
+        let o = enginedyn_tests::run(&args);
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", String::from_utf8_lossy(&o.stderr));
+    }
+    for f in ["report.html", "summary.json", "accuracy.csv", "accuracy.svg"] {
+        assert!(d.join(f).exists(), "{f}");
+    }
 }

@@ -16,7 +16,7 @@ pub fn run(a: &AccuracyArgs) -> Result<(), Failure> {
     let loaded = load_engine(Some(&a.input.engine))?;
     let engine = &loaded.engine;
     // Something in the way of an output is refused before the study runs.
-    let out = crate::open_out(a.out.as_deref(), &FILES)?;
+    let out = crate::open_out(a.out.as_deref(), &FILES, "accuracy")?;
     let path = diagram_path(a.input.diagram.as_deref(), &loaded)?;
     let (parse, grid) = diagram_options(engine, &a.diagram_args, 0.1, Interp::Spline, a.input.rpm)?;
     let diagram = parse_diagram(&path, &parse)?;

@@ -220,7 +220,9 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
     let out_dir = a
         .out
         .as_deref()
-        .map(|d| enginedyn_report::OutDir::open_for(d, names, &folders))
+        .map(|d| {
+            enginedyn_report::OutDir::open_for(d, names, &folders).map(|o| o.for_command("batch"))
+        })
         .transpose()?;
     let jobs = a.jobs.unwrap_or(0) as usize;
     let pool = rayon::ThreadPoolBuilder::new()
@@ -527,7 +529,7 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
     let loaded = load_engine(Some(&a.engine))?;
     let engine = &loaded.engine;
     // Something in the way of an output is refused before the sweep runs.
-    let out = crate::open_out(a.out.as_deref(), &SWEEP_FILES)?;
+    let out = crate::open_out(a.out.as_deref(), &SWEEP_FILES, "sweep")?;
     let step = a.method.step();
     check_step(engine, step)?;
     let rpms = speeds(&a.rpm)?;

@@ -34,7 +34,7 @@ pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
         load_engine(Some(&a.input.engine))?.engine
     };
     // Something in the way of an output is refused before the search.
-    let out = crate::open_out(a.out.as_deref(), &FILES)?;
+    let out = crate::open_out(a.out.as_deref(), &FILES, "firing-orders")?;
     let engine = &engine;
     let step = a.method.step();
     check_step(engine, step)?;

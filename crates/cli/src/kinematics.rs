@@ -17,7 +17,7 @@ pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
     let loaded = crate::run::load_engine(Some(&a.engine))?;
     let engine = &loaded.engine;
     // Something in the way of an output is refused before the table is made.
-    let out = crate::open_out(a.out.as_deref(), &FILES)?;
+    let out = crate::open_out(a.out.as_deref(), &FILES, "kinematics")?;
     let speed = crate::run::resolve_rpm(a.rpm, None, engine)?;
     speed.warn();
     crate::say_all(&engine.plausibility_notes(Some(speed.rpm)));

@@ -171,12 +171,18 @@ pub fn emit(text: &str) {
 /// Opens `--out DIR` (when given) before a command's work, checked for the
 /// `files` it will write (`report::OutDir::open_for`): something in the way
 /// is refused (exit 2) before anything is computed or written.
+/// `command` names the writer in the folder's manifest: a rerun of it
+/// removes its own stale outputs, never another command's.
 pub fn open_out(
     dir: Option<&std::path::Path>,
     files: &[&str],
+    command: &str,
 ) -> Result<Option<enginedyn_report::OutDir>, Failure> {
     Ok(dir
-        .map(|d| enginedyn_report::OutDir::open_for(d, files, &[] as &[&str]))
+        .map(|d| {
+            enginedyn_report::OutDir::open_for(d, files, &[] as &[&str])
+                .map(|o| o.for_command(command))
+        })
         .transpose()?)
 }
 
@@ -187,7 +193,11 @@ pub fn write_out(
     files: &[(String, Vec<u8>)],
     quiet: bool,
 ) -> Result<(), Failure> {
-    write_out_to(&enginedyn_report::OutDir::open(dir)?, files, quiet)
+    write_out_to(
+        &enginedyn_report::OutDir::open(dir)?.for_command("run"),
+        files,
+        quiet,
+    )
 }
 
 /// [`write_out`] into a folder already open ([`open_out`]).

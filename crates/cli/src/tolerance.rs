@@ -39,7 +39,7 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
     }
     // Something in the way of an output is refused before the study runs
     // (and a file with nothing to study leaves no folder behind).
-    let out = crate::open_out(a.out.as_deref(), &FILES)?;
+    let out = crate::open_out(a.out.as_deref(), &FILES, "tolerance")?;
     let (inputs, input_notes) = enginedyn_tolerance::inputs(engine, &tolerances)
         .map_err(|e| Failure::usage(format!("{file}: {e}")))?;
     let step = a.method.step();

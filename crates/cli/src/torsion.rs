@@ -79,7 +79,7 @@ pub fn run(a: &TorsionArgs) -> Result<(), Failure> {
     if a.chain {
         names.push("chain.json");
     }
-    let out = crate::open_out(a.out.as_deref(), &names)?;
+    let out = crate::open_out(a.out.as_deref(), &names, "torsion")?;
     let file = a.engine.display().to_string();
     let spec = enginedyn_engine::file::read_torsion(&a.engine)
         .map_err(|e| Failure::usage(format!("{file}: {e}")))?

@@ -65,8 +65,12 @@ pub struct OutDir {
     dir: PathBuf,
     /// The lock: held while this value lives.
     _lock: File,
-    /// What the earlier run's manifest lists: (path, SHA-256 in hex).
-    earlier: Vec<(String, String)>,
+    /// The command writing (`run`, `batch`, …): a folder written again
+    /// by the same command holds its outputs alone; another command's
+    /// outputs in the folder are left as they are.
+    command: String,
+    /// What the earlier runs' manifest lists: (command, path, SHA-256 in hex).
+    earlier: Vec<(String, String, String)>,
     /// What this command has written so far: (path, SHA-256 in hex), run
     /// folders' files as `FOLDER/NAME`.
     written: Mutex<Vec<(String, String)>>,
@@ -156,12 +160,22 @@ impl OutDir {
         let mut out = Self {
             dir: dir.to_path_buf(),
             _lock: lock,
+            command: String::new(),
             earlier: Vec::new(),
             written: Mutex::new(Vec::new()),
         };
         out.remove_leftovers();
         out.earlier = read_manifest(&out.dir.join(MANIFEST));
         Ok(out)
+    }
+
+    /// The command that writes (`run`, `accuracy`, …), as the manifest
+    /// records it: a rerun of the same command removes its own stale
+    /// outputs, never another command's.
+    #[must_use]
+    pub fn for_command(mut self, command: &str) -> Self {
+        self.command = command.to_string();
+        self
     }
 
     /// [`OutDir::open`], then [`OutDir::check`] of the `files` and run
@@ -285,10 +299,25 @@ impl OutDir {
         listed.extend(record.iter().cloned());
         listed.sort();
         listed.dedup_by(|a, b| a.0 == b.0);
-        let manifest_text: String = listed
-            .iter()
-            .map(|(path, hash)| format!("{hash}  {path}\n"))
-            .collect();
+        // Other commands' outputs stay listed under their own heading,
+        // but for a name this command now writes.
+        let mine: BTreeSet<&str> = listed.iter().map(|(p, _)| p.as_str()).collect();
+        let mut manifest_text = String::new();
+        let mut heading: Option<&str> = None;
+        for (cmd, path, hash) in &self.earlier {
+            if cmd == &self.command || mine.contains(path.as_str()) {
+                continue;
+            }
+            if heading != Some(cmd.as_str()) {
+                manifest_text.push_str(&format!("# enginedyn {cmd}\n"));
+                heading = Some(cmd);
+            }
+            manifest_text.push_str(&format!("{hash}  {path}\n"));
+        }
+        manifest_text.push_str(&format!("# enginedyn {}\n", self.command));
+        for (path, hash) in &listed {
+            manifest_text.push_str(&format!("{hash}  {path}\n"));
+        }
         let staged_manifest = stage.path().join("manifest");
         write_new(&staged_manifest, manifest_text.as_bytes())?;
         // Old aside, new in; on a failure undo what was done.
@@ -344,8 +373,9 @@ impl OutDir {
             .collect();
         let mut notes = Vec::new();
         let mut folders: BTreeMap<&str, Vec<(&str, &str)>> = BTreeMap::new();
-        for (path, hash) in &self.earlier {
-            if ours.contains(path.as_str()) {
+        for (cmd, path, hash) in &self.earlier {
+            // Another command's outputs are not this one's to judge.
+            if cmd != &self.command || ours.contains(path.as_str()) {
                 continue;
             }
             match path.split_once('/') {
@@ -555,7 +585,7 @@ fn check_name(name: &str) -> Result<(), ReportError> {
 /// The earlier run's manifest at `path`: (path, hash) of every well-formed
 /// line naming a file of ours (`NAME` or `FOLDER/NAME`, plain names). A
 /// manifest that is missing, not a regular file or too large lists nothing.
-fn read_manifest(path: &Path) -> Vec<(String, String)> {
+fn read_manifest(path: &Path) -> Vec<(String, String, String)> {
     let regular = std::fs::symlink_metadata(path)
         .is_ok_and(|m| m.file_type().is_file() && m.len() <= MAX_MANIFEST);
     if !regular {
@@ -565,10 +595,16 @@ fn read_manifest(path: &Path) -> Vec<(String, String)> {
         return Vec::new();
     };
     let mut out = Vec::new();
+    let mut command = String::new();
     for line in std::io::BufReader::new(f.take(MAX_MANIFEST)).lines() {
         let Ok(line) = line else {
             break;
         };
+        // `# enginedyn COMMAND` heads the outputs of that command.
+        if let Some(c) = line.strip_prefix("# enginedyn ") {
+            command = c.trim().to_string();
+            continue;
+        }
         let Some((hash, file)) = line.split_once("  ") else {
             continue;
         };
@@ -577,7 +613,7 @@ fn read_manifest(path: &Path) -> Vec<(String, String)> {
         let parts: Vec<&str> = file.split('/').collect();
         let path_ok = (1..=2).contains(&parts.len()) && parts.iter().all(|p| check_name(p).is_ok());
         if hash_ok && path_ok {
-            out.push((file.to_string(), hash.to_string()));
+            out.push((command.clone(), file.to_string(), hash.to_string()));
         }
     }
     out
