@@ -296,9 +296,19 @@ fn another_commands_outputs_stay() {
         vec!["run", "--engine", &engine, "--out", ds],
     ] {
         let o = enginedyn_tests::run(&args);
-        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", String::from_utf8_lossy(&o.stderr));
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
     }
-    for f in ["report.html", "summary.json", "accuracy.csv", "accuracy.svg"] {
+    for f in [
+        "report.html",
+        "summary.json",
+        "accuracy.csv",
+        "accuracy.svg",
+    ] {
         assert!(d.join(f).exists(), "{f}");
     }
 }
