@@ -43,6 +43,21 @@ pub fn run(args: &[&str]) -> std::process::Output {
         .expect("run enginedyn")
 }
 
+/// `sha256sum` of a file: the system's tool, not enginedyn's code, to hold
+/// the hashes enginedyn writes against.
+pub fn sha256sum(path: impl AsRef<std::path::Path>) -> String {
+    let out = std::process::Command::new("sha256sum")
+        .arg(path.as_ref())
+        .output()
+        .expect("sha256sum");
+    assert!(out.status.success());
+    String::from_utf8_lossy(&out.stdout)
+        .split_whitespace()
+        .next()
+        .unwrap_or_default()
+        .to_string()
+}
+
 /// A bundled data file's path (`data/NAME`).
 pub fn data(name: &str) -> String {
     format!("{}/../data/{name}", env!("CARGO_MANIFEST_DIR"))

@@ -4,6 +4,7 @@
 //! byte-identical), `batch` on a folder taking every kind the reader reads
 //! with a note on what it passed over, and `batch`/`sweep --json`.
 
+use enginedyn_tests::sha256sum;
 use enginedyn_tests::{binary, data, ok_json};
 use std::path::Path;
 use std::process::Output;
@@ -13,20 +14,6 @@ fn run(args: &[&str]) -> Output {
         .args(args)
         .output()
         .expect("run enginedyn")
-}
-
-/// `sha256sum` of the file (the system's, not enginedyn's code).
-fn sha256sum(path: &str) -> String {
-    let out = std::process::Command::new("sha256sum")
-        .arg(path)
-        .output()
-        .expect("sha256sum");
-    assert!(out.status.success());
-    String::from_utf8_lossy(&out.stdout)
-        .split_whitespace()
-        .next()
-        .unwrap()
-        .to_string()
 }
 
 const KEYS: [&str; 5] = [

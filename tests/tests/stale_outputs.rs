@@ -4,6 +4,7 @@
 //! does not write is removed when it is unchanged, kept with a warning when
 //! the user changed it; a file the user added is never touched.
 
+use enginedyn_tests::sha256sum;
 use enginedyn_tests::{binary, data};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -33,20 +34,6 @@ fn names(dir: &Path) -> Vec<String> {
         .collect();
     v.sort();
     v
-}
-
-/// `sha256sum` of the file (the system's, not enginedyn's code).
-fn sha256sum(path: &Path) -> String {
-    let out = std::process::Command::new("sha256sum")
-        .arg(path)
-        .output()
-        .expect("sha256sum");
-    assert!(out.status.success());
-    String::from_utf8_lossy(&out.stdout)
-        .split_whitespace()
-        .next()
-        .unwrap()
-        .to_string()
 }
 
 /// The manifest as path → hash, each line `HASH  PATH` under a
