@@ -72,7 +72,7 @@ fn manifest_lists(dir: &Path, expected: &[String]) {
     want.sort();
     assert_eq!(listed, want);
     for (path, hash) in &m {
-        assert_eq!(hash, &sha256sum(&dir.join(path)), "{path}");
+        assert_eq!(hash, &sha256sum(dir.join(path)), "{path}");
     }
 }
 
