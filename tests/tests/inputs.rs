@@ -49,8 +49,8 @@ fn the_bundled_example_says_so() {
     let j = ok_json(&["run", "--json"]);
     check_inputs(
         &j,
-        ("bundled", &sha256sum(&data("vaz2108.toml"))),
-        &[("bundled", &sha256sum(&data("vaz2108.csv")))],
+        ("bundled", &sha256sum(data("vaz2108.toml"))),
+        &[("bundled", &sha256sum(data("vaz2108.csv")))],
     );
 }
 
