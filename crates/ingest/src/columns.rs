@@ -310,6 +310,18 @@ const TIME_WORDS: &[&str] = &["time", "t", "zeit", "timestamp"];
 const VOLUME_WORDS: &[&str] = &["volume", "vol", "v", "hubraum"];
 const TDC_WORDS: &[&str] = &["tdc", "ot", "trigger", "pulse", "marker"];
 const CYCLE_WORDS: &[&str] = &["cycle", "cyc", "zyklus", "arbeitsspiel", "cycles"];
+/// True when `name` holds the unit `kW` as written (lower-case k, upper-case
+/// W, not after `°`): power, not the crank angle `KW`.
+fn is_kilowatt(name: &str) -> bool {
+    let b = name.as_bytes();
+    name.match_indices("kW").any(|(i, _)| {
+        let before = name[..i].chars().next_back();
+        let after = b.get(i + 2).copied();
+        !before.is_some_and(|c| c.is_alphanumeric() || c == '°')
+            && !after.is_some_and(|c| c.is_ascii_alphanumeric())
+    })
+}
+
 /// Words that name a torque column (`Torque [Nm]`, `Drehmoment [N m]`).
 const TORQUE_WORDS: &[&str] = &["torque", "drehmoment", "moment", "trq", "tq"];
 
@@ -459,6 +471,11 @@ pub(crate) fn recognise(raw: &str) -> Result<Role, Unread> {
                 u.to_string(),
             )),
         };
+    }
+    // `kW` is a dynamometer's power, never the German crank angle `KW`
+    // (`°KW`, `KW [°]`, `Kurbelwinkel`): the case tells them apart.
+    if is_kilowatt(s) {
+        return Err(Unread::Unknown);
     }
     if has(ANGLE_WORDS) || names == ["deg"] || names.is_empty() && angle_unit(unit).is_some() {
         return match angle_unit(unit) {
@@ -860,6 +877,22 @@ impl Roles {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn kilowatts_are_no_angle() {
+        for power in ["P [kW]", "Leistung (kW)", "Power_kW", "kW"] {
+            assert!(!matches!(recognise(power), Ok(Role::Angle(_))), "{power}");
+        }
+        for angle in [
+            "Kurbelwinkel [°KW]",
+            "KW [°]",
+            "°CA",
+            "Kurbelwinkel",
+            "CA [deg]",
+        ] {
+            assert!(matches!(recognise(angle), Ok(Role::Angle(_))), "{angle}");
+        }
+    }
+
     use super::*;
 
     fn p(scale: f64, cylinder: Option<u32>, index: Option<u32>) -> Role {

@@ -189,6 +189,99 @@ fn cycle_summary(r: &Resampled) -> Option<CycleSummary> {
     })
 }
 
+/// How far a cycle's IMEP may lie from the median of the file's cycles, in
+/// scaled median absolute deviations, before a note names it
+/// (INTERFACE.md, "Plausibility").
+const OUTLIER_MADS: f64 = 5.0;
+
+/// A CoV of IMEP above this gets a note.
+const HIGH_COV: f64 = 0.10;
+
+/// Notes on the measured cycles (INTERFACE.md, "Plausibility"): cycles
+/// whose IMEP lies more than [`OUTLIER_MADS`] scaled MADs from the median
+/// (kept, and named: a misfire?), and a CoV of IMEP above [`HIGH_COV`].
+/// Per cylinder when the traces name cylinders.
+fn cycle_notes(r: &Resampled) -> Vec<String> {
+    let mut notes = Vec::new();
+    let mut cylinders: Vec<i64> = r.stats.iter().map(|s| s.cylinder).collect();
+    cylinders.sort_unstable();
+    cylinders.dedup();
+    let bar = |x: f64| enginedyn_numerics::format::sig(x / 1e5, 3);
+    for c in cylinders {
+        let v: Vec<(i64, f64)> = r
+            .stats
+            .iter()
+            .filter(|s| s.cylinder == c)
+            .filter_map(|s| s.imep_pa.map(|i| (s.cycle, i)))
+            .collect();
+        if v.len() < 3 {
+            continue;
+        }
+        let of = if c > 0 {
+            format!(" of cylinder {c}")
+        } else {
+            String::new()
+        };
+        let median = |mut x: Vec<f64>| {
+            x.sort_by(f64::total_cmp);
+            let n = x.len();
+            if n % 2 == 1 {
+                x[n / 2]
+            } else {
+                0.5 * (x[n / 2 - 1] + x[n / 2])
+            }
+        };
+        let med = median(v.iter().map(|p| p.1).collect());
+        // The scaled MAD estimates the standard deviation of normal data.
+        let mad = 1.4826 * median(v.iter().map(|p| (p.1 - med).abs()).collect());
+        let floor = 1e-9 * med.abs().max(1.0);
+        let out: Vec<&(i64, f64)> = v
+            .iter()
+            .filter(|p| (p.1 - med).abs() > OUTLIER_MADS * mad.max(floor))
+            .collect();
+        if let Some(first) = out.first() {
+            let others: Vec<f64> = v
+                .iter()
+                .filter(|p| !out.iter().any(|o| o.0 == p.0))
+                .map(|p| p.1)
+                .collect();
+            let (m, sd) = enginedyn_ingest::mean_std(others.iter().copied());
+            notes.push(format!(
+                "cycle {}{of}: IMEP {} bar, the others {} ± {}: a misfire?{} (kept in the averages; more than {} scaled median absolute deviations from the median)",
+                first.0,
+                bar(first.1),
+                bar(m),
+                bar(sd),
+                if out.len() > 1 {
+                    format!(
+                        " and {} more such cycle{} ({})",
+                        out.len() - 1,
+                        if out.len() > 2 { "s" } else { "" },
+                        out[1..]
+                            .iter()
+                            .take(8)
+                            .map(|o| o.0.to_string())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    )
+                } else {
+                    String::new()
+                },
+                OUTLIER_MADS
+            ));
+        }
+        let (m, sd) = enginedyn_ingest::mean_std(v.iter().map(|p| p.1));
+        if m.abs() > 0.0 && sd / m.abs() > HIGH_COV {
+            notes.push(format!(
+                "the IMEP{of} varies by {:.0} % (CoV) over {} cycles, above 10 %: an unsteady operating point, misfires, or a column that is not this cylinder's pressure?",
+                100.0 * sd / m.abs(),
+                v.len()
+            ));
+        }
+    }
+    notes
+}
+
 /// What the cycle statistics' spread is over, when it is not cycle to
 /// cycle of one cylinder: traces of several cylinders mix the spread
 /// between cylinders into it.
@@ -459,10 +552,9 @@ pub fn analyse_with(
     } else {
         None
     };
-    if opts.scope > Scope::Keys
-        && let Some(n) = spread_note(pressure)
-    {
-        notes.push(n);
+    if opts.scope > Scope::Keys {
+        notes.extend(spread_note(pressure));
+        notes.extend(cycle_notes(pressure));
     }
     let forces = all.into_iter().next().unwrap_or_default();
     let parts = Parts {

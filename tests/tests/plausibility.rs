@@ -1,0 +1,83 @@
+//! Issue 31, "Plausibility, so a wrong column is never averaged in" and
+//! "Units are not angles" (its first parts): a cycle far from the others is
+//! named, a CoV of IMEP above 10 % is noted, and `kW` is never a crank
+//! angle.
+
+use enginedyn_tests::{data, run};
+
+fn stderr(o: &std::process::Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Twenty cycles of `data/single.csv`'s, each scaled about 1 bar by
+/// 1 + 0.01 sin(k), and cycle 7 by 0.3 (a misfire: its IMEP is 0.3 times
+/// the cycle's, ∮ p dV being linear in p).
+#[test]
+fn a_misfire_is_named_and_a_high_cov_noted() {
+    let t = tempfile::tempdir().unwrap();
+    let rows: Vec<(String, f64)> = std::fs::read_to_string(data("single.csv"))
+        .unwrap()
+        .lines()
+        .filter(|l| l.starts_with(|c: char| c.is_ascii_digit()))
+        .map(|l| {
+            let (a, p) = l.split_once(',').unwrap();
+            (a.to_string(), p.parse().unwrap())
+        })
+        .collect();
+    let mut s = String::from("cycle,crank_deg,pressure_bar\n");
+    for c in 1..=20 {
+        let k = if c == 7 {
+            0.3
+        } else {
+            1.0 + 0.01 * f64::from(c).sin()
+        };
+        for (a, p) in &rows {
+            s.push_str(&format!("{c},{a},{:.5}\n", 1.0 + k * (p - 1.0)));
+        }
+    }
+    let f = t.path().join("misfire.csv");
+    std::fs::write(&f, s).unwrap();
+    let o = run(&[
+        "run",
+        "--engine",
+        &data("single.toml"),
+        "--diagram",
+        f.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("warning: cycle 7: IMEP 2.97 bar") && e.contains("a misfire?"),
+        "{e}"
+    );
+    assert!(e.contains("varies by 16 % (CoV) over 20 cycles"), "{e}");
+    // Steady cycles: neither note.
+    let o = run(&["run", "--engine", &data("single.toml"), "--json"]);
+    assert!(!stderr(&o).contains("misfire"), "{}", stderr(&o));
+}
+
+/// A dynamometer's results table (`Speed [rpm]`, `P [kW]`, `Torque [Nm]`)
+/// was read as a diagram, its power as the crank angle.
+#[test]
+fn kilowatts_are_never_a_crank_angle() {
+    let t = tempfile::tempdir().unwrap();
+    let f = t.path().join("results.csv");
+    let mut s = String::from("P [kW],Pressure [bar]\n");
+    for k in 0..720 {
+        s.push_str(&format!(
+            "{k},{}\n",
+            1.0 + 40.0 * (-(f64::from(k) / 30.0).powi(2)).exp()
+        ));
+    }
+    std::fs::write(&f, s).unwrap();
+    let o = run(&[
+        "run",
+        "--engine",
+        &data("single.toml"),
+        "--diagram",
+        f.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("no crank angle"), "{}", stderr(&o));
+}
