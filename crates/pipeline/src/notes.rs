@@ -56,7 +56,7 @@ pub const DECIDED: &[&str] = &[
     "flywheel sized ",
     "pin offset: series4 and series6",
     // Methods chosen (--tolerance, accuracy) and what a spread is over.
-    "--tolerance:",
+    "--tolerance",
     "interpolation and grid-step errors against",
     "imep_std_bar, imep_cov",
     // batch over folders.
@@ -109,6 +109,7 @@ mod tests {
             "no TDC offset estimate: the estimate needs a motored or fuel-cut cycle",
             "the rigid rod, not the engine file's two-mass",
             "series4 kinematics, not exact (the default): within 1e-3",
+            "--tolerance 0.001: grid 0.9375° (estimated 0.00023 from the step before)",
         ] {
             assert_eq!(severity(n), Severity::Note, "{n}");
         }
