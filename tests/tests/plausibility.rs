@@ -81,3 +81,48 @@ fn kilowatts_are_never_a_crank_angle() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("no crank angle"), "{}", stderr(&o));
 }
+
+/// A names row with a side table beyond an empty column (`crank_radius_mm`,
+/// `52`): left out with one note, not "left out (the angle is used)", and
+/// the diagram reads as without it.
+#[test]
+fn a_side_table_is_left_out_with_one_note() {
+    let t = tempfile::tempdir().unwrap();
+    let rows: Vec<String> = std::fs::read_to_string(data("single.csv"))
+        .unwrap()
+        .lines()
+        .filter(|l| l.starts_with(|c: char| c.is_ascii_digit()))
+        .map(str::to_string)
+        .collect();
+    let mut s = String::from("Crank_Angle [deg],Pressure [bar],,crank_radius_mm,52\n");
+    for (i, r) in rows.iter().enumerate() {
+        let side = match i {
+            0 => ",,bore_mm,68",
+            1 => ",,stroke_mm,54",
+            _ => ",,,",
+        };
+        s.push_str(&format!("{r}{side}\n"));
+    }
+    let f = t.path().join("side.csv");
+    std::fs::write(&f, s).unwrap();
+    let engine = data("single.toml");
+    let side = run(&[
+        "run",
+        "--engine",
+        &engine,
+        "--diagram",
+        f.to_str().unwrap(),
+        "--json",
+    ]);
+    let plain = run(&["run", "--engine", &engine, "--json"]);
+    assert_eq!(side.status.code(), Some(0), "{}", stderr(&side));
+    let j: serde_json::Value = serde_json::from_slice(&side.stdout).unwrap();
+    let k: serde_json::Value = serde_json::from_slice(&plain.stdout).unwrap();
+    assert_eq!(j["imep_bar"], k["imep_bar"]);
+    let e = stderr(&side);
+    assert!(
+        e.contains("note: columns 4 to 5 (`crank_radius_mm`, `52`) lie right of the empty column 3: a side table, left out"),
+        "{e}"
+    );
+    assert!(!e.contains("the angle is used"), "{e}");
+}

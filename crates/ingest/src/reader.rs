@@ -238,6 +238,28 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                 }
             }
         }
+        if let Some(h) = header_at.and_then(|h| text.get(h))
+            && let Some(e) = side_table(&h.cells)
+        {
+            let names: Vec<String> = h.cells[e..]
+                .iter()
+                .filter(|c| !c.trim().is_empty())
+                .take(4)
+                .map(|c| format!("`{}`", enginedyn_numerics::format::quote(c)))
+                .collect();
+            self.head.notes.push(format!(
+                "columns {} to {} ({}{}) lie right of the empty column {}: a side table, left out",
+                e + 2,
+                h.cells.len(),
+                names.join(", "),
+                if h.cells[e..].iter().filter(|c| !c.trim().is_empty()).count() > 4 {
+                    ", …"
+                } else {
+                    ""
+                },
+                e + 1
+            ));
+        }
         if let Some(n) = &roles.note {
             self.head.notes.push(n.clone());
         }
@@ -321,6 +343,12 @@ fn header(
         for x in n.iter_mut().rev().take_while(|x| x.is_empty()) {
             *x = "_".into();
         }
+        // Columns right of an empty column are a side table: left out.
+        if let Some(e) = side_table(&n) {
+            for x in &mut n[e..] {
+                *x = "_".into();
+            }
+        }
         n
     };
     let check = |names: &[String], at_line: usize| -> Result<(), IngestError> {
@@ -376,6 +404,15 @@ fn header(
     Err(first_try
         .err()
         .unwrap_or_else(|| IngestError::Data("no header".into())))
+}
+
+/// Where a side table starts: the first empty header cell with a named
+/// one to its right (INTERFACE.md, "Units are not angles": columns right of
+/// an empty column are a side table).
+fn side_table(names: &[String]) -> Option<usize> {
+    let named = |x: &String| !x.trim().is_empty() && x != "_";
+    let e = names.iter().position(|x| x.trim().is_empty())?;
+    names[e + 1..].iter().any(named).then_some(e)
 }
 
 /// Names with the units of the row below them: `PCYL1 [bar]`.

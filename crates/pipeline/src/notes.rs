@@ -75,7 +75,8 @@ pub fn severity(note: &str) -> Severity {
             })
         // "the rigid rod, not the engine file's two-mass": a method --tolerance chose.
         || (note.starts_with("the ") && note.contains(" rod, not the engine file's"))
-        || note.contains(" kinematics, not exact (the default)");
+        || note.contains(" kinematics, not exact (the default)")
+        || note.contains(": a side table, left out");
     if decided {
         Severity::Note
     } else {
