@@ -1,7 +1,8 @@
 //! Issue 31, "Plausibility, so a wrong column is never averaged in" and
-//! "Units are not angles" (its first parts): a cycle far from the others is
-//! named, a CoV of IMEP above 10 % is noted, and `kW` is never a crank
-//! angle.
+//! "Units are not angles" and "Say what was decided" (its first parts): a
+//! cycle far from the others is named, a CoV of IMEP above 10 % is noted,
+//! `kW` is never a crank angle, a side table is left out, and cycles
+//! stacked in one column are counted in a note.
 
 use enginedyn_tests::{data, run};
 
@@ -125,4 +126,47 @@ fn a_side_table_is_left_out_with_one_note() {
         "{e}"
     );
     assert!(!e.contains("the angle is used"), "{e}");
+}
+
+/// "Say what was decided": five cycles stacked in one column, the angle
+/// starting again at -360° each time, are split and the note says so.
+#[test]
+fn stacked_cycles_are_noted_with_their_count() {
+    let t = tempfile::tempdir().unwrap();
+    let rows: Vec<(f64, String)> = std::fs::read_to_string(data("single.csv"))
+        .unwrap()
+        .lines()
+        .filter(|l| l.starts_with(|c: char| c.is_ascii_digit()))
+        .map(|l| {
+            let (a, p) = l.split_once(',').unwrap();
+            (a.parse::<f64>().unwrap(), p.to_string())
+        })
+        .collect();
+    let mut s = String::from("crank_deg,pressure_bar\n");
+    for _ in 0..5 {
+        for (a, p) in &rows {
+            s.push_str(&format!("{},{p}\n", a - 360.0));
+        }
+    }
+    let f = t.path().join("stacked.csv");
+    std::fs::write(&f, s).unwrap();
+    let engine = data("single.toml");
+    let o = run(&[
+        "run",
+        "--engine",
+        &engine,
+        "--diagram",
+        f.to_str().unwrap(),
+        "--tdc-deg",
+        "-360",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("note: 5 cycles one after another in one column"),
+        "{e}"
+    );
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["cycles"].as_u64(), Some(5));
 }

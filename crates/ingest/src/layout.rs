@@ -84,7 +84,19 @@ impl Layout {
         head: &mut Header,
     ) -> Result<(), IngestError> {
         match self {
-            Layout::Long(l) => l.end(out),
+            Layout::Long(l) => {
+                // Say what was decided: cycles found one after another in
+                // one column, the angle starting again.
+                let stacked = (l.cycle_col.is_none() && l.cyl_col.is_none() && l.stacked > 0)
+                    .then_some(l.stacked + 1);
+                l.end(out)?;
+                if let Some(n) = stacked {
+                    head.notes.push(format!(
+                        "{n} cycles one after another in one column (each where the angle starts again), numbered 1 to {n}"
+                    ));
+                }
+                Ok(())
+            }
             Layout::PerColumn(p) => p.end(out),
             Layout::Time(t) => t.end(out, head),
         }
@@ -173,6 +185,8 @@ pub(crate) struct Long {
     pub quantity: Quantity,
     pub cur: Option<Current>,
     auto_cycle: i64,
+    /// Cycles started by the angle starting again (no `cycle` column).
+    stacked: usize,
     last_len: usize,
     max_cyl: usize,
     explicit: bool,
@@ -202,6 +216,7 @@ impl Long {
             quantity: roles.quantity,
             cur: None,
             auto_cycle: 1,
+            stacked: 0,
             last_len: 16,
             max_cyl: opts.max_cylinder.clamp(1, MAX_CYLINDERS),
             explicit: opts.columns.is_some(),
@@ -278,6 +293,7 @@ impl Long {
             }
             if closes || c.track.starts_next(a) {
                 self.auto_cycle += 1;
+                self.stacked += 1;
                 return self.start(line, self.auto_cycle, cyl, a, p, closes, out);
             }
             Err(not_rising(

@@ -71,7 +71,9 @@ pub fn severity(note: &str) -> Severity {
             .split_once(' ')
             .is_some_and(|(n, rest)| {
                 n.bytes().all(|b| b.is_ascii_digit())
-                    && (rest.starts_with("pressure columns") || rest.starts_with("files of other kinds"))
+                    && (rest.starts_with("pressure columns")
+                        || rest.starts_with("files of other kinds")
+                        || rest.starts_with("cycles one after another"))
             })
         // "the rigid rod, not the engine file's two-mass": a method --tolerance chose.
         || (note.starts_with("the ") && note.contains(" rod, not the engine file's"))
