@@ -170,3 +170,21 @@ fn stacked_cycles_are_noted_with_their_count() {
     let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(j["cycles"].as_u64(), Some(5));
 }
+
+/// "Say what was decided": a workbook whose default sheet holds no diagram
+/// gets an error that lists every sheet by number and name.
+#[test]
+fn the_default_sheet_error_lists_the_sheets() {
+    let f = format!(
+        "{}/fixtures/measured/excel_title_second_sheet.xlsx",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let o = run(&["run", "--engine", &data("single.toml"), "--diagram", &f]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o)
+            .contains("of 2: 1 `Info`, 2 `Cylinder 1`; --sheet N or --sheet NAME reads another"),
+        "{}",
+        stderr(&o)
+    );
+}

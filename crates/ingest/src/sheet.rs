@@ -167,10 +167,20 @@ fn finish<F: FnMut(Streamed) -> Result<(), IngestError>>(
         if !several {
             return e;
         }
+        // Every sheet by number and name (at most 20 named), so the user
+        // can pick one without opening the workbook.
+        let listed: Vec<String> = names
+            .iter()
+            .take(20)
+            .enumerate()
+            .map(|(i, n)| format!("{} `{}`", i + 1, enginedyn_numerics::format::quote(n)))
+            .collect();
         let more = format!(
-            " (this is sheet 1 `{}` of {}: --sheet N or --sheet NAME reads another)",
+            " (this is sheet 1 `{}` of {}: {}{}; --sheet N or --sheet NAME reads another)",
             enginedyn_numerics::format::quote(&names[0]),
-            names.len()
+            names.len(),
+            listed.join(", "),
+            if names.len() > 20 { ", …" } else { "" }
         );
         add(e, &more)
     };
