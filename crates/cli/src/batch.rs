@@ -48,7 +48,7 @@ fn expand(inputs: &[String]) -> Result<Vec<PathBuf>, Failure> {
             inside.sort();
             files.extend(inside);
             if let Some(note) = passed_over(input, other) {
-                eprintln!("note: {note}");
+                crate::say(None, &note);
             }
         } else if p.exists() {
             files.push(p.to_path_buf());

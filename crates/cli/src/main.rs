@@ -131,17 +131,17 @@ impl From<enginedyn_report::ReportError> for Failure {
 /// (`enginedyn_pipeline::notes::severity`, the one home of that choice).
 /// `about` names the file a batch note is about.
 pub fn say(about: Option<&str>, note: &str) {
-    use std::sync::Mutex;
-    static SAID: Mutex<Vec<String>> = Mutex::new(Vec::new());
+    use std::collections::HashSet;
+    use std::sync::{Mutex, OnceLock};
+    static SAID: OnceLock<Mutex<HashSet<String>>> = OnceLock::new();
     let line = match about {
         Some(f) => format!("{f}: {note}"),
         None => note.to_string(),
     };
-    if let Ok(mut said) = SAID.lock() {
-        if said.contains(&line) {
-            return;
-        }
-        said.push(line.clone());
+    if let Ok(mut said) = SAID.get_or_init(Mutex::default).lock()
+        && !said.insert(line.clone())
+    {
+        return;
     }
     let label = enginedyn_pipeline::notes::severity(note).label();
     eprintln!("{label}: {line}");

@@ -108,18 +108,14 @@ pub fn run(a: &TorsionArgs) -> Result<(), Failure> {
     // Implausible values first, as warnings (they may mean a wrong
     // result), then what was assumed.
     let warnings = &prepared.train.warnings;
-    for w in warnings {
-        eprintln!("warning: {w}");
-    }
+    crate::say_all(warnings);
     let mut notes = prepared.train.notes.clone();
     notes.extend(prepared.notes.iter().cloned());
     if let Some(n) = &speed.note {
         notes.push(format!("flywheel sized and diagram taken at {n}"));
     }
     notes.extend(study.notes.iter().cloned());
-    for n in &notes {
-        eprintln!("note: {n}");
-    }
+    crate::say_all(&notes);
     let notes: Vec<String> = warnings.iter().chain(&notes).cloned().collect();
     let doc = torsion_json(engine, &study, &opts, &notes);
     let text = serde_json::to_string_pretty(&doc).map_err(|e| Failure::data(e.to_string()))?;

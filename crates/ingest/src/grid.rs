@@ -424,16 +424,12 @@ impl Accumulator {
         let offset = match self.opts.peg {
             None => return Ok(0.0),
             Some(Peg::Bar(target)) => {
-                // Mean over ±5° around intake BDC: 540° (four-stroke) or 180° (two-stroke).
-                let bdc = if self.cycle_deg > 400.0 { 540.0 } else { 180.0 };
-                let (mut s, mut c) = (0.0, 0usize);
-                for (k, p) in self.buf.iter().enumerate() {
-                    if ((k as f64 * step) - bdc).abs() <= 5.0 + 1e-9 {
-                        s += p;
-                        c += 1;
-                    }
-                }
-                target - s / c.max(1) as f64
+                let samples = self
+                    .buf
+                    .iter()
+                    .enumerate()
+                    .map(|(k, p)| (k as f64 * step, *p));
+                target - intake_bdc_mean(samples, self.cycle_deg).unwrap_or(0.0)
             }
             Some(Peg::Polytropic(n)) => {
                 // (p + d) V^n = C on 100°..30° BTDC: p V^n = C - d V^n, a line in V^n.
@@ -607,6 +603,25 @@ pub fn mean_std(v: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
         0.0
     };
     (mean, var.sqrt())
+}
+
+/// The mean of `samples` (angle from firing TDC in `[0, cycle)`, value)
+/// over ±5° around intake BDC, 540° four-stroke or 180° two-stroke: where
+/// `--peg-bar` pegs and the gauge warning looks. `None` without a sample
+/// there.
+pub(crate) fn intake_bdc_mean(
+    samples: impl Iterator<Item = (f64, f64)>,
+    cycle_deg: f64,
+) -> Option<f64> {
+    let bdc = if cycle_deg > 400.0 { 540.0 } else { 180.0 };
+    let (mut sum, mut n) = (0.0, 0usize);
+    for (a, p) in samples {
+        if (a - bdc).abs() <= 5.0 + 1e-9 {
+            sum += p;
+            n += 1;
+        }
+    }
+    (n > 0).then(|| sum / n as f64)
 }
 
 #[cfg(test)]

@@ -640,7 +640,10 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
         if self.absolute
             && q == Quantity::Pressure
             && !pv
-            && let Some(m) = intake_bdc_mean(&tr, opts.cycle_deg)
+            && let Some(m) = crate::grid::intake_bdc_mean(
+                tr.angle_deg.iter().copied().zip(tr.values.iter().copied()),
+                opts.cycle_deg,
+            )
             && m < LOW_INTAKE_PA
         {
             self.low_intake.0 += 1;
@@ -812,23 +815,6 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
 /// The lowest mean absolute pressure around intake BDC (Pa) a running
 /// engine's intake holds: below it the trace is likely gauge data.
 const LOW_INTAKE_PA: f64 = 0.2e5;
-
-/// The mean of a trace (angles from firing TDC, in `[0, cycle)`) over ±5°
-/// around intake BDC (540° four-stroke, 180° two-stroke), when it has
-/// samples there.
-fn intake_bdc_mean(tr: &Trace, cycle: f64) -> Option<f64> {
-    let bdc = if cycle > 400.0 { 540.0 } else { 180.0 };
-    let (mut sum, mut n) = (0.0, 0usize);
-    let lo = tr.angle_deg.partition_point(|&a| a < bdc - 5.0);
-    for (a, p) in tr.angle_deg[lo..].iter().zip(&tr.values[lo..]) {
-        if *a > bdc + 5.0 {
-            break;
-        }
-        sum += p;
-        n += 1;
-    }
-    (n > 0).then(|| sum / n as f64)
-}
 
 fn fmt(x: f64) -> String {
     enginedyn_numerics::format::trimmed(x, 2)

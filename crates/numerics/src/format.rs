@@ -112,13 +112,19 @@ pub fn quote(s: &str) -> String {
             out.push_str(&format!("… ({} characters in all)", s.chars().count()));
             break;
         }
-        if c.is_control() {
-            out.extend(c.escape_default());
-        } else {
-            out.push(c);
-        }
+        push_escaped(&mut out, c);
     }
     out
+}
+
+/// `c`, escaped when it is a control character (`\n`, `\u{1b}`): the one
+/// rule of [`quote`] and [`table_text`].
+fn push_escaped(out: &mut String, c: char) {
+    if c.is_control() {
+        out.extend(c.escape_default());
+    } else {
+        out.push(c);
+    }
 }
 
 /// A text cell of a CSV file (INTERFACE.md, "Other outputs"): text that
@@ -141,11 +147,7 @@ pub fn table_text(s: &str) -> Cow<'_, str> {
     if s.chars().any(char::is_control) {
         let mut out = String::with_capacity(s.len() + 8);
         for c in s.chars() {
-            if c.is_control() {
-                out.extend(c.escape_default());
-            } else {
-                out.push(c);
-            }
+            push_escaped(&mut out, c);
         }
         Cow::Owned(out)
     } else {

@@ -59,8 +59,8 @@ pub const DECIDED: &[&str] = &[
     "--tolerance",
     "interpolation and grid-step errors against",
     "imep_std_bar, imep_cov",
-    // batch over folders.
-    "files of other kinds passed over",
+    // batch over folders (one file, or several).
+    "1 file of another kind passed over",
 ];
 
 /// Whether `note` only says what was decided or assumed.
