@@ -56,6 +56,7 @@ fn defaults_left_out_are_named_in_one_note() {
         assert!(note.contains(part), "{part}: {note}");
     }
     // η_m = 1: effective equals indicated.
+    assert!(j["mean_torque_nm"].is_f64(), "{}", j["mean_torque_nm"]);
     assert_eq!(j["mean_torque_nm"], j["indicated_mean_torque_nm"]);
     // Some given: only the others named.
     let engine = bundled_without(dir.path(), &["mechanical_efficiency"]);

@@ -277,11 +277,14 @@ fn another_commands_outputs_stay() {
     let d = t.path().join("d");
     let ds = d.to_str().unwrap();
     let engine = enginedyn_tests::data("single.toml");
-    for args in [
+    for (k, args) in [
         vec!["run", "--engine", &engine, "--out", ds],
         vec!["accuracy", "--engine", &engine, "--out", ds],
         vec!["run", "--engine", &engine, "--out", ds],
-    ] {
+    ]
+    .into_iter()
+    .enumerate()
+    {
         let o = enginedyn_tests::run(&args);
         assert_eq!(
             o.status.code(),
@@ -289,6 +292,12 @@ fn another_commands_outputs_stay() {
             "{args:?}: {}",
             String::from_utf8_lossy(&o.stderr)
         );
+        // Right after `accuracy`, the run's outputs are all still there.
+        if k == 1 {
+            for f in ["report.html", "summary.json", "torque.svg", "curves.csv"] {
+                assert!(d.join(f).exists(), "accuracy removed {f}");
+            }
+        }
     }
     for f in [
         "report.html",
