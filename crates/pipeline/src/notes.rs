@@ -53,6 +53,8 @@ pub const DECIDED: &[&str] = &[
     "torsion.flywheel_stiffness_nm_rad not given",
     "torsion.throw_inertia_kg_m2 estimated",
     "journal stiffness from journal_diameter_mm",
+    // The torsion model's assumptions and what it leaves out.
+    "each throw carries the reciprocating mass's mean inertia",
     "flywheel sized ",
     "pin offset: series4 and series6",
     // Methods chosen (--tolerance, accuracy) and what a spread is over.
@@ -78,7 +80,10 @@ pub fn severity(note: &str) -> Severity {
         // "the rigid rod, not the engine file's two-mass": a method --tolerance chose.
         || (note.starts_with("the ") && note.contains(" rod, not the engine file's"))
         || note.contains(" kinematics, not exact (the default)")
-        || note.contains(": a side table, left out");
+        || note.contains(": a side table, left out")
+        // Torsion: a resonance without a peak of its own, orders not computed.
+        || note.contains(" resonances have no peak near their crossing")
+        || note.contains(" in the speed range: those orders are not computed");
     if decided {
         Severity::Note
     } else {
