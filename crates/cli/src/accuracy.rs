@@ -3,9 +3,11 @@
 
 use crate::Failure;
 use crate::args::AccuracyArgs;
-use crate::run::{diagram_options, diagram_path, load_engine, parse_diagram, resolve_rpm};
 use enginedyn_accuracy::{Input, KEYS, pareto};
 use enginedyn_ingest::{Interp, Quantity};
+use enginedyn_session::Loaded;
+use enginedyn_session::diagram::{diagram_options, diagram_path, parse_diagram};
+use enginedyn_session::speed::resolve_rpm;
 use std::fmt::Write as _;
 
 /// Runs `enginedyn accuracy`.
@@ -13,13 +15,18 @@ use std::fmt::Write as _;
 const FILES: [&str; 2] = ["accuracy.csv", "accuracy.svg"];
 
 pub fn run(a: &AccuracyArgs) -> Result<(), Failure> {
-    let loaded = load_engine(Some(&a.input.engine))?;
+    let loaded = Loaded::from_file(&a.input.engine)?;
     let engine = &loaded.engine;
     // Something in the way of an output is refused before the study runs.
     let out = crate::open_out(a.out.as_deref(), &FILES, "accuracy")?;
     let path = diagram_path(a.input.diagram.as_deref(), &loaded)?;
-    let (parse, grid) = diagram_options(engine, &a.diagram_args, 0.1, Interp::Spline, a.input.rpm)?;
-    let diagram = parse_diagram(&path, &parse)?;
+    let (parse, grid) = diagram_options(
+        engine,
+        &a.diagram_args.reader(a.input.rpm),
+        0.1,
+        Interp::Spline,
+    )?;
+    let diagram = parse_diagram(enginedyn_session::Input::File(&path), &parse)?;
     if diagram.quantity != Quantity::Pressure {
         return Err(Failure::data(format!(
             "{}: a turning-moment file; the accuracy study needs pressure",
@@ -27,7 +34,9 @@ pub fn run(a: &AccuracyArgs) -> Result<(), Failure> {
         )));
     }
     let speed = resolve_rpm(a.input.rpm, diagram.rpm, engine)?;
-    speed.warn();
+    if let Some(n) = &speed.note {
+        crate::say(None, n);
+    }
     let rpm = speed.rpm;
     let input = Input {
         engine,

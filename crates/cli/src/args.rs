@@ -122,84 +122,28 @@ pub enum PegArg {
     Polytropic(f64),
 }
 
-/// The default polytropic exponent of `--peg polytropic`.
-pub const POLYTROPIC_N: f64 = 1.32;
+// Every bound and its message lives in `enginedyn_session::options`, for
+// the flags here and the Python package's keyword arguments alike.
+use enginedyn_session::options::{self as bounds, MAX_JOBS, MAX_SAMPLES};
 
-/// A number from `lo` to `hi` (both included), or why not.
-fn number_in(s: &str, lo: f64, hi: f64, unit: &str) -> Result<f64, String> {
-    // The one number rule of cells, banners and comment lines.
-    let v = enginedyn_ingest::read_number(s, false)
-        .map_err(|e| format!("`{}` {e}", enginedyn_numerics::format::quote(s)))?;
-    if v.is_finite() && v >= lo && v <= hi {
-        Ok(v)
-    } else {
-        Err(format!(
-            "{} is outside {} to {}{unit}",
-            enginedyn_numerics::format::quote(s.trim()),
-            enginedyn_numerics::format::human(lo),
-            enginedyn_numerics::format::human(hi)
-        ))
-    }
-}
-
-/// `--rpm`: read by the one speed reader of the diagram's `# rpm` line and
-/// banners (`4.9e3`, `4,900`; held to the speed bound).
 fn parse_rpm(s: &str) -> Result<f64, String> {
-    enginedyn_ingest::read_rpm(s).map_err(|e| match e {
-        enginedyn_ingest::SpeedError::Number(n) => {
-            format!("`{s}` {n}: the engine speed must be a number of rpm from 0.001 to 100000 rpm")
-        }
-        e => format!("{} rpm {e}", crate::human(read_any(s))),
-    })
+    bounds::read_rpm(s)
 }
-
-/// The value of a number that the speed bound refused, for its message.
-fn read_any(s: &str) -> f64 {
-    enginedyn_ingest::read_number(s, false).unwrap_or(f64::NAN)
-}
-
-/// The grid step bounds (deg), INTERFACE.md's "Limits".
-pub const STEP_RANGE: (f64, f64) = (0.001, 10.0);
 
 fn parse_step(s: &str) -> Result<f64, String> {
-    number_in(s, STEP_RANGE.0, STEP_RANGE.1, "°")
+    bounds::STEP.read(s)
 }
 
-/// `--tdc-deg`: an angle within ±100000° (any finite offset a file's
-/// angles can carry).
 fn parse_tdc(s: &str) -> Result<f64, String> {
-    number_in(s, -1e5, 1e5, "°")
+    bounds::TDC_DEG.read(s)
 }
 
-/// `--peg-bar`: an absolute pressure above 0 up to 10 kbar.
 fn parse_peg_bar(s: &str) -> Result<f64, String> {
-    let p = number_in(s, 0.0, 1e4, " bar")?;
-    if p > 0.0 {
-        Ok(p)
-    } else {
-        Err("an absolute pressure above 0 bar is needed".into())
-    }
+    bounds::PEG_BAR.read(s)
 }
 
-/// The most Monte Carlo samples (INTERFACE.md, "Limits").
-pub const MAX_SAMPLES: u64 = 10_000_000;
-/// The most worker threads of a batch (INTERFACE.md, "Limits").
-pub const MAX_JOBS: u64 = 256;
-
-/// Parses `polytropic` or `polytropic=N` (1 < N < 2).
 fn parse_peg(s: &str) -> Result<PegArg, String> {
-    let t = s.trim();
-    let rest = t
-        .strip_prefix("polytropic")
-        .ok_or_else(|| format!("expected polytropic or polytropic=N, not `{t}`"))?;
-    if rest.is_empty() {
-        return Ok(PegArg::Polytropic(POLYTROPIC_N));
-    }
-    rest.strip_prefix('=')
-        .and_then(|v| enginedyn_ingest::read_number(v, false).ok())
-        .filter(|n| n.is_finite() && *n > 1.0 && *n < 2.0)
-        .map(PegArg::Polytropic)
-        .ok_or_else(|| format!("expected polytropic=N with 1 < N < 2, not `{t}`"))
+    bounds::read_peg(s).map(PegArg::Polytropic)
 }
 
 /// How the computation is done (INTERFACE.md's method options). Each is
@@ -252,7 +196,7 @@ pub struct DiagramArgs {
     pub pv_start: PvStart,
     /// Skip N lines at the top of the file (a preamble; titles and banners
     /// above a header are skipped without it).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=1_000_000))]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=bounds::MAX_SKIP_LINES as i64))]
     pub skip_lines: Option<u32>,
     /// The sheet of a spreadsheet (.xlsx, .xls, .ods): its name or its number from 1.
     #[arg(long, value_name = "NAME|N")]
@@ -268,23 +212,39 @@ pub struct DiagramArgs {
     pub gain: Option<f64>,
 }
 
-/// `--max-gap`: 0 to 360°.
 fn parse_max_gap(s: &str) -> Result<f64, String> {
-    number_in(s, 0.0, enginedyn_ingest::MAX_GAP_BOUND_DEG, "°")
+    bounds::MAX_GAP.read(s)
 }
 
-/// `--tdc-time`: any finite time within ±1e9.
 fn parse_tdc_time(s: &str) -> Result<f64, String> {
-    number_in(s, -1e9, 1e9, "")
+    bounds::TDC_TIME.read(s)
 }
 
-/// `--gain`: above 0 up to 1e6 bar per volt.
 fn parse_gain(s: &str) -> Result<f64, String> {
-    let g = number_in(s, 0.0, 1e6, " bar/V")?;
-    if g > 0.0 {
-        Ok(g)
-    } else {
-        Err("a gain above 0 bar/V is needed".into())
+    bounds::GAIN.read(s)
+}
+
+impl DiagramArgs {
+    /// The reader options, with the speed flag of the command (if it has one).
+    pub fn reader(&self, rpm: Option<f64>) -> enginedyn_session::Reader {
+        enginedyn_session::Reader {
+            cylinder_axis: self.cylinder_axis.map(|a| match a {
+                CylinderAxisArg::Shared => enginedyn_ingest::CylinderAxis::Shared,
+                CylinderAxisArg::Own => enginedyn_ingest::CylinderAxis::Own,
+            }),
+            tdc_deg: self.tdc_deg,
+            gauge: self.gauge,
+            columns: self.columns.clone(),
+            peg_bar: self.peg_bar,
+            peg_polytropic: self.peg.map(|PegArg::Polytropic(n)| n),
+            pv_start_bdc: self.pv_start == PvStart::Bdc,
+            skip_lines: self.skip_lines,
+            sheet: self.sheet.clone(),
+            max_gap_deg: self.max_gap,
+            tdc_time: self.tdc_time,
+            gain_bar_per_v: self.gain,
+            rpm,
+        }
     }
 }
 
@@ -398,33 +358,26 @@ impl IntegrationArg {
 }
 
 impl MethodArgs {
-    /// The grid step (deg): the flag or the default 0.1.
-    pub fn step(&self) -> f64 {
-        self.step.unwrap_or(0.1)
-    }
-
-    /// The options, defaults where a flag is not given.
-    pub fn options(&self) -> enginedyn_pipeline::Options {
-        let d = enginedyn_pipeline::Options::default();
-        enginedyn_pipeline::Options {
-            step_deg: self.step(),
-            kinematics: self.kinematics.map_or(d.kinematics, KinematicsArg::model),
-            rod_model: self.rod_model.map(RodModelArg::model),
-            interp: self.interp.map_or(d.interp, InterpArg::interp),
-            integration: self.integration.map_or(d.integration, IntegrationArg::rule),
-            scope: enginedyn_pipeline::Scope::Full,
-        }
-    }
-
-    /// The options given explicitly, which `--tolerance` keeps.
-    pub fn kept(&self) -> enginedyn_accuracy::Kept {
-        enginedyn_accuracy::Kept {
+    /// The method options as given (`tolerance`: the command's `--tolerance`).
+    pub fn method(&self, tolerance: Option<f64>) -> enginedyn_session::Method {
+        enginedyn_session::Method {
             step_deg: self.step,
             kinematics: self.kinematics.map(KinematicsArg::model),
             rod_model: self.rod_model.map(RodModelArg::model),
             interp: self.interp.map(InterpArg::interp),
             integration: self.integration.map(IntegrationArg::rule),
+            tolerance,
         }
+    }
+
+    /// The grid step (deg): the flag or the default.
+    pub fn step(&self) -> f64 {
+        self.method(None).step()
+    }
+
+    /// The pipeline options, defaults where a flag is not given.
+    pub fn options(&self) -> enginedyn_pipeline::Options {
+        self.method(None).options()
     }
 }
 
@@ -440,7 +393,7 @@ pub struct BatchArgs {
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Worker threads, 1 to 256 [default: one per core].
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=MAX_JOBS))]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=MAX_JOBS as u64))]
     pub jobs: Option<u64>,
     /// One run folder per diagram, DIR/NNNN_STEM/, and index.html.
     #[arg(long, requires = "out")]

@@ -5,13 +5,15 @@
 
 use crate::Failure;
 use crate::args::FiringOrdersArgs;
-use crate::run::{check_step, diagram_options, load_diagram, load_engine, resolve_rpm};
 use enginedyn_balance::{
     CrankStudy, CylinderTorque, FreeForces, OrderStudy, Setup, Study, Weights, study,
 };
 use enginedyn_engine::{Engine, Layout};
 use enginedyn_ingest::Quantity;
 use enginedyn_report::{Chart, Figure, Series};
+use enginedyn_session::diagram::{check_step, diagram_options, load_diagram};
+use enginedyn_session::speed::resolve_rpm;
+use enginedyn_session::{Input, Loaded};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -31,7 +33,7 @@ pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
         enginedyn_engine::file::read_for_crank_search(&a.input.engine)
             .map_err(|e| Failure::usage(format!("{}: {e}", a.input.engine.display())))?
     } else {
-        load_engine(Some(&a.input.engine))?.engine
+        Loaded::from_file(&a.input.engine)?.engine
     };
     // Something in the way of an output is refused before the search.
     let out = crate::open_out(a.out.as_deref(), &FILES, "firing-orders")?;
@@ -48,9 +50,13 @@ pub fn run(a: &FiringOrdersArgs) -> Result<(), Failure> {
         .or_else(|| engine.diagram().map(Path::to_path_buf));
     let (shown, rpm, analysis) = match &diagram {
         Some(path) => {
-            let (parse, grid) =
-                diagram_options(engine, &a.diagram_args, step, opts.interp, a.input.rpm)?;
-            let resampled = load_diagram(Some(path), &parse, &grid)?;
+            let (parse, grid) = diagram_options(
+                engine,
+                &a.diagram_args.reader(a.input.rpm),
+                step,
+                opts.interp,
+            )?;
+            let resampled = load_diagram(Input::File(path), &parse, &grid)?;
             let shown = path.display().to_string();
             if resampled.quantity != Quantity::Pressure {
                 return Err(Failure::data(format!(

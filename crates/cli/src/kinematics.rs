@@ -14,12 +14,14 @@ const HEADER: &str =
 const FILES: [&str; 2] = ["kinematics.csv", "kinematics.svg"];
 
 pub fn run(a: &KinematicsArgs) -> Result<(), Failure> {
-    let loaded = crate::run::load_engine(Some(&a.engine))?;
+    let loaded = enginedyn_session::Loaded::from_file(&a.engine)?;
     let engine = &loaded.engine;
     // Something in the way of an output is refused before the table is made.
     let out = crate::open_out(a.out.as_deref(), &FILES, "kinematics")?;
-    let speed = crate::run::resolve_rpm(a.rpm, None, engine)?;
-    speed.warn();
+    let speed = enginedyn_session::speed::resolve_rpm(a.rpm, None, engine)?;
+    if let Some(n) = &speed.note {
+        crate::say(None, n);
+    }
     crate::say_all(&engine.plausibility_notes(Some(speed.rpm)));
     let rpm = speed.rpm;
     let omega = rpm * PI / 30.0;

@@ -6,7 +6,6 @@ mod accuracy;
 mod args;
 mod batch;
 mod firing;
-mod inputs;
 mod kinematics;
 mod run;
 mod table;
@@ -17,88 +16,10 @@ mod torsion;
 use clap::Parser;
 use std::process::ExitCode;
 
-/// An error on its way to the user: the message, the file it is about and
-/// the exit code. Library errors convert into it with their class (the
-/// `From` impls below: data errors 1, engine-file and command-line errors
-/// 2), so that `?` picks the code; [`Failure::in_file`] adds the file.
-#[derive(Debug)]
-pub struct Failure {
-    /// 1: data file; 2: command line or engine file.
-    pub code: u8,
-    /// What went wrong, with line and key.
-    pub message: String,
-    /// The file it is about, shown before the message.
-    pub file: Option<String>,
-}
-
-impl Failure {
-    /// Bad command line or engine file (exit 2).
-    pub fn usage(message: impl Into<String>) -> Self {
-        Self {
-            code: 2,
-            message: message.into(),
-            file: None,
-        }
-    }
-    /// Bad data file (exit 1).
-    pub fn data(message: impl Into<String>) -> Self {
-        Self {
-            code: 1,
-            message: message.into(),
-            file: None,
-        }
-    }
-    /// The same failure, about `file` (kept when it already names one).
-    pub fn in_file(mut self, file: impl std::fmt::Display) -> Self {
-        self.file.get_or_insert_with(|| file.to_string());
-        self
-    }
-}
-
-impl std::fmt::Display for Failure {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match &self.file {
-            Some(file) => write!(f, "{file}: {}", self.message),
-            None => f.write_str(&self.message),
-        }
-    }
-}
-
-/// A diagram or torque file that cannot be read: exit 1.
-impl From<enginedyn_ingest::IngestError> for Failure {
-    fn from(e: enginedyn_ingest::IngestError) -> Self {
-        Failure::data(e.to_string())
-    }
-}
-
-/// A bad engine file: exit 2.
-impl From<enginedyn_engine::EngineError> for Failure {
-    fn from(e: enginedyn_engine::EngineError) -> Self {
-        Failure::usage(e.to_string())
-    }
-}
-
-/// The engine and the method options disagree (a model the mechanism does
-/// not have, a grid the data does not fit): exit 2.
-impl From<enginedyn_pipeline::PipelineError> for Failure {
-    fn from(e: enginedyn_pipeline::PipelineError) -> Self {
-        Failure::usage(e.to_string())
-    }
-}
-
-/// A tolerance no setting meets is the command line's (2); a diagram the
-/// studies cannot use is the data's (1).
-impl From<enginedyn_accuracy::AccuracyError> for Failure {
-    fn from(e: enginedyn_accuracy::AccuracyError) -> Self {
-        use enginedyn_accuracy::AccuracyError as A;
-        match e {
-            A::Unreachable { .. } | A::KeptUnreachable { .. } | A::BadTolerance(_) => {
-                Failure::usage(e.to_string())
-            }
-            other => Failure::data(other.to_string()),
-        }
-    }
-}
+/// An error on its way to the user: the library's error, which carries
+/// its class (`enginedyn_session::Class`); `main` maps the class to the
+/// exit code.
+pub use enginedyn_session::Error as Failure;
 
 /// A number as people write it in a message: up to six significant
 /// digits, no trailing zeros, no exponent between 1e-4 and 1e9 (`4900`,
@@ -111,19 +32,6 @@ pub fn human(x: f64) -> String {
 /// (`numerics::format::quote`).
 pub fn quote(s: &str) -> String {
     enginedyn_numerics::format::quote(s)
-}
-
-/// Output errors: another command holding the folder, or something not
-/// enginedyn's in the way of an output, is a usage error (exit 2: choose
-/// another `--out`); a write that fails is exit 1.
-impl From<enginedyn_report::ReportError> for Failure {
-    fn from(e: enginedyn_report::ReportError) -> Self {
-        use enginedyn_report::ReportError as R;
-        match e {
-            R::Locked { .. } | R::InTheWay { .. } => Failure::usage(e.to_string()),
-            other => Failure::data(other.to_string()),
-        }
-    }
 }
 
 /// Says a note on standard error, once per command: `note:` for what was
@@ -264,7 +172,7 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(f) => {
             eprintln!("error: {f}");
-            ExitCode::from(f.code)
+            ExitCode::from(f.exit_code())
         }
     }
 }

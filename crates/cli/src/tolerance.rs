@@ -4,10 +4,12 @@
 
 use crate::Failure;
 use crate::args::ToleranceArgs;
-use crate::run::{check_step, diagram_options, load_diagram, load_engine, resolve_rpm};
 use enginedyn_engine::Engine;
 use enginedyn_ingest::Quantity;
 use enginedyn_report::{TornadoBar, TornadoPanel};
+use enginedyn_session::diagram::{check_step, diagram_options, load_diagram};
+use enginedyn_session::speed::resolve_rpm;
+use enginedyn_session::{Input, Loaded};
 use enginedyn_tolerance::{Evaluator, Method, Output, Row, Stack, Study};
 use std::fmt::Write as _;
 
@@ -23,7 +25,7 @@ const SHOWN: usize = 6;
 const FILES: [&str; 3] = ["tolerance.csv", "tolerance.json", "tolerance.svg"];
 
 pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
-    let loaded = load_engine(Some(&a.input.engine))?;
+    let loaded = Loaded::from_file(&a.input.engine)?;
     let engine = &loaded.engine;
     let file = a.input.engine.display().to_string();
     let text = std::fs::read_to_string(&a.input.engine)
@@ -45,12 +47,16 @@ pub fn run(a: &ToleranceArgs) -> Result<(), Failure> {
     let step = a.method.step();
     check_step(engine, step)?;
     let opts = a.method.options();
-    let diagram = crate::run::diagram_path(a.input.diagram.as_deref(), &loaded)?;
+    let diagram = enginedyn_session::diagram::diagram_path(a.input.diagram.as_deref(), &loaded)?;
     let shown = diagram.display().to_string();
     let load = |step: f64| {
-        let (parse, grid) =
-            diagram_options(engine, &a.diagram_args, step, opts.interp, a.input.rpm)?;
-        let r = load_diagram(Some(&diagram), &parse, &grid)?;
+        let (parse, grid) = diagram_options(
+            engine,
+            &a.diagram_args.reader(a.input.rpm),
+            step,
+            opts.interp,
+        )?;
+        let r = load_diagram(Input::File(&diagram), &parse, &grid)?;
         if r.quantity != Quantity::Pressure {
             return Err(Failure::data(format!(
                 "{shown}: a turning-moment file: the tolerance study needs a pressure diagram"

@@ -72,7 +72,7 @@ const FILES: [&str; 5] = [
 ];
 
 pub fn run(a: &TorsionArgs) -> Result<(), Failure> {
-    let loaded = crate::run::load_engine(Some(&a.engine))?;
+    let loaded = enginedyn_session::Loaded::from_file(&a.engine)?;
     let engine = &loaded.engine;
     // Something in the way of an output is refused before the study runs.
     let mut names = FILES.to_vec();
@@ -89,15 +89,23 @@ pub fn run(a: &TorsionArgs) -> Result<(), Failure> {
             ))
         })?;
     let step = a.method.step();
-    crate::run::check_step(engine, step)?;
+    enginedyn_session::diagram::check_step(engine, step)?;
     let opts = a.method.options();
-    let (parse, grid) =
-        crate::run::diagram_options(engine, &a.diagram_args, step, opts.interp, None)?;
-    let path = crate::run::diagram_path(a.diagram.as_deref(), &loaded)?;
-    let resampled = crate::run::load_diagram(Some(&path), &parse, &grid)?;
-    let speed = crate::run::resolve_rpm(None, resampled.rpm, engine)?;
+    let (parse, grid) = enginedyn_session::diagram::diagram_options(
+        engine,
+        &a.diagram_args.reader(None),
+        step,
+        opts.interp,
+    )?;
+    let path = enginedyn_session::diagram::diagram_path(a.diagram.as_deref(), &loaded)?;
+    let resampled = enginedyn_session::diagram::load_diagram(
+        enginedyn_session::Input::File(&path),
+        &parse,
+        &grid,
+    )?;
+    let speed = enginedyn_session::speed::resolve_rpm(None, resampled.rpm, engine)?;
     let rpms = match &a.rpm {
-        Some(spec) => crate::batch::speeds(spec)?,
+        Some(spec) => enginedyn_session::speed::speeds(spec)?,
         None => default_speeds(speed.rpm),
     };
     let analysis = enginedyn_pipeline::analyse(engine, &resampled, speed.rpm, &opts)

@@ -103,11 +103,25 @@ fn read_with(
 ) -> Result<Engine, EngineError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| EngineError::Toml(format!("cannot read the engine file: {e}")))?;
+    parse_with(&text, path, build)
+}
+
+/// Checks engine-file `text` read from `path` (its stem the default name,
+/// `diagram` resolved against its folder): [`read`] without reading.
+pub fn parse_file(text: &str, path: &Path) -> Result<Engine, EngineError> {
+    parse_with(text, path, EngineBuilder::build)
+}
+
+fn parse_with(
+    text: &str,
+    path: &Path,
+    build: fn(EngineBuilder) -> Result<Engine, EngineError>,
+) -> Result<Engine, EngineError> {
     let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "engine".into());
-    let (builder, defaults) = raw_builder(&text, &stem)?;
+    let (builder, defaults) = raw_builder(text, &stem)?;
     let mut engine = build(builder)?;
     engine.defaults_taken = defaults;
     if let Some(d) = &engine.diagram

@@ -64,6 +64,19 @@ pub enum EngineError {
     },
 }
 
+impl EngineError {
+    /// The engine-file key at fault, when one is (for an unknown key, the
+    /// key as written; for a mechanism that cannot exist, its keys).
+    pub fn key(&self) -> Option<&str> {
+        match self {
+            EngineError::Toml(_) => None,
+            EngineError::UnknownKey { key, .. } | EngineError::InvalidItem { key, .. } => Some(key),
+            EngineError::Missing { key, .. } | EngineError::Invalid { key, .. } => Some(key),
+            EngineError::Mechanism { keys, .. } => Some(keys),
+        }
+    }
+}
+
 /// "; [masses] takes: piston_group_kg, rod_kg, …" for an unknown key
 /// with no close match, so that the user need not guess.
 fn valid_keys(section: &str, valid: &[String]) -> String {

@@ -121,6 +121,9 @@ pub enum Source<'a> {
     File(&'a Path),
     /// The bundled example's text.
     Bundled(&'a [u8]),
+    /// Text given in memory (an engine from a string, arrays), under the
+    /// name `inputs` gives it.
+    Text(&'a str, &'a [u8]),
 }
 
 impl Source<'_> {
@@ -129,6 +132,7 @@ impl Source<'_> {
         Ok(match self {
             Source::File(p) => (p.display().to_string(), out::sha256_file(p)?),
             Source::Bundled(text) => ("bundled".to_string(), out::sha256_hex(text)),
+            Source::Text(name, text) => (name.to_string(), out::sha256_hex(text)),
         })
     }
 }

@@ -1,0 +1,269 @@
+//! Reading diagrams: reader options onto ingest's, files opened safely,
+//! one diagram streamed onto the grid or read whole, per-cylinder files
+//! merged, the grid step checked.
+
+use crate::engine::{Bundled, Loaded};
+use crate::error::{Error, Result};
+use crate::options::Reader;
+use enginedyn_engine::Engine;
+use enginedyn_ingest::{GridOptions, ParseOptions, Peg, Resampled};
+use std::path::{Path, PathBuf};
+
+/// A diagram to read: a file, or a bundled example's.
+#[derive(Debug, Clone, Copy)]
+pub enum Input<'a> {
+    /// A file.
+    File(&'a Path),
+    /// A bundled example's diagram.
+    Bundled(&'static Bundled),
+}
+
+impl Input<'_> {
+    /// How messages name it.
+    pub fn shown(&self) -> String {
+        match self {
+            Input::File(p) => p.display().to_string(),
+            Input::Bundled(b) => b.diagram_name(),
+        }
+    }
+}
+
+/// How to read and grid a diagram for `engine`, from the reader options,
+/// the grid step and the interpolant.
+pub fn diagram_options(
+    engine: &Engine,
+    d: &Reader,
+    step: f64,
+    interp: enginedyn_ingest::Interp,
+) -> Result<(ParseOptions, GridOptions)> {
+    let peg = match (d.peg_bar, d.peg_polytropic) {
+        (Some(p), _) if p.is_finite() && p > 0.0 => Some(Peg::Bar(p * 1e5)),
+        (Some(p), _) => {
+            return Err(Error::usage(format!(
+                "--peg-bar {p}: an absolute pressure in bar above 0 is needed"
+            )));
+        }
+        (None, Some(n)) => Some(Peg::Polytropic(n)),
+        (None, None) => None,
+    };
+    let cylinder = Some(*engine.cylinder());
+    let parse = ParseOptions {
+        cycle_deg: engine.cycle().to_degrees(),
+        tdc_deg: d.tdc_deg.unwrap_or(0.0),
+        tdc_given: d.tdc_deg.is_some(),
+        relative: peg.is_some(),
+        skip_lines: d.skip_lines.map_or(0, |n| n as usize),
+        sheet: d.sheet.as_ref().map(|s| match s.trim().parse::<usize>() {
+            Ok(n) => enginedyn_ingest::Sheet::Index(n),
+            Err(_) => enginedyn_ingest::Sheet::Name(s.clone()),
+        }),
+        max_gap_deg: d.max_gap_deg.unwrap_or(enginedyn_ingest::MAX_GAP_DEG),
+        tdc_time: d.tdc_time,
+        gain_bar_per_v: d.gain_bar_per_v,
+        rpm: d.rpm,
+        gauge: d.gauge,
+        columns: d
+            .columns
+            .as_ref()
+            .map(|c| c.iter().map(|s| s.trim().to_ascii_lowercase()).collect()),
+        cylinder,
+        pv_start_bdc: d.pv_start_bdc,
+        max_cylinder: engine.cylinders(),
+        firing_deg: engine
+            .firing_angles()
+            .iter()
+            .map(|t| t.to_degrees())
+            .collect(),
+        cylinder_axis: d.cylinder_axis,
+        as_cylinder: 0,
+        torque: false,
+    };
+    let mut grid = GridOptions {
+        step_deg: step,
+        interp,
+        peg,
+        cylinder,
+        volume_law: None,
+    };
+    // Built once here for every file the command reads.
+    grid.share_volume_law(parse.cycle_deg);
+    Ok((parse, grid))
+}
+
+/// Opens a diagram (or torque) file for reading: a regular file only. A
+/// FIFO or a device is refused before anything is read (opening a FIFO
+/// would block a batch forever; a device may never end), and so is a
+/// folder.
+pub fn open_diagram(p: &Path) -> Result<std::fs::File> {
+    let shown = p.display();
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        // Open never blocks (a FIFO without a writer); reads of a regular
+        // file are unaffected by the flag.
+        options.custom_flags(libc::O_NONBLOCK);
+    }
+    let file = options
+        .open(p)
+        .map_err(|e| Error::io(format!("cannot open: {e}")).in_file(&shown))?;
+    let meta = file
+        .metadata()
+        .map_err(|e| Error::io(format!("cannot open: {e}")).in_file(&shown))?;
+    if !meta.is_file() {
+        let what = if meta.is_dir() {
+            "a folder"
+        } else {
+            "not a regular file (a FIFO, socket or device)"
+        };
+        return Err(
+            Error::io(format!("{what}: a diagram is read from a regular file")).in_file(shown),
+        );
+    }
+    Ok(file)
+}
+
+/// Reads one diagram straight onto the grid.
+pub fn load_diagram(
+    input: Input<'_>,
+    parse: &ParseOptions,
+    grid: &GridOptions,
+) -> Result<Resampled> {
+    let mut unused = std::time::Duration::ZERO;
+    load_diagram_timed(input, parse, grid, &mut unused)
+}
+
+/// [`load_diagram`], adding the time spent after parsing (putting the
+/// traces on the grid) to `on_grid`.
+pub fn load_diagram_timed(
+    input: Input<'_>,
+    parse: &ParseOptions,
+    grid: &GridOptions,
+    on_grid: &mut std::time::Duration,
+) -> Result<Resampled> {
+    match input {
+        Input::File(p) => {
+            let file = open_diagram(p)?;
+            enginedyn_ingest::load_timed(
+                // The reader keeps its own 64 KiB blocks: a small BufReader
+                // passes those reads straight through instead of copying.
+                std::io::BufReader::with_capacity(1 << 12, file),
+                parse,
+                grid,
+                on_grid,
+            )
+            .map_err(|e| Error::from(e).in_file(p.display()))
+        }
+        Input::Bundled(b) => {
+            enginedyn_ingest::load_timed(b.diagram.as_bytes(), parse, grid, on_grid)
+                .map_err(|e| Error::from(e).in_file(b.diagram_name()))
+        }
+    }
+}
+
+/// Reads a whole diagram into memory (every trace), for the commands that
+/// put it on several grids.
+pub fn parse_diagram(input: Input<'_>, parse: &ParseOptions) -> Result<enginedyn_ingest::Diagram> {
+    match input {
+        Input::File(path) => {
+            let file = open_diagram(path)?;
+            enginedyn_ingest::parse(std::io::BufReader::with_capacity(1 << 12, file), parse)
+                .map_err(|e| Error::from(e).in_file(path.display()))
+        }
+        Input::Bundled(b) => enginedyn_ingest::parse(b.diagram.as_bytes(), parse)
+            .map_err(|e| Error::from(e).in_file(b.diagram_name())),
+    }
+}
+
+/// Reads every cell and builds every trace of a diagram, then drops them:
+/// the parse floor of the benchmark.
+pub fn parse_only(f: &Path, parse: &ParseOptions) -> Result<()> {
+    let file = open_diagram(f)?;
+    enginedyn_ingest::parse_stream(
+        std::io::BufReader::with_capacity(1 << 12, file),
+        parse,
+        |_| Ok(()),
+    )
+    .map_err(|e| Error::from(e).in_file(f.display()))?;
+    Ok(())
+}
+
+/// The diagram a command needs: the one given, else the engine file's
+/// `diagram` key, else a usage error that says so.
+pub fn diagram_path(given: Option<&Path>, loaded: &Loaded) -> Result<PathBuf> {
+    match given {
+        Some(p) => Ok(p.to_path_buf()),
+        None => loaded
+            .engine
+            .diagram()
+            .map(Path::to_path_buf)
+            .ok_or_else(|| {
+                Error::usage(format!(
+                    "no indicator diagram: give --diagram or `diagram =` in {}",
+                    loaded
+                        .path
+                        .as_deref()
+                        .map(|p| p.display().to_string())
+                        .unwrap_or_else(|| "the engine file".into())
+                ))
+            }),
+    }
+}
+
+/// One trace per file and cylinder, in cylinder order 1..z, as one diagram.
+pub fn merge_per_cylinder(files: Vec<(String, Resampled)>) -> Result<Resampled> {
+    let mut it = files.into_iter();
+    let Some((_, mut first)) = it.next() else {
+        return Err(Error::usage("no diagram"));
+    };
+    let Some((name, second)) = it.next() else {
+        // One file: all cylinders, or its own `cylinder` column.
+        return Ok(first);
+    };
+    if !first.cylinders.is_empty() {
+        return Err(Error::usage(
+            "several --diagram files are one trace per cylinder: a file with a `cylinder` column must come alone",
+        ));
+    }
+    let mut cylinders = vec![std::mem::take(&mut first.pressure)];
+    for (name, r) in std::iter::once((name, second)).chain(it) {
+        if !r.cylinders.is_empty() {
+            return Err(Error::usage(format!(
+                "{name}: has a `cylinder` column; with several --diagram files each file is one cylinder"
+            )));
+        }
+        first.cycles = first.cycles.min(r.cycles);
+        first.stats.extend(r.stats);
+        for n in r.notes {
+            // One axis note for the files (each file's says the same kind).
+            let same_kind = n.starts_with("cylinder traces ")
+                && first
+                    .notes
+                    .iter()
+                    .any(|m| m.starts_with("cylinder traces "));
+            if !first.notes.contains(&n) && !same_kind {
+                first.notes.push(n);
+            }
+        }
+        cylinders.push(r.pressure);
+    }
+    first.pressure = cylinders[0].clone();
+    first.cylinders = cylinders;
+    Ok(first)
+}
+
+/// The grid step must be positive and divide the cycle.
+pub fn check_step(engine: &Engine, step: f64) -> Result<()> {
+    let cycle_deg = engine.cycle().to_degrees();
+    let n = (cycle_deg / step).round();
+    if !(step.is_finite() && step > 0.0)
+        || (n * step - cycle_deg).abs() > 1e-9 * cycle_deg
+        || n < 8.0
+    {
+        return Err(Error::usage(format!(
+            "--step {step}: the step must divide the {cycle_deg}° cycle (0.1, 0.2, 0.25, 0.5, 1, …)"
+        )));
+    }
+    Ok(())
+}

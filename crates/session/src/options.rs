@@ -1,0 +1,306 @@
+//! Reader and method options: plain structs, their bounds checked in one
+//! place. The CLI's flag parsers and the Python package's keyword
+//! arguments both come here, so a bound, a default or its message is
+//! written once.
+
+use crate::error::{Error, Result};
+use enginedyn_numerics::format::{human, quote};
+
+/// A number from `lo` to `hi` (both included), read by the one number rule
+/// of cells, banners and comment lines, or why not.
+pub fn number_in(s: &str, lo: f64, hi: f64, unit: &str) -> std::result::Result<f64, String> {
+    let v = enginedyn_ingest::read_number(s, false).map_err(|e| format!("`{}` {e}", quote(s)))?;
+    within(v, lo, hi, unit).map_err(|_| {
+        format!(
+            "{} is outside {} to {}{unit}",
+            quote(s.trim()),
+            human(lo),
+            human(hi)
+        )
+    })
+}
+
+fn within(v: f64, lo: f64, hi: f64, unit: &str) -> std::result::Result<f64, String> {
+    if v.is_finite() && v >= lo && v <= hi {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{} is outside {} to {}{unit}",
+            human(v),
+            human(lo),
+            human(hi)
+        ))
+    }
+}
+
+/// One option's bound: its range, its unit, and whether its low end is
+/// excluded (with the message when it is reached).
+#[derive(Debug, Clone, Copy)]
+pub struct Bound {
+    /// The lowest value.
+    pub lo: f64,
+    /// The highest value.
+    pub hi: f64,
+    /// The unit as a message writes it after a number (`°`, ` bar`).
+    pub unit: &'static str,
+    /// `Some(why)`: the low end itself is refused, saying why.
+    pub above_lo: Option<&'static str>,
+}
+
+impl Bound {
+    const fn closed(lo: f64, hi: f64, unit: &'static str) -> Self {
+        Self {
+            lo,
+            hi,
+            unit,
+            above_lo: None,
+        }
+    }
+    /// A value as the user wrote it (a flag): read, then checked.
+    pub fn read(&self, s: &str) -> std::result::Result<f64, String> {
+        let v = number_in(s, self.lo, self.hi, self.unit)?;
+        self.check_low(v)
+    }
+    /// A value already a number (a keyword argument), checked.
+    pub fn check(&self, v: f64) -> std::result::Result<f64, String> {
+        let v = within(v, self.lo, self.hi, self.unit)?;
+        self.check_low(v)
+    }
+    fn check_low(&self, v: f64) -> std::result::Result<f64, String> {
+        match self.above_lo {
+            Some(why) if v <= self.lo => Err(why.to_string()),
+            _ => Ok(v),
+        }
+    }
+}
+
+/// The grid step (deg), INTERFACE.md's "Limits".
+pub const STEP: Bound = Bound::closed(0.001, 10.0, "°");
+/// The grid step when none is given (deg).
+pub const DEFAULT_STEP_DEG: f64 = 0.1;
+/// `tdc_deg`: any finite offset a file's angles can carry.
+pub const TDC_DEG: Bound = Bound::closed(-1e5, 1e5, "°");
+/// `peg_bar`: an absolute pressure above 0 up to 10 kbar.
+pub const PEG_BAR: Bound = Bound {
+    lo: 0.0,
+    hi: 1e4,
+    unit: " bar",
+    above_lo: Some("an absolute pressure above 0 bar is needed"),
+};
+/// `max_gap_deg`: 0 to 360°.
+pub const MAX_GAP: Bound = Bound::closed(0.0, enginedyn_ingest::MAX_GAP_BOUND_DEG, "°");
+/// `tdc_time`: any finite time within ±1e9 s.
+pub const TDC_TIME: Bound = Bound::closed(-1e9, 1e9, "");
+/// `gain_bar_per_v`: above 0 up to 1e6 bar per volt.
+pub const GAIN: Bound = Bound {
+    lo: 0.0,
+    hi: 1e6,
+    unit: " bar/V",
+    above_lo: Some("a gain above 0 bar/V is needed"),
+};
+/// `tolerance`: a relative error from 1e-6 to 0.5.
+pub const TOLERANCE: Bound = Bound::closed(1e-6, 0.5, "");
+/// `skip_lines`: up to a million.
+pub const MAX_SKIP_LINES: u32 = 1_000_000;
+/// The most worker threads of a batch (INTERFACE.md, "Limits").
+pub const MAX_JOBS: usize = 256;
+/// The most Monte Carlo samples (INTERFACE.md, "Limits").
+pub const MAX_SAMPLES: u64 = 10_000_000;
+/// The default polytropic exponent of `peg = polytropic`.
+pub const POLYTROPIC_N: f64 = 1.32;
+
+/// An engine speed as the user wrote it: read by the one speed reader of
+/// the diagram's `# rpm` line and banners (`4.9e3`, `4,900`; held to the
+/// speed bound).
+pub fn read_rpm(s: &str) -> std::result::Result<f64, String> {
+    enginedyn_ingest::read_rpm(s).map_err(|e| match e {
+        enginedyn_ingest::SpeedError::Number(n) => {
+            format!("`{s}` {n}: the engine speed must be a number of rpm from 0.001 to 100000 rpm")
+        }
+        e => format!(
+            "{} rpm {e}",
+            human(enginedyn_ingest::read_number(s, false).unwrap_or(f64::NAN))
+        ),
+    })
+}
+
+/// An engine speed given as a number, held to the speed bound.
+pub fn check_rpm(v: f64) -> std::result::Result<f64, String> {
+    read_rpm(&format!("{v:?}"))
+}
+
+/// Reads `polytropic` or `polytropic=N` (1 < N < 2): the exponent.
+pub fn read_peg(s: &str) -> std::result::Result<f64, String> {
+    let t = s.trim();
+    let rest = t
+        .strip_prefix("polytropic")
+        .ok_or_else(|| format!("expected polytropic or polytropic=N, not `{t}`"))?;
+    if rest.is_empty() {
+        return Ok(POLYTROPIC_N);
+    }
+    rest.strip_prefix('=')
+        .and_then(|v| enginedyn_ingest::read_number(v, false).ok())
+        .filter(|n| check_polytropic(*n).is_ok())
+        .ok_or_else(|| format!("expected polytropic=N with 1 < N < 2, not `{t}`"))
+}
+
+/// A polytropic exponent for pegging: 1 < N < 2.
+pub fn check_polytropic(n: f64) -> std::result::Result<f64, String> {
+    if n.is_finite() && n > 1.0 && n < 2.0 {
+        Ok(n)
+    } else {
+        Err(format!(
+            "polytropic exponent {}: 1 < N < 2 is needed",
+            human(n)
+        ))
+    }
+}
+
+/// Per-cylinder traces: over cylinder 1's crank angle, or each over its own.
+pub use enginedyn_ingest::CylinderAxis;
+
+/// How a diagram is read (INTERFACE.md, "Indicator diagram"): the reader
+/// flags of `run`, `batch`, `sweep` and the studies.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Reader {
+    /// Per-cylinder traces over cylinder 1's angle or each over its own
+    /// (`None`: from where the peaks lie).
+    pub cylinder_axis: Option<CylinderAxis>,
+    /// The file's angle value that is firing TDC (deg).
+    pub tdc_deg: Option<f64>,
+    /// Pressures are gauge (relative to 1.01325 bar).
+    pub gauge: bool,
+    /// Column names for a file without a header (or replacing it).
+    pub columns: Option<Vec<String>>,
+    /// Peg each cycle at this absolute pressure (bar) around intake BDC.
+    pub peg_bar: Option<f64>,
+    /// Peg each cycle so p V^N is constant on compression: N.
+    pub peg_polytropic: Option<f64>,
+    /// p–V data starts at the BDC before firing TDC (else at firing TDC).
+    pub pv_start_bdc: bool,
+    /// Lines skipped at the top of the file.
+    pub skip_lines: Option<u32>,
+    /// A workbook's sheet: its name or its number from 1.
+    pub sheet: Option<String>,
+    /// The widest gap bridged in a single digitised cycle (deg).
+    pub max_gap_deg: Option<f64>,
+    /// A time record's firing TDC time (s).
+    pub tdc_time: Option<f64>,
+    /// A charge amplifier's gain (bar per volt).
+    pub gain_bar_per_v: Option<f64>,
+    /// The engine speed (rpm): overrides the diagram's and the engine file's.
+    pub rpm: Option<f64>,
+}
+
+impl Reader {
+    /// Every bound checked; the error names the option as `name` gives it
+    /// (the CLI's flags are checked by their parsers before this).
+    pub fn check(&self, name: impl Fn(&str) -> String) -> Result<()> {
+        let bad = |field: &str, why: String| Error::usage(format!("{}: {why}", name(field)));
+        let each: [(&str, Option<f64>, &Bound); 5] = [
+            ("tdc_deg", self.tdc_deg, &TDC_DEG),
+            ("peg_bar", self.peg_bar, &PEG_BAR),
+            ("max_gap_deg", self.max_gap_deg, &MAX_GAP),
+            ("tdc_time", self.tdc_time, &TDC_TIME),
+            ("gain_bar_per_v", self.gain_bar_per_v, &GAIN),
+        ];
+        for (field, v, b) in each {
+            if let Some(v) = v {
+                b.check(v).map_err(|w| bad(field, w))?;
+            }
+        }
+        if self.peg_bar.is_some() && self.peg_polytropic.is_some() {
+            return Err(bad(
+                "peg",
+                format!("cannot be used with {}", name("peg_bar")),
+            ));
+        }
+        if let Some(n) = self.peg_polytropic {
+            check_polytropic(n).map_err(|w| bad("peg", w))?;
+        }
+        if let Some(n) = self.skip_lines
+            && n > MAX_SKIP_LINES
+        {
+            return Err(bad(
+                "skip_lines",
+                format!("{n} is outside 0 to {MAX_SKIP_LINES}"),
+            ));
+        }
+        if let Some(r) = self.rpm {
+            check_rpm(r).map_err(|w| bad("rpm", w))?;
+        }
+        Ok(())
+    }
+}
+
+/// How the computation is done (INTERFACE.md's method options). Each is
+/// `None` unless given, so that a tolerance can keep the ones given.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Method {
+    /// Grid step (deg) [default: 0.1].
+    pub step_deg: Option<f64>,
+    /// Piston kinematics [default: exact].
+    pub kinematics: Option<enginedyn_kinematics::Model>,
+    /// Connecting-rod mass model [default: the engine file's].
+    pub rod_model: Option<enginedyn_engine::RodModel>,
+    /// Interpolation onto the grid [default: auto].
+    pub interp: Option<enginedyn_ingest::Interp>,
+    /// Integration rule [default: trapezoid].
+    pub integration: Option<enginedyn_numerics::integrate::Rule>,
+    /// The cheapest setting whose estimated relative error is below this.
+    pub tolerance: Option<f64>,
+}
+
+impl Method {
+    /// The grid step (deg): given or the default.
+    pub fn step(&self) -> f64 {
+        self.step_deg.unwrap_or(DEFAULT_STEP_DEG)
+    }
+
+    /// The pipeline options, defaults where none is given.
+    pub fn options(&self) -> enginedyn_pipeline::Options {
+        let d = enginedyn_pipeline::Options::default();
+        enginedyn_pipeline::Options {
+            step_deg: self.step(),
+            kinematics: self.kinematics.unwrap_or(d.kinematics),
+            rod_model: self.rod_model,
+            interp: self.interp.unwrap_or(d.interp),
+            integration: self.integration.unwrap_or(d.integration),
+            scope: enginedyn_pipeline::Scope::Full,
+        }
+    }
+
+    /// The options given explicitly, which a tolerance keeps.
+    pub fn kept(&self) -> enginedyn_accuracy::Kept {
+        enginedyn_accuracy::Kept {
+            step_deg: self.step_deg,
+            kinematics: self.kinematics,
+            rod_model: self.rod_model,
+            interp: self.interp,
+            integration: self.integration,
+        }
+    }
+
+    /// Every bound checked; the error names the option as `name` gives it.
+    pub fn check(&self, name: impl Fn(&str) -> String) -> Result<()> {
+        if let Some(s) = self.step_deg {
+            STEP.check(s)
+                .map_err(|w| Error::usage(format!("{}: {w}", name("step_deg"))))?;
+        }
+        if let Some(t) = self.tolerance {
+            check_tolerance(t, &name("tolerance"))?;
+        }
+        Ok(())
+    }
+}
+
+/// A tolerance (relative error) within its bound; `shown` names it.
+pub fn check_tolerance(t: f64, shown: &str) -> Result<f64> {
+    if (TOLERANCE.lo..=TOLERANCE.hi).contains(&t) {
+        Ok(t)
+    } else {
+        Err(Error::usage(format!(
+            "{shown} {t}: a relative error between 1e-6 and 0.5 is needed"
+        )))
+    }
+}
