@@ -19,6 +19,7 @@
 use enginedyn_kinematics::Cylinder;
 use std::io::BufRead;
 
+mod arrays;
 mod axis;
 mod columns;
 mod error;
@@ -324,8 +325,38 @@ pub fn load_timed(
     grid: &GridOptions,
     on_grid: &mut std::time::Duration,
 ) -> Result<Resampled, IngestError> {
+    load_from(|sink| parse_stream(reader, opts, sink), opts, grid, on_grid)
+}
+
+/// [`load`] of named columns already in memory (all of one length): the
+/// same reader, rule for rule, as a file with that header and those rows.
+/// Line numbers in errors are sample numbers from 1.
+pub fn load_columns(
+    names: &[String],
+    columns: &[&[f64]],
+    opts: &ParseOptions,
+    grid: &GridOptions,
+) -> Result<Resampled, IngestError> {
+    let mut unused = std::time::Duration::ZERO;
+    load_from(
+        |sink| arrays::read(names, columns, opts, sink),
+        opts,
+        grid,
+        &mut unused,
+    )
+}
+
+/// Every trace `source` hands over put on the grid as it comes.
+fn load_from(
+    source: impl FnOnce(
+        &mut dyn FnMut(Streamed) -> Result<(), IngestError>,
+    ) -> Result<Header, IngestError>,
+    opts: &ParseOptions,
+    grid: &GridOptions,
+    on_grid: &mut std::time::Duration,
+) -> Result<Resampled, IngestError> {
     let mut acc: Option<Accumulator> = None;
-    let h = parse_stream(reader, opts, |t| {
+    let h = source(&mut |t| {
         let started = std::time::Instant::now();
         if acc.is_none() {
             acc = Some(Accumulator::new(grid.clone(), opts.cycle_deg, t.quantity)?);

@@ -17,7 +17,6 @@
 use enginedyn_engine::Engine;
 use enginedyn_numerics::format::csv_text;
 use enginedyn_pipeline::{Analysis, Summary, Value};
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 mod chart;
@@ -361,82 +360,123 @@ fn num(out: &mut String, x: f64) {
 /// `[-cycle/2, cycle/2)`, rows from `-cycle/2`, as indicating software shows them.
 pub fn curves_csv(a: &Analysis, centered: bool) -> String {
     let n = a.torque.total.len();
-    let w = a.summary.omega_rad_s;
-    let throws = a.torque.journals.len();
     let mut s = String::with_capacity(n * 420);
-    s.push_str(
-        "crank_deg,pressure_bar,volume_m3,piston_x_m,piston_v_m_s,piston_a_m_s2,rod_angle_deg,\
-         force_gas_n,force_inertia_n,force_total_n,force_side_n,force_rod_n,force_radial_n,\
-         force_tangential_n,crankpin_load_n,crankpin_load_angle_deg,torque_cylinder_nm,\
-         torque_engine_nm,excess_energy_j",
-    );
-    for k in 1..=throws {
-        let _ = write!(s, ",torque_journal_{k}_nm");
-    }
-    for k in 1..=a.bearings.len() {
-        let _ = write!(s, ",main_bearing_{k}_n");
-    }
-    for k in 1..=a.torque.crankpins.len() {
-        let _ = write!(s, ",torque_crankpin_{k}_nm");
-    }
-    if a.flywheel.is_some() {
-        s.push_str(",speed_rad_s");
-    }
+    s.push_str(&curve_names(a).join(","));
     s.push('\n');
-    let f = &a.forces;
-    let kin = &a.kinematics;
-    let at = |v: &[f64], k: usize| v.get(k).copied();
-    let cycle = (n as f64 * a.step).to_degrees();
+    let mut row = Vec::new();
     for row_index in 0..n {
-        let k = if centered {
-            (row_index + n / 2) % n
-        } else {
-            row_index
-        };
-        let mut angle = (k as f64 * a.step).to_degrees();
-        if centered && k >= n / 2 {
-            angle -= cycle;
-        }
-        let row = [
-            Some(round_angle(angle)),
-            at(&a.pressure, k).map(|p| p / 1e5),
-            at(&a.volume, k),
-            at(&kin.x, k),
-            at(&kin.dx, k).map(|v| v * w),
-            at(&kin.d2x, k).map(|v| v * w * w),
-            at(&kin.beta, k).map(f64::to_degrees),
-            at(&f.gas, k),
-            at(&f.inertia, k),
-            at(&f.total, k),
-            at(&f.side, k),
-            at(&f.rod, k),
-            at(&f.radial, k),
-            at(&f.tangential, k),
-            at(&f.pin_load, k),
-            (k < f.pin_radial.len()).then(|| f.pin_angle_deg(k)),
-            at(&a.cylinder_torque, k),
-            at(&a.torque.total, k),
-            at(&a.uniformity.excess_energy, k),
-        ];
-        let extra = a
-            .torque
-            .journals
-            .iter()
-            .chain(&a.bearings)
-            .chain(&a.torque.crankpins)
-            .map(|j| at(j, k))
-            .chain(a.flywheel.iter().map(|fw| at(&fw.speed, k)));
-        for (i, x) in row.into_iter().chain(extra).enumerate() {
+        curve_row(a, row_index, centered, &mut row);
+        for (i, x) in row.iter().enumerate() {
             if i > 0 {
                 s.push(',');
             }
             if let Some(x) = x {
-                num(&mut s, x);
+                num(&mut s, *x);
             }
         }
         s.push('\n');
     }
     s
+}
+
+/// The columns of `curves.csv`, in its order.
+pub fn curve_names(a: &Analysis) -> Vec<String> {
+    let mut names: Vec<String> = [
+        "crank_deg",
+        "pressure_bar",
+        "volume_m3",
+        "piston_x_m",
+        "piston_v_m_s",
+        "piston_a_m_s2",
+        "rod_angle_deg",
+        "force_gas_n",
+        "force_inertia_n",
+        "force_total_n",
+        "force_side_n",
+        "force_rod_n",
+        "force_radial_n",
+        "force_tangential_n",
+        "crankpin_load_n",
+        "crankpin_load_angle_deg",
+        "torque_cylinder_nm",
+        "torque_engine_nm",
+        "excess_energy_j",
+    ]
+    .map(String::from)
+    .to_vec();
+    names.extend((1..=a.torque.journals.len()).map(|k| format!("torque_journal_{k}_nm")));
+    names.extend((1..=a.bearings.len()).map(|k| format!("main_bearing_{k}_n")));
+    names.extend((1..=a.torque.crankpins.len()).map(|k| format!("torque_crankpin_{k}_nm")));
+    if a.flywheel.is_some() {
+        names.push("speed_rad_s".into());
+    }
+    names
+}
+
+/// The columns of `curves.csv` as numbers, NaN where its cell is empty
+/// (the same values, bit for bit, as the file holds).
+pub fn curve_columns(a: &Analysis, centered: bool) -> Vec<(String, Vec<f64>)> {
+    let names = curve_names(a);
+    let n = a.torque.total.len();
+    let mut columns = vec![Vec::with_capacity(n); names.len()];
+    let mut row = Vec::new();
+    for row_index in 0..n {
+        curve_row(a, row_index, centered, &mut row);
+        for (c, x) in columns.iter_mut().zip(&row) {
+            c.push(x.unwrap_or(f64::NAN));
+        }
+    }
+    names.into_iter().zip(columns).collect()
+}
+
+/// Row `row_index` of `curves.csv` into `row` (`None`: an empty cell).
+fn curve_row(a: &Analysis, row_index: usize, centered: bool, row: &mut Vec<Option<f64>>) {
+    let n = a.torque.total.len();
+    let w = a.summary.omega_rad_s;
+    let f = &a.forces;
+    let kin = &a.kinematics;
+    let at = |v: &[f64], k: usize| v.get(k).copied();
+    let cycle = (n as f64 * a.step).to_degrees();
+    let k = if centered {
+        (row_index + n / 2) % n
+    } else {
+        row_index
+    };
+    let mut angle = (k as f64 * a.step).to_degrees();
+    if centered && k >= n / 2 {
+        angle -= cycle;
+    }
+    row.clear();
+    row.extend([
+        Some(round_angle(angle)),
+        at(&a.pressure, k).map(|p| p / 1e5),
+        at(&a.volume, k),
+        at(&kin.x, k),
+        at(&kin.dx, k).map(|v| v * w),
+        at(&kin.d2x, k).map(|v| v * w * w),
+        at(&kin.beta, k).map(f64::to_degrees),
+        at(&f.gas, k),
+        at(&f.inertia, k),
+        at(&f.total, k),
+        at(&f.side, k),
+        at(&f.rod, k),
+        at(&f.radial, k),
+        at(&f.tangential, k),
+        at(&f.pin_load, k),
+        (k < f.pin_radial.len()).then(|| f.pin_angle_deg(k)),
+        at(&a.cylinder_torque, k),
+        at(&a.torque.total, k),
+        at(&a.uniformity.excess_energy, k),
+    ]);
+    row.extend(
+        a.torque
+            .journals
+            .iter()
+            .chain(&a.bearings)
+            .chain(&a.torque.crankpins)
+            .map(|j| at(j, k))
+            .chain(a.flywheel.iter().map(|fw| at(&fw.speed, k))),
+    );
 }
 
 /// Grid angles are printed without binary noise (0.30000000000000004 → 0.3).
@@ -447,26 +487,43 @@ fn round_angle(x: f64) -> f64 {
 /// `harmonics.csv`: amplitude and phase by engine order (cylinder columns
 /// empty when only the engine torque is known).
 pub fn harmonics_csv(a: &Analysis) -> String {
-    let mut s = String::from(
-        "order,cylinder_amplitude_nm,cylinder_phase_deg,engine_amplitude_nm,engine_phase_deg\n",
-    );
-    for (i, e) in a.engine_harmonics.iter().enumerate() {
-        num(&mut s, e.order);
-        let c = a.cylinder_harmonics.get(i);
-        for x in [
-            c.map(|c| c.amplitude),
-            c.map(|c| c.phase.to_degrees()),
-            Some(e.amplitude),
-            Some(e.phase.to_degrees()),
-        ] {
-            s.push(',');
+    let mut s = HARMONIC_NAMES.join(",");
+    s.push('\n');
+    for row in harmonic_rows(a) {
+        for (i, x) in row.iter().enumerate() {
+            if i > 0 {
+                s.push(',');
+            }
             if let Some(x) = x {
-                num(&mut s, x);
+                num(&mut s, *x);
             }
         }
         s.push('\n');
     }
     s
+}
+
+/// The columns of `harmonics.csv`.
+pub const HARMONIC_NAMES: [&str; 5] = [
+    "order",
+    "cylinder_amplitude_nm",
+    "cylinder_phase_deg",
+    "engine_amplitude_nm",
+    "engine_phase_deg",
+];
+
+/// The rows of `harmonics.csv` (`None`: an empty cell).
+pub fn harmonic_rows(a: &Analysis) -> impl Iterator<Item = [Option<f64>; 5]> + '_ {
+    a.engine_harmonics.iter().enumerate().map(|(i, e)| {
+        let c = a.cylinder_harmonics.get(i);
+        [
+            Some(e.order),
+            c.map(|c| c.amplitude),
+            c.map(|c| c.phase.to_degrees()),
+            Some(e.amplitude),
+            Some(e.phase.to_degrees()),
+        ]
+    })
 }
 
 /// Every file of `run --out DIR`, as (name, contents); `centered` as in

@@ -304,3 +304,67 @@ pub fn check_tolerance(t: f64, shown: &str) -> Result<f64> {
         )))
     }
 }
+
+/// The reader options by the names both front ends give them (the CLI's
+/// flags without `--`, `-` as `_`; INTERFACE.md, "Python package").
+pub const READER_KEYS: &[&str] = &[
+    "cylinder_axis",
+    "tdc_deg",
+    "gauge",
+    "columns",
+    "peg_bar",
+    "peg",
+    "pv_start",
+    "skip_lines",
+    "sheet",
+    "max_gap_deg",
+    "tdc_time",
+    "gain_bar_per_v",
+    "rpm",
+];
+
+/// The method options by name.
+pub const METHOD_KEYS: &[&str] = &[
+    "step_deg",
+    "kinematics",
+    "rod_model",
+    "interp",
+    "integration",
+    "tolerance",
+];
+
+/// `kinematics` by name.
+pub const KINEMATICS: &[(&str, enginedyn_kinematics::Model)] = &[
+    ("exact", enginedyn_kinematics::Model::Exact),
+    ("series2", enginedyn_kinematics::Model::Series2),
+    ("series4", enginedyn_kinematics::Model::Series4),
+    ("series6", enginedyn_kinematics::Model::Series6),
+];
+
+/// `rod_model` by name.
+pub const ROD_MODELS: &[(&str, enginedyn_engine::RodModel)] = &[
+    ("two-mass", enginedyn_engine::RodModel::TwoMass),
+    ("three-mass", enginedyn_engine::RodModel::ThreeMass),
+    ("rigid", enginedyn_engine::RodModel::Rigid),
+];
+
+/// `interp` by name.
+pub const INTERPOLANTS: &[(&str, enginedyn_ingest::Interp)] = &[
+    ("auto", enginedyn_ingest::Interp::Auto),
+    ("linear", enginedyn_ingest::Interp::Linear),
+    ("spline", enginedyn_ingest::Interp::Spline),
+    ("pchip", enginedyn_ingest::Interp::Pchip),
+];
+
+/// `integration` by name.
+pub const INTEGRATIONS: &[(&str, enginedyn_numerics::integrate::Rule)] = &[
+    ("trapezoid", enginedyn_numerics::integrate::Rule::Trapezoid),
+    ("simpson", enginedyn_numerics::integrate::Rule::Simpson),
+];
+
+/// `cylinder_axis` by name.
+pub const CYLINDER_AXES: &[(&str, CylinderAxis)] =
+    &[("shared", CylinderAxis::Shared), ("own", CylinderAxis::Own)];
+
+/// `pv_start` by name: `true` for the BDC before firing TDC.
+pub const PV_STARTS: &[(&str, bool)] = &[("tdc", false), ("bdc", true)];

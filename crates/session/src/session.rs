@@ -148,6 +148,39 @@ impl Session {
         })
     }
 
+    /// One operating point from named columns in memory (`crank_deg`,
+    /// `pressure_bar`, `cycle`, `cylinder`, or a time record's `time_s`,
+    /// `tdc`, …): the reader's every rule, as for a file with that header
+    /// and those rows. `rpm` stands for the reader's speed when given.
+    pub fn analyse_columns(
+        &self,
+        names: &[String],
+        columns: &[&[f64]],
+        rpm: Option<f64>,
+    ) -> Result<Outcome> {
+        let rpm = rpm.or(self.reader.rpm);
+        if let Some(r) = rpm {
+            crate::options::check_rpm(r).map_err(|w| Error::usage(format!("rpm: {w}")))?;
+        }
+        let parse = ParseOptions {
+            rpm,
+            ..self.parse.clone()
+        };
+        let resampled = enginedyn_ingest::load_columns(names, columns, &parse, &self.grid)
+            .map_err(|e| Error::from(e).in_file("arrays"))?;
+        if resampled.quantity != Quantity::Pressure {
+            return Err(Error::data("arrays: a turning moment, not a pressure"));
+        }
+        let engine = self.engine();
+        let speed = resolve_rpm(rpm, resampled.rpm, engine)?;
+        let mut analysis = enginedyn_pipeline::analyse(engine, &resampled, speed.rpm, &self.opts)?;
+        analysis.summary.notes.extend(speed.note);
+        Ok(Outcome {
+            analysis,
+            opts: self.opts,
+        })
+    }
+
     /// Ingest's options for the `k`-th of several per-cylinder files
     /// (cylinder k + 1's, its axis judged so), or for one file.
     fn cylinder_parse(&self, several: bool, k: usize) -> ParseOptions {

@@ -1,0 +1,585 @@
+//! `enginedyn._native`: the Python package's binding to `enginedyn-session`,
+//! the same application layer the `enginedyn` command line calls. Nothing
+//! here decides a rule, a bound, a default or a note: options go to
+//! `enginedyn_session::{Reader, Method}` (checked there), analyses to
+//! `Session`, outputs to `enginedyn_report` (the same functions that write
+//! `summary.json`, `curves.csv` and the charts). The GIL is released while
+//! reading and computing. The Python API around it lives in
+//! `python/enginedyn/`.
+
+use enginedyn_session::{Class, Error, Input, Loaded, Method, Reader, Session, Work};
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyException, PyOSError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+create_exception!(
+    _native,
+    EnginedynError,
+    PyException,
+    "Base of every error enginedyn raises (but OSError)."
+);
+create_exception!(
+    _native,
+    DiagramError,
+    EnginedynError,
+    "A diagram that cannot be used (the CLI exits 1): `path`, `line`, `column`."
+);
+create_exception!(
+    _native,
+    EngineFileError,
+    EnginedynError,
+    "A bad engine file (the CLI exits 2): `path`, `key`."
+);
+create_exception!(
+    _native,
+    UsageError,
+    EnginedynError,
+    "A bad option (the CLI exits 2), naming the argument."
+);
+
+/// The library's error as its Python exception, with its attributes.
+fn py_err(e: Error) -> PyErr {
+    Python::attach(|py| {
+        let message = e.to_string();
+        let err = match e.class {
+            Class::Diagram => DiagramError::new_err(message),
+            Class::EngineFile => EngineFileError::new_err(message),
+            Class::Usage => UsageError::new_err(message),
+            Class::Io => PyOSError::new_err(message),
+        };
+        let value = err.value(py);
+        let _ = value.setattr("path", e.file.clone());
+        match e.class {
+            Class::Diagram => {
+                let _ = value.setattr("line", e.line);
+                let _ = value.setattr("column", e.column);
+            }
+            Class::EngineFile => {
+                let _ = value.setattr("key", e.key.clone());
+            }
+            _ => {}
+        }
+        err
+    })
+}
+
+trait OrPy<T> {
+    fn py(self) -> PyResult<T>;
+}
+
+impl<T> OrPy<T> for Result<T, Error> {
+    fn py(self) -> PyResult<T> {
+        self.map_err(py_err)
+    }
+}
+
+/// A checked engine.
+#[pyclass(module = "enginedyn._native", frozen)]
+struct Engine {
+    loaded: Arc<Loaded>,
+}
+
+#[pymethods]
+impl Engine {
+    /// Reads and checks an engine file (TOML).
+    #[staticmethod]
+    fn from_toml(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        let text = std::fs::read_to_string(&path)?;
+        Self::from_str(py, text, Some(path))
+    }
+
+    /// Checks engine-file text; `path`, when given, is where it was read
+    /// from (its name, and the folder `diagram` is relative to).
+    #[staticmethod]
+    #[pyo3(signature = (text, path=None))]
+    fn from_str(py: Python<'_>, text: String, path: Option<PathBuf>) -> PyResult<Self> {
+        let loaded = py
+            .detach(|| Loaded::from_text(text, path.as_deref()))
+            .py()?;
+        Ok(Self {
+            loaded: Arc::new(loaded),
+        })
+    }
+
+    /// A bundled example by name (`vaz2108`, `single`, …).
+    #[staticmethod]
+    fn bundled(name: &str) -> PyResult<Self> {
+        let b = enginedyn_session::Bundled::find(name).py()?;
+        Ok(Self {
+            loaded: Arc::new(Loaded::bundled(b).py()?),
+        })
+    }
+
+    /// The names of the bundled examples.
+    #[staticmethod]
+    fn bundled_names() -> Vec<&'static str> {
+        enginedyn_session::BUNDLED.iter().map(|b| b.name).collect()
+    }
+
+    /// The engine's name.
+    #[getter]
+    fn name(&self) -> String {
+        self.loaded.engine.name().to_string()
+    }
+
+    /// The number of cylinders.
+    #[getter]
+    fn cylinders(&self) -> usize {
+        self.loaded.engine.cylinders()
+    }
+
+    /// The engine file's text.
+    #[getter]
+    fn text(&self) -> String {
+        self.loaded.text.clone()
+    }
+
+    /// The engine file's path, if it came from one.
+    #[getter]
+    fn path(&self) -> Option<PathBuf> {
+        self.loaded.path.clone()
+    }
+
+    /// The bundled example's name, if it is one.
+    #[getter]
+    fn bundled_name(&self) -> Option<&'static str> {
+        self.loaded.bundled.map(|b| b.name)
+    }
+
+    /// The engine file's `diagram`, resolved against its folder.
+    #[getter]
+    fn diagram(&self) -> Option<PathBuf> {
+        self.loaded.engine.diagram().map(PathBuf::from)
+    }
+}
+
+/// A value of an options dict, or `None`.
+fn get<'py, T>(d: &Bound<'py, PyDict>, key: &str) -> PyResult<Option<T>>
+where
+    T: for<'a> FromPyObject<'a, 'py>,
+    for<'a> <T as FromPyObject<'a, 'py>>::Error: Into<PyErr>,
+{
+    match d.get_item(key)? {
+        Some(v) if !v.is_none() => Ok(Some(v.extract::<T>().map_err(|e| {
+            let e: PyErr = e.into();
+            UsageError::new_err(format!("{key}: {e}"))
+        })?)),
+        _ => Ok(None),
+    }
+}
+
+/// A name of an options dict mapped by `table`, or a usage error listing them.
+fn named<'py, T: Copy>(
+    d: &Bound<'py, PyDict>,
+    key: &str,
+    table: &[(&str, T)],
+) -> PyResult<Option<T>> {
+    let Some(name) = get::<String>(d, key)? else {
+        return Ok(None);
+    };
+    table
+        .iter()
+        .find(|(n, _)| n.eq_ignore_ascii_case(name.trim()))
+        .map(|(_, v)| Some(*v))
+        .ok_or_else(|| {
+            UsageError::new_err(format!(
+                "{key}: `{name}` is not one of {}",
+                table.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+            ))
+        })
+}
+
+/// The keyword argument names as Python gives them (`step_deg` as is).
+fn kw(field: &str) -> String {
+    field.to_string()
+}
+
+/// The reader options from a dict of keyword arguments, every bound checked.
+fn reader(d: &Bound<'_, PyDict>) -> PyResult<Reader> {
+    use enginedyn_session::options as o;
+    let known = o::READER_KEYS;
+    for k in d.keys() {
+        let k: String = k.extract()?;
+        if !known.contains(&k.as_str()) {
+            return Err(UsageError::new_err(format!(
+                "Reader: unknown argument `{k}`; it takes {}",
+                known.join(", ")
+            )));
+        }
+    }
+    let peg = match get::<String>(d, "peg")? {
+        Some(s) => Some(o::read_peg(&s).map_err(|w| UsageError::new_err(format!("peg: {w}")))?),
+        None => None,
+    };
+    let r = Reader {
+        cylinder_axis: named(d, "cylinder_axis", o::CYLINDER_AXES)?,
+        tdc_deg: get(d, "tdc_deg")?,
+        gauge: get(d, "gauge")?.unwrap_or(false),
+        columns: get(d, "columns")?,
+        peg_bar: get(d, "peg_bar")?,
+        peg_polytropic: peg,
+        pv_start_bdc: named(d, "pv_start", o::PV_STARTS)?.unwrap_or(false),
+        skip_lines: get(d, "skip_lines")?,
+        sheet: match d.get_item("sheet")? {
+            Some(v) if !v.is_none() => Some(v.str()?.to_string()),
+            _ => None,
+        },
+        max_gap_deg: get(d, "max_gap_deg")?,
+        tdc_time: get(d, "tdc_time")?,
+        gain_bar_per_v: get(d, "gain_bar_per_v")?,
+        rpm: get(d, "rpm")?,
+    };
+    r.check(kw).py()?;
+    Ok(r)
+}
+
+/// The method options from a dict of keyword arguments, every bound checked.
+fn method(d: &Bound<'_, PyDict>) -> PyResult<Method> {
+    use enginedyn_session::options as o;
+    let known = o::METHOD_KEYS;
+    for k in d.keys() {
+        let k: String = k.extract()?;
+        if !known.contains(&k.as_str()) {
+            return Err(UsageError::new_err(format!(
+                "Method: unknown argument `{k}`; it takes {}",
+                known.join(", ")
+            )));
+        }
+    }
+    let m = Method {
+        step_deg: get(d, "step_deg")?,
+        kinematics: named(d, "kinematics", o::KINEMATICS)?,
+        rod_model: named(d, "rod_model", o::ROD_MODELS)?,
+        interp: named(d, "interp", o::INTERPOLANTS)?,
+        integration: named(d, "integration", o::INTEGRATIONS)?,
+        tolerance: get(d, "tolerance")?,
+    };
+    m.check(kw).py()?;
+    Ok(m)
+}
+
+/// Checks reader keyword arguments (raises `UsageError` naming the argument).
+#[pyfunction]
+fn check_reader(options: &Bound<'_, PyDict>) -> PyResult<()> {
+    reader(options).map(|_| ())
+}
+
+/// Checks method keyword arguments (raises `UsageError` naming the argument).
+#[pyfunction]
+fn check_method(options: &Bound<'_, PyDict>) -> PyResult<()> {
+    method(options).map(|_| ())
+}
+
+/// An engine, reader options and method options, checked once.
+#[pyclass(module = "enginedyn._native", frozen)]
+struct NativeSession {
+    session: Arc<Session>,
+}
+
+#[pymethods]
+impl NativeSession {
+    #[new]
+    #[pyo3(signature = (engine, method_options, reader_options, full=true))]
+    fn new(
+        engine: &Engine,
+        method_options: &Bound<'_, PyDict>,
+        reader_options: &Bound<'_, PyDict>,
+        full: bool,
+    ) -> PyResult<Self> {
+        let m = method(method_options)?;
+        let r = reader(reader_options)?;
+        let scope = if full {
+            enginedyn_pipeline::Scope::Full
+        } else {
+            enginedyn_pipeline::Scope::Summary
+        };
+        let loaded = (*engine.loaded).clone();
+        let session = Session::new(loaded, r, m, scope).py()?;
+        Ok(Self {
+            session: Arc::new(session),
+        })
+    }
+
+    /// One operating point from diagram files (one, or one per cylinder;
+    /// none: the engine's own diagram), as `enginedyn run` reads them.
+    fn analyse(&self, py: Python<'_>, paths: Vec<PathBuf>) -> PyResult<Run> {
+        let s = self.session.clone();
+        py.detach(move || {
+            let own;
+            let mut inputs: Vec<Input<'_>> = paths.iter().map(|p| Input::File(p)).collect();
+            if inputs.is_empty() {
+                match s.loaded.bundled {
+                    Some(b) if s.loaded.engine.diagram().is_none() || s.loaded.path.is_none() => {
+                        inputs.push(Input::Bundled(b))
+                    }
+                    _ => {
+                        own = enginedyn_session::diagram::diagram_path(None, &s.loaded)?;
+                        inputs.push(Input::File(&own));
+                    }
+                }
+            }
+            let outcome = s.analyse(&inputs)?;
+            let inputs = enginedyn_session::inputs::of(&s.loaded, &inputs)?;
+            Ok(Run::new(&s, outcome, inputs))
+        })
+        .py()
+    }
+
+    /// One operating point from a turning-moment file.
+    fn analyse_torque(&self, py: Python<'_>, path: PathBuf) -> PyResult<Run> {
+        let s = self.session.clone();
+        py.detach(move || {
+            let outcome = s.analyse_torque(Input::File(&path))?;
+            let inputs = enginedyn_session::inputs::of(&s.loaded, &[Input::File(&path)])?;
+            Ok(Run::new(&s, outcome, inputs))
+        })
+        .py()
+    }
+
+    /// One operating point from named float64 columns (C-contiguous).
+    #[pyo3(signature = (names, columns, rpm=None))]
+    fn analyse_columns(
+        &self,
+        py: Python<'_>,
+        names: Vec<String>,
+        columns: Vec<PyReadonlyArray1<'_, f64>>,
+        rpm: Option<f64>,
+    ) -> PyResult<Run> {
+        let slices: Vec<&[f64]> = columns
+            .iter()
+            .map(|c| c.as_slice())
+            .collect::<Result<_, _>>()
+            .map_err(|e| pyo3::exceptions::PyTypeError::new_err(e.to_string()))?;
+        let s = self.session.clone();
+        py.detach(move || {
+            let outcome = s.analyse_columns(&names, &slices, rpm)?;
+            let bytes: Vec<u8> = slices
+                .iter()
+                .flat_map(|c| c.iter().flat_map(|v| v.to_le_bytes()))
+                .collect();
+            let engine = enginedyn_session::inputs::of(&s.loaded, &[])?;
+            let inputs = engine
+                .with_diagrams(&[enginedyn_report::Source::Text("arrays", &bytes)])
+                .map_err(Error::from)?;
+            Ok(Run::new(&s, outcome, inputs))
+        })
+        .py()
+    }
+
+    /// Many files on `jobs` threads (0: one per core): a row per file,
+    /// `(file, error, summary.json text)`; a failed file is a row, never
+    /// an exception.
+    #[pyo3(signature = (paths, jobs=0))]
+    fn batch(&self, py: Python<'_>, paths: Vec<PathBuf>, jobs: usize) -> PyResult<Vec<BatchRow>> {
+        if jobs > enginedyn_session::options::MAX_JOBS {
+            return Err(UsageError::new_err(format!(
+                "jobs: {jobs} is outside 0 to {}",
+                enginedyn_session::options::MAX_JOBS
+            )));
+        }
+        let s = self.session.clone();
+        py.detach(move || {
+            let engine = enginedyn_session::inputs::of(&s.loaded, &[])?;
+            let items = s.batch(
+                &paths,
+                jobs,
+                Work::Analyse,
+                |_, f, an, _| {
+                    let Some(an) = an else {
+                        return Err(Error::usage("nothing analysed"));
+                    };
+                    let inputs = engine.with_diagrams(&[enginedyn_report::Source::File(f)])?;
+                    let json = enginedyn_report::summary_json(&an.summary, &inputs);
+                    Ok((
+                        serde_json::to_string(&json).unwrap_or_default(),
+                        an.summary.notes,
+                    ))
+                },
+                |_| {},
+            )?;
+            Ok(items
+                .into_iter()
+                .map(|item| {
+                    let file = item.file.display().to_string();
+                    match item.result {
+                        Ok((summary, notes)) => BatchRow {
+                            file,
+                            error: None,
+                            summary: Some(summary),
+                            notes,
+                        },
+                        Err(e) => BatchRow {
+                            file,
+                            error: Some(e.message),
+                            summary: None,
+                            notes: Vec::new(),
+                        },
+                    }
+                })
+                .collect())
+        })
+        .py()
+    }
+}
+
+/// One file's row of a batch.
+#[pyclass(module = "enginedyn._native", frozen, get_all)]
+struct BatchRow {
+    /// The path as given.
+    file: String,
+    /// Why it failed (`None` when it ran).
+    error: Option<String>,
+    /// Its `summary.json` as text (`None` when it failed).
+    summary: Option<String>,
+    /// Its notes.
+    notes: Vec<String>,
+}
+
+/// One operating point analysed.
+#[pyclass(module = "enginedyn._native", frozen)]
+struct Run {
+    engine: Arc<Loaded>,
+    analysis: Arc<enginedyn_pipeline::Analysis>,
+    inputs: enginedyn_report::Inputs,
+}
+
+impl Run {
+    fn new(
+        s: &Session,
+        outcome: enginedyn_session::Outcome,
+        inputs: enginedyn_report::Inputs,
+    ) -> Self {
+        Self {
+            engine: Arc::new(s.loaded.clone()),
+            analysis: Arc::new(outcome.analysis),
+            inputs,
+        }
+    }
+}
+
+fn columns_dict<'py>(
+    py: Python<'py>,
+    columns: Vec<(String, Vec<f64>)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (name, values) in columns {
+        d.set_item(name, PyArray1::from_vec(py, values))?;
+    }
+    Ok(d)
+}
+
+#[pymethods]
+impl Run {
+    /// `summary.json` as the CLI writes it (text).
+    fn summary_json(&self) -> String {
+        let json = enginedyn_report::summary_json(&self.analysis.summary, &self.inputs);
+        serde_json::to_string_pretty(&json).unwrap_or_default() + "\n"
+    }
+
+    /// The notes, as the CLI says them.
+    #[getter]
+    fn notes(&self) -> Vec<String> {
+        self.analysis.summary.notes.clone()
+    }
+
+    /// The columns of `curves.csv` (NaN where its cell is empty).
+    #[pyo3(signature = (centered=false))]
+    fn curves<'py>(&self, py: Python<'py>, centered: bool) -> PyResult<Bound<'py, PyDict>> {
+        columns_dict(
+            py,
+            enginedyn_report::curve_columns(&self.analysis, centered),
+        )
+    }
+
+    /// The columns of `harmonics.csv` (NaN where its cell is empty).
+    fn harmonics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 5];
+        for row in enginedyn_report::harmonic_rows(&self.analysis) {
+            for (c, x) in cols.iter_mut().zip(row) {
+                c.push(x.unwrap_or(f64::NAN));
+            }
+        }
+        columns_dict(
+            py,
+            enginedyn_report::HARMONIC_NAMES
+                .iter()
+                .map(|n| n.to_string())
+                .zip(cols)
+                .collect(),
+        )
+    }
+
+    /// The chart names (`torque`, `pressure`, …) `svg` takes.
+    fn charts(&self) -> Vec<String> {
+        enginedyn_report::run_figures(&self.engine.engine, &self.analysis)
+            .into_iter()
+            .map(|f| f.file.trim_end_matches(".svg").to_string())
+            .collect()
+    }
+
+    /// A chart as SVG text, by name (`torque` or `torque.svg`).
+    fn svg(&self, py: Python<'_>, name: &str) -> PyResult<String> {
+        let want = name.trim_end_matches(".svg").to_string();
+        let engine = self.engine.clone();
+        let analysis = self.analysis.clone();
+        py.detach(move || {
+            let figs = enginedyn_report::run_figures(&engine.engine, &analysis);
+            let names: Vec<String> = figs
+                .iter()
+                .map(|f| f.file.trim_end_matches(".svg").to_string())
+                .collect();
+            match figs
+                .iter()
+                .find(|f| f.file.trim_end_matches(".svg") == want)
+            {
+                Some(f) => f.render().map_err(Error::from),
+                None => Err(Error::usage(format!(
+                    "no chart `{want}`: the charts are {}",
+                    names.join(", ")
+                ))),
+            }
+        })
+        .py()
+    }
+
+    /// Every file of `run --out DIR`, as (name, bytes).
+    #[pyo3(signature = (centered=false))]
+    fn files<'py>(&self, py: Python<'py>, centered: bool) -> PyResult<Bound<'py, PyList>> {
+        let engine = self.engine.clone();
+        let analysis = self.analysis.clone();
+        let inputs = self.inputs.clone();
+        let files = py
+            .detach(move || {
+                enginedyn_report::run_files(&engine.engine, &analysis, centered, &inputs)
+                    .map_err(Error::from)
+            })
+            .py()?;
+        let list = PyList::empty(py);
+        for (name, bytes) in files {
+            list.append((name, pyo3::types::PyBytes::new(py, &bytes)))?;
+        }
+        Ok(list)
+    }
+}
+
+/// The module.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("EnginedynError", py.get_type::<EnginedynError>())?;
+    m.add("DiagramError", py.get_type::<DiagramError>())?;
+    m.add("EngineFileError", py.get_type::<EngineFileError>())?;
+    m.add("UsageError", py.get_type::<UsageError>())?;
+    m.add_class::<Engine>()?;
+    m.add_class::<NativeSession>()?;
+    m.add_class::<Run>()?;
+    m.add_class::<BatchRow>()?;
+    m.add_function(wrap_pyfunction!(check_reader, m)?)?;
+    m.add_function(wrap_pyfunction!(check_method, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
