@@ -111,11 +111,10 @@ class _Options:
     """Keyword options checked by the library (its bounds, its messages)."""
 
     __slots__ = ("_kw",)
-    _check: Any = None
 
     def __init__(self, **kw: Any) -> None:
         self._kw = {k: v for k, v in kw.items() if v is not None}
-        type(self)._check(self._kw)
+        _CHECKS[type(self).__name__](self._kw)
 
     def __getattr__(self, name: str) -> Any:
         if name.startswith("_"):
@@ -147,7 +146,6 @@ class Method(_Options):
     ``UsageError`` naming the argument)."""
 
     __slots__ = ()
-    _check = staticmethod(_native.check_method)
 
     def __init__(
         self,
@@ -175,10 +173,12 @@ class Reader(_Options):
     ``cylinder_axis``, ``pv_start``), with their bounds."""
 
     __slots__ = ()
-    _check = staticmethod(_native.check_reader)
 
     def __init__(self, **kw: Any) -> None:
         super().__init__(**kw)
+
+
+_CHECKS = {"Method": _native.check_method, "Reader": _native.check_reader}
 
 
 def _options_from_state(kind: str, kw: Dict[str, Any]) -> _Options:
