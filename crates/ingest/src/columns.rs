@@ -24,6 +24,26 @@ pub fn pressure_unit(name: &str) -> Option<f64> {
     }
 }
 
+/// What a column name (with its unit, as a tool writes it: `P_cyl1 [MPa]`,
+/// `Crank angle (rad)`) reads as: the canonical column and the factor from
+/// the name's unit to that column's (`("pressure_bar", 10.0)`), by the same
+/// resolver as a file's header; `None` when the name is not one.
+pub fn canonical(name: &str) -> Option<(&'static str, f64)> {
+    Some(match recognise(name).ok()? {
+        Role::Angle(s) => ("crank_deg", s),
+        Role::Time(s) => ("time_s", s),
+        Role::Volume(s) => ("volume_m3", s),
+        Role::Pressure { scale, .. } => ("pressure_bar", scale / 1e5),
+        Role::Volts { scale, .. } => ("pressure_v", scale),
+        Role::Torque(Quantity::CylinderTorque) => ("torque_cylinder_nm", 1.0),
+        Role::Torque(_) => ("torque_engine_nm", 1.0),
+        Role::Cycle => ("cycle", 1.0),
+        Role::Cylinder => ("cylinder", 1.0),
+        Role::Tdc => ("tdc", 1.0),
+        Role::Skip => return None,
+    })
+}
+
 /// Pa per psi, from exact definitions (0.45359237 kg × 9.80665 m/s² / (0.0254 m)²).
 const PSI: f64 = 0.453_592_37 * 9.806_65 / (0.0254 * 0.0254);
 const KGF_CM2: f64 = 98_066.5;

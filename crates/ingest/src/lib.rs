@@ -38,7 +38,7 @@ mod time;
 mod trace;
 
 pub use axis::CylinderAxis;
-pub use columns::pressure_unit;
+pub use columns::{canonical, pressure_unit};
 pub use error::IngestError;
 pub use grid::{Accumulator, CycleStats, GridOptions, Peg, PegReport, Resampled, mean_std};
 pub use number::{NumberError, SpeedError, read_number, read_rpm};

@@ -566,6 +566,13 @@ impl Run {
     }
 }
 
+/// What a channel or column name (with its unit) reads as: the canonical
+/// column and the factor from its unit, by the reader's own resolver.
+#[pyfunction]
+fn canonical(name: &str) -> Option<(&'static str, f64)> {
+    enginedyn_ingest::canonical(name)
+}
+
 /// The module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -580,6 +587,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<BatchRow>()?;
     m.add_function(wrap_pyfunction!(check_reader, m)?)?;
     m.add_function(wrap_pyfunction!(check_method, m)?)?;
+    m.add_function(wrap_pyfunction!(canonical, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

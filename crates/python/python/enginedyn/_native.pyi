@@ -18,6 +18,7 @@ __all__ = [
     "BatchRow",
     "check_reader",
     "check_method",
+    "canonical",
     "__version__",
 ]
 
@@ -100,3 +101,4 @@ class NativeSession:
 
 def check_reader(options: Dict[str, object]) -> None: ...
 def check_method(options: Dict[str, object]) -> None: ...
+def canonical(name: str) -> Optional[Tuple[str, float]]: ...
