@@ -212,6 +212,10 @@ pub struct DiagramArgs {
     pub gain: Option<f64>,
 }
 
+fn parse_shard(s: &str) -> Result<enginedyn_session::batch::Shard, String> {
+    enginedyn_session::batch::Shard::read(s)
+}
+
 fn parse_max_gap(s: &str) -> Result<f64, String> {
     bounds::MAX_GAP.read(s)
 }
@@ -387,8 +391,20 @@ pub struct BatchArgs {
     #[arg(long, value_name = "FILE")]
     pub engine: PathBuf,
     /// Diagram files, folders (every .csv, .txt, .dat, .tsv, .xlsx, .xls, .ods, .mf4 inside) or glob patterns.
-    #[arg(value_name = "DIAGRAM", required = true)]
+    #[arg(value_name = "DIAGRAM", required_unless_present = "files_from")]
     pub diagrams: Vec<String>,
+    /// Also the diagram paths listed in LIST, one a line (blank and `#` lines skipped; relative to LIST's folder).
+    #[arg(long, value_name = "LIST")]
+    pub files_from: Option<PathBuf>,
+    /// Only the I-th of N slices of the files, sorted bytewise (file k goes to slice k mod N; 0 ≤ I < N ≤ 100000).
+    #[arg(long, value_name = "I/N", value_parser = parse_shard)]
+    pub shard: Option<enginedyn_session::batch::Shard>,
+    /// Write the summary and cycles tables as Parquet parts: DIR/summary/part-IIIII-of-NNNNN.parquet, DIR/cycles/….
+    #[arg(long, value_name = "DIR")]
+    pub parquet: Option<PathBuf>,
+    /// With --parquet: the traces table too (DIR/traces/…), the cycle-averaged pressure on the grid.
+    #[arg(long, requires = "parquet")]
+    pub traces: bool,
     /// Write summary.csv (and with --detail one run folder per diagram) into DIR.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,

@@ -67,12 +67,18 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
         },
     )?;
     let engine = session.engine();
-    let (files, notes) = enginedyn_session::batch::expand(&a.diagrams)?;
+    let (mut files, notes) = enginedyn_session::batch::expand(&a.diagrams)?;
     for note in &notes {
         crate::say(None, note);
     }
+    if let Some(list) = &a.files_from {
+        files.extend(enginedyn_session::batch::files_from(list)?);
+    }
     if files.is_empty() {
         return Err(enginedyn_session::batch::no_files());
+    }
+    if let Some(shard) = &a.shard {
+        files = shard.take(&files);
     }
     // What each summary came from (`inputs`): the engine hashed once, each
     // diagram as it is analysed; only when a summary.json is written.

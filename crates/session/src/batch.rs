@@ -264,3 +264,98 @@ pub fn guarded<T>(work: impl FnOnce() -> Result<T>) -> Result<T> {
         )))
     })
 }
+
+/// The most shards of a campaign (INTERFACE.md, "Campaigns").
+pub const MAX_SHARDS: usize = 100_000;
+
+/// One slice of a campaign: the `index`-th of `count` (from 0).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// Which slice (0 ≤ index < count).
+    pub index: usize,
+    /// How many slices.
+    pub count: usize,
+}
+
+impl Shard {
+    /// The whole list as one shard (part 0 of 1).
+    pub const WHOLE: Shard = Shard { index: 0, count: 1 };
+
+    /// A shard, checked: 0 ≤ index < count ≤ 100,000.
+    pub fn new(index: usize, count: usize) -> std::result::Result<Self, String> {
+        if count == 0 || count > MAX_SHARDS || index >= count {
+            return Err(format!(
+                "{index}/{count}: a shard is I/N with 0 ≤ I < N ≤ {MAX_SHARDS}"
+            ));
+        }
+        Ok(Self { index, count })
+    }
+
+    /// Reads `I/N`.
+    pub fn read(s: &str) -> std::result::Result<Self, String> {
+        let bad = || {
+            format!(
+                "`{}`: a shard is I/N with 0 ≤ I < N ≤ {MAX_SHARDS} (e.g. 3/16)",
+                enginedyn_numerics::format::quote(s)
+            )
+        };
+        let (i, n) = s.trim().split_once('/').ok_or_else(bad)?;
+        let i: usize = i.trim().parse().map_err(|_| bad())?;
+        let n: usize = n.trim().parse().map_err(|_| bad())?;
+        Self::new(i, n).map_err(|_| bad())
+    }
+
+    /// This shard's files of `files`: the paths sorted bytewise, path k
+    /// going to shard k mod N, so that every shard of one list sees the
+    /// same order and the N shards together hold each file once.
+    pub fn take(&self, files: &[PathBuf]) -> Vec<PathBuf> {
+        let mut sorted: Vec<&PathBuf> = files.iter().collect();
+        sorted.sort_by(|a, b| {
+            a.as_os_str()
+                .as_encoded_bytes()
+                .cmp(b.as_os_str().as_encoded_bytes())
+        });
+        sorted
+            .into_iter()
+            .enumerate()
+            .filter(|(k, _)| k % self.count == self.index)
+            .map(|(_, p)| p.clone())
+            .collect()
+    }
+}
+
+/// The most paths a list names (INTERFACE.md, "Limits": a campaign's list).
+pub const MAX_LISTED: usize = 10_000_000;
+
+/// The diagram paths a list file names, one a line: blank lines and `#`
+/// lines skipped, a relative path taken relative to the list's folder.
+pub fn files_from(list: &Path) -> Result<Vec<PathBuf>> {
+    let shown = list.display();
+    let file = crate::diagram::open_diagram(list)
+        .map_err(|e| Error::usage(format!("--files-from: {}", e.message)).in_file(&shown))?;
+    let base = list.parent().unwrap_or(Path::new("."));
+    let mut files = Vec::new();
+    use std::io::BufRead;
+    for (k, line) in std::io::BufReader::new(file).lines().enumerate() {
+        let line = line.map_err(|e| {
+            Error::usage(format!("--files-from: line {}: cannot read: {e}", k + 1)).in_file(&shown)
+        })?;
+        let t = line.trim();
+        if t.is_empty() || t.starts_with('#') {
+            continue;
+        }
+        if files.len() == MAX_LISTED {
+            return Err(Error::usage(format!(
+                "--files-from: more than {MAX_LISTED} paths: split the list into several campaigns"
+            ))
+            .in_file(&shown));
+        }
+        let p = Path::new(t);
+        files.push(if p.is_relative() {
+            base.join(p)
+        } else {
+            p.to_path_buf()
+        });
+    }
+    Ok(files)
+}
