@@ -120,6 +120,9 @@ pub fn study(
     diagram: Option<Input<'_>>,
     rpms: Option<Vec<f64>>,
 ) -> Result<TorsionStudy> {
+    if let Some(r) = &rpms {
+        check_speeds(r)?;
+    }
     let engine = &loaded.engine;
     let file = loaded.shown();
     let step = method.step();
@@ -156,6 +159,30 @@ pub fn study(
         notes,
         opts,
     })
+}
+
+/// Speeds given as numbers (a Python caller's; the CLI's come from
+/// [`crate::speed::speeds`], which holds the same bounds): at least one,
+/// at most [`crate::speed::MAX_SPEEDS`], each above 0 and at most
+/// [`crate::speed::MAX_RPM`].
+pub fn check_speeds(rpms: &[f64]) -> Result<()> {
+    use crate::speed::{MAX_RPM, MAX_SPEEDS};
+    if rpms.is_empty() || rpms.len() > MAX_SPEEDS {
+        return Err(Error::usage(format!(
+            "{} speeds: a torsion study takes 1 to {MAX_SPEEDS}",
+            rpms.len()
+        )));
+    }
+    if let Some(bad) = rpms
+        .iter()
+        .find(|r| !(r.is_finite() && **r > 0.0 && **r <= MAX_RPM))
+    {
+        return Err(Error::usage(format!(
+            "speed {} rpm: each speed must be above 0 and at most {MAX_RPM} rpm",
+            enginedyn_numerics::format::human(*bad)
+        )));
+    }
+    Ok(())
 }
 
 /// The chain and a few forced responses (`torsion --chain`'s `chain.json`,

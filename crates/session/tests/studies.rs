@@ -195,6 +195,16 @@ fn torsion_default_speeds_and_missing_section() {
     let e = enginedyn_session::torsion::spec(&loaded).unwrap_err();
     assert_eq!(e.class, Class::Usage);
     assert!(e.message.contains("no [torsion] section"), "{e}");
+    // Speeds given as numbers are held to the bounds of `--rpm FROM:TO:STEP`.
+    use enginedyn_session::torsion::check_speeds;
+    assert!(check_speeds(&[500.0, 1000.0]).is_ok());
+    for bad in [vec![], vec![1000.0, f64::NAN], vec![0.0], vec![2e5]] {
+        assert_eq!(
+            check_speeds(&bad).unwrap_err().class,
+            Class::Usage,
+            "{bad:?}"
+        );
+    }
 }
 
 #[test]
