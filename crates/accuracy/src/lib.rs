@@ -571,6 +571,50 @@ pub fn pareto(rows: &[Row]) -> Vec<usize> {
     front
 }
 
+/// The printed table of `enginedyn accuracy`: a line naming the engine, the
+/// speed, the reference and its run time, then one row per setting (its
+/// time, its largest relative error and the key it falls on), the Pareto
+/// front marked.
+pub fn table(a: &Accuracy, engine: &Engine, rpm: f64) -> String {
+    use std::fmt::Write as _;
+    let front = pareto(&a.rows);
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{} at {rpm} rpm: errors against exact kinematics, the {} rod, the periodic spline, 0.01° and the trapezoid rule (reference run {:.2} ms)\n",
+        engine.name(),
+        best_rod(engine).name(),
+        a.reference_time_s * 1e3
+    );
+    let _ = writeln!(
+        t,
+        "{:<14} {:<52} {:>10} {:>10}  worst key",
+        "study", "setting", "time ms", "max error"
+    );
+    for (i, r) in a.rows.iter().enumerate() {
+        let worst = r
+            .errors
+            .iter()
+            .zip(KEYS)
+            .filter_map(|(e, k)| Some((e.as_ref()?, k)))
+            .max_by(|a, b| a.0.total_cmp(b.0))
+            .map_or("", |(_, k)| *k);
+        let _ = writeln!(
+            t,
+            "{:<14} {:<52} {:>10.3} {:>10}  {}{}",
+            r.study.name(),
+            r.setting,
+            r.time_s * 1e3,
+            r.max_relative_error()
+                .map(|e| format!("{e:.1e}"))
+                .unwrap_or_else(|| "-".into()),
+            worst,
+            if front.contains(&i) { "  (Pareto)" } else { "" }
+        );
+    }
+    t
+}
+
 /// `accuracy.csv`: `study`, `setting`, `time_s`, `max_relative_error`,
 /// then one error column per key (empty where the figure does not exist).
 pub fn csv(a: &Accuracy) -> String {

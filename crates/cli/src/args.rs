@@ -373,16 +373,6 @@ impl MethodArgs {
             tolerance,
         }
     }
-
-    /// The grid step (deg): the flag or the default.
-    pub fn step(&self) -> f64 {
-        self.method(None).step()
-    }
-
-    /// The pipeline options, defaults where a flag is not given.
-    pub fn options(&self) -> enginedyn_pipeline::Options {
-        self.method(None).options()
-    }
 }
 
 #[derive(Debug, Clone, Args)]

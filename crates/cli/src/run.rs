@@ -70,7 +70,7 @@ fn finish(
         let json = enginedyn_report::summary_json(&analysis.summary, &inputs);
         crate::emit(&(serde_json::to_string_pretty(&json).unwrap_or_default() + "\n"));
     } else {
-        crate::emit(&crate::table::summary_table(
+        crate::emit(&enginedyn_report::summary_table(
             engine,
             shown,
             &analysis.summary,
@@ -81,10 +81,10 @@ fn finish(
         let opts = &outcome.opts;
         // With a [tolerances] section the page carries the tolerance table.
         let text = &loaded.text;
-        let mut extra =
-            crate::tolerance::report_extra(engine, text, analysis, *opts)?.unwrap_or_default();
+        let mut extra = enginedyn_session::tolerance::report_extra(engine, text, analysis, *opts)?
+            .unwrap_or_default();
         // With a [torsion] section, the torsional vibration too.
-        if let Some(t) = crate::torsion::report_extra(engine, text, analysis, *opts)? {
+        if let Some(t) = enginedyn_session::torsion::report_extra(engine, text, analysis, *opts)? {
             extra.sections.extend(t.sections);
             extra.charts.extend(t.charts);
         }

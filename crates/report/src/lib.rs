@@ -20,24 +20,40 @@ use enginedyn_pipeline::{Analysis, Summary, Value};
 use std::path::{Path, PathBuf};
 
 mod chart;
+mod firing;
 mod html;
+mod kinematics;
 mod out;
 mod tables;
+mod text;
+mod tolerance;
 mod tornado;
 mod torsion;
+mod torsion_tables;
 pub use chart::{
     Chart, Figure, RUN_CHARTS, ScatterChart, ScatterGroup, ScatterLayout, ScatterPoint, Series,
     kinematics_chart, periodic, run_figures, run_figures_with, tick_label,
 };
+pub use firing::{FIRING_FILES, crank_end_view, firing_csv, firing_json, firing_table};
 pub use html::{esc, percent_encode, report_html, table as html_table};
+pub use kinematics::{KINEMATICS_FILES, kinematics_csv, kinematics_svg, kinematics_table};
 pub use out::{LOCK_WAIT, MANIFEST, OutDir, STAGING_PREFIX, sha256_file, sha256_hex};
 pub use tables::{
     KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_table, sweep_figure,
+};
+pub use text::{heading, summary_table};
+pub use tolerance::{
+    TOLERANCE_FILES, tolerance_csv, tolerance_extra, tolerance_json, tolerance_panels,
+    tolerance_svg, tolerance_table,
 };
 pub use tornado::{TornadoBar, TornadoPanel, tornado_svg};
 pub use torsion::{
     CampbellChart, CampbellLayout, CampbellMark, LABEL_GAP, Leader, PlacedLabel, segment_hits,
     torsion_charts, torsion_response,
+};
+pub use torsion_tables::{
+    ChainCheck, ChainDump, TORSION_FILES, chain_json, modes_csv, torsion_csv, torsion_extra,
+    torsion_json, torsion_table,
 };
 
 /// Why output could not be produced.
