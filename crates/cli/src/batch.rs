@@ -287,7 +287,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
         None if a.json => crate::emit(&json.unwrap_or_default()),
         None if a.csv || a.parse_only => crate::emit(&csv),
         None => {
-            let mut text = crate::table::heading(
+            let mut text = enginedyn_report::heading(
                 engine,
                 "batch, ",
                 f64::NAN,
@@ -395,7 +395,7 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
                     folder: None,
                 })
                 .collect();
-            let mut text = crate::table::heading(engine, "sweep, ", f64::NAN, &shown);
+            let mut text = enginedyn_report::heading(engine, "sweep, ", f64::NAN, &shown);
             if flywheel {
                 text.push_str(&format!(
                     "flywheel sized once at {} rpm ({source}); δ is what it gives at each speed\n",

@@ -8,7 +8,6 @@ mod batch;
 mod firing;
 mod kinematics;
 mod run;
-mod table;
 mod template;
 mod tolerance;
 mod torsion;
