@@ -2,6 +2,7 @@
 errors, pickling, a batch that finishes, and the GIL released."""
 
 import pickle
+import subprocess
 import threading
 import time
 
@@ -105,3 +106,22 @@ def test_results_carry_curves_harmonics_and_charts():
     assert "<table>" in r._repr_html_()
     names = [n for n, _ in r.files()]
     assert {"summary.json", "curves.csv", "report.html"} <= set(names)
+
+
+def test_torsion_gives_the_clis_files(cli, tmp_path):
+    out = tmp_path / "t"
+    subprocess.run(
+        [cli, "torsion", "--engine", "data/i6_diesel.toml", "--rpm", "600:2600:100", "--out", str(out)],
+        check=True,
+        capture_output=True,
+    )
+    t = ed.Session(ed.Engine.from_toml("data/i6_diesel.toml")).torsion(rpm=(600, 2600, 100))
+    assert t.json_text == (out / "torsion.json").read_text()
+    assert t.torsion_csv == (out / "torsion.csv").read_text()
+    assert t.modes_csv == (out / "modes.csv").read_text()
+    assert t.svg("campbell") == (out / "campbell.svg").read_text()
+    r = t.response
+    assert r["rpm"][0] == 600.0 and r["rpm"][-1] == 2600.0 and len(r["rpm"]) == 21
+    assert t.modes["frequency_hz"][0] > 0
+    with pytest.raises(ed.UsageError):
+        ed.Session(ed.Engine.from_toml("data/single.toml")).torsion()

@@ -370,6 +370,44 @@ impl NativeSession {
         .py()
     }
 
+    /// The torsion study (the engine file's `[torsion]`) excited by the
+    /// diagram at `path` (none: the engine's own), over `rpms` (none: 20 %
+    /// to 120 % of the speed): `(torsion.json, modes.csv, torsion.csv,
+    /// notes, charts)`, the texts `enginedyn torsion --out` writes.
+    #[pyo3(signature = (rpms=None, path=None))]
+    fn torsion(
+        &self,
+        py: Python<'_>,
+        rpms: Option<Vec<f64>>,
+        path: Option<PathBuf>,
+    ) -> PyResult<TorsionTexts> {
+        let s = self.session.clone();
+        py.detach(move || {
+            let loaded = &s.loaded;
+            let spec = enginedyn_session::torsion::spec(loaded)?;
+            let input = match (&path, loaded.bundled) {
+                (Some(p), _) => Some(Input::File(p)),
+                (None, Some(b)) if loaded.path.is_none() => Some(Input::Bundled(b)),
+                (None, _) => None,
+            };
+            let t = enginedyn_session::torsion::study(
+                loaded, &spec, &s.reader, &s.method, input, rpms,
+            )?;
+            let engine = &loaded.engine;
+            let notes = t.all_notes();
+            let json = enginedyn_report::torsion_json(engine, &t.study, &t.opts, &notes);
+            let charts = enginedyn_report::torsion_charts(engine.name(), &t.study)?;
+            Ok((
+                serde_json::to_string_pretty(&json).unwrap_or_default() + "\n",
+                enginedyn_report::modes_csv(&t.study),
+                enginedyn_report::torsion_csv(&t.study),
+                notes,
+                charts,
+            ))
+        })
+        .py()
+    }
+
     /// Many files on `jobs` threads (0: one per core): a row per file,
     /// `(file, error, summary.json text)`; a failed file is a row, never
     /// an exception.
@@ -424,6 +462,17 @@ impl NativeSession {
         })
         .py()
     }
+}
+
+/// What a torsion study writes: `torsion.json`, `modes.csv`,
+/// `torsion.csv`, the notes, and the charts as (file name, SVG).
+type TorsionTexts = (String, String, String, Vec<String>, Vec<(String, String)>);
+
+/// The speeds FROM, FROM + STEP, … TO (TO included when it falls on the
+/// step), held to the bounds of `--rpm FROM:TO:STEP`.
+#[pyfunction]
+fn speeds(start: f64, stop: f64, step: f64) -> PyResult<Vec<f64>> {
+    enginedyn_session::speed::speed_range(start, stop, step, &format!("{start}:{stop}:{step}")).py()
 }
 
 /// One file's row of a batch.
@@ -588,6 +637,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check_reader, m)?)?;
     m.add_function(wrap_pyfunction!(check_method, m)?)?;
     m.add_function(wrap_pyfunction!(canonical, m)?)?;
+    m.add_function(wrap_pyfunction!(speeds, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

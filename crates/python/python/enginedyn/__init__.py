@@ -37,6 +37,7 @@ __all__ = [
     "Session",
     "Result",
     "Batch",
+    "Torsion",
     "EnginedynError",
     "DiagramError",
     "EngineFileError",
@@ -299,6 +300,62 @@ def _flat(d: Dict[str, Any], prefix: str = "") -> Dict[str, Any]:
     return out
 
 
+def _csv_columns(text: str) -> Dict[str, np.ndarray]:
+    """A CSV the library wrote, as float64 columns (its numbers are written
+    to round-trip: the arrays hold the very values)."""
+    lines = text.splitlines()
+    names = lines[0].split(",")
+    rows = [[float(x) if x else np.nan for x in line.split(",")] for line in lines[1:]]
+    data = np.array(rows, dtype=np.float64).reshape(len(rows), len(names))
+    return {n: data[:, k].copy() for k, n in enumerate(names)}
+
+
+class Torsion:
+    """A torsion study: ``modes`` and ``response`` as NumPy columns (the
+    columns of ``modes.csv`` and ``torsion.csv``), ``doc`` (``torsion.json``:
+    frequencies, resonances, maxima, the chain), ``notes``, and the charts."""
+
+    __slots__ = ("json_text", "modes_csv", "torsion_csv", "notes", "_charts")
+
+    def __init__(
+        self,
+        json_text: str,
+        modes_csv: str,
+        torsion_csv: str,
+        notes: List[str],
+        charts: List[Any],
+    ) -> None:
+        self.json_text = json_text
+        self.modes_csv = modes_csv
+        self.torsion_csv = torsion_csv
+        self.notes = list(notes)
+        self._charts = dict(charts)
+
+    @property
+    def doc(self) -> Dict[str, Any]:
+        """``torsion.json``."""
+        return json.loads(self.json_text)
+
+    @property
+    def modes(self) -> Dict[str, np.ndarray]:
+        return _csv_columns(self.modes_csv)
+
+    @property
+    def response(self) -> Dict[str, np.ndarray]:
+        return _csv_columns(self.torsion_csv)
+
+    @property
+    def resonances(self) -> List[Dict[str, Any]]:
+        return list(self.doc.get("resonances", []))
+
+    def svg(self, name: str) -> str:
+        """``campbell`` or ``torsion``, as SVG text."""
+        key = name if name.endswith(".svg") else name + ".svg"
+        if key not in self._charts:
+            raise UsageError(f"no chart `{name}`: the charts are {', '.join(sorted(self._charts))}")
+        return self._charts[key]
+
+
 class Batch:
     """Many files: one row per file; a failed file is a row with ``error``."""
 
@@ -411,6 +468,23 @@ class Session:
                 + ", ".join(f"{k} {len(a)}" for k, a in zip(names, arrays))
             )
         return Result(self._full.analyse_columns(names, arrays, rpm))
+
+    def torsion(
+        self,
+        rpm: Optional[Union[Sequence[float], np.ndarray]] = None,
+        diagram: Optional[PathLike] = None,
+    ) -> "Torsion":
+        """The crankshaft's torsional vibration (the engine file's
+        ``[torsion]``): ``rpm`` is (FROM, TO, STEP) as ``--rpm FROM:TO:STEP``,
+        or the speeds themselves; none: 20 % to 120 % of the speed."""
+        if rpm is None:
+            rpms = None
+        elif isinstance(rpm, tuple) and len(rpm) == 3:
+            rpms = _native.speeds(float(rpm[0]), float(rpm[1]), float(rpm[2]))
+        else:
+            rpms = [float(x) for x in rpm]
+        texts = self._full.torsion(rpms, None if diagram is None else os.fspath(diagram))
+        return Torsion(*texts)
 
     def batch(self, paths: Iterable[PathLike], jobs: int = 0) -> Batch:
         """Many diagram files on ``jobs`` threads (0: one per core; use 1
