@@ -27,9 +27,11 @@
 //! charge is compressed from, is the trace's own only where it can be an
 //! intake's:
 //!
-//! - Its level at BDC ([`bdc_level`]: the mean over ±5°; a four-stroke's
-//!   lower of the two BDCs, since which is intake BDC is decided after this
-//!   pass, by [`crate::axis`]).
+//! - Its level at intake BDC ([`intake_levels`]: the mean over ±5°). Which
+//!   angle is intake BDC is decided after this pass ([`crate::axis`]: the
+//!   360° rule, a cylinder's trace on cylinder 1's axis), so each
+//!   candidate is tried (540°, 180°, 180° before the peak) and the trace
+//!   passes from any.
 //! - A level of at least [`LOW_INTAKE_PA`] (0.2 bar absolute, below any
 //!   running engine's intake; a throttled petrol engine's is about 0.3) is
 //!   the intake's: `p_in` is that level. A motored trace's peak *is* its
@@ -162,7 +164,8 @@ pub(crate) fn check(
             )));
         }
         if let Some(eps) = ctx.compression_ratio {
-            let level = bdc_level(tr, cycle);
+            // The lowest candidate level: the largest rise.
+            let level = intake_levels(tr, cycle).fold(f64::INFINITY, f64::min);
             let need = LOW_INTAKE_PA * (compression_pressure(eps, cycle, 1.0) - 1.0);
             if vhi - level < need {
                 return Err(IngestError::Data(format!(
@@ -266,17 +269,27 @@ fn compression(
     let Some(eps) = ctx.compression_ratio else {
         return Ok(());
     };
-    let level = bdc_level(tr, cycle);
-    // A level no intake holds: read as gauge (the module's docs).
-    let (p_in, shift) = if level >= LOW_INTAKE_PA {
-        (level, 0.0)
-    } else {
-        ((level + ATM).max(LOW_INTAKE_PA), ATM)
-    };
-    let need = compression_pressure(eps, cycle, p_in);
-    if peak + shift >= need {
-        return Ok(());
+    // Each candidate for intake BDC: passed from any (the module's docs).
+    let mut worst: Option<(f64, f64, f64, f64)> = None;
+    for level in intake_levels(tr, cycle) {
+        // A level no intake holds: read as gauge (the module's docs).
+        let (p_in, shift) = if level >= LOW_INTAKE_PA {
+            (level, 0.0)
+        } else {
+            ((level + ATM).max(LOW_INTAKE_PA), ATM)
+        };
+        let need = compression_pressure(eps, cycle, p_in);
+        if peak + shift >= need {
+            return Ok(());
+        }
+        // The error gives the candidate that came nearest.
+        if worst.is_none_or(|w| need - peak - shift < w.1 - peak - w.3) {
+            worst = Some((level, need, p_in, shift));
+        }
     }
+    let Some((level, need, p_in, shift)) = worst else {
+        return Ok(());
+    };
     let bar = |pa: f64| enginedyn_numerics::format::sig(pa / 1e5, 3);
     let from = if shift > 0.0 {
         format!(
@@ -300,54 +313,67 @@ fn compression(
     )))
 }
 
-/// The trace's level at BDC (Pa): the mean of its samples within ±5° of
-/// BDC (180°, and 540° on a four-stroke: the lower of the two, which one is
-/// intake BDC being decided later), or its linear interpolant there when
-/// no sample lies so near. Angles from the file's firing TDC, rising,
-/// spanning less than a cycle.
-pub(crate) fn bdc_level(tr: &Trace, cycle: f64) -> f64 {
-    let at = |bdc: f64| -> f64 {
-        let a = &tr.angle_deg;
-        let first = a[0];
-        // BDC in the trace's own cycle, [first, first + cycle).
-        let b = first + (bdc - first).rem_euclid(cycle);
-        let (mut sum, mut n) = (0.0, 0usize);
-        let mut add = |lo: f64, hi: f64| {
-            let i = a.partition_point(|&x| x < lo);
-            let j = a.partition_point(|&x| x <= hi);
-            for v in &tr.values[i..j.max(i)] {
-                sum += v;
-                n += 1;
-            }
-        };
-        add(b - 5.0, b + 5.0);
-        // The window past the trace's end continues at its start, and the
-        // window before its start at its end.
-        add(b - 5.0 - cycle, b + 5.0 - cycle);
-        add(b - 5.0 + cycle, b + 5.0 + cycle);
-        if n > 0 {
-            return sum / n as f64;
-        }
-        // No sample near: the linear interpolant (the wrap included).
-        let k = a.partition_point(|&x| x <= b);
-        let m = a.len();
-        let (x0, y0, x1, y1) = if k == 0 || k == m {
-            (
-                a[m - 1] - if k == 0 { cycle } else { 0.0 },
-                tr.values[m - 1],
-                a[0] + if k == m { cycle } else { 0.0 },
-                tr.values[0],
-            )
-        } else {
-            (a[k - 1], tr.values[k - 1], a[k], tr.values[k])
-        };
-        y0 + (y1 - y0) * (b - x0) / (x1 - x0)
-    };
-    if cycle > 400.0 {
-        at(180.0).min(at(540.0))
+/// The trace's candidate levels at intake BDC (Pa), from the likeliest:
+/// 540° (four-stroke) and 180°, in the file's angles from firing TDC,
+/// then 180° before its peak (its own firing TDC, whatever the axis: a
+/// cylinder's trace on cylinder 1's axis, or one whose firing TDC lies at
+/// the file's 360°, which [`crate::axis`] decides after this pass). The
+/// last is found only when asked for: most traces pass from the first.
+pub(crate) fn intake_levels(tr: &Trace, cycle: f64) -> impl Iterator<Item = f64> + '_ {
+    let fixed: &[f64] = if cycle > 400.0 {
+        &[540.0, 180.0]
     } else {
-        at(180.0)
+        &[180.0]
+    };
+    fixed
+        .iter()
+        .map(move |&b| level_at(tr, b, cycle))
+        .chain(std::iter::once_with(move || {
+            let peak = tr
+                .values
+                .iter()
+                .enumerate()
+                .max_by(|a, b| a.1.total_cmp(b.1))
+                .map_or(0, |m| m.0);
+            level_at(tr, tr.angle_deg[peak] - 180.0, cycle)
+        }))
+}
+
+/// The trace's level at angle `bdc` (deg, any turn; Pa): the mean of its
+/// samples within ±5°, or its linear interpolant there when no sample lies
+/// so near. Angles rising, spanning less than a cycle.
+fn level_at(tr: &Trace, bdc: f64, cycle: f64) -> f64 {
+    let a = &tr.angle_deg;
+    let first = a[0];
+    // The angle in the trace's own cycle, [first, first + cycle).
+    let b = first + (bdc - first).rem_euclid(cycle);
+    let (mut sum, mut n) = (0.0, 0usize);
+    let mut add = |lo: f64, hi: f64| {
+        let i = a.partition_point(|&x| x < lo);
+        let j = a.partition_point(|&x| x <= hi);
+        for v in &tr.values[i..j.max(i)] {
+            sum += v;
+            n += 1;
+        }
+    };
+    add(b - 5.0, b + 5.0);
+    // A window past the trace's end continues at its start, one before
+    // its start at its end.
+    add(b - 5.0 - cycle, b + 5.0 - cycle);
+    add(b - 5.0 + cycle, b + 5.0 + cycle);
+    if n > 0 {
+        return sum / n as f64;
     }
+    // No sample near: the linear interpolant (the wrap included; `b` is
+    // at or after the first angle).
+    let k = a.partition_point(|&x| x <= b);
+    let m = a.len();
+    let (x0, y0, x1, y1) = if k == m {
+        (a[m - 1], tr.values[m - 1], a[0] + cycle, tr.values[0])
+    } else {
+        (a[k - 1], tr.values[k - 1], a[k], tr.values[k])
+    };
+    y0 + (y1 - y0) * (b - x0) / (x1 - x0)
 }
 
 /// What a trace refused by the compression bound looks like, for its
@@ -466,6 +492,32 @@ mod tests {
         let mut relative = petrol.clone();
         relative.values.iter_mut().for_each(|v| *v -= 3e5);
         run(&relative, 720.0, &ctx(8.5, false)).unwrap();
+    }
+
+    /// A throttled motored trace (intake 0.3 bar, exhaust 1 bar) on
+    /// another cylinder's axis, its firing TDC at the file's 270°: 540°
+    /// falls in its exhaust stroke and 180° in its compression, so from
+    /// either it would be refused; 180° before its peak is its intake BDC,
+    /// and it passes.
+    #[test]
+    fn intake_bdc_is_found_on_any_axis() {
+        let mut t = motored(8.5, 720.0, 0.3e5, 1.2, 130.0);
+        for (a, v) in t.angle_deg.iter().zip(t.values.iter_mut()) {
+            if (130.0..360.0).contains(a) {
+                *v = 1e5;
+            }
+        }
+        let peak = t.values.iter().cloned().fold(0.0, f64::max);
+        // Rotate: the sample at cycle angle a now sits at a + 270.
+        let n = t.values.len();
+        t.values.rotate_right(270 * n / 720);
+        for at in [540.0, 180.0] {
+            let need = compression_pressure(8.5, 720.0, level_at(&t, at, 720.0));
+            assert!(need > peak, "{at}: {need} {peak}");
+        }
+        let levels: Vec<f64> = intake_levels(&t, 720.0).collect();
+        assert!((levels[2] - 0.3e5).abs() < 1.0, "{levels:?}");
+        run(&t, 720.0, &ctx(8.5, true)).unwrap();
     }
 
     /// The bound is half of `p_in ε^1.3`: a trace just above it passes,
