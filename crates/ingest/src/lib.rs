@@ -56,7 +56,10 @@ pub struct ParseOptions {
     pub gauge: bool,
     /// Column names replacing the header (`_` skips a column).
     pub columns: Option<Vec<String>>,
-    /// The volume law, needed for p–V data.
+    /// The engine's cylinder: its volume law (p–V data; the gap rule's
+    /// `∫ p dV`, which bridges a single cycle's gap wider than `max_gap_deg`
+    /// when the data settle it) and its compression ratio (plausibility's
+    /// compression bound). `None`: no p–V data, and neither check.
     pub cylinder: Option<Cylinder>,
     /// p–V data starts at the BDC before firing TDC (`--pv-start bdc`).
     pub pv_start_bdc: bool,

@@ -11,8 +11,46 @@
 //!   gauge data; samples below zero elsewhere are counted for one note.
 //! - Relative pressure (to be pegged): it swings by at least 0.05 bar and
 //!   by at most 1000 bar, whatever the offset pegging adds.
+//! - Compression (when the engine, and so its compression ratio ε, is
+//!   known): the peak reaches at least half the pressure compression alone
+//!   gives, `p_in ε_c^1.3` ([`compression_pressure`]). A wrong column (an
+//!   injection or ignition signal, a needle lift, volts without `--gain`)
+//!   fails here and the error says what the column looks like
+//!   ([`looks_like`]).
 //! - Torque: at most 1e9 N m in magnitude.
+//!
+//! # The compression bound, and why it reads so
+//!
+//! INTERFACE.md: the bound is half of "the trace's own pressure at intake
+//! BDC × ε^1.3". Taken literally, a signal that sits at 0 (an injection
+//! signal's 0 V) has a bound of 0 and passes. So `p_in`, the pressure the
+//! charge is compressed from, is the trace's own only where it can be an
+//! intake's:
+//!
+//! - Its level at intake BDC ([`intake_levels`]: the mean over ±5°). Which
+//!   angle is intake BDC is decided after this pass ([`crate::axis`]: the
+//!   360° rule, a cylinder's trace on cylinder 1's axis), so each
+//!   candidate is tried (540°, 180°, 180° before the peak) and the trace
+//!   passes from any.
+//! - A level of at least [`LOW_INTAKE_PA`] (0.2 bar absolute, below any
+//!   running engine's intake; a throttled petrol engine's is about 0.3) is
+//!   the intake's: `p_in` is that level. A motored trace's peak *is* its
+//!   compression pressure, about `p_in ε^1.3` less the heat lost, so it
+//!   passes at half of it; so does a throttled engine at 0.3 bar.
+//! - A lower level is no intake's: the trace is either gauge data read as
+//!   absolute (its intake near the atmosphere: `p_in` is the level plus
+//!   1.01325 bar, and its peak is measured on the same footing) or no
+//!   pressure at all. A gauge trace still rises by its compression
+//!   pressure and passes (with the gauge warning); a flat signal with a
+//!   pulse does not.
+//! - A relative trace (to be pegged) has no level of its own: its swing
+//!   must reach what compression adds to the lowest intake,
+//!   `LOW_INTAKE_PA (½ ε_c^1.3 − 1)`.
+//! - `ε_c`: a four-stroke compresses from near BDC, `ε_c = ε`; a
+//!   two-stroke from its ports' closing, at the latest halfway up the
+//!   stroke, `ε_c = 1 + (ε − 1)/2` (the ratio it is left with).
 
+use crate::columns::ATM;
 use crate::error::IngestError;
 use crate::{Quantity, Trace};
 
@@ -27,6 +65,20 @@ pub(crate) const MIN_PEAK_PA: f64 = 5e3;
 /// The largest engines make about 1e7 N m: beyond 1e9 is a unit mix-up.
 pub(crate) const MAX_TORQUE_NM: f64 = 1e9;
 
+/// The lowest mean absolute pressure around intake BDC (Pa) a running
+/// engine's intake holds (a throttled petrol engine's is about 0.3 bar):
+/// below it a trace is gauge data or no pressure. The gauge warning's
+/// threshold too.
+pub(crate) const LOW_INTAKE_PA: f64 = 0.2e5;
+
+/// The polytropic exponent of the compression bound (INTERFACE.md).
+const POLYTROPE: f64 = 1.3;
+
+/// The share of the compression pressure a cylinder's peak reaches at
+/// least (INTERFACE.md: half), leaving room for heat loss, blow-by and a
+/// late inlet closing.
+const COMPRESSION_SHARE: f64 = 0.5;
+
 /// What a message needs to name the trace's source.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Context<'a> {
@@ -38,6 +90,9 @@ pub(crate) struct Context<'a> {
     pub absolute: bool,
     /// `--gauge` was given (how to word a trace below vacuum).
     pub gauge: bool,
+    /// The engine's compression ratio, when the engine is known: the
+    /// compression bound is checked only then.
+    pub compression_ratio: Option<f64>,
 }
 
 impl Context<'_> {
@@ -108,6 +163,23 @@ pub(crate) fn check(
                 ctx.suspect()
             )));
         }
+        if let Some(eps) = ctx.compression_ratio {
+            // The lowest candidate level: the largest rise.
+            let level = intake_levels(tr, cycle).fold(f64::INFINITY, f64::min);
+            let need = LOW_INTAKE_PA * (compression_pressure(eps, cycle, 1.0) - 1.0);
+            if vhi - level < need {
+                return Err(IngestError::Data(format!(
+                    "{}: {} is not a cylinder pressure: it rises by {} bar from its level at BDC, less than the {} bar that compression at ε = {} adds even to the lowest intake pressure ({} bar absolute); it looks like {}",
+                    name(),
+                    ctx.source(),
+                    bar(vhi - level),
+                    bar(need),
+                    enginedyn_numerics::format::human(eps),
+                    enginedyn_numerics::format::human(LOW_INTAKE_PA / 1e5),
+                    looks_like(tr, level, vhi, cycle, ctx)
+                )));
+            }
+        }
         return Ok((0, 0.0));
     }
     let peak = vhi.max(0.0);
@@ -130,6 +202,7 @@ pub(crate) fn check(
         )));
     }
     if vlo >= 0.0 {
+        compression(tr, vhi, cycle, ctx, name)?;
         return Ok((0, 0.0));
     }
     // The share of the cycle below zero: each sample stands for half the
@@ -168,5 +241,350 @@ pub(crate) fn check(
             )
         }));
     }
+    compression(tr, vhi, cycle, ctx, name)?;
     Ok((count, vlo))
+}
+
+/// Half the pressure compression alone gives (Pa) from `p_in` (Pa) at
+/// compression ratio `eps`: `½ p_in ε_c^1.3`, `ε_c` the ratio left after
+/// the inlet (four-stroke, `cycle` 720°) or the ports (two-stroke) close
+/// (the module's docs).
+pub(crate) fn compression_pressure(eps: f64, cycle: f64, p_in: f64) -> f64 {
+    let eps_c = if cycle > 400.0 {
+        eps
+    } else {
+        1.0 + 0.5 * (eps - 1.0)
+    };
+    COMPRESSION_SHARE * p_in * eps_c.powf(POLYTROPE)
+}
+
+/// The compression bound of an absolute trace whose peak is `peak` (Pa).
+fn compression(
+    tr: &Trace,
+    peak: f64,
+    cycle: f64,
+    ctx: &Context<'_>,
+    name: &dyn Fn() -> String,
+) -> Result<(), IngestError> {
+    let Some(eps) = ctx.compression_ratio else {
+        return Ok(());
+    };
+    // Each candidate for intake BDC: passed from any (the module's docs).
+    let mut worst: Option<(f64, f64, f64, f64)> = None;
+    for level in intake_levels(tr, cycle) {
+        // A level no intake holds: read as gauge (the module's docs).
+        let (p_in, shift) = if level >= LOW_INTAKE_PA {
+            (level, 0.0)
+        } else {
+            ((level + ATM).max(LOW_INTAKE_PA), ATM)
+        };
+        let need = compression_pressure(eps, cycle, p_in);
+        if peak + shift >= need {
+            return Ok(());
+        }
+        // The error gives the candidate that came nearest.
+        if worst.is_none_or(|w| need - peak - shift < w.1 - peak - w.3) {
+            worst = Some((level, need, p_in, shift));
+        }
+    }
+    let Some((level, need, p_in, shift)) = worst else {
+        return Ok(());
+    };
+    let bar = |pa: f64| enginedyn_numerics::format::sig(pa / 1e5, 3);
+    let from = if shift > 0.0 {
+        format!(
+            "{} bar at BDC (its own {} bar is below the {} bar absolute any running engine's intake holds, so it is read as gauge, its peak too: {} bar)",
+            bar(p_in),
+            bar(level),
+            enginedyn_numerics::format::human(LOW_INTAKE_PA / 1e5),
+            bar(peak + shift)
+        )
+    } else {
+        format!("its own {} bar at BDC", bar(p_in))
+    };
+    Err(IngestError::Data(format!(
+        "{}: {} is not a cylinder pressure: its peak {} bar is below {} bar, half of what compression alone gives at ε = {} from {from}; it looks like {}",
+        name(),
+        ctx.source(),
+        bar(peak),
+        bar(need),
+        enginedyn_numerics::format::human(eps),
+        looks_like(tr, level, peak, cycle, ctx)
+    )))
+}
+
+/// The trace's candidate levels at intake BDC (Pa), from the likeliest:
+/// 540° (four-stroke) and 180°, in the file's angles from firing TDC,
+/// then 180° before its peak (its own firing TDC, whatever the axis: a
+/// cylinder's trace on cylinder 1's axis, or one whose firing TDC lies at
+/// the file's 360°, which [`crate::axis`] decides after this pass). The
+/// last is found only when asked for: most traces pass from the first.
+pub(crate) fn intake_levels(tr: &Trace, cycle: f64) -> impl Iterator<Item = f64> + '_ {
+    let fixed: &[f64] = if cycle > 400.0 {
+        &[540.0, 180.0]
+    } else {
+        &[180.0]
+    };
+    fixed
+        .iter()
+        .map(move |&b| level_at(tr, b, cycle))
+        .chain(std::iter::once_with(move || {
+            let peak = tr
+                .values
+                .iter()
+                .enumerate()
+                .max_by(|a, b| a.1.total_cmp(b.1))
+                .map_or(0, |m| m.0);
+            level_at(tr, tr.angle_deg[peak] - 180.0, cycle)
+        }))
+}
+
+/// The trace's level at angle `bdc` (deg, any turn; Pa): the mean of its
+/// samples within ±5°, or its linear interpolant there when no sample lies
+/// so near. Angles rising, spanning less than a cycle.
+fn level_at(tr: &Trace, bdc: f64, cycle: f64) -> f64 {
+    let a = &tr.angle_deg;
+    let first = a[0];
+    // The angle in the trace's own cycle, [first, first + cycle).
+    let b = first + (bdc - first).rem_euclid(cycle);
+    let (mut sum, mut n) = (0.0, 0usize);
+    let mut add = |lo: f64, hi: f64| {
+        let i = a.partition_point(|&x| x < lo);
+        let j = a.partition_point(|&x| x <= hi);
+        for v in &tr.values[i..j.max(i)] {
+            sum += v;
+            n += 1;
+        }
+    };
+    add(b - 5.0, b + 5.0);
+    // A window past the trace's end continues at its start, one before
+    // its start at its end.
+    add(b - 5.0 - cycle, b + 5.0 - cycle);
+    add(b - 5.0 + cycle, b + 5.0 + cycle);
+    if n > 0 {
+        return sum / n as f64;
+    }
+    // No sample near: the linear interpolant (the wrap included; `b` is
+    // at or after the first angle).
+    let k = a.partition_point(|&x| x <= b);
+    let m = a.len();
+    let (x0, y0, x1, y1) = if k == m {
+        (a[m - 1], tr.values[m - 1], a[0] + cycle, tr.values[0])
+    } else {
+        (a[k - 1], tr.values[k - 1], a[k], tr.values[k])
+    };
+    y0 + (y1 - y0) * (b - x0) / (x1 - x0)
+}
+
+/// What a trace refused by the compression bound looks like, for its
+/// error: flat with a narrow pulse (an injection or ignition signal),
+/// nearly flat, or a signal in other units.
+fn looks_like(tr: &Trace, level: f64, peak: f64, cycle: f64, ctx: &Context<'_>) -> String {
+    let n = tr.values.len();
+    let half = level + 0.5 * (peak - level);
+    let above = tr.values.iter().filter(|&&v| v > half).count();
+    // Each sample stands for cycle / n degrees on average.
+    let width = cycle * above as f64 / n as f64;
+    let at = tr.angle_deg[tr
+        .values
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .map_or(0, |m| m.0)]
+    .rem_euclid(cycle);
+    // From firing TDC, either way: −10°, not 710°.
+    let at = if at > cycle / 2.0 { at - cycle } else { at };
+    let volts = if ctx.gain.is_some() {
+        ""
+    } else {
+        "; a voltage is a `pressure_v` column with --gain BAR_PER_V"
+    };
+    if peak - level <= 0.05 * peak.abs().max(1.0) {
+        format!("a nearly flat signal (a temperature, a speed, a manifold pressure?){volts}")
+    } else if width <= cycle / 12.0 {
+        format!(
+            "a flat signal with a pulse {}° wide at {}°: an injection, needle-lift or ignition signal?{volts}",
+            enginedyn_numerics::format::trimmed(width, 1),
+            enginedyn_numerics::format::trimmed(at, 1)
+        )
+    } else {
+        format!("a signal that never rises as a compression does: another quantity or unit?{volts}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use enginedyn_kinematics::{CrankSlider, Cylinder, Mechanism};
+
+    /// The bundled single's geometry (R 27 mm, L 84 mm, bore 68 mm).
+    fn cylinder(eps: f64) -> Cylinder {
+        let crank = CrankSlider::new(0.027, 0.084, 0.0).unwrap();
+        Cylinder::new(Mechanism::CrankSlider(crank), 0.068, eps).unwrap()
+    }
+
+    fn ctx(eps: f64, absolute: bool) -> Context<'static> {
+        Context {
+            column: "column 3 `pressure_bar` (in bar)",
+            gain: None,
+            absolute,
+            gauge: false,
+            compression_ratio: Some(eps),
+        }
+    }
+
+    fn run(tr: &Trace, cycle: f64, c: &Context<'_>) -> Result<(), String> {
+        check(tr, 1.0, cycle, Quantity::Pressure, c, &|| "cycle 1".into())
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    }
+
+    /// A motored cycle on 1° steps from firing TDC: `p_in` (Pa) through the
+    /// gas exchange, polytropic with exponent `n` from the volume at
+    /// `close` degrees before firing TDC (inlet or ports closing) to the
+    /// same angle after.
+    fn motored(eps: f64, cycle: f64, p_in: f64, n: f64, close: f64) -> Trace {
+        let cyl = cylinder(eps);
+        let v_close = cyl.volume(close.to_radians());
+        let angle_deg: Vec<f64> = (0..cycle as usize).map(|k| k as f64).collect();
+        let values = angle_deg
+            .iter()
+            .map(|&a| {
+                let c = if a > cycle / 2.0 { a - cycle } else { a };
+                if c.abs() < close {
+                    p_in * (v_close / cyl.volume(a.to_radians())).powf(n)
+                } else {
+                    p_in
+                }
+            })
+            .collect();
+        Trace {
+            cycle: 1,
+            cylinder: 0,
+            angle_deg,
+            values,
+        }
+    }
+
+    /// Motored traces pass: their peak is the compression pressure, at a
+    /// throttled petrol engine's 0.3 bar intake, with a heat-losing
+    /// exponent of 1.2 and the inlet closing 50° after BDC; a diesel at
+    /// 1 bar; a two-stroke whose ports close 100° before TDC; the same as
+    /// gauge data, and relative (unpegged) with an arbitrary offset.
+    #[test]
+    fn motored_traces_pass() {
+        let petrol = motored(8.5, 720.0, 0.3e5, 1.2, 130.0);
+        run(&petrol, 720.0, &ctx(8.5, true)).unwrap();
+        let diesel = motored(17.0, 720.0, 1e5, 1.2, 130.0);
+        run(&diesel, 720.0, &ctx(17.0, true)).unwrap();
+        let two = motored(7.5, 360.0, 1.05e5, 1.25, 100.0);
+        run(&two, 360.0, &ctx(7.5, true)).unwrap();
+        let mut gauge = diesel.clone();
+        gauge.values.iter_mut().for_each(|v| *v -= ATM);
+        // Below zero over the gas exchange: more than half the cycle.
+        assert!(
+            run(&gauge, 720.0, &ctx(17.0, true))
+                .unwrap_err()
+                .contains("--gauge")
+        );
+        gauge.values.iter_mut().for_each(|v| *v += 0.1e5);
+        run(&gauge, 720.0, &ctx(17.0, true)).unwrap();
+        let mut relative = petrol.clone();
+        relative.values.iter_mut().for_each(|v| *v -= 3e5);
+        run(&relative, 720.0, &ctx(8.5, false)).unwrap();
+    }
+
+    /// A throttled motored trace (intake 0.3 bar, exhaust 1 bar) on
+    /// another cylinder's axis, its firing TDC at the file's 270°: 540°
+    /// falls in its exhaust stroke and 180° in its compression, so from
+    /// either it would be refused; 180° before its peak is its intake BDC,
+    /// and it passes.
+    #[test]
+    fn intake_bdc_is_found_on_any_axis() {
+        let mut t = motored(8.5, 720.0, 0.3e5, 1.2, 130.0);
+        for (a, v) in t.angle_deg.iter().zip(t.values.iter_mut()) {
+            if (130.0..360.0).contains(a) {
+                *v = 1e5;
+            }
+        }
+        let peak = t.values.iter().cloned().fold(0.0, f64::max);
+        // Rotate: the sample at cycle angle a now sits at a + 270.
+        let n = t.values.len();
+        t.values.rotate_right(270 * n / 720);
+        for at in [540.0, 180.0] {
+            let need = compression_pressure(8.5, 720.0, level_at(&t, at, 720.0));
+            assert!(need > peak, "{at}: {need} {peak}");
+        }
+        let levels: Vec<f64> = intake_levels(&t, 720.0).collect();
+        assert!((levels[2] - 0.3e5).abs() < 1.0, "{levels:?}");
+        run(&t, 720.0, &ctx(8.5, true)).unwrap();
+    }
+
+    /// The bound is half of `p_in ε^1.3`: a trace just above it passes,
+    /// just below it is refused (1 bar at BDC, ε 8.5: 8.1 bar).
+    #[test]
+    fn the_bound_is_half_the_compression_pressure() {
+        let need = compression_pressure(8.5, 720.0, 1e5);
+        assert!((need - 0.5 * 1e5 * 8.5f64.powf(1.3)).abs() < 1e-9, "{need}");
+        assert!((need / 1e5 - 8.1).abs() < 0.05, "{need}");
+        // Two-stroke: from 1 + (ε − 1)/2.
+        let two = compression_pressure(7.5, 360.0, 1e5);
+        assert!((two - 0.5 * 1e5 * 4.25f64.powf(1.3)).abs() < 1e-9, "{two}");
+        let mut t = motored(8.5, 720.0, 1e5, 1.3, 180.0);
+        let peak = t.values.iter().cloned().fold(0.0, f64::max);
+        for v in &mut t.values {
+            *v = 1e5 + (*v - 1e5) * (need * 1.001 - 1e5) / (peak - 1e5);
+        }
+        run(&t, 720.0, &ctx(8.5, true)).unwrap();
+        for v in &mut t.values {
+            *v = 1e5 + (*v - 1e5) * (0.998 * need - 1e5) / (need * 1.001 - 1e5);
+        }
+        let e = run(&t, 720.0, &ctx(8.5, true)).unwrap_err();
+        assert!(
+            e.contains("is not a cylinder pressure") && e.contains("ε = 8.5"),
+            "{e}"
+        );
+        // Unknown engine: no bound.
+        let c = Context {
+            compression_ratio: None,
+            ..ctx(8.5, true)
+        };
+        run(&t, 720.0, &c).unwrap();
+    }
+
+    /// An injection signal read as bar: 0 at rest, a 5 "bar" pulse 20°
+    /// wide before TDC. Its own BDC level (0) would give a bound of 0; read
+    /// as gauge it needs 8.2 − 1.01 bar and is refused, said to look like a
+    /// pulse. Pegged (relative), a 1 bar swing is refused too.
+    #[test]
+    fn an_injection_signal_is_refused() {
+        let angle_deg: Vec<f64> = (0..1440).map(|k| k as f64 * 0.5 - 360.0).collect();
+        let values: Vec<f64> = angle_deg
+            .iter()
+            .map(|&a| {
+                if (-15.0..5.0).contains(&a) {
+                    5e5
+                } else {
+                    0.002e5
+                }
+            })
+            .collect();
+        let t = Trace {
+            cycle: 1,
+            cylinder: 0,
+            angle_deg,
+            values,
+        };
+        let e = run(&t, 720.0, &ctx(8.5, true)).unwrap_err();
+        assert!(
+            e.contains("column 3 `pressure_bar` (in bar) is not a cylinder pressure")
+                && e.contains("read as gauge")
+                && e.contains("a flat signal with a pulse 20° wide at 4.5°: an injection"),
+            "{e}"
+        );
+        let mut small = t.clone();
+        small.values.iter_mut().for_each(|v| *v *= 0.2);
+        let e = run(&small, 720.0, &ctx(8.5, false)).unwrap_err();
+        assert!(e.contains("rises by 0.9996 bar"), "{e}");
+    }
 }

@@ -7,6 +7,7 @@
 use crate::columns::{Axis, Roles, expand};
 use crate::error::{IngestError, at};
 use crate::layout::Layout;
+use crate::plausible::LOW_INTAKE_PA;
 use crate::row::Cells;
 use crate::trace::{self, Checked, Gap};
 use crate::{Header, ParseOptions, Quantity, Streamed, Trace};
@@ -105,19 +106,32 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
     ) -> Result<(), IngestError> {
         match &mut self.phase {
             Phase::Data(layout) => {
-                cells.measured(&self.measured, line)?;
-                layout.row(line, cells, &mut self.out)
+                if let Some(p) = self.out.probe.as_mut() {
+                    p.rows += 1;
+                    // A probe holds at most PROBE_VALUES values: past them,
+                    // the plain hint (a guess is not worth reading on).
+                    if p.rows.saturating_mul(p.k) > PROBE_VALUES {
+                        return Err(p.error());
+                    }
+                }
+                let r = cells
+                    .measured(&self.measured, line)
+                    .and_then(|()| layout.row(line, cells, &mut self.out));
+                self.out.probed(r)
             }
             Phase::Preamble(text) => {
                 if cells.is_data() {
                     let text = std::mem::take(text);
-                    let layout = self.start(line, cells, text)?;
+                    let layout = self.start(line, cells, text);
+                    let layout = self.out.probed(layout)?;
                     self.phase = Phase::Data(Box::new(layout));
                     let Phase::Data(layout) = &mut self.phase else {
                         return Ok(());
                     };
-                    cells.measured(&self.measured, line)?;
-                    return layout.row(line, cells, &mut self.out);
+                    let r = cells
+                        .measured(&self.measured, line)
+                        .and_then(|()| layout.row(line, cells, &mut self.out));
+                    return self.out.probed(r);
                 }
                 if text.len() >= PREAMBLE_LINES {
                     return Err(at(
@@ -190,6 +204,22 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                 }
                 let roles = Roles::resolve(&names, true, line, self.opts.torque)?;
                 (roles, text.len().checked_sub(1))
+            }
+            // No header: the columns read as `crank_deg,pressure_bar...`
+            // until each has a verdict, for a hint that offers only the
+            // readings that fit (INTERFACE.md, "Plausibility").
+            None if text.is_empty() && !self.opts.torque && k >= 2 => {
+                let names = expand(&["crank_deg".into(), "pressure_bar...".into()], k);
+                let roles = Roles::resolve(&names, true, line, false)
+                    .map_err(|_| no_header(k, line, None))?;
+                self.out.probe = Some(Probe {
+                    line,
+                    k,
+                    verdicts: vec![None; roles.values.len()],
+                    done: false,
+                    rows: 1,
+                });
+                (roles, None)
             }
             None => header(&text, k, line, self.opts.torque)?,
         };
@@ -304,7 +334,15 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                     None => IngestError::Data("no data rows".into()),
                 });
             }
-            Phase::Data(layout) => (*layout).end(&mut self.out, &mut self.head)?,
+            Phase::Data(layout) => {
+                let r = (*layout).end(&mut self.out, &mut self.head);
+                self.out.probed(r)?;
+                // Every trace handed over and still no verdict for each
+                // column: nothing fits that can be said.
+                if let Some(p) = &self.out.probe {
+                    return Err(p.error());
+                }
+            }
         }
         self.out.end(&mut self.head)?;
         Ok(self.head)
@@ -321,17 +359,7 @@ fn header(
     torque: bool,
 ) -> Result<(Roles, Option<usize>), IngestError> {
     let Some(last) = text.len().checked_sub(1) else {
-        return Err(at(
-            line,
-            None,
-            if k > 2 {
-                format!(
-                    "no header row: name the columns with --columns (here {k} of them: crank_deg,pressure_bar... reads the angle and one cycle per column; `_` skips a column), or add a header"
-                )
-            } else {
-                "no header row: name the columns with --columns crank_deg,pressure_bar (or add a header)".to_string()
-            },
-        ));
+        return Err(no_header(k, line, None));
     };
     let fit = |t: &TextLine| -> Vec<String> {
         let mut n = match &t.wide {
@@ -404,6 +432,113 @@ fn header(
     Err(first_try
         .err()
         .unwrap_or_else(|| IngestError::Data("no header".into())))
+}
+
+/// The error of a file without a header row (`k` columns, its first data
+/// row on `line`). `verdicts`, when the columns were probed: for each
+/// column after the first, read as `pressure_bar`, `Ok` when its traces
+/// pass the plausibility pass, else why not; the hint then offers only the
+/// reading that fits.
+fn no_header(k: usize, line: usize, verdicts: Option<&[Result<(), String>]>) -> IngestError {
+    let Some(v) = verdicts else {
+        return at(
+            line,
+            None,
+            if k > 2 {
+                format!(
+                    "no header row: name the columns with --columns (here {k} of them: crank_deg,pressure_bar... reads the angle and one cycle per column; `_` skips a column), or add a header"
+                )
+            } else {
+                "no header row: name the columns with --columns crank_deg,pressure_bar (or add a header)".to_string()
+            },
+        );
+    };
+    let why: Vec<String> = v
+        .iter()
+        .enumerate()
+        .filter_map(|(j, r)| {
+            // The plausibility pass names the column; other checks do not.
+            r.as_ref().err().map(|m| {
+                if m.starts_with("column ") {
+                    m.clone()
+                } else {
+                    format!("column {}: {m}", j + 2)
+                }
+            })
+        })
+        .collect();
+    let fit = v.iter().filter(|r| r.is_ok()).count();
+    let reading = if fit == v.len() {
+        if k > 2 {
+            "crank_deg,pressure_bar... reads the angle and one cycle per column".to_string()
+        } else {
+            "crank_deg,pressure_bar reads them".to_string()
+        }
+    } else if fit > 0 {
+        let names: Vec<&str> = std::iter::once("crank_deg")
+            .chain(
+                v.iter()
+                    .map(|r| if r.is_ok() { "pressure_bar" } else { "_" }),
+            )
+            .collect();
+        format!(
+            "{} reads {} as cylinder pressure and skips the rest, which cannot be one",
+            names.join(","),
+            if fit == 1 {
+                "the one column that fits"
+            } else {
+                "the columns that fit"
+            }
+        )
+    } else {
+        String::new()
+    };
+    let message = if reading.is_empty() {
+        format!(
+            "no header row, and no column after the first reads as a cylinder pressure in bar ({}): name the columns with --columns in their units (pressure_kpa, pressure_mpa, pressure_psi; a voltage: pressure_v with --gain), or add a header",
+            why.join("; ")
+        )
+    } else {
+        format!(
+            "no header row: name the columns with --columns (here {k} of them: {reading}; `_` skips a column), or add a header{}",
+            if why.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", why.join("; "))
+            }
+        )
+    };
+    at(line, None, message)
+}
+
+/// A file without a header, its columns read as `crank_deg,pressure_bar...`
+/// only to judge each against the plausibility pass; nothing is handed on.
+/// Memory: one cycle of every column, as for one cycle per column.
+pub(crate) struct Probe {
+    /// The first data row.
+    line: usize,
+    /// The file's columns.
+    k: usize,
+    /// Per value column: its first trace's verdict, once it has one.
+    verdicts: Vec<Option<Result<(), String>>>,
+    /// Every column judged: the error is the hint.
+    done: bool,
+    /// Data rows read.
+    rows: usize,
+}
+
+/// The most values a probe of a headerless file reads before it gives the
+/// plain hint (32 MiB: a 720-row cycle of 5,800 columns, a 0.1° cycle of
+/// 580).
+const PROBE_VALUES: usize = 1 << 22;
+
+impl Probe {
+    /// The no-header error: with the readings that fit once every column
+    /// has a verdict, else the plain one.
+    fn error(&self) -> IngestError {
+        let v: Option<Vec<Result<(), String>>> = self.verdicts.iter().cloned().collect();
+        no_header(self.k, self.line, v.as_deref().filter(|_| self.done))
+    }
 }
 
 /// Where a side table starts: the first empty header cell with a named
@@ -546,6 +681,9 @@ pub(crate) struct Emitter<'o, F> {
     held: Vec<Option<(Trace, Checked, Quantity, usize)>>,
     skipped: Vec<(String, Gap)>,
     bridged: Vec<(String, Gap)>,
+    /// Gaps wider than `--max-gap` that the data settle, with the share of
+    /// the cycle's work the two interpolants differ by over them.
+    settled: Vec<(String, Gap, f64)>,
     /// Samples below zero, traces with any, the lowest (Pa).
     below: (usize, usize, f64),
     /// Traces whose mean around intake BDC is below [`LOW_INTAKE_PA`], and
@@ -562,6 +700,8 @@ pub(crate) struct Emitter<'o, F> {
     pub time: bool,
     /// Where each trace's firing TDC lies (the 360° rule, the cylinders' axis).
     aligner: crate::axis::Aligner,
+    /// A headerless file being probed for the readings that fit.
+    pub probe: Option<Probe>,
 }
 
 impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
@@ -575,6 +715,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             held: Vec::new(),
             skipped: Vec::new(),
             bridged: Vec::new(),
+            settled: Vec::new(),
             below: (0, 0, 0.0),
             low_intake: (0, f64::INFINITY),
             total: 0,
@@ -583,6 +724,17 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             pv: false,
             time: false,
             aligner: crate::axis::Aligner::new(opts),
+            probe: None,
+        }
+    }
+
+    /// While probing a headerless file, any error but the probe's own
+    /// verdict (a first column that is no angle, a cell that is no number)
+    /// is the plain no-header error: the guessed names are not the user's.
+    fn probed<T>(&self, r: Result<T, IngestError>) -> Result<T, IngestError> {
+        match (&self.probe, r) {
+            (Some(p), Err(_)) if !p.done => Err(p.error()),
+            (_, r) => r,
         }
     }
 
@@ -621,7 +773,25 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             gain: opts.gain_bar_per_v.filter(|_| self.volts),
             absolute: self.absolute,
             gauge: opts.gauge,
+            compression_ratio: opts.cylinder.as_ref().map(|c| c.compression_ratio()),
         };
+        if let Some(p) = self.probe.as_mut() {
+            let prefix = format!("{}: ", trace::describe(tr.cycle, tr.cylinder));
+            let verdict = trace::finish(tr, opts.cycle_deg, q, &ctx)
+                .map(|_| ())
+                .map_err(|e| {
+                    let m = e.to_string();
+                    m.strip_prefix(&prefix).map_or(m.clone(), str::to_string)
+                });
+            if let Some(slot @ None) = p.verdicts.get_mut(value) {
+                *slot = Some(verdict);
+            }
+            if p.verdicts.iter().all(Option::is_some) {
+                p.done = true;
+                return Err(p.error());
+            }
+            return Ok(());
+        }
         let (mut tr, mut c) = trace::finish(tr, opts.cycle_deg, q, &ctx).map_err(|e| match e {
             IngestError::Data(m) => at(line, None, m),
             e => e,
@@ -683,7 +853,9 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
 
     /// A single cycle's gap wider than `--max-gap`: where it is, and the
     /// `--max-gap` that bridges it, when the flag's bound allows one.
-    fn gap_error(&self, tr: &Trace, g: trace::Gap, line: usize) -> IngestError {
+    /// `share`: how far the linear and cubic interpolants' `∫ p dV` over
+    /// it differ, as a share of the cycle's work, when measured.
+    fn gap_error(&self, tr: &Trace, g: trace::Gap, line: usize, share: Option<f64>) -> IngestError {
         let cycle = self.opts.cycle_deg;
         let max_gap = self.opts.max_gap_deg;
         let needed = g.width.ceil();
@@ -697,8 +869,18 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                 fmt(crate::MAX_GAP_DEG)
             )
         };
+        let settle = share.map_or(String::new(), |s| {
+            format!(
+                "; the linear and the cubic interpolants' ∫ p dV over it differ by {} % of the cycle's work, more than the {} % that would let the data settle it",
+                enginedyn_numerics::format::sig(100.0 * s, 2),
+                enginedyn_numerics::format::human(100.0 * trace::SETTLED_SHARE)
+            )
+        });
         let hint = if needed <= crate::MAX_GAP_BOUND_DEG {
-            format!("{now}; --max-gap {} would bridge this one", fmt(needed))
+            format!(
+                "{now}{settle}; --max-gap {} would bridge this one",
+                fmt(needed)
+            )
         } else {
             format!(
                 "that is less than half the cycle, which no --max-gap bridges (its bound is {}°): is the file cut short?",
@@ -742,7 +924,22 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             };
             let Some(g) = c.gap else { continue };
             if g.width > max_gap + 1e-9 {
-                return Err(self.gap_error(&tr, g, line));
+                // Wider than --max-gap: bridged when the data settle it.
+                let share = self
+                    .opts
+                    .cylinder
+                    .as_ref()
+                    .filter(|_| q == Quantity::Pressure && g.width <= crate::MAX_GAP_BOUND_DEG)
+                    .and_then(|cyl| trace::gap_work_share(&tr, cyl, self.opts.cycle_deg));
+                match share {
+                    Some(s) if s < trace::SETTLED_SHARE => {
+                        self.settled
+                            .push((trace::describe(tr.cycle, tr.cylinder), g, s));
+                        self.send(tr, c, q)?;
+                        continue;
+                    }
+                    _ => return Err(self.gap_error(&tr, g, line, share)),
+                }
             }
             self.bridged
                 .push((trace::describe(tr.cycle, tr.cylinder), g));
@@ -768,6 +965,17 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                 fmt(g.median),
                 if self.bridged.len() > 1 { format!(", and {} more traces have one", self.bridged.len() - 1) } else { String::new() },
                 fmt(max_gap)
+            ));
+        }
+        for (name, g, share) in &self.settled {
+            head.notes.push(format!(
+                "{name} has a gap of {}° from {}° (its steps are {}°), wider than --max-gap {}°: bridged, as the data settle it: the linear and the cubic interpolants' ∫ p dV over it differ by {} % of the cycle's work (under {} %)",
+                fmt(g.width),
+                fmt(g.from),
+                fmt(g.median),
+                fmt(max_gap),
+                enginedyn_numerics::format::sig(100.0 * share, 2),
+                enginedyn_numerics::format::human(100.0 * trace::SETTLED_SHARE)
             ));
         }
         if let Some((name, g)) = self
@@ -811,10 +1019,6 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
         Ok(())
     }
 }
-
-/// The lowest mean absolute pressure around intake BDC (Pa) a running
-/// engine's intake holds: below it the trace is likely gauge data.
-const LOW_INTAKE_PA: f64 = 0.2e5;
 
 fn fmt(x: f64) -> String {
     enginedyn_numerics::format::trimmed(x, 2)

@@ -234,7 +234,10 @@ pub(crate) fn read<R: std::io::Read, F: FnMut(Streamed) -> Result<(), IngestErro
     let mut vals = [0.0; PLAIN_CELLS];
     let mut row_buf: Vec<f64> = Vec::new();
     loop {
-        if let (Some(sep), Phase::Data(layout)) = (delim.and_then(Delim::byte), &mut rd.phase) {
+        // (Not while a headerless file is probed: every row counts there.)
+        if let (Some(sep), Phase::Data(layout), None) =
+            (delim.and_then(Delim::byte), &mut rd.phase, &rd.out.probe)
+        {
             // Runs of plain rows that continue the cycles being read.
             let (w, eof) = lines.window()?;
             let (used, n) = match &mut **layout {

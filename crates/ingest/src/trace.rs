@@ -4,6 +4,7 @@
 
 use crate::error::IngestError;
 use crate::{Quantity, Trace};
+use enginedyn_kinematics::Cylinder;
 
 /// The angles of the cycle being built: where it started, where it is, and
 /// whether its angles have wrapped past the cycle's end once (360 … 719.5,
@@ -211,6 +212,60 @@ pub(crate) fn finish(
     Ok((tr, checked(None)))
 }
 
+/// The share of the cycle's work under which the data settle a gap wider
+/// than `--max-gap` (INTERFACE.md, "Gaps"): 0.1 %.
+pub(crate) const SETTLED_SHARE: f64 = 1e-3;
+
+/// How far the data settle a single cycle's widest gap (INTERFACE.md,
+/// "Gaps"): the linear and the periodic cubic spline interpolants
+/// integrated over it, `∫ p dV` (composite Simpson on 0.05° or finer, `dV`
+/// from the volume law), their difference as a share of the cycle's
+/// `|W| = |∮ p dV|` (the spline's, Simpson on a 0.1° grid). Two
+/// interpolants that agree over a gap leave nothing there for the data to
+/// decide: typically a sparse stretch of the gas exchange, where the
+/// pressure is nearly flat and `dV` small against the cycle's work. `tr`:
+/// angles in `[0, cycle)`, rising. `None` when the interpolants cannot be
+/// built or the cycle does no work.
+pub(crate) fn gap_work_share(tr: &Trace, cyl: &Cylinder, cycle: f64) -> Option<f64> {
+    use enginedyn_numerics::integrate::{Rule, cumulative, periodic_integral};
+    use enginedyn_numerics::{InterpKind, Periodic};
+    let a = &tr.angle_deg;
+    let n = a.len();
+    let lin = Periodic::new(InterpKind::Linear, a, &tr.values, cycle).ok()?;
+    let cubic = Periodic::new(InterpKind::Spline, a, &tr.values, cycle).ok()?;
+    // The widest spacing, the wrap from the last angle to the first included.
+    let (mut from, mut width) = (a[n - 1], a[0] + cycle - a[n - 1]);
+    for w in a.windows(2) {
+        if w[1] - w[0] > width {
+            (from, width) = (w[0], w[1] - w[0]);
+        }
+    }
+    let rad = 1f64.to_radians();
+    // Over the gap: (cubic - linear) dV/dφ, φ in radians.
+    let panels = 2 * ((width / 0.1).ceil() as usize).max(32);
+    let h = width / panels as f64;
+    let f: Vec<f64> = (0..=panels)
+        .map(|k| {
+            let x = from + h * k as f64;
+            (cubic.eval(x) - lin.eval(x)) * cyl.dvolume(x * rad)
+        })
+        .collect();
+    let mut run = vec![0.0; f.len()];
+    cumulative(Rule::Simpson, &f, h * rad, &mut run);
+    let diff = run[panels];
+    // The cycle's work.
+    let step = 0.1;
+    let m = (cycle / step).round() as usize;
+    let (_, dv) = cyl.fill_volume(step * rad, m);
+    let mut p = vec![0.0; m];
+    cubic.eval_uniform(0.0, step, &mut p);
+    for (x, d) in p.iter_mut().zip(&dv) {
+        *x *= d;
+    }
+    let work = periodic_integral(Rule::Simpson, &p, step * rad);
+    (work.abs() > 0.0 && diff.is_finite()).then(|| (diff / work).abs())
+}
+
 /// "cycle 3", "cycle 3 of cylinder 2", as messages name a trace.
 pub(crate) fn describe(cycle: i64, cylinder: i64) -> String {
     if cylinder > 0 {
@@ -247,6 +302,7 @@ mod tests {
             gain: None,
             absolute,
             gauge: false,
+            compression_ratio: None,
         }
     }
 
@@ -272,6 +328,44 @@ mod tests {
         let short: Vec<f64> = (0..=170).map(f64::from).collect();
         let (_, c) = finish(trace(&short, 1e6), 720.0, Quantity::Pressure, &ctx(true)).unwrap();
         assert_eq!(c.gap.map(|g| g.width), Some(550.0));
+    }
+
+    /// The gap rule's figure: nearly nothing over a flat stretch of the
+    /// exhaust stroke, much over the peak; unchanged by a constant added
+    /// (both interpolants keep it, and `∮ dV = 0`) or by a scale.
+    #[test]
+    fn the_data_settle_a_gap_in_the_gas_exchange_only() {
+        use enginedyn_kinematics::{CrankSlider, Mechanism};
+        let crank = CrankSlider::new(0.027, 0.084, 0.0).unwrap();
+        let cyl = Cylinder::new(Mechanism::CrankSlider(crank), 0.068, 8.5).unwrap();
+        let p = |a: f64| {
+            let c = if a > 360.0 { a - 720.0 } else { a };
+            1e5 + 40e5 * (-((c - 10.0) / 30.0).powi(2)).exp() + 0.2e5 * (a.to_radians()).sin()
+        };
+        let with_gap = |from: f64| {
+            let a: Vec<f64> = (0..288)
+                .map(|k| f64::from(k) * 2.5)
+                .filter(|&x| !(x > from && x < from + 33.5))
+                .chain([from + 33.5])
+                .collect();
+            let mut a = a;
+            a.sort_by(f64::total_cmp);
+            a.dedup();
+            Trace {
+                cycle: 1,
+                cylinder: 0,
+                values: a.iter().map(|&x| p(x)).collect(),
+                angle_deg: a,
+            }
+        };
+        let exhaust = gap_work_share(&with_gap(250.0), &cyl, 720.0).unwrap();
+        assert!(exhaust < 0.5 * SETTLED_SHARE, "{exhaust}");
+        let peak = gap_work_share(&with_gap(5.0), &cyl, 720.0).unwrap();
+        assert!(peak > 10.0 * SETTLED_SHARE, "{peak}");
+        let mut moved = with_gap(5.0);
+        moved.values.iter_mut().for_each(|v| *v = 3.0 * *v + 2e5);
+        let again = gap_work_share(&moved, &cyl, 720.0).unwrap();
+        assert!((again - peak).abs() < 1e-9 * peak, "{again} {peak}");
     }
 
     #[test]
