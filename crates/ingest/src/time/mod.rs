@@ -533,7 +533,7 @@ impl TimeRecord {
                 self.cycles.finish(line, out)?;
                 let source = match &s.kind {
                     teeth::Kind::Encoder(e) => format!(
-                        "the angle from the `encoder` column's {} edges ({} a revolution), interpolated in time between edges; 0° {}",
+                        "the angle from the `encoder` column's {} edges ({} a revolution), interpolated in time between edges (the cubic through the edges around); 0° {}",
                         s.edge_count,
                         e.ppr,
                         match e.tdc_time {
@@ -545,7 +545,7 @@ impl TimeRecord {
                         }
                     ),
                     teeth::Kind::Wheel { gaps, tdc_deg } => format!(
-                        "the angle from the {} tooth wheel in the `wheel` column ({} teeth, the gap found {} times from the tooth periods), interpolated in time between teeth; cylinder 1's TDC {}° after the first tooth after the gap (--wheel-tdc-deg)",
+                        "the angle from the {} tooth wheel in the `wheel` column ({} teeth, the gap found {} times from the tooth periods), interpolated in time between teeth (the cubic through the teeth around); cylinder 1's TDC {}° after the first tooth after the gap (--wheel-tdc-deg)",
                         gaps.wheel,
                         s.edge_count,
                         gaps.count,

@@ -61,6 +61,10 @@ pub(super) struct Crank {
     edges: VecDeque<(f64, usize)>,
     /// The last numbered edge: time and position (steps from the first).
     last: Option<(f64, i64)>,
+    /// Its line.
+    last_line: usize,
+    /// The last numbered edges (up to four): time, position, line.
+    hist: VecDeque<(f64, i64, usize)>,
     /// The first numbered edge, for the mean speed.
     first: Option<(f64, i64)>,
     /// Samples after the last numbered edge: time, value, line.
@@ -105,6 +109,8 @@ impl Crank {
             before: VecDeque::with_capacity(NEIGHBOURS + 1),
             edges: VecDeque::with_capacity(NEIGHBOURS + 3),
             last: None,
+            last_line: 0,
+            hist: VecDeque::with_capacity(5),
             first: None,
             pending: VecDeque::new(),
             marks,
@@ -205,7 +211,7 @@ impl Crank {
         out: &mut Emitter<'_, F>,
     ) -> Result<(), IngestError> {
         if self.last.is_none()
-            && let Some(&(t0, _)) = self.edges.front()
+            && let Some(&(t0, l0)) = self.edges.front()
         {
             // The first edge: position 0. The samples before it have no angle.
             while self.pending.front().is_some_and(|s| s.0 < t0) {
@@ -216,6 +222,8 @@ impl Crank {
                 self.marks.pop_front();
             }
             self.last = Some((t0, 0));
+            self.last_line = l0;
+            self.hist.push_back((t0, 0, l0));
             self.first = self.last;
             self.edges.pop_front();
         }
@@ -237,7 +245,7 @@ impl Crank {
                 } else {
                     0.5 * (near[m - 1] + near[m])
                 };
-                self.judge(d, median, line)?
+                self.judge(t0, d, median, line)?
             } else {
                 1
             };
@@ -246,13 +254,18 @@ impl Crank {
                 self.before.pop_front();
             }
             self.edges.pop_front();
-            self.numbered(t0, n0, t1, n0 + steps, steps, line, cycles, out)?;
+            self.numbered(t0, t1, n0 + steps, steps, line, cycles, out)?;
         }
         Ok(())
     }
 
-    /// How many steps a period `d` spans, against its neighbours' `median`.
-    fn judge(&self, d: f64, median: f64, line: usize) -> Result<i64, IngestError> {
+    /// How many steps the period `d` from the last numbered edge (at `t0`)
+    /// spans, against its neighbours' `median`; `line` is its closing
+    /// edge's. An error names the line of the edge at fault: of a short
+    /// period, the edge whose removal leaves the period nearest the median
+    /// (the one before, or the closing one); of a long one, the first
+    /// sample where the missing edge was due.
+    fn judge(&self, t0: f64, d: f64, median: f64, line: usize) -> Result<i64, IngestError> {
         let r = d / median;
         if (r - 1.0).abs() <= PERIOD_OFF {
             return Ok(1);
@@ -262,25 +275,49 @@ impl Crank {
         {
             return Ok(g);
         }
-        let what = if r < 1.0 {
-            "an extra edge (or noise crossing half the signal's range)".to_string()
+        let (what, line) = if r < 1.0 {
+            let prev = self.before.back().map(|p| d + p);
+            let next = match (self.edges.front(), self.edges.get(1)) {
+                (Some(a), Some(b)) => Some(d + b.0 - a.0),
+                _ => None,
+            };
+            let off = |x: Option<f64>| x.map_or(f64::INFINITY, |x| (x - median).abs());
+            let at_line = if off(prev) < off(next) {
+                self.last_line
+            } else {
+                line
+            };
+            (
+                "an extra edge (or noise crossing half the signal's range)".to_string(),
+                at_line,
+            )
         } else {
-            match &self.kind {
-                Kind::Wheel { gaps, .. } => format!(
-                    "a missing edge, or a gap other than a {} wheel's ({} periods; --wheel)",
-                    gaps.wheel,
-                    gaps.wheel.missing() + 1
-                ),
-                Kind::Encoder(_) => "a missing edge".to_string(),
-            }
+            let due = t0 + median;
+            let at_line = self
+                .pending
+                .iter()
+                .find(|s| s.0 >= due)
+                .map_or(line, |s| s.2);
+            (
+                match &self.kind {
+                    Kind::Wheel { gaps, .. } => format!(
+                        "a missing edge, or a gap other than a {} wheel's ({} periods; --wheel)",
+                        gaps.wheel,
+                        gaps.wheel.missing() + 1
+                    ),
+                    Kind::Encoder(_) => "a missing edge".to_string(),
+                },
+                at_line,
+            )
         };
         Err(at(
             line,
             Some(self.col + 1),
             format!(
-                "the `{}` column's period ending here lasts {} s, {} times its neighbours' median {} s (more than 40 % off): {what}",
+                "the `{}` column's period from t = {} s to {} s is {} times its neighbours' median {} s (more than 40 % off): {what}",
                 self.name(),
-                enginedyn_numerics::format::sig(d, 4),
+                enginedyn_numerics::format::sig(t0, 9),
+                enginedyn_numerics::format::sig(t0 + d, 9),
                 enginedyn_numerics::format::sig(r, 3),
                 enginedyn_numerics::format::sig(median, 4)
             ),
@@ -288,12 +325,13 @@ impl Crank {
     }
 
     /// An edge numbered: position `n1` at `t1`, `steps` after the one at
-    /// (`t0`, `n0`). The samples and marks between them get their angles.
+    /// `t0`. The samples and marks of the interval before the one it ends
+    /// get their angles (an interval is placed once the edge after it is
+    /// numbered: its angle is the cubic through the edges around it).
     #[allow(clippy::too_many_arguments)]
     fn numbered<F: FnMut(Streamed) -> Result<(), IngestError>>(
         &mut self,
         t0: f64,
-        n0: i64,
         t1: f64,
         n1: i64,
         steps: i64,
@@ -312,8 +350,44 @@ impl Crank {
         }
         let rpm = steps as f64 * self.step_deg / (t1 - t0) / 6.0;
         self.speeds = (self.speeds.0.min(rpm), self.speeds.1.max(rpm));
+        self.last = Some((t1, n1));
+        self.last_line = line;
+        self.hist.push_back((t1, n1, line));
+        if self.hist.len() > 4 {
+            self.hist.pop_front();
+        }
+        if self.hist.len() >= 3 {
+            self.place(self.hist.len() - 2, cycles, out)?;
+        }
+        Ok(())
+    }
+
+    /// Places the samples and marks before numbered edge `hist[end]` (after
+    /// `hist[end - 1]`): the angle is the polynomial in time through the
+    /// numbered edges from two before the interval to one after it (a cubic
+    /// within the record, lower at its ends).
+    fn place<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        end: usize,
+        cycles: &mut Cycles,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        let (t1, n1, line) = self.hist[end];
+        let (tr, nr, _) = self.hist[end - 1];
         let step = self.step_deg;
-        let angle = |t: f64| step * (n0 as f64 + (n1 - n0) as f64 * (t - t0) / (t1 - t0));
+        let mut pts = [(0.0, 0.0); 4];
+        let mut m = 0;
+        for &(t, n, _) in self
+            .hist
+            .iter()
+            .skip(end.saturating_sub(2))
+            .take((end + 2).min(self.hist.len()) - end.saturating_sub(2))
+        {
+            pts[m] = (t - tr, (n - nr) as f64 * step);
+            m += 1;
+        }
+        let pts = &pts[..m];
+        let angle = |t: f64| nr as f64 * step + lagrange(pts, t - tr);
         loop {
             let sample = self.pending.front().copied().filter(|s| s.0 < t1);
             let mark = self.marks.front().copied().filter(|m| m.0 < t1);
@@ -335,7 +409,6 @@ impl Crank {
                 _ => break,
             }
         }
-        self.last = Some((t1, n1));
         if let Some(r) = self.reference {
             let a = n1 as f64 * step - r;
             let k = (a / 360.0).floor();
@@ -376,6 +449,26 @@ impl Crank {
         cycles: &mut Cycles,
         out: &mut Emitter<'_, F>,
     ) -> Result<(), IngestError> {
-        self.number(true, cycles, out)
+        self.number(true, cycles, out)?;
+        if self.hist.len() >= 2 {
+            self.place(self.hist.len() - 1, cycles, out)?;
+        }
+        Ok(())
     }
+}
+
+/// The polynomial through `pts` (x, y), at `x`: Lagrange's form, for up
+/// to four points.
+fn lagrange(pts: &[(f64, f64)], x: f64) -> f64 {
+    let mut sum = 0.0;
+    for (i, &(xi, yi)) in pts.iter().enumerate() {
+        let mut w = yi;
+        for (j, &(xj, _)) in pts.iter().enumerate() {
+            if j != i {
+                w *= (x - xj) / (xi - xj);
+            }
+        }
+        sum += w;
+    }
+    sum
 }
