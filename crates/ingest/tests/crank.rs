@@ -112,6 +112,11 @@ fn record(
         revs.flat_map(|k| (0..58).map(move |j| gap_at + 360.0 * k as f64 + 6.0 * j as f64)),
         3.0,
     );
+    // The cam: one pulse a cycle, rising 120° before firing TDC.
+    let mut cam = Train::new(
+        (first / 2 - 1..first / 2 + 10).map(|k| 720.0 * k as f64 - 120.0),
+        30.0,
+    );
     let mut out = format!("time_s,pressure_bar,{}\n", columns.join(","));
     let mut v = vec![0.0; columns.len()];
     for i in 0..SAMPLES {
@@ -123,6 +128,7 @@ fn record(
                     "tdc" => tdc.value(t),
                     "encoder" => enc.value(t),
                     "wheel" => wheel.value(t),
+                    "cam" => cam.value(t),
                     _ => 0.0,
                 };
         }
@@ -323,4 +329,52 @@ fn a_crank_signal_needs_its_flags() {
     let truth: Vec<f64> = (0..n).map(|i| sol.pressure(i as f64 * STEP)).collect();
     let rel = (imep(&cyl, &got.pressure) - imep(&cyl, &truth)).abs() / imep(&cyl, &truth);
     assert!(rel < 1e-4, "{rel:.2e}");
+}
+
+#[test]
+fn a_cam_pulse_tells_the_firing_revolution() {
+    let cyl = cylinder();
+    let sol = solution(&cyl);
+    let n = (720.0 / STEP).round() as usize;
+    let truth: Vec<f64> = (0..n).map(|i| sol.pressure(i as f64 * STEP)).collect();
+    let want = imep(&cyl, &truth);
+    let mut opts = ParseOptions::new(720.0);
+    opts.wheel = Some(Wheel::parse("58x").unwrap());
+    opts.wheel_tdc_deg = Some(WHEEL_TDC_DEG);
+    let got = read(&record(&["wheel", "cam"], &sol, |_, _| {}), &opts).unwrap();
+    let rel = (imep(&cyl, &got.pressure) - want).abs() / want;
+    assert!(rel < 1e-4, "{rel:.2e}");
+    assert!(
+        got.notes
+            .iter()
+            .any(|n| n.contains("after each `cam` pulse")),
+        "{:?}",
+        got.notes
+    );
+    // The cam moved a revolution on (the sensor read on the other cam
+    // lobe): the firing TDC moves with it, and the cycle read is another.
+    let moved = record(&["wheel", "cam"], &sol, |i, v| {
+        let t = i as f64 / FS;
+        let a = theta(t).rem_euclid(720.0);
+        v[1] = if (240.0..270.0).contains(&a) {
+            5.0
+        } else {
+            0.0
+        };
+    });
+    // (IMEP cannot tell: the volume repeats every revolution, so ∮ p dV of
+    // a cycle read 360° late is the same; the pressure peak moves.)
+    let peak = |r: &enginedyn_ingest::Resampled| {
+        let i = (0..r.pressure.len())
+            .max_by(|&a, &b| r.pressure[a].total_cmp(&r.pressure[b]))
+            .unwrap();
+        i as f64 * STEP
+    };
+    let other = read(&moved, &opts).unwrap();
+    let (right, late) = (peak(&got), peak(&other));
+    assert!(
+        right < 60.0 && (late - right - 360.0).abs() < 0.5,
+        "{right} {late}"
+    );
+    assert_eq!(other.cycles, got.cycles - 1, "{:?}", other.notes);
 }

@@ -398,11 +398,12 @@ impl Crank {
                 }
                 (Some((t, p, l)), _) => {
                     self.pending.pop_front();
-                    let Some(r) = self.reference else {
+                    // Before the first TDC: a revolution's samples begin
+                    // at its TDC, as the cycles expect.
+                    let Some(a) = self.reference.map(|r| angle(t) - r).filter(|a| *a >= 0.0) else {
                         self.before_first += 1;
                         continue;
                     };
-                    let a = angle(t) - r;
                     let k = (a / 360.0).floor();
                     cycles.push(k as i64, a - 360.0 * k, p, l, out)?;
                 }
