@@ -266,6 +266,21 @@ pub struct DiagramArgs {
     /// A charge amplifier's gain (bar per volt) for a `pressure_v` column.
     #[arg(long, value_name = "BAR_PER_V", value_parser = parse_gain)]
     pub gain: Option<f64>,
+    /// A time record's `encoder` column gives N pulses a revolution (1 to 100,000).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=enginedyn_ingest::MAX_ENCODER_PPR as i64))]
+    pub encoder_ppr: Option<u32>,
+    /// A time record's `wheel` column is a tooth wheel T-M: 60-2, 36-1, 36-2 or 58x.
+    #[arg(long, value_name = "T-M", value_parser = enginedyn_ingest::Wheel::parse)]
+    pub wheel: Option<enginedyn_ingest::Wheel>,
+    /// The angle (deg) from the wheel's first tooth after the gap to cylinder 1's TDC.
+    #[arg(long, value_name = "A", allow_hyphen_values = true, value_parser = parse_wheel_tdc)]
+    pub wheel_tdc_deg: Option<f64>,
+}
+
+/// `--wheel-tdc-deg`: within a revolution either way.
+fn parse_wheel_tdc(s: &str) -> Result<f64, String> {
+    let m = enginedyn_ingest::MAX_WHEEL_TDC_DEG;
+    number_in(s, -m, m, "°")
 }
 
 /// `--max-gap`: 0 to 360°.
