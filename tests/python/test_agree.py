@@ -13,7 +13,8 @@ import enginedyn as ed
 
 # CLI flags whose Python names are not the flag's own with `_` for `-`.
 RENAMED = {"--max-gap": "max_gap_deg", "--gain": "gain_bar_per_v"}
-NUMERIC = {"tdc_deg", "peg_bar", "max_gap_deg", "tdc_time", "gain_bar_per_v", "rpm"}
+NUMERIC = {"tdc_deg", "peg_bar", "max_gap_deg", "tdc_time", "gain_bar_per_v", "rpm", "wheel_tdc_deg"}
+INTEGER = {"encoder_ppr", "skip_lines"}
 SWITCHES = {"--gauge"}
 
 
@@ -31,6 +32,8 @@ def reader_kwargs(flags):
             value = value.split(",")
         elif name in NUMERIC:
             value = float(value)
+        elif name in INTEGER:
+            value = int(value)
         kw[name] = value
         i += 2
     return kw

@@ -210,6 +210,15 @@ pub struct DiagramArgs {
     /// A charge amplifier's gain (bar per volt) for a `pressure_v` column.
     #[arg(long, value_name = "BAR_PER_V", value_parser = parse_gain)]
     pub gain: Option<f64>,
+    /// A time record's `encoder` column gives N pulses a revolution (1 to 100,000).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=bounds::MAX_ENCODER_PPR as i64))]
+    pub encoder_ppr: Option<u32>,
+    /// A time record's `wheel` column is a tooth wheel T-M: 60-2, 36-1, 36-2 or 58x.
+    #[arg(long, value_name = "T-M", value_parser = enginedyn_ingest::Wheel::parse)]
+    pub wheel: Option<enginedyn_ingest::Wheel>,
+    /// The angle (deg) from the wheel's first tooth after the gap to cylinder 1's TDC.
+    #[arg(long, value_name = "A", allow_hyphen_values = true, value_parser = parse_wheel_tdc)]
+    pub wheel_tdc_deg: Option<f64>,
 }
 
 fn parse_shard(s: &str) -> Result<enginedyn_session::batch::Shard, String> {
@@ -222,6 +231,10 @@ fn parse_max_gap(s: &str) -> Result<f64, String> {
 
 fn parse_tdc_time(s: &str) -> Result<f64, String> {
     bounds::TDC_TIME.read(s)
+}
+
+fn parse_wheel_tdc(s: &str) -> Result<f64, String> {
+    bounds::WHEEL_TDC_DEG.read(s)
 }
 
 fn parse_gain(s: &str) -> Result<f64, String> {
@@ -248,6 +261,9 @@ impl DiagramArgs {
             tdc_time: self.tdc_time,
             gain_bar_per_v: self.gain,
             rpm,
+            encoder_ppr: self.encoder_ppr,
+            wheel: self.wheel,
+            wheel_tdc_deg: self.wheel_tdc_deg,
         }
     }
 }

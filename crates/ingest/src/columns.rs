@@ -40,6 +40,9 @@ pub fn canonical(name: &str) -> Option<(&'static str, f64)> {
         Role::Cycle => ("cycle", 1.0),
         Role::Cylinder => ("cylinder", 1.0),
         Role::Tdc => ("tdc", 1.0),
+        Role::Encoder => ("encoder", 1.0),
+        Role::Wheel => ("wheel", 1.0),
+        Role::Cam => ("cam", 1.0),
         Role::Skip => return None,
     })
 }
@@ -68,6 +71,9 @@ pub(crate) const KNOWN: &[&str] = &[
     "cycle",
     "cylinder",
     "tdc",
+    "encoder",
+    "wheel",
+    "cam",
 ];
 
 /// What one column holds.
@@ -98,6 +104,12 @@ pub(crate) enum Role {
     Cylinder,
     /// A TDC pulse per revolution.
     Tdc,
+    /// A crank encoder's pulses (`--encoder-ppr` a revolution).
+    Encoder,
+    /// A tooth wheel with missing teeth (`--wheel`).
+    Wheel,
+    /// A cam signal: one pulse a cycle.
+    Cam,
     /// `_`, or an empty name: nothing.
     Skip,
 }
@@ -128,6 +140,9 @@ impl Role {
             Role::Cycle => "cycle number".into(),
             Role::Cylinder => "cylinder number".into(),
             Role::Tdc => "TDC pulse".into(),
+            Role::Encoder => "crank encoder".into(),
+            Role::Wheel => "tooth wheel".into(),
+            Role::Cam => "cam pulse".into(),
             Role::Skip => "skipped".into(),
         }
     }
@@ -329,6 +344,11 @@ const PRESSURE_WORDS: &[&str] = &[
 const TIME_WORDS: &[&str] = &["time", "t", "zeit", "timestamp"];
 const VOLUME_WORDS: &[&str] = &["volume", "vol", "v", "hubraum"];
 const TDC_WORDS: &[&str] = &["tdc", "ot", "trigger", "pulse", "marker"];
+/// The crank's own signals (INTERFACE.md): read before the angle words, so
+/// `Crank encoder` and `Crank wheel` are no angle.
+const ENCODER_WORDS: &[&str] = &["encoder", "enc", "drehgeber", "inkrementalgeber"];
+const WHEEL_WORDS: &[&str] = &["wheel", "ckp", "geberrad", "zahnrad", "toothwheel"];
+const CAM_WORDS: &[&str] = &["cam", "cmp", "camshaft", "nocken", "nockenwelle"];
 const CYCLE_WORDS: &[&str] = &["cycle", "cyc", "zyklus", "arbeitsspiel", "cycles"];
 /// True when `name` holds the unit `kW` as written (lower-case k, upper-case
 /// W, not after `°`): power, not the crank angle `KW`.
@@ -407,6 +427,9 @@ pub(crate) fn recognise(raw: &str) -> Result<Role, Unread> {
         "cycle" => return Ok(Role::Cycle),
         "cylinder" => return Ok(Role::Cylinder),
         "tdc" => return Ok(Role::Tdc),
+        "encoder" => return Ok(Role::Encoder),
+        "wheel" => return Ok(Role::Wheel),
+        "cam" => return Ok(Role::Cam),
         n => {
             // `volume_cm3`, `time_ms`, `pressure_kgf_cm2`, `pressure_v`: the
             // unit after the quantity, read from the unit tables.
@@ -491,6 +514,15 @@ pub(crate) fn recognise(raw: &str) -> Result<Role, Unread> {
                 u.to_string(),
             )),
         };
+    }
+    if has(ENCODER_WORDS) {
+        return Ok(Role::Encoder);
+    }
+    if has(WHEEL_WORDS) {
+        return Ok(Role::Wheel);
+    }
+    if has(CAM_WORDS) {
+        return Ok(Role::Cam);
     }
     // `kW` is a dynamometer's power, never the German crank angle `KW`
     // (`°KW`, `KW [°]`, `Kurbelwinkel`): the case tells them apart.
@@ -607,6 +639,11 @@ pub(crate) struct Roles {
     pub cycle: Option<usize>,
     pub cylinder: Option<usize>,
     pub tdc: Option<usize>,
+    /// The crank's own signals of a time record: an encoder, a tooth wheel,
+    /// a cam pulse (each `None` unless the axis is time).
+    pub encoder: Option<usize>,
+    pub wheel: Option<usize>,
+    pub cam: Option<usize>,
     /// Columns the names cover.
     pub ncols: usize,
     /// How the columns were read, when that is worth saying.
@@ -736,6 +773,9 @@ impl Roles {
         let cycle = one(|r| matches!(r, Role::Cycle), "cycle")?;
         let cylinder = one(|r| matches!(r, Role::Cylinder), "cylinder")?;
         let tdc = one(|r| matches!(r, Role::Tdc), "TDC pulse")?;
+        let encoder = one(|r| matches!(r, Role::Encoder), "encoder")?;
+        let wheel = one(|r| matches!(r, Role::Wheel), "tooth wheel")?;
+        let cam = one(|r| matches!(r, Role::Cam), "cam")?;
         let torque = first(|r| matches!(r, Role::Torque(_)));
         let pressures = first(|r| matches!(r, Role::Pressure { .. }));
         let volts = first(|r| matches!(r, Role::Volts { .. }));
@@ -833,11 +873,19 @@ impl Roles {
                 _ => unread_message(&names[*i], why),
             });
         }
-        if tdc.is_some() && !matches!(axis, Axis::Time(_)) {
-            left_out.push(format!(
-                "`{}` (a TDC pulse is used with a time column only)",
-                enginedyn_numerics::format::quote(&names[tdc.unwrap_or(0)])
-            ));
+        let time = matches!(axis, Axis::Time(_));
+        for (col, what) in [
+            (tdc, "a TDC pulse"),
+            (encoder, "an encoder"),
+            (wheel, "a tooth wheel"),
+            (cam, "a cam pulse"),
+        ] {
+            if let Some(i) = col.filter(|_| !time) {
+                left_out.push(format!(
+                    "`{}` ({what} is used with a time column only)",
+                    enginedyn_numerics::format::quote(&names[i])
+                ));
+            }
         }
         // Say how the names were read when any is not canonical.
         let canonical = read
@@ -849,7 +897,12 @@ impl Roles {
                 .chain(values.iter().map(|v| v.col))
                 .chain(cycle)
                 .chain(cylinder)
-                .chain(tdc.filter(|_| matches!(axis, Axis::Time(_))))
+                .chain(
+                    [tdc, encoder, wheel, cam]
+                        .into_iter()
+                        .flatten()
+                        .filter(|_| matches!(axis, Axis::Time(_))),
+                )
                 .collect();
             let mut shown: Vec<String> = Vec::new();
             let many = values.len() > 3;
@@ -888,7 +941,10 @@ impl Roles {
             per_cylinder,
             cycle,
             cylinder,
-            tdc: tdc.filter(|_| matches!(axis, Axis::Time(_))),
+            tdc: tdc.filter(|_| time),
+            encoder: encoder.filter(|_| time),
+            wheel: wheel.filter(|_| time),
+            cam: cam.filter(|_| time),
             ncols: names.len(),
             note,
         })

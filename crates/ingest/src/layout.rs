@@ -3,12 +3,13 @@
 //! cycle per column (cycles side by side), and the time record
 //! ([`crate::time`]).
 
-use crate::columns::{ATM, Axis, Roles, same};
+use crate::columns::{Axis, Roles, same};
+use crate::emit::Emitter;
 use crate::error::{IngestError, at, shown_number};
-use crate::reader::Emitter;
 use crate::row::Cells;
 use crate::time::TimeRecord;
 use crate::trace::Track;
+use crate::values::value_scale;
 use crate::{Header, MAX_CYCLE, MAX_CYLINDERS, ParseOptions, Quantity, Streamed, Trace};
 
 /// How rows become traces.
@@ -16,35 +17,6 @@ pub(crate) enum Layout {
     Long(Long),
     PerColumn(PerColumn),
     Time(Box<TimeRecord>),
-}
-
-/// Pa per file unit and the offset added (Pa) for value column `v`.
-pub(crate) fn value_scale(
-    roles: &Roles,
-    scale: f64,
-    opts: &ParseOptions,
-    line: usize,
-) -> Result<(f64, f64), IngestError> {
-    if roles.volts {
-        let col = roles.values.first().map_or(1, |v| v.col + 1);
-        let Some(gain) = opts.gain_bar_per_v else {
-            return Err(at(
-                line,
-                Some(col),
-                "a voltage column (`pressure_v`) needs --gain BAR_PER_V, the charge amplifier's setting",
-            ));
-        };
-        if !opts.relative {
-            return Err(at(
-                line,
-                Some(col),
-                "a charge amplifier's voltage is relative pressure: give --peg-bar P (the pressure at intake BDC, bar) or --peg polytropic to peg each cycle",
-            ));
-        }
-        return Ok((scale * gain * 1e5, 0.0));
-    }
-    let gauge = opts.gauge && roles.quantity == Quantity::Pressure;
-    Ok((scale, if gauge { ATM } else { 0.0 }))
 }
 
 impl Layout {

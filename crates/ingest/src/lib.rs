@@ -22,12 +22,14 @@ use std::io::BufRead;
 mod arrays;
 mod axis;
 mod columns;
+mod emit;
 mod error;
 mod fast;
 mod grid;
 mod layout;
 mod number;
 mod plausible;
+mod probe;
 mod pv;
 mod reader;
 mod row;
@@ -36,6 +38,7 @@ mod template;
 mod text;
 mod time;
 mod trace;
+mod values;
 
 pub use axis::CylinderAxis;
 pub use columns::{canonical, pressure_unit};
@@ -44,6 +47,7 @@ pub use grid::{Accumulator, CycleStats, GridOptions, Peg, PegReport, Resampled, 
 pub use number::{NumberError, SpeedError, read_number, read_rpm};
 pub use sheet::MAX_WORKBOOK;
 pub use text::MAX_LINE;
+pub use time::{MAX_ENCODER_PPR, MAX_WHEEL_TDC_DEG, Wheel};
 
 /// How to read a diagram.
 #[derive(Debug, Clone, PartialEq)]
@@ -97,6 +101,14 @@ pub struct ParseOptions {
     pub as_cylinder: usize,
     /// A turning-moment file is expected (`--torque`): errors speak of torque.
     pub torque: bool,
+    /// A time record's `encoder` column gives this many pulses a revolution
+    /// (`--encoder-ppr`, 1 to [`MAX_ENCODER_PPR`]).
+    pub encoder_ppr: Option<u32>,
+    /// A time record's `wheel` column is this tooth wheel (`--wheel`).
+    pub wheel: Option<Wheel>,
+    /// The angle (deg) from the wheel's first tooth after the gap to
+    /// cylinder 1's TDC (`--wheel-tdc-deg`).
+    pub wheel_tdc_deg: Option<f64>,
 }
 
 /// A workbook's sheet (`--sheet NAME|N`).
@@ -145,6 +157,9 @@ impl ParseOptions {
             cylinder_axis: None,
             as_cylinder: 0,
             torque: false,
+            encoder_ppr: None,
+            wheel: None,
+            wheel_tdc_deg: None,
         }
     }
 }

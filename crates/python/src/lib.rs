@@ -232,6 +232,15 @@ fn reader(d: &Bound<'_, PyDict>) -> PyResult<Reader> {
         tdc_time: get(d, "tdc_time")?,
         gain_bar_per_v: get(d, "gain_bar_per_v")?,
         rpm: get(d, "rpm")?,
+        encoder_ppr: get(d, "encoder_ppr")?,
+        wheel: match get::<String>(d, "wheel")? {
+            Some(w) => Some(
+                enginedyn_ingest::Wheel::parse(&w)
+                    .map_err(|e| UsageError::new_err(format!("wheel: {e}")))?,
+            ),
+            None => None,
+        },
+        wheel_tdc_deg: get(d, "wheel_tdc_deg")?,
     };
     r.check(kw).py()?;
     Ok(r)

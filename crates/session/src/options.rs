@@ -98,6 +98,14 @@ pub const GAIN: Bound = Bound {
     unit: " bar/V",
     above_lo: Some("a gain above 0 bar/V is needed"),
 };
+/// `wheel_tdc_deg`: within a revolution either way.
+pub const WHEEL_TDC_DEG: Bound = Bound::closed(
+    -enginedyn_ingest::MAX_WHEEL_TDC_DEG,
+    enginedyn_ingest::MAX_WHEEL_TDC_DEG,
+    "°",
+);
+/// `encoder_ppr`: pulses a revolution, 1 to this.
+pub const MAX_ENCODER_PPR: u32 = enginedyn_ingest::MAX_ENCODER_PPR;
 /// `tolerance`: a relative error from 1e-6 to 0.5.
 pub const TOLERANCE: Bound = Bound::closed(1e-6, 0.5, "");
 /// `skip_lines`: up to a million.
@@ -190,6 +198,13 @@ pub struct Reader {
     pub gain_bar_per_v: Option<f64>,
     /// The engine speed (rpm): overrides the diagram's and the engine file's.
     pub rpm: Option<f64>,
+    /// A time record's `encoder` column: pulses a revolution.
+    pub encoder_ppr: Option<u32>,
+    /// A time record's `wheel` column: the tooth wheel (60-2, 36-1, …).
+    pub wheel: Option<enginedyn_ingest::Wheel>,
+    /// The angle (deg) from the wheel's first tooth after the gap to
+    /// cylinder 1's TDC.
+    pub wheel_tdc_deg: Option<f64>,
 }
 
 impl Reader {
@@ -197,8 +212,9 @@ impl Reader {
     /// (the CLI's flags are checked by their parsers before this).
     pub fn check(&self, name: impl Fn(&str) -> String) -> Result<()> {
         let bad = |field: &str, why: String| Error::usage(format!("{}: {why}", name(field)));
-        let each: [(&str, Option<f64>, &Bound); 5] = [
+        let each: [(&str, Option<f64>, &Bound); 6] = [
             ("tdc_deg", self.tdc_deg, &TDC_DEG),
+            ("wheel_tdc_deg", self.wheel_tdc_deg, &WHEEL_TDC_DEG),
             ("peg_bar", self.peg_bar, &PEG_BAR),
             ("max_gap_deg", self.max_gap_deg, &MAX_GAP),
             ("tdc_time", self.tdc_time, &TDC_TIME),
@@ -228,6 +244,14 @@ impl Reader {
         }
         if let Some(r) = self.rpm {
             check_rpm(r).map_err(|w| bad("rpm", w))?;
+        }
+        if let Some(n) = self.encoder_ppr
+            && !(1..=MAX_ENCODER_PPR).contains(&n)
+        {
+            return Err(bad(
+                "encoder_ppr",
+                format!("{n} is outside 1 to {MAX_ENCODER_PPR}"),
+            ));
         }
         Ok(())
     }
@@ -321,6 +345,9 @@ pub const READER_KEYS: &[&str] = &[
     "tdc_time",
     "gain_bar_per_v",
     "rpm",
+    "encoder_ppr",
+    "wheel",
+    "wheel_tdc_deg",
 ];
 
 /// The method options by name.

@@ -1,0 +1,368 @@
+//! The emitter: each finished trace checked ([`crate::trace::finish`], the
+//! plausibility pass), moved to its firing TDC ([`crate::axis`]) and handed
+//! on, the gap rule applied and the notes about traces gathered. Every
+//! layout hands its traces here; it depends on none of them.
+
+use crate::error::{IngestError, at};
+use crate::plausible::LOW_INTAKE_PA;
+use crate::probe::Probe;
+use crate::trace::{self, Checked, Gap};
+use crate::{Header, ParseOptions, Quantity, Streamed, Trace};
+
+/// Checks each finished trace and hands it on, applying the gap rule: a
+/// single cycle (per cylinder) with a gap is held to the end and bridged up
+/// to `--max-gap`; once a cylinder has several cycles, those with a gap are
+/// left out of the averages.
+pub(crate) struct Emitter<'o, F> {
+    opts: &'o ParseOptions,
+    sink: F,
+    /// Pressures must be absolute (not to be pegged): checked for sign.
+    absolute: bool,
+    pv_notes: Vec<String>,
+    /// Per cylinder (0: one trace for all): traces seen and handed on.
+    seen: Vec<(usize, usize)>,
+    held: Vec<Option<(Trace, Checked, Quantity, usize)>>,
+    skipped: Vec<(String, Gap)>,
+    bridged: Vec<(String, Gap)>,
+    /// Gaps wider than `--max-gap` that the data settle, with the share of
+    /// the cycle's work the two interpolants differ by over them.
+    settled: Vec<(String, Gap, f64)>,
+    /// Samples below zero, traces with any, the lowest (Pa).
+    below: (usize, usize, f64),
+    /// Traces whose mean around intake BDC is below [`LOW_INTAKE_PA`], and
+    /// the lowest such mean (Pa).
+    low_intake: (usize, f64),
+    total: usize,
+    /// The value columns as messages name them (`Roles::labels`).
+    pub labels: Vec<String>,
+    /// The values are volts times `--gain`.
+    pub volts: bool,
+    /// The traces are p–V data (placed on angles by volume).
+    pv: bool,
+    /// The traces come from a time record (its own firing-TDC rule).
+    pub time: bool,
+    /// Where each trace's firing TDC lies (the 360° rule, the cylinders' axis).
+    aligner: crate::axis::Aligner,
+    /// A headerless file being probed for the readings that fit.
+    pub probe: Option<Probe>,
+}
+
+impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
+    pub(crate) fn new(opts: &'o ParseOptions, sink: F) -> Self {
+        Self {
+            opts,
+            sink,
+            absolute: !opts.relative,
+            pv_notes: Vec::new(),
+            seen: Vec::new(),
+            held: Vec::new(),
+            skipped: Vec::new(),
+            bridged: Vec::new(),
+            settled: Vec::new(),
+            below: (0, 0, 0.0),
+            low_intake: (0, f64::INFINITY),
+            total: 0,
+            labels: Vec::new(),
+            volts: false,
+            pv: false,
+            time: false,
+            aligner: crate::axis::Aligner::new(opts),
+            probe: None,
+        }
+    }
+
+    /// While probing a headerless file, any error but the probe's own
+    /// verdict (a first column that is no angle, a cell that is no number)
+    /// is the plain no-header error: the guessed names are not the user's.
+    pub(crate) fn probed<T>(&self, r: Result<T, IngestError>) -> Result<T, IngestError> {
+        match (&self.probe, r) {
+            (Some(p), Err(_)) if !p.done => Err(p.error()),
+            (_, r) => r,
+        }
+    }
+
+    /// A finished trace, its first line, what it holds, whether p–V.
+    pub(crate) fn trace(
+        &mut self,
+        tr: Trace,
+        line: usize,
+        q: Quantity,
+        pv: bool,
+        value: usize,
+    ) -> Result<(), IngestError> {
+        let opts = self.opts;
+        self.pv = pv;
+        let tr = if pv {
+            let cyl = opts.cylinder.as_ref().ok_or_else(|| {
+                IngestError::Data("p–V data needs the engine's volume law".into())
+            })?;
+            crate::pv::to_angles(
+                tr,
+                cyl,
+                opts.cycle_deg,
+                opts.pv_start_bdc,
+                line,
+                &mut self.pv_notes,
+            )?
+        } else {
+            tr
+        };
+        // A trace's errors name the line it starts on.
+        let ctx = crate::plausible::Context {
+            column: self
+                .labels
+                .get(value)
+                .map_or("the pressure column", String::as_str),
+            gain: opts.gain_bar_per_v.filter(|_| self.volts),
+            absolute: self.absolute,
+            gauge: opts.gauge,
+            compression_ratio: opts.cylinder.as_ref().map(|c| c.compression_ratio()),
+        };
+        if let Some(p) = self.probe.as_mut() {
+            let prefix = format!("{}: ", trace::describe(tr.cycle, tr.cylinder));
+            let verdict = trace::finish(tr, opts.cycle_deg, q, &ctx)
+                .map(|_| ())
+                .map_err(|e| {
+                    let m = e.to_string();
+                    m.strip_prefix(&prefix).map_or(m.clone(), str::to_string)
+                });
+            if let Some(slot @ None) = p.verdicts.get_mut(value) {
+                *slot = Some(verdict);
+            }
+            if p.verdicts.iter().all(Option::is_some) {
+                p.done = true;
+                return Err(p.error());
+            }
+            return Ok(());
+        }
+        let (mut tr, mut c) = trace::finish(tr, opts.cycle_deg, q, &ctx).map_err(|e| match e {
+            IngestError::Data(m) => at(line, None, m),
+            e => e,
+        })?;
+        if self
+            .aligner
+            .align(&mut tr, q, self.time, pv)
+            .map_err(|e| match e {
+                IngestError::Data(m) => at(line, None, m),
+                e => e,
+            })?
+        {
+            // Moved: its steps now include the joined ends.
+            c.steps = None;
+        }
+        if self.absolute
+            && q == Quantity::Pressure
+            && !pv
+            && let Some(m) = crate::grid::intake_bdc_mean(
+                tr.angle_deg.iter().copied().zip(tr.values.iter().copied()),
+                opts.cycle_deg,
+            )
+            && m < LOW_INTAKE_PA
+        {
+            self.low_intake.0 += 1;
+            self.low_intake.1 = self.low_intake.1.min(m);
+        }
+        if c.below_zero.0 > 0 {
+            self.below.0 += c.below_zero.0;
+            self.below.1 += 1;
+            self.below.2 = self.below.2.min(c.below_zero.1);
+        }
+        self.total += 1;
+        let k = usize::try_from(tr.cylinder).unwrap_or(0);
+        if self.seen.len() <= k {
+            self.seen.resize(k + 1, (0, 0));
+            self.held.resize_with(k + 1, || None);
+        }
+        self.seen[k].0 += 1;
+        if self.seen[k].0 == 2
+            && let Some((t, c, _, _)) = self.held[k].take()
+            && let Some(g) = c.gap
+        {
+            self.skipped.push((trace::describe(t.cycle, t.cylinder), g));
+        }
+        match c.gap {
+            Some(_) if self.seen[k].0 == 1 => {
+                self.held[k] = Some((tr, c, q, line));
+                Ok(())
+            }
+            Some(g) => {
+                self.skipped
+                    .push((trace::describe(tr.cycle, tr.cylinder), g));
+                Ok(())
+            }
+            None => self.send(tr, c, q),
+        }
+    }
+
+    /// A single cycle's gap wider than `--max-gap`: where it is, and the
+    /// `--max-gap` that bridges it, when the flag's bound allows one.
+    /// `share`: how far the linear and cubic interpolants' `∫ p dV` over
+    /// it differ, as a share of the cycle's work, when measured.
+    fn gap_error(&self, tr: &Trace, g: trace::Gap, line: usize, share: Option<f64>) -> IngestError {
+        let cycle = self.opts.cycle_deg;
+        let max_gap = self.opts.max_gap_deg;
+        let needed = g.width.ceil();
+        let now = if (max_gap - crate::MAX_GAP_DEG).abs() < 1e-9 {
+            format!("the default --max-gap bridges gaps up to {}°", fmt(max_gap))
+        } else {
+            format!(
+                "--max-gap {} bridges gaps up to {}° (the default: {}°)",
+                fmt(max_gap),
+                fmt(max_gap),
+                fmt(crate::MAX_GAP_DEG)
+            )
+        };
+        let settle = share.map_or(String::new(), |s| {
+            format!(
+                "; the linear and the cubic interpolants' ∫ p dV over it differ by {} % of the cycle's work, more than the {} % that would let the data settle it",
+                enginedyn_numerics::format::sig(100.0 * s, 2),
+                enginedyn_numerics::format::human(100.0 * trace::SETTLED_SHARE)
+            )
+        });
+        let hint = if needed <= crate::MAX_GAP_BOUND_DEG {
+            format!(
+                "{now}{settle}; --max-gap {} would bridge this one",
+                fmt(needed)
+            )
+        } else {
+            format!(
+                "that is less than half the cycle, which no --max-gap bridges (its bound is {}°): is the file cut short?",
+                fmt(crate::MAX_GAP_BOUND_DEG)
+            )
+        };
+        // The gap's own line: one sample a row from the trace's first line
+        // (p–V data is reordered by volume, so it names the first line).
+        let gap_line = if self.pv { line } else { line + g.at };
+        at(
+            gap_line,
+            None,
+            format!(
+                "{} has a gap of {}° from {}° to {}° (its steps are {}°): the data covers {}° of the {}° cycle; {hint}",
+                trace::describe(tr.cycle, tr.cylinder),
+                fmt(g.width),
+                fmt(g.from),
+                fmt((g.from + g.width) % cycle),
+                fmt(g.median),
+                fmt(cycle - g.width),
+                fmt(cycle),
+            ),
+        )
+    }
+
+    fn send(&mut self, tr: Trace, c: Checked, q: Quantity) -> Result<(), IngestError> {
+        let k = usize::try_from(tr.cylinder).unwrap_or(0);
+        self.seen[k].1 += 1;
+        (self.sink)(Streamed {
+            trace: tr,
+            quantity: q,
+            steps: c.steps,
+        })
+    }
+
+    pub(crate) fn end(&mut self, head: &mut Header) -> Result<(), IngestError> {
+        let max_gap = self.opts.max_gap_deg;
+        for k in 0..self.held.len() {
+            let Some((tr, c, q, line)) = self.held[k].take() else {
+                continue;
+            };
+            let Some(g) = c.gap else { continue };
+            if g.width > max_gap + 1e-9 {
+                // Wider than --max-gap: bridged when the data settle it.
+                let share = self
+                    .opts
+                    .cylinder
+                    .as_ref()
+                    .filter(|_| q == Quantity::Pressure && g.width <= crate::MAX_GAP_BOUND_DEG)
+                    .and_then(|cyl| trace::gap_work_share(&tr, cyl, self.opts.cycle_deg));
+                match share {
+                    Some(s) if s < trace::SETTLED_SHARE => {
+                        self.settled
+                            .push((trace::describe(tr.cycle, tr.cylinder), g, s));
+                        self.send(tr, c, q)?;
+                        continue;
+                    }
+                    _ => return Err(self.gap_error(&tr, g, line, share)),
+                }
+            }
+            self.bridged
+                .push((trace::describe(tr.cycle, tr.cylinder), g));
+            self.send(tr, c, q)?;
+        }
+        for (k, (seen, sent)) in self.seen.iter().enumerate() {
+            if *seen > 0 && *sent == 0 {
+                return Err(IngestError::Data(format!(
+                    "every one of the {seen} cycles{} has a gap (a spacing of more than 5 median steps): none is left to average",
+                    if k > 0 {
+                        format!(" of cylinder {k}")
+                    } else {
+                        String::new()
+                    }
+                )));
+            }
+        }
+        if let Some((name, g)) = self.bridged.first() {
+            head.notes.push(format!(
+                "{name} has a gap of {}° from {}° (its steps are {}°){}: bridged by the interpolant (--max-gap {}°); the pressure there is its guess, and peak pressure and IMEP are uncertain by what the gap hides",
+                fmt(g.width),
+                fmt(g.from),
+                fmt(g.median),
+                if self.bridged.len() > 1 { format!(", and {} more traces have one", self.bridged.len() - 1) } else { String::new() },
+                fmt(max_gap)
+            ));
+        }
+        for (name, g, share) in &self.settled {
+            head.notes.push(format!(
+                "{name} has a gap of {}° from {}° (its steps are {}°), wider than --max-gap {}°: bridged, as the data settle it: the linear and the cubic interpolants' ∫ p dV over it differ by {} % of the cycle's work (under {} %)",
+                fmt(g.width),
+                fmt(g.from),
+                fmt(g.median),
+                fmt(max_gap),
+                enginedyn_numerics::format::sig(100.0 * share, 2),
+                enginedyn_numerics::format::human(100.0 * trace::SETTLED_SHARE)
+            ));
+        }
+        if let Some((name, g)) = self
+            .skipped
+            .iter()
+            .max_by(|a, b| a.1.width.total_cmp(&b.1.width))
+            .cloned()
+        {
+            head.notes.push(format!(
+                "{} of {} cycles left out of the averages for a gap in the data (a dropout: a spacing of more than 5 median steps; the widest: {name}, {}° from {}°)",
+                self.skipped.len(),
+                self.total,
+                fmt(g.width),
+                fmt(g.from)
+            ));
+            head.cycles_skipped = self.skipped.len();
+        }
+        if self.below.0 > 0 {
+            head.notes.push(format!(
+                "{} sample{} below zero absolute pressure (lowest {} bar){}: kept, as sensor noise or drift in the gas exchange",
+                self.below.0,
+                if self.below.0 > 1 { "s" } else { "" },
+                enginedyn_numerics::format::sig(self.below.2 / 1e5, 3),
+                if self.total > 1 { format!(" in {} of {} traces", self.below.1, self.total) } else { String::new() }
+            ));
+        }
+        if self.low_intake.0 > 0 {
+            head.notes.push(format!(
+                "the pressure around intake BDC averages {} bar absolute{}, below the {} bar an engine's intake holds: gauge data (relative to the atmosphere) read as absolute? give --gauge, or peg a relative trace (--peg-bar P)",
+                enginedyn_numerics::format::sig(self.low_intake.1 / 1e5, 3),
+                if self.total > 1 {
+                    format!(" (lowest) in {} of {} traces", self.low_intake.0, self.total)
+                } else {
+                    String::new()
+                },
+                enginedyn_numerics::format::human(LOW_INTAKE_PA / 1e5)
+            ));
+        }
+        head.notes.append(&mut self.pv_notes);
+        head.notes.extend(self.aligner.notes());
+        Ok(())
+    }
+}
+
+fn fmt(x: f64) -> String {
+    enginedyn_numerics::format::trimmed(x, 2)
+}

@@ -1,0 +1,79 @@
+//! A constant speed and the time of one firing TDC (`--rpm`, `--tdc-time`):
+//! the angle linear in time over the whole record.
+
+use super::cycles::Building;
+use crate::emit::Emitter;
+use crate::error::IngestError;
+use crate::{Quantity, Streamed};
+
+/// The angle from a constant speed: firing TDC at `t0` (s), `deg_per_s`.
+pub(super) struct Clock {
+    pub t0: f64,
+    pub deg_per_s: f64,
+    cycle_deg: f64,
+    /// The angle step between the first samples (deg).
+    step_deg: f64,
+    cur: Option<Building>,
+    pub complete: usize,
+    pub partial: usize,
+}
+
+impl Clock {
+    pub(super) fn new(t0: f64, rpm: f64, cycle_deg: f64) -> Self {
+        Self {
+            t0,
+            deg_per_s: rpm * 6.0,
+            cycle_deg,
+            step_deg: 0.0,
+            cur: None,
+            complete: 0,
+            partial: 0,
+        }
+    }
+
+    /// A sample at angle `a` (deg) from firing TDC.
+    pub(super) fn sample<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        a: f64,
+        p: f64,
+        line: usize,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        let c = (a / self.cycle_deg).floor() as i64;
+        let within = a - c as f64 * self.cycle_deg;
+        if self.cur.as_ref().is_none_or(|b| b.index != c) {
+            self.close(out)?;
+            self.cur = Some(Building::new(c, line, 0, true));
+        }
+        if let Some(b) = self.cur.as_mut() {
+            if let Some(&prev) = b.trace.angle_deg.last()
+                && self.step_deg == 0.0
+            {
+                self.step_deg = within - prev;
+            }
+            b.trace.angle_deg.push(within);
+            b.trace.values.push(p);
+        }
+        Ok(())
+    }
+
+    /// The cycle being assembled is whole when its samples reach both its
+    /// ends (within two sample steps).
+    pub(super) fn close<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        if let Some(b) = self.cur.take() {
+            let first = b.trace.angle_deg.first().copied().unwrap_or(0.0);
+            let last = b.trace.angle_deg.last().copied().unwrap_or(0.0);
+            let step = self.step_deg.max(1e-9);
+            if first <= 2.0 * step && self.cycle_deg - last <= 2.0 * step {
+                self.complete += 1;
+                out.trace(b.trace, b.line, Quantity::Pressure, false, 0)?;
+            } else {
+                self.partial += 1;
+            }
+        }
+        Ok(())
+    }
+}

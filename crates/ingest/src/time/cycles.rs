@@ -1,0 +1,277 @@
+//! Cycles from angled samples: every angle source (pulse, encoder, wheel)
+//! hands its samples here as a revolution counted from its reference TDC
+//! and the degrees within it. On a four-stroke the firing TDC is decided
+//! once: by `--tdc-deg`, a `cam` pulse, or the pressure-peak rule (of the
+//! two TDCs of a cycle, the one after which the mean pressure over the next
+//! 90° is higher: expansion, not intake), the samples held meanwhile (four
+//! revolutions at most). A cycle is handed on when it is whole.
+
+use crate::emit::Emitter;
+use crate::error::{IngestError, at};
+use crate::{Quantity, Streamed, Trace};
+
+/// Revolutions held until the pressure-peak rule decides the firing TDC.
+const DECIDE_REVS: i64 = 4;
+
+/// A cycle being assembled.
+pub(super) struct Building {
+    /// Cycle index from the first firing TDC (0-based).
+    pub index: i64,
+    pub trace: Trace,
+    pub line: usize,
+    /// It began at its firing TDC, not midway.
+    pub from_start: bool,
+}
+
+impl Building {
+    pub(super) fn new(index: i64, line: usize, capacity: usize, from_start: bool) -> Self {
+        Self {
+            index,
+            trace: Trace {
+                cycle: index + 1,
+                cylinder: 0,
+                angle_deg: Vec::with_capacity(capacity),
+                values: Vec::with_capacity(capacity),
+            },
+            line,
+            from_start,
+        }
+    }
+}
+
+/// How the firing TDC is found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Firing {
+    /// Known from the start: two-stroke, `--tdc-deg`, `--tdc-time`.
+    Given,
+    /// The pressure-peak rule.
+    Pressure,
+    /// The `cam` column.
+    Cam,
+}
+
+/// The cycles of a time record being assembled.
+pub(super) struct Cycles {
+    cycle_deg: f64,
+    tdc_deg: Option<f64>,
+    /// Which revolutions (their count from the reference, mod 2) begin at
+    /// firing TDC, once known.
+    pub parity: Option<i64>,
+    pub firing: Firing,
+    /// Samples held until the firing TDC is known: revolution, degrees
+    /// within it, value, line.
+    held: Vec<(i64, f64, f64, usize)>,
+    cur: Option<Building>,
+    pub complete: usize,
+    pub partial: usize,
+    /// The furthest angle the source reached: revolution, degrees within.
+    reach: Option<(i64, f64)>,
+    /// Samples in the last whole cycle: the next one's capacity.
+    last_len: usize,
+}
+
+impl Cycles {
+    pub(super) fn new(cycle_deg: f64, tdc_deg: Option<f64>, firing: Firing) -> Self {
+        let given = cycle_deg < 400.0 || tdc_deg.is_some() || firing == Firing::Given;
+        Self {
+            cycle_deg,
+            tdc_deg,
+            parity: given.then_some(0),
+            firing: if given { Firing::Given } else { firing },
+            held: Vec::new(),
+            cur: None,
+            complete: 0,
+            partial: 0,
+            reach: None,
+            last_len: 1024,
+        }
+    }
+
+    /// The angle (deg from the first firing TDC) where revolution `k` begins.
+    fn start(&self, k: i64, parity: i64) -> f64 {
+        match self.tdc_deg {
+            Some(x) => 360.0 * k as f64 - x,
+            None => 360.0 * (k - parity) as f64,
+        }
+    }
+
+    /// A sample `within` degrees into revolution `k` from the reference.
+    pub(super) fn push<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        k: i64,
+        within: f64,
+        p: f64,
+        line: usize,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        match self.parity {
+            Some(par) => self.place(k, within, p, line, par, out),
+            None => {
+                if self.held.first().is_some_and(|h| k >= h.0 + DECIDE_REVS) {
+                    self.decide(line, out)?;
+                    return self.push(k, within, p, line, out);
+                }
+                self.held.push((k, within, p, line));
+                Ok(())
+            }
+        }
+    }
+
+    /// The source has reached `within` degrees into revolution `k`: a whole
+    /// cycle ending there is complete; after four revolutions the firing
+    /// TDC is decided.
+    pub(super) fn reached<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        k: i64,
+        within: f64,
+        line: usize,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        self.reach = Some((k, within));
+        if self.parity.is_none()
+            && let Some(h) = self.held.first()
+            && k as f64 + within / 360.0 >= (h.0 + DECIDE_REVS) as f64
+        {
+            self.decide(line, out)?;
+        }
+        Ok(())
+    }
+
+    /// A `cam` pulse says revolutions of parity `par` begin at firing TDC.
+    pub(super) fn cam<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        par: i64,
+        line: usize,
+        col: usize,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        if self.firing != Firing::Cam {
+            return Ok(());
+        }
+        match self.parity {
+            Some(was) if was != par => Err(at(
+                line,
+                Some(col + 1),
+                "this `cam` pulse falls in the other revolution than the ones before: a `cam` column holds one pulse a cycle (every 720°)",
+            )),
+            Some(_) => Ok(()),
+            None => {
+                self.parity = Some(par);
+                for (k, w, p, l) in std::mem::take(&mut self.held) {
+                    self.place(k, w, p, l, par, out)?;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Which revolutions begin at firing TDC: those after which the
+    /// pressure over the next 90° is higher on average.
+    fn decide<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        line: usize,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        let held = std::mem::take(&mut self.held);
+        if self.firing == Firing::Cam {
+            return Err(at(
+                line,
+                None,
+                format!(
+                    "no `cam` pulse in the first {DECIDE_REVS} revolutions: a `cam` column holds one pulse a cycle"
+                ),
+            ));
+        }
+        let mut score = [0.0f64; 2];
+        let mut i = 0;
+        while i < held.len() {
+            let k = held[i].0;
+            let (mut s, mut n) = (0.0, 0usize);
+            while i < held.len() && held[i].0 == k {
+                if held[i].1 < 90.0 {
+                    s += held[i].2;
+                    n += 1;
+                }
+                i += 1;
+            }
+            if n > 0 {
+                score[k.rem_euclid(2) as usize] += s / n as f64;
+            }
+        }
+        let par = if score[1] > score[0] { 1 } else { 0 };
+        self.parity = Some(par);
+        for (k, w, p, l) in held {
+            self.place(k, w, p, l, par, out)?;
+        }
+        Ok(())
+    }
+
+    /// Puts a sample on its crank angle and into its cycle.
+    fn place<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        k: i64,
+        within: f64,
+        p: f64,
+        line: usize,
+        parity: i64,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        // The revolution's first angle from firing TDC: the TDCs are 360°
+        // apart; --tdc-deg may put firing TDC anywhere between them.
+        let start = self.start(k, parity);
+        let a = start + within;
+        let c = (a / self.cycle_deg + 1e-12).floor() as i64;
+        if self.cur.as_ref().is_none_or(|b| b.index != c) {
+            // A cycle is whole from its start when an earlier sample was
+            // placed, or this revolution begins at or before it.
+            let from_start = self.cur.is_some() || start <= c as f64 * self.cycle_deg + 1e-6;
+            self.close(out, true)?;
+            self.cur = Some(Building::new(c, line, self.last_len, from_start));
+        }
+        if let Some(b) = self.cur.as_mut() {
+            b.trace.angle_deg.push(a - b.index as f64 * self.cycle_deg);
+            b.trace.values.push(p);
+        }
+        Ok(())
+    }
+
+    /// Hands the cycle being assembled on when it is whole: it began at its
+    /// firing TDC and the record `reached` its end.
+    fn close<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        out: &mut Emitter<'_, F>,
+        reached: bool,
+    ) -> Result<(), IngestError> {
+        if let Some(b) = self.cur.take() {
+            if b.from_start && reached {
+                self.complete += 1;
+                self.last_len = b.trace.angle_deg.len();
+                out.trace(b.trace, b.line, Quantity::Pressure, false, 0)?;
+            } else {
+                self.partial += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// The end of the record: the firing TDC decided from what is held, the
+    /// last cycle handed on when the source reached its end.
+    pub(super) fn finish<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        line: usize,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        if self.parity.is_none() && !self.held.is_empty() {
+            self.decide(line, out)?;
+        }
+        let par = self.parity.unwrap_or(0);
+        let reach = self
+            .reach
+            .map_or(f64::NEG_INFINITY, |(k, w)| self.start(k, par) + w);
+        let end = self
+            .cur
+            .as_ref()
+            .map_or(f64::INFINITY, |b| (b.index + 1) as f64 * self.cycle_deg);
+        self.close(out, reach >= end - 1e-6)
+    }
+}

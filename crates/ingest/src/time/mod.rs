@@ -1,0 +1,668 @@
+//! Time records: a data acquisition system sampling in time, not on a
+//! crank-angle encoder's clock. The crank angle comes from one angle
+//! source, each in a module of its own:
+//!
+//! - [`pulse`]: a `tdc` pulse per revolution, the speed taken revolution by
+//!   revolution, the angle linear in time within each;
+//! - [`clock`]: a constant speed and the time of one firing TDC (`--rpm`,
+//!   `--tdc-time`);
+//! - [`encoder`] and [`wheel`]: the crank's own signals, an encoder's edges
+//!   or a tooth wheel's teeth ([`teeth`]: edges checked period by period,
+//!   the angle interpolated in time between them).
+//!
+//! Every edge is where its signal rises through half its range ([`edges`]).
+//! The sources hand their samples to [`cycles`], which decides the firing
+//! TDC on a four-stroke and hands whole cycles to the emitter.
+//!
+//! Memory is bounded: the first [`PROBE`] samples are held to find the
+//! signals' ranges, then one revolution at a time (four at the start of a
+//! four-stroke, until the firing TDC is known).
+
+mod clock;
+mod cycles;
+mod edges;
+mod encoder;
+mod pulse;
+mod teeth;
+mod wheel;
+
+pub use wheel::Wheel;
+
+use crate::columns::{Axis, Roles};
+use crate::emit::Emitter;
+use crate::error::{IngestError, at, shown_number};
+use crate::row::Cells;
+use crate::values::value_scale;
+use crate::{Header, ParseOptions, Quantity, Streamed};
+use cycles::{Cycles, Firing};
+
+/// The most pulses a revolution `--encoder-ppr` may give (INTERFACE.md).
+pub const MAX_ENCODER_PPR: u32 = 100_000;
+
+/// The largest `--wheel-tdc-deg` either way (deg): a revolution.
+pub const MAX_WHEEL_TDC_DEG: f64 = 360.0;
+
+/// Samples held to find the signals' ranges (their half-way levels).
+pub(crate) const PROBE: usize = 1 << 16;
+
+/// A measured speed this far (relative) from `--rpm` or the file's speed is
+/// an error: one of them is wrong (INTERFACE.md, "Hostile input").
+const SPEED_DISAGREES: f64 = 0.1;
+
+/// Two speeds this close (relative) are the same speed: no note.
+const SAME_SPEED: f64 = 1e-9;
+
+/// Where the angle comes from.
+enum Source {
+    Pulse(pulse::Pulse),
+    Clock(clock::Clock),
+    Crank(Box<teeth::Crank>),
+}
+
+/// The signal slots: the crank signal (or the `tdc` pulse alone), the `tdc`
+/// pulse beside an encoder, the `cam`.
+type Signals = [Option<usize>; 3];
+
+/// A sample held to find the levels: time, value, line, the signals.
+type Held = (f64, f64, usize, [f64; 3]);
+
+/// A time record being read.
+pub(crate) struct TimeRecord {
+    t_col: usize,
+    t_scale: f64,
+    p_col: usize,
+    p_scale: f64,
+    offset: f64,
+    cycle_deg: f64,
+    tdc_deg: Option<f64>,
+    source: Source,
+    cycles: Cycles,
+    sig: Signals,
+    /// Samples held until the signals' half-way levels are known.
+    probe: Option<Vec<Held>>,
+    last_t: Option<f64>,
+    /// The first sample's time (s).
+    first_t: Option<f64>,
+    /// `--tdc-time` (s), when it gives the firing TDC.
+    tdc_time: Option<f64>,
+    /// The last line read.
+    last_line: usize,
+    /// The speed the file (`# rpm` line or banner) gives, and which.
+    file_rpm: Option<(f64, &'static str)>,
+    /// `--rpm`.
+    flag_rpm: Option<f64>,
+    /// Columns of the crank's signals that this source does not use.
+    unused: Vec<String>,
+}
+
+impl TimeRecord {
+    pub(crate) fn new(
+        roles: &Roles,
+        opts: &ParseOptions,
+        rpm: Option<(f64, &'static str)>,
+        line: usize,
+    ) -> Result<Self, IngestError> {
+        let Axis::Time(t_scale) = roles.axis else {
+            return Err(IngestError::Data(
+                "a time record needs a time column".into(),
+            ));
+        };
+        if roles.quantity != Quantity::Pressure {
+            return Err(at(line, None, "a time record holds pressure, not torque"));
+        }
+        let v = roles.values[0];
+        let (p_scale, offset) = value_scale(roles, v.scale, opts, line)?;
+        let tdc_deg = opts.tdc_given.then_some(opts.tdc_deg);
+        let mut unused = Vec::new();
+        let mut sig: Signals = [None; 3];
+        let mut tdc_time = None;
+        let col_of = |c: usize| Some(c + 1);
+        let (source, firing) = match (opts.encoder_ppr, opts.wheel) {
+            (Some(_), Some(_)) => {
+                return Err(at(
+                    line,
+                    None,
+                    "--encoder-ppr and --wheel both given: a time record's angle comes from one crank signal",
+                ));
+            }
+            (Some(ppr), None) => {
+                let Some(col) = roles.encoder else {
+                    return Err(at(
+                        line,
+                        None,
+                        "--encoder-ppr is given, but the record has no `encoder` column",
+                    ));
+                };
+                if !(1..=MAX_ENCODER_PPR).contains(&ppr) {
+                    return Err(at(
+                        line,
+                        col_of(col),
+                        format!(
+                            "--encoder-ppr {ppr}: an encoder gives 1 to {MAX_ENCODER_PPR} pulses a revolution"
+                        ),
+                    ));
+                }
+                if let Some(w) = roles.wheel {
+                    unused.push(format!(
+                        "column {} (a tooth wheel; the encoder gives the angle)",
+                        w + 1
+                    ));
+                }
+                let (tdc_col, time) = match (roles.tdc, opts.tdc_time) {
+                    (Some(c), _) => (Some(c), None),
+                    (None, Some(t)) => (None, Some(t)),
+                    (None, None) => {
+                        return Err(at(
+                            line,
+                            col_of(col),
+                            "an encoder gives the angle's steps, not where 0° is: give a `tdc` column (a pulse per revolution) or --tdc-time T (the time of a firing TDC, in seconds)",
+                        ));
+                    }
+                };
+                sig[0] = Some(col);
+                sig[1] = tdc_col;
+                sig[2] = roles.cam;
+                tdc_time = time;
+                let firing = match (time, roles.cam) {
+                    (Some(_), _) => Firing::Given,
+                    (None, Some(_)) => Firing::Cam,
+                    (None, None) => Firing::Pressure,
+                };
+                let kind = teeth::Kind::Encoder(encoder::Encoder {
+                    ppr,
+                    tdc_col,
+                    tdc_time: time,
+                    pulses: 0,
+                });
+                (
+                    Source::Crank(Box::new(teeth::Crank::new(kind, col, roles.cam))),
+                    firing,
+                )
+            }
+            (None, Some(w)) => {
+                let Some(col) = roles.wheel else {
+                    return Err(at(
+                        line,
+                        None,
+                        "--wheel is given, but the record has no `wheel` column",
+                    ));
+                };
+                let Some(a) = opts.wheel_tdc_deg else {
+                    return Err(at(
+                        line,
+                        col_of(col),
+                        format!(
+                            "a `wheel` column needs --wheel-tdc-deg A: the angle from the {w} wheel's first tooth after the gap to cylinder 1's TDC"
+                        ),
+                    ));
+                };
+                if !(a.is_finite() && a.abs() <= MAX_WHEEL_TDC_DEG) {
+                    return Err(at(
+                        line,
+                        col_of(col),
+                        format!(
+                            "--wheel-tdc-deg {}: from -{MAX_WHEEL_TDC_DEG} to {MAX_WHEEL_TDC_DEG}°",
+                            shown_number(a)
+                        ),
+                    ));
+                }
+                if let Some(c) = roles.tdc {
+                    unused.push(format!(
+                        "column {} (a TDC pulse; the wheel's gap and --wheel-tdc-deg give TDC)",
+                        c + 1
+                    ));
+                }
+                if let Some(c) = roles.encoder {
+                    unused.push(format!(
+                        "column {} (an encoder; the wheel gives the angle)",
+                        c + 1
+                    ));
+                }
+                sig[0] = Some(col);
+                sig[2] = roles.cam;
+                let kind = teeth::Kind::Wheel {
+                    gaps: wheel::Gaps::new(w),
+                    tdc_deg: a,
+                };
+                let firing = if roles.cam.is_some() {
+                    Firing::Cam
+                } else {
+                    Firing::Pressure
+                };
+                (
+                    Source::Crank(Box::new(teeth::Crank::new(kind, col, roles.cam))),
+                    firing,
+                )
+            }
+            (None, None) => {
+                if let Some(c) = roles.encoder {
+                    return Err(at(
+                        line,
+                        col_of(c),
+                        "an `encoder` column needs --encoder-ppr N, its pulses a revolution",
+                    ));
+                }
+                if let Some(c) = roles.wheel {
+                    return Err(at(
+                        line,
+                        col_of(c),
+                        "a `wheel` column needs --wheel T-M (60-2, 36-1, 36-2 or 58x) and --wheel-tdc-deg A",
+                    ));
+                }
+                if let Some(c) = roles.cam {
+                    unused.push(format!("column {} (a cam pulse tells the firing revolution of an encoder's or a tooth wheel's angle)", c + 1));
+                }
+                match (roles.tdc, opts.tdc_time) {
+                    (Some(col), _) => {
+                        sig[0] = Some(col);
+                        (Source::Pulse(pulse::Pulse::new(col)), Firing::Pressure)
+                    }
+                    (None, Some(t)) => {
+                        let Some(rpm) = opts.rpm.or(rpm.map(|r| r.0)) else {
+                            return Err(at(
+                                line,
+                                Some(roles.x + 1),
+                                "a time record with --tdc-time needs the speed: --rpm N (or a `# rpm = N` line)",
+                            ));
+                        };
+                        tdc_time = Some(t);
+                        (
+                            Source::Clock(clock::Clock::new(t, rpm, opts.cycle_deg)),
+                            Firing::Given,
+                        )
+                    }
+                    (None, None) => {
+                        return Err(at(
+                            line,
+                            Some(roles.x + 1),
+                            "a time record needs the crank angle: a `tdc` column (a pulse per revolution), an `encoder` column with --encoder-ppr N, a `wheel` column with --wheel T-M, or --rpm N and --tdc-time T (the time of a firing TDC, in seconds)",
+                        ));
+                    }
+                }
+            }
+        };
+        let probe = (!matches!(source, Source::Clock(_))).then(Vec::new);
+        Ok(Self {
+            t_col: roles.x,
+            t_scale,
+            p_col: v.col,
+            p_scale,
+            offset,
+            cycle_deg: opts.cycle_deg,
+            tdc_deg,
+            source,
+            cycles: Cycles::new(opts.cycle_deg, tdc_deg, firing),
+            sig,
+            probe,
+            last_t: None,
+            first_t: None,
+            tdc_time,
+            last_line: line,
+            file_rpm: rpm,
+            flag_rpm: opts.rpm,
+            unused,
+        })
+    }
+
+    pub(crate) fn row<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        line: usize,
+        cells: &impl Cells,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        let t = cells.number(self.t_col, line)? * self.t_scale;
+        let p = cells.number(self.p_col, line)? * self.p_scale + self.offset;
+        if let Some(was) = self.last_t
+            && t <= was
+        {
+            return Err(at(
+                line,
+                Some(self.t_col + 1),
+                format!(
+                    "time {} does not rise after {}: a time record's samples must be in time order",
+                    shown_number(t / self.t_scale),
+                    shown_number(was / self.t_scale)
+                ),
+            ));
+        }
+        self.last_t = Some(t);
+        self.last_line = line;
+        if self.first_t.is_none() {
+            self.first_t = Some(t);
+            if let Some(t0) = self.tdc_time
+                && t0 < t
+            {
+                return Err(at(
+                    line,
+                    Some(self.t_col + 1),
+                    format!(
+                        "--tdc-time {} s is before the record, which starts at {} s: T must be the time of a firing TDC within the record",
+                        enginedyn_numerics::format::human(t0),
+                        enginedyn_numerics::format::human(t)
+                    ),
+                ));
+            }
+        }
+        if let Source::Clock(c) = &mut self.source {
+            let a = (t - c.t0) * c.deg_per_s - self.tdc_deg.unwrap_or(0.0);
+            return c.sample(a, p, line, out);
+        }
+        let mut v = [0.0; 3];
+        for (x, c) in v.iter_mut().zip(self.sig) {
+            if let Some(c) = c {
+                *x = cells.number(c, line)?;
+            }
+        }
+        match &mut self.probe {
+            Some(held) => {
+                held.push((t, p, line, v));
+                if held.len() >= PROBE {
+                    self.settle(out)?;
+                }
+                Ok(())
+            }
+            None => self.signal(t, p, line, v, out),
+        }
+    }
+
+    /// One sample once the levels are known.
+    fn signal<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        t: f64,
+        p: f64,
+        line: usize,
+        v: [f64; 3],
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        match &mut self.source {
+            Source::Pulse(s) => s.sample(t, p, v[0], line, &mut self.cycles, out),
+            Source::Crank(s) => s.sample(t, p, line, v, &mut self.cycles, out),
+            Source::Clock(_) => Ok(()),
+        }
+    }
+
+    /// Finds each signal's half-way level from the held samples, then reads
+    /// them.
+    fn settle<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        let Some(held) = self.probe.take() else {
+            return Ok(());
+        };
+        let mut levels = [None; 3];
+        for (slot, col) in self.sig.iter().enumerate() {
+            let Some(col) = *col else { continue };
+            let (lo, hi) = held
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), s| {
+                    (l.min(s.3[slot]), h.max(s.3[slot]))
+                });
+            if !(hi - lo > 1e-9 * hi.abs().max(lo.abs()).max(1e-300)) {
+                let what = match (slot, &self.source) {
+                    (0, Source::Crank(c)) => match c.kind {
+                        teeth::Kind::Encoder(_) => {
+                            "the `encoder` column is constant over the first {} samples: no edges to take the angle from"
+                        }
+                        teeth::Kind::Wheel { .. } => {
+                            "the `wheel` column is constant over the first {} samples: no teeth to take the angle from"
+                        }
+                    },
+                    (2, _) => {
+                        "the `cam` column is constant over the first {} samples: no pulse to tell the firing revolution from"
+                    }
+                    _ => {
+                        "the TDC pulse column is constant over the first {} samples: no pulse to take the angle from"
+                    }
+                };
+                return Err(IngestError::At {
+                    line: held.first().map_or(1, |s| s.2),
+                    column: Some(col + 1),
+                    message: what.replace("{}", &held.len().to_string()),
+                });
+            }
+            levels[slot] = Some(0.5 * (lo + hi));
+        }
+        match &mut self.source {
+            Source::Pulse(s) => s.level(levels[0].unwrap_or(0.0)),
+            Source::Crank(s) => s.levels(levels[0].unwrap_or(0.0), levels[1], levels[2]),
+            Source::Clock(_) => {}
+        }
+        for (t, p, line, v) in held {
+            self.signal(t, p, line, v, out)?;
+        }
+        Ok(())
+    }
+
+    pub(crate) fn end<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        mut self,
+        out: &mut Emitter<'_, F>,
+        head: &mut Header,
+    ) -> Result<(), IngestError> {
+        self.settle(out)?;
+        if let (Some(t0), Some(first), Some(last)) = (self.tdc_time, self.first_t, self.last_t)
+            && t0 > last
+        {
+            return Err(IngestError::Data(format!(
+                "--tdc-time {} s is after the record, which spans {} to {} s: T must be the time of a firing TDC within the record",
+                enginedyn_numerics::format::human(t0),
+                enginedyn_numerics::format::human(first),
+                enginedyn_numerics::format::human(last)
+            )));
+        }
+        let fmt = |x: f64, d: usize| enginedyn_numerics::format::trimmed(x, d);
+        let line = self.last_line;
+        let (mut said, speed, complete, partial) = match &mut self.source {
+            Source::Pulse(s) => {
+                let speeds = s.speeds;
+                if speeds.3 == 0 {
+                    return Err(IngestError::Data(
+                        "time record: fewer than two TDC pulses, so no revolution to take the speed from".into(),
+                    ));
+                }
+                self.cycles.finish(line, out)?;
+                let mean = speeds.2 / speeds.3 as f64 * 60.0;
+                let mut said = format!(
+                    "time record: the angle from {} TDC pulses, the speed revolution by revolution ({} to {} rpm, mean {}); firing TDC {}",
+                    speeds.3 + 1,
+                    fmt(speeds.0, 1),
+                    fmt(speeds.1, 1),
+                    fmt(mean, 1),
+                    match (self.tdc_deg, self.cycle_deg < 400.0) {
+                        (Some(x), _) => format!("{}° after the first pulse (--tdc-deg)", fmt(x, 3)),
+                        (None, true) => "at every pulse (two-stroke)".to_string(),
+                        (None, false) => format!(
+                            "at every second pulse from pulse {}, the one the pressure peak follows",
+                            self.cycles.parity.unwrap_or(0) + 1
+                        ),
+                    }
+                );
+                if s.before_first > 0 {
+                    said.push_str("; samples before the first pulse left out");
+                }
+                let tdc = format!("the `tdc` column (column {})", s.col + 1);
+                (
+                    said,
+                    Some((
+                        mean,
+                        tdc,
+                        "a pulse every",
+                        "the pulse column",
+                        "the `tdc` column's pulses".to_string(),
+                    )),
+                    self.cycles.complete,
+                    self.cycles.partial,
+                )
+            }
+            Source::Crank(s) => {
+                s.end(&mut self.cycles, out)?;
+                let Some(mean) = s.mean_rpm() else {
+                    return Err(IngestError::Data(format!(
+                        "time record: {} edges in the `{}` column, too few to take the angle from",
+                        s.edge_count,
+                        name(&s.kind)
+                    )));
+                };
+                if s.reference.is_none() {
+                    return Err(IngestError::Data(match &s.kind {
+                        teeth::Kind::Wheel { gaps, .. } => format!(
+                            "time record: no gap among the `wheel` column's {} teeth: not a {} wheel (--wheel), or fewer than a revolution of it",
+                            s.edge_count, gaps.wheel
+                        ),
+                        teeth::Kind::Encoder(e) => match e.tdc_time {
+                            Some(t0) => format!(
+                                "time record: --tdc-time {} s comes before the `encoder` column's first edge: 0° must lie between its edges",
+                                enginedyn_numerics::format::human(t0)
+                            ),
+                            None => "time record: no `tdc` pulse after the `encoder` column's first edge, so no 0°".into(),
+                        },
+                    }));
+                }
+                if !(enginedyn_kinematics::MIN_RPM..=enginedyn_kinematics::MAX_RPM).contains(&mean)
+                {
+                    return Err(IngestError::Data(format!(
+                        "the `{}` column's edges give {} rpm, outside the engine speed bound (0.001 to 100000 rpm): is --{} right?",
+                        name(&s.kind),
+                        enginedyn_numerics::format::sig(mean, 4),
+                        match s.kind {
+                            teeth::Kind::Encoder(_) => "encoder-ppr",
+                            teeth::Kind::Wheel { .. } => "wheel",
+                        }
+                    )));
+                }
+                self.cycles.finish(line, out)?;
+                let source = match &s.kind {
+                    teeth::Kind::Encoder(e) => format!(
+                        "the angle from the `encoder` column's {} edges ({} a revolution), interpolated in time between edges (the cubic through the edges around); 0° {}",
+                        s.edge_count,
+                        e.ppr,
+                        match e.tdc_time {
+                            Some(t0) => format!(
+                                "at t = {} s (--tdc-time)",
+                                enginedyn_numerics::format::sig(t0, 6)
+                            ),
+                            None => format!("at the rise of the `tdc` pulse ({} pulses)", e.pulses),
+                        }
+                    ),
+                    teeth::Kind::Wheel { gaps, tdc_deg } => format!(
+                        "the angle from the {} tooth wheel in the `wheel` column ({} teeth, the gap found {} times from the tooth periods), interpolated in time between teeth (the cubic through the teeth around); cylinder 1's TDC {}° after the first tooth after the gap (--wheel-tdc-deg)",
+                        gaps.wheel,
+                        s.edge_count,
+                        gaps.count,
+                        fmt(*tdc_deg, 3)
+                    ),
+                };
+                let firing = match (self.tdc_deg, self.cycle_deg < 400.0, self.cycles.firing) {
+                    (Some(x), _, _) => format!("{}° after the first TDC (--tdc-deg)", fmt(x, 3)),
+                    (None, true, _) => "at every TDC (two-stroke)".to_string(),
+                    (None, false, Firing::Given) => {
+                        "at --tdc-time and every 720° from it".to_string()
+                    }
+                    (None, false, Firing::Cam) => "at the TDC after each `cam` pulse".to_string(),
+                    (None, false, Firing::Pressure) => {
+                        "at every second TDC, the one the pressure peak follows".to_string()
+                    }
+                };
+                let mut said = format!(
+                    "time record: {source}; the speed within the revolutions read {} to {} rpm (mean {}); firing TDC {firing}",
+                    fmt(s.speeds.0, 1),
+                    fmt(s.speeds.1, 1),
+                    fmt(mean, 1),
+                );
+                if s.before_first > 0 {
+                    said.push_str("; samples before the first TDC left out");
+                }
+                let what = format!("the `{}` column (column {})", name(&s.kind), s.col + 1);
+                let flag = match s.kind {
+                    teeth::Kind::Encoder(_) => "--encoder-ppr",
+                    teeth::Kind::Wheel { .. } => "--wheel",
+                };
+                (
+                    said,
+                    Some((
+                        mean,
+                        what,
+                        "",
+                        flag,
+                        format!("the `{}` column's edges", name(&s.kind)),
+                    )),
+                    self.cycles.complete,
+                    self.cycles.partial,
+                )
+            }
+            Source::Clock(c) => {
+                c.close(out)?;
+                (
+                    format!(
+                        "time record: the angle from a constant {} rpm and firing TDC at t = {} s",
+                        fmt(c.deg_per_s / 6.0, 3),
+                        enginedyn_numerics::format::sig(c.t0, 6)
+                    ),
+                    None,
+                    c.complete,
+                    c.partial,
+                )
+            }
+        };
+        if complete == 0 {
+            return Err(IngestError::Data(format!(
+                "time record: no whole {}° cycle between firing TDCs ({said})",
+                fmt(self.cycle_deg, 0)
+            )));
+        }
+        said.push_str(&format!("; {complete} whole cycles"));
+        if partial > 0 {
+            said.push_str(&format!(", {partial} partial ones at the ends left out"));
+        }
+        head.notes.push(said);
+        if !self.unused.is_empty() {
+            head.notes
+                .push(format!("time record: not used: {}", self.unused.join("; ")));
+        }
+        if let Some((mean, what, every, wrong, whose)) = speed {
+            let given = self
+                .flag_rpm
+                .map(|r| (r, "--rpm"))
+                .into_iter()
+                .chain(self.file_rpm);
+            for (r, source) in given {
+                let off = (r - mean).abs() / mean;
+                if off > SPEED_DISAGREES {
+                    let between = if every.is_empty() {
+                        String::new()
+                    } else {
+                        format!(
+                            " ({every} {} s on average)",
+                            enginedyn_numerics::format::sig(60.0 / mean, 4)
+                        )
+                    };
+                    return Err(IngestError::Data(format!(
+                        "{what} gives {} rpm{between}, {source} {} rpm: {:.0} % apart; is the speed or {wrong} wrong?",
+                        fmt(mean, 1),
+                        fmt(r, 1),
+                        100.0 * off
+                    )));
+                }
+                if off > SAME_SPEED {
+                    head.notes.push(format!(
+                        "{source} says {} rpm, {whose} {} rpm",
+                        fmt(r, 1),
+                        fmt(mean, 1)
+                    ));
+                }
+            }
+            if head.rpm.is_none() {
+                head.rpm = Some(mean);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The crank signal's column name.
+fn name(kind: &teeth::Kind) -> &'static str {
+    match kind {
+        teeth::Kind::Encoder(_) => "encoder",
+        teeth::Kind::Wheel { .. } => "wheel",
+    }
+}
