@@ -66,6 +66,7 @@ pub fn diagram_options(
             Ok(n) => enginedyn_ingest::Sheet::Index(n),
             Err(_) => enginedyn_ingest::Sheet::Name(s.clone()),
         }),
+        group: d.group.map(|n| n as usize),
         max_gap_deg: d.max_gap.unwrap_or(enginedyn_ingest::MAX_GAP_DEG),
         tdc_time: d.tdc_time,
         gain_bar_per_v: d.gain,
