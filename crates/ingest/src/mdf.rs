@@ -44,10 +44,10 @@ pub const MAX_MDF_BLOCK: u64 = 256 << 20;
 pub const MAX_MDF_ALLOC: usize = 16 << 20;
 
 /// Bytes of records decoded at once.
-pub const WINDOW_BYTES: usize = 8 << 20;
+pub const WINDOW_BYTES: usize = 1 << 20;
 
 /// Values (one channel's sample each) decoded at once.
-pub const WINDOW_VALUES: usize = 1 << 20;
+pub const WINDOW_VALUES: usize = 1 << 17;
 
 /// The most groups an error lists by name.
 const LISTED: usize = 20;
