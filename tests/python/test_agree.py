@@ -14,7 +14,7 @@ import enginedyn as ed
 # CLI flags whose Python names are not the flag's own with `_` for `-`.
 RENAMED = {"--max-gap": "max_gap_deg", "--gain": "gain_bar_per_v"}
 NUMERIC = {"tdc_deg", "peg_bar", "max_gap_deg", "tdc_time", "gain_bar_per_v", "rpm", "wheel_tdc_deg"}
-INTEGER = {"encoder_ppr", "skip_lines"}
+INTEGER = {"encoder_ppr", "skip_lines", "group"}
 SWITCHES = {"--gauge"}
 
 

@@ -201,6 +201,9 @@ pub struct DiagramArgs {
     /// The sheet of a spreadsheet (.xlsx, .xls, .ods): its name or its number from 1.
     #[arg(long, value_name = "NAME|N")]
     pub sheet: Option<String>,
+    /// The channel group of an MDF4 file (.mf4), numbered from 1 [default: the first that holds a pressure].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=bounds::MAX_GROUP as i64))]
+    pub group: Option<u32>,
     /// The widest gap (deg) bridged in a single digitised cycle [default: 30].
     #[arg(long, value_name = "DEG", value_parser = parse_max_gap)]
     pub max_gap: Option<f64>,
@@ -261,6 +264,7 @@ impl DiagramArgs {
             tdc_time: self.tdc_time,
             gain_bar_per_v: self.gain,
             rpm,
+            group: self.group,
             encoder_ppr: self.encoder_ppr,
             wheel: self.wheel,
             wheel_tdc_deg: self.wheel_tdc_deg,

@@ -27,6 +27,7 @@ mod error;
 mod fast;
 mod grid;
 mod layout;
+mod mdf;
 mod number;
 mod plausible;
 mod probe;
@@ -44,6 +45,7 @@ pub use axis::CylinderAxis;
 pub use columns::{canonical, pressure_unit};
 pub use error::IngestError;
 pub use grid::{Accumulator, CycleStats, GridOptions, Peg, PegReport, Resampled, mean_std};
+pub use mdf::{MAX_MDF, MAX_MDF_BLOCK};
 pub use number::{NumberError, SpeedError, read_number, read_rpm};
 pub use sheet::MAX_WORKBOOK;
 pub use text::MAX_LINE;
@@ -81,6 +83,9 @@ pub struct ParseOptions {
     pub skip_lines: usize,
     /// The sheet of a workbook (`--sheet`); the first when `None`.
     pub sheet: Option<Sheet>,
+    /// The channel group of an MDF4 file (`--group`, 1-based); the first
+    /// that holds a pressure when `None`.
+    pub group: Option<usize>,
     /// The widest gap (deg) bridged in a single cycle (`--max-gap`).
     pub max_gap_deg: f64,
     /// A time record's firing TDC time (s) (`--tdc-time`).
@@ -149,6 +154,7 @@ impl ParseOptions {
             relative: false,
             skip_lines: 0,
             sheet: None,
+            group: None,
             max_gap_deg: MAX_GAP_DEG,
             tdc_time: None,
             gain_bar_per_v: None,
@@ -443,6 +449,8 @@ enum Kind {
     Utf16Mark,
     /// A ZIP (.xlsx, .ods) or OLE (.xls) container: perhaps a workbook.
     Workbook,
+    /// An ASAM MDF file (finished or not).
+    Mdf,
     /// Any other binary file, as the message names it.
     Binary(&'static str),
 }
@@ -452,6 +460,8 @@ fn kind(head: &[u8]) -> Kind {
     const MAGIC: &[(&[u8], Kind)] = &[
         (b"PK\x03\x04", Kind::Workbook),
         (b"\xD0\xCF\x11\xE0\xA1\xB1\x1A\xE1", Kind::Workbook),
+        (b"MDF     ", Kind::Mdf),
+        (b"UnFinMF ", Kind::Mdf),
         (b"\xFF\xFE", Kind::Utf16(true)),
         (b"\xFE\xFF", Kind::Utf16(false)),
         (b"\x89PNG", Kind::Binary("a PNG image")),
@@ -522,24 +532,54 @@ pub fn parse_stream(
                 h.notes
                     .push("--sheet applies to spreadsheets; this file is text".into());
             }
+            if opts.group.is_some() {
+                h.notes
+                    .push("--group applies to MDF4 files; this file is text".into());
+            }
             Ok(h)
         }
         Kind::Workbook => {
-            let mut bytes = Vec::new();
-            std::io::Read::read_to_end(
-                &mut std::io::Read::take(&mut reader, MAX_WORKBOOK as u64 + 1),
-                &mut bytes,
-            )?;
-            if bytes.len() > MAX_WORKBOOK {
-                return Err(IngestError::Data(format!(
-                    "a workbook over {} MiB: export the sheet as CSV (read as it streams, of any length)",
-                    MAX_WORKBOOK >> 20
-                )));
+            let bytes = whole(&mut reader, MAX_WORKBOOK, "a workbook", "export the sheet as CSV")?;
+            let mut h = sheet::read(bytes, opts, sink)?;
+            if opts.group.is_some() {
+                h.notes
+                    .push("--group applies to MDF4 files; this file is a spreadsheet".into());
             }
-            sheet::read(bytes, opts, sink)
+            Ok(h)
+        }
+        Kind::Mdf => {
+            let bytes = whole(
+                &mut reader,
+                MAX_MDF,
+                "an MDF4 file",
+                "cut it to the records wanted (asammdf's `cut` or `filter`), or export the channels as CSV",
+            )?;
+            mdf::read(bytes, opts, sink)
         }
         Kind::Binary(what) => Err(IngestError::Data(format!(
-            "not a text file: it starts like {what}; a diagram is CSV text (comma, semicolon, tab or space delimited) or a spreadsheet (.xlsx, .xls, .ods)"
+            "not a text file: it starts like {what}; a diagram is CSV text (comma, semicolon, tab or space delimited), a spreadsheet (.xlsx, .xls, .ods) or an MDF4 file (.mf4)"
         ))),
     }
+}
+
+/// A file read whole into memory, at most `bound` bytes (a workbook, an
+/// MDF4 file: formats read where their own pointers lead).
+fn whole(
+    reader: &mut impl BufRead,
+    bound: usize,
+    what: &str,
+    instead: &str,
+) -> Result<Vec<u8>, IngestError> {
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(reader, bound as u64 + 1),
+        &mut bytes,
+    )?;
+    if bytes.len() > bound {
+        return Err(IngestError::Data(format!(
+            "{what} over {} MiB, the bound on one held in memory: {instead} (CSV is read as it streams, of any length)",
+            bound >> 20
+        )));
+    }
+    Ok(bytes)
 }

@@ -8,7 +8,11 @@ use crate::error::{IngestError, at};
 /// column after the first, read as `pressure_bar`, `Ok` when its traces
 /// pass the plausibility pass, else why not; the hint then offers only the
 /// reading that fits.
-pub(crate) fn no_header(k: usize, line: usize, verdicts: Option<&[Result<(), String>]>) -> IngestError {
+pub(crate) fn no_header(
+    k: usize,
+    line: usize,
+    verdicts: Option<&[Result<(), String>]>,
+) -> IngestError {
     let Some(v) = verdicts else {
         return at(
             line,
@@ -109,4 +113,3 @@ impl Probe {
         no_header(self.k, self.line, v.as_deref().filter(|_| self.done))
     }
 }
-

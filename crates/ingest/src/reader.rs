@@ -8,8 +8,8 @@ use crate::columns::{Axis, Roles, expand};
 use crate::emit::Emitter;
 use crate::error::{IngestError, at};
 use crate::layout::Layout;
-use crate::row::Cells;
 use crate::probe::{PROBE_VALUES, Probe, no_header};
+use crate::row::Cells;
 use crate::{Header, ParseOptions, Streamed};
 
 /// The most columns a diagram may have (INTERFACE.md, "Bounds"): as many

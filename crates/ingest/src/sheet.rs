@@ -85,7 +85,7 @@ thread_local! {
 /// several threads, so it is installed once: a hook that says nothing for a
 /// thread inside a guarded read and hands every other panic to the hook
 /// that was there before (which prints it as before).
-fn guarded<T>(f: impl FnOnce() -> T) -> Option<T> {
+pub(crate) fn guarded<T>(f: impl FnOnce() -> T) -> Option<T> {
     static QUIET_HOOK: std::sync::Once = std::sync::Once::new();
     QUIET_HOOK.call_once(|| {
         let before = std::panic::take_hook();

@@ -232,6 +232,7 @@ fn reader(d: &Bound<'_, PyDict>) -> PyResult<Reader> {
         tdc_time: get(d, "tdc_time")?,
         gain_bar_per_v: get(d, "gain_bar_per_v")?,
         rpm: get(d, "rpm")?,
+        group: get(d, "group")?,
         encoder_ppr: get(d, "encoder_ppr")?,
         wheel: match get::<String>(d, "wheel")? {
             Some(w) => Some(

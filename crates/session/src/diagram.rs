@@ -77,6 +77,7 @@ pub fn diagram_options(
         cylinder_axis: d.cylinder_axis,
         as_cylinder: 0,
         torque: false,
+        group: d.group.map(|n| n as usize),
         encoder_ppr: d.encoder_ppr,
         wheel: d.wheel,
         wheel_tdc_deg: d.wheel_tdc_deg,

@@ -106,6 +106,8 @@ pub const WHEEL_TDC_DEG: Bound = Bound::closed(
 );
 /// `encoder_ppr`: pulses a revolution, 1 to this.
 pub const MAX_ENCODER_PPR: u32 = enginedyn_ingest::MAX_ENCODER_PPR;
+/// `group`: an MDF4 channel group, 1 to this.
+pub const MAX_GROUP: u32 = 1_000_000;
 /// `tolerance`: a relative error from 1e-6 to 0.5.
 pub const TOLERANCE: Bound = Bound::closed(1e-6, 0.5, "");
 /// `skip_lines`: up to a million.
@@ -198,6 +200,9 @@ pub struct Reader {
     pub gain_bar_per_v: Option<f64>,
     /// The engine speed (rpm): overrides the diagram's and the engine file's.
     pub rpm: Option<f64>,
+    /// An MDF4 file's channel group, from 1 (default: the first that holds
+    /// a pressure).
+    pub group: Option<u32>,
     /// A time record's `encoder` column: pulses a revolution.
     pub encoder_ppr: Option<u32>,
     /// A time record's `wheel` column: the tooth wheel (60-2, 36-1, …).
@@ -244,6 +249,11 @@ impl Reader {
         }
         if let Some(r) = self.rpm {
             check_rpm(r).map_err(|w| bad("rpm", w))?;
+        }
+        if let Some(n) = self.group
+            && !(1..=MAX_GROUP).contains(&n)
+        {
+            return Err(bad("group", format!("{n} is outside 1 to {MAX_GROUP}")));
         }
         if let Some(n) = self.encoder_ppr
             && !(1..=MAX_ENCODER_PPR).contains(&n)
@@ -341,6 +351,7 @@ pub const READER_KEYS: &[&str] = &[
     "pv_start",
     "skip_lines",
     "sheet",
+    "group",
     "max_gap_deg",
     "tdc_time",
     "gain_bar_per_v",
