@@ -40,6 +40,9 @@ struct Building {
     line: usize,
     /// It began at its firing TDC (pulse mode), not midway.
     from_start: bool,
+    /// Pulse mode: the time (s) and angle (deg) of its first and last
+    /// samples, for its speed.
+    span: Option<((f64, f64), (f64, f64))>,
 }
 
 impl Building {
@@ -51,10 +54,25 @@ impl Building {
                 cylinder: 0,
                 angle_deg: Vec::with_capacity(capacity),
                 values: Vec::with_capacity(capacity),
+                rpm: None,
             },
             line,
             from_start,
+            span: None,
         }
+    }
+
+    /// Notes a sample at time `t` (s), angle `a` (deg) for the speed.
+    fn timed(&mut self, t: f64, a: f64) {
+        let first = self.span.map_or((t, a), |s| s.0);
+        self.span = Some((first, (t, a)));
+    }
+
+    /// Its speed (rpm): the angle its samples cover over their time.
+    fn rpm(&self) -> Option<f64> {
+        let ((t0, a0), (t1, a1)) = self.span?;
+        let rpm = (a1 - a0) / (t1 - t0) / 6.0;
+        (t1 > t0 && rpm.is_finite() && rpm > 0.0).then_some(rpm)
     }
 }
 
@@ -466,6 +484,7 @@ impl TimeRecord {
             if let Some(b) = self.cur.as_mut() {
                 b.trace.angle_deg.push(a - b.index as f64 * self.cycle_deg);
                 b.trace.values.push(p);
+                b.timed(t, a);
             }
         }
         self.reach = start + 360.0;
@@ -479,10 +498,11 @@ impl TimeRecord {
         out: &mut Emitter<'_, F>,
         reached: bool,
     ) -> Result<(), IngestError> {
-        if let Some(b) = self.cur.take() {
+        if let Some(mut b) = self.cur.take() {
             if b.from_start && reached {
                 self.complete += 1;
                 self.last_len = b.trace.angle_deg.len();
+                b.trace.rpm = b.rpm();
                 out.trace(b.trace, b.line, Quantity::Pressure, false, 0)?;
             } else {
                 self.partial += 1;

@@ -256,6 +256,7 @@ mod tests {
             cylinder: 0,
             angle_deg: angles.to_vec(),
             values: vec![p; angles.len()],
+            rpm: None,
         }
     }
 
