@@ -32,7 +32,9 @@ pub use chart::{
     kinematics_chart, periodic, run_figures, run_figures_with, tick_label,
 };
 pub use html::{esc, percent_encode, report_html, table as html_table};
-pub use out::{LOCK_WAIT, MANIFEST, OutDir, STAGING_PREFIX, sha256_file, sha256_hex};
+pub use out::{
+    LOCK_WAIT, MANIFEST, OutDir, STAGING_PREFIX, Staged, replace_file, sha256_file, sha256_hex,
+};
 pub use tables::{
     KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_table, sweep_figure,
 };
