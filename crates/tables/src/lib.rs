@@ -357,7 +357,9 @@ fn array<R>(
     let n = rows.len();
     // A null where none may be, or a value of another kind.
     let check = |row: usize, c: &Cell<'_>| -> Result<(), TablesError> {
-        if c.is_null() && !nullable {
+        // A NaN or an infinity is written as null.
+        let null = c.is_null() || matches!(c, Cell::Float(x) if !x.is_finite());
+        if null && !nullable {
             return Err(bad(row, "null in a column that is never null".into()));
         }
         Ok(())
@@ -611,5 +613,16 @@ mod tests {
         r.rpm = f64::NAN;
         let e = cycles_parquet(&[r], &meta).unwrap_err();
         assert!(e.to_string().contains("column `rpm`, row 0: null"), "{e}");
+        let p = TracePoint {
+            file: "f",
+            cylinder: 1,
+            crank_deg: f64::INFINITY,
+            pressure_pa: 1e5,
+        };
+        let e = traces_parquet(&[p], &meta).unwrap_err();
+        assert!(
+            e.to_string().contains("column `crank_deg`, row 0: null"),
+            "{e}"
+        );
     }
 }

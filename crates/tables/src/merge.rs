@@ -66,9 +66,12 @@ fn read_err(path: &Path, e: impl std::fmt::Display) -> TablesError {
     }
 }
 
-/// The parts in a table's folder: (part, parts, path), by part. Names that
-/// are not parts (hidden staging folders, the user's files) are passed over.
-fn listed(folder: &Path) -> Result<Vec<(usize, usize, PathBuf)>, TablesError> {
+/// A part found in a table's folder: (part, parts, path).
+type Found = (usize, usize, PathBuf);
+
+/// The parts in a table's folder, by part. Names that are not parts
+/// (hidden staging folders, the user's files) are passed over.
+fn listed(folder: &Path) -> Result<Vec<Found>, TablesError> {
     let entries = match std::fs::read_dir(folder) {
         Ok(e) => e,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
@@ -190,7 +193,7 @@ pub fn check_campaign(dir: &Path, parts: Option<usize>) -> Result<Manifest, Tabl
     if let Some(n) = parts {
         part_name(0, n)?;
     }
-    let mut found: Vec<(Table, Vec<(usize, usize, PathBuf)>)> = Vec::new();
+    let mut found: Vec<(Table, Vec<Found>)> = Vec::new();
     for table in Table::ALL {
         let folder = dir.join(table.folder());
         let list = listed(&folder)?;
