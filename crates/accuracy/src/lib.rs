@@ -503,10 +503,12 @@ pub fn study(input: &Input) -> Result<Accuracy, AccuracyError> {
             values: (0..n_data)
                 .map(|k| sol.pressure(k as f64 * cycle / n_data as f64))
                 .collect(),
+            rpm: None,
         }],
         cycle_deg: cycle,
         pv: false,
         cycles_skipped: 0,
+        skipped: Vec::new(),
         notes: Vec::new(),
     };
     for interp in [Interp::Linear, Interp::Spline, Interp::Pchip] {

@@ -130,10 +130,12 @@ fn samples(e: &Engine, spacing: f64) -> Diagram {
             cylinder: 0,
             angle_deg: (0..n).map(|k| k as f64 * spacing).collect(),
             values: (0..n).map(|k| sol.pressure(k as f64 * spacing)).collect(),
+            rpm: None,
         }],
         cycle_deg: 720.0,
         pv: false,
         cycles_skipped: 0,
+        skipped: Vec::new(),
         notes: Vec::new(),
     }
 }

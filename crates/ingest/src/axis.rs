@@ -278,6 +278,7 @@ mod tests {
             cylinder: 2,
             angle_deg: (0..720).map(f64::from).collect(),
             values: (0..720).map(f64::from).collect(),
+            rpm: None,
         };
         rotate(&mut t, 540.0, 720.0);
         assert_eq!(t.angle_deg[0].to_bits(), 0.0f64.to_bits());

@@ -22,7 +22,8 @@ pub(crate) struct Emitter<'o, F> {
     /// Per cylinder (0: one trace for all): traces seen and handed on.
     seen: Vec<(usize, usize)>,
     held: Vec<Option<(Trace, Checked, Quantity, usize)>>,
-    skipped: Vec<(String, Gap)>,
+    /// Cycles left out: (cycle, cylinder, the gap).
+    skipped: Vec<(i64, i64, Gap)>,
     bridged: Vec<(String, Gap)>,
     /// Gaps wider than `--max-gap` that the data settle, with the share of
     /// the cycle's work the two interpolants differ by over them.
@@ -178,7 +179,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             && let Some((t, c, _, _)) = self.held[k].take()
             && let Some(g) = c.gap
         {
-            self.skipped.push((trace::describe(t.cycle, t.cylinder), g));
+            self.skipped.push((t.cycle, t.cylinder, g));
         }
         match c.gap {
             Some(_) if self.seen[k].0 == 1 => {
@@ -186,8 +187,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                 Ok(())
             }
             Some(g) => {
-                self.skipped
-                    .push((trace::describe(tr.cycle, tr.cylinder), g));
+                self.skipped.push((tr.cycle, tr.cylinder, g));
                 Ok(())
             }
             None => self.send(tr, c, q),
@@ -321,20 +321,30 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                 enginedyn_numerics::format::human(100.0 * trace::SETTLED_SHARE)
             ));
         }
-        if let Some((name, g)) = self
+        if let Some((cycle, cylinder, g)) = self
             .skipped
             .iter()
-            .max_by(|a, b| a.1.width.total_cmp(&b.1.width))
+            .max_by(|a, b| a.2.width.total_cmp(&b.2.width))
             .cloned()
         {
             head.notes.push(format!(
-                "{} of {} cycles left out of the averages for a gap in the data (a dropout: a spacing of more than 5 median steps; the widest: {name}, {}° from {}°)",
+                "{} of {} cycles left out of the averages for {GAP} ({DROPOUT}; the widest: {}, {}° from {}°)",
                 self.skipped.len(),
                 self.total,
+                trace::describe(cycle, cylinder),
                 fmt(g.width),
                 fmt(g.from)
             ));
             head.cycles_skipped = self.skipped.len();
+            head.skipped = self
+                .skipped
+                .iter()
+                .map(|&(cycle, cylinder, g)| crate::SkippedCycle {
+                    cylinder,
+                    cycle,
+                    reason: format!("{GAP} ({DROPOUT}): {}° from {}°", fmt(g.width), fmt(g.from)),
+                })
+                .collect();
         }
         if self.below.0 > 0 {
             head.notes.push(format!(
@@ -366,3 +376,9 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
 fn fmt(x: f64) -> String {
     enginedyn_numerics::format::trimmed(x, 2)
 }
+
+/// Why a cycle is left out of the averages: the note on the skipped cycles
+/// and each cycle's `skip_reason` (the `cycles` table) say it in these words.
+const GAP: &str = "a gap in the data";
+/// What such a gap is.
+const DROPOUT: &str = "a dropout: a spacing of more than 5 median steps";

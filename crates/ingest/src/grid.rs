@@ -81,6 +81,20 @@ pub struct CycleStats {
     pub p_max_angle_deg: f64,
     /// Pegging offset added (Pa).
     pub peg_offset: f64,
+    /// The speed over this cycle (rpm), when the file measures it cycle by
+    /// cycle (a time record's TDC pulses).
+    pub rpm: Option<f64>,
+}
+
+/// A measured cycle left out of the averages, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SkippedCycle {
+    /// Cylinder number (0: one trace for all).
+    pub cylinder: i64,
+    /// Cycle number.
+    pub cycle: i64,
+    /// Why, as the note on the skipped cycles says it.
+    pub reason: String,
 }
 
 /// Pegging as reported in `summary.json`.
@@ -117,6 +131,9 @@ pub struct Resampled {
     pub pv: bool,
     /// Cycles left out of the averages (a gap in the data).
     pub cycles_skipped: usize,
+    /// Those cycles, in the order they were read (one per
+    /// `cycles_skipped`).
+    pub skipped: Vec<SkippedCycle>,
     /// The coarsest mean spacing of the file's samples (deg): the grid
     /// step when the data lay on the grid.
     pub sample_step_deg: f64,
@@ -139,6 +156,7 @@ impl Resampled {
             rpm: None,
             pv: false,
             cycles_skipped: 0,
+            skipped: Vec::new(),
             sample_step_deg: step_deg,
             notes: Vec::new(),
         }
@@ -397,6 +415,7 @@ impl Accumulator {
                 p_max: pass.peak,
                 p_max_angle_deg: angle,
                 peg_offset,
+                rpm: tr.rpm,
             });
         }
         self.count += 1;
@@ -584,6 +603,7 @@ impl Accumulator {
             rpm,
             pv: false,
             cycles_skipped: 0,
+            skipped: Vec::new(),
             sample_step_deg: self.spacing,
             notes,
         })
@@ -658,6 +678,7 @@ mod tests {
             cylinder: 0,
             values: vec![1e5; n],
             angle_deg: angles,
+            rpm: None,
         };
         (acc.on_grid(&tr, Some(steps)), acc.on_grid(&tr, None))
     }

@@ -301,6 +301,7 @@ impl Long {
                 cylinder,
                 angle_deg,
                 values,
+                rpm: None,
             },
             line,
             track: Track::new(a, self.cycle_deg),
@@ -544,6 +545,7 @@ impl PerColumn {
                 cylinder: c.2,
                 angle_deg: Vec::with_capacity(angles.len()),
                 values: Vec::with_capacity(angles.len()),
+                rpm: None,
             };
             for (r, &a) in angles.iter().enumerate() {
                 let v = values[r * m + j];

@@ -44,7 +44,9 @@ mod values;
 pub use axis::CylinderAxis;
 pub use columns::{canonical, pressure_unit};
 pub use error::IngestError;
-pub use grid::{Accumulator, CycleStats, GridOptions, Peg, PegReport, Resampled, mean_std};
+pub use grid::{
+    Accumulator, CycleStats, GridOptions, Peg, PegReport, Resampled, SkippedCycle, mean_std,
+};
 pub use mdf::{MAX_MDF, MAX_MDF_BLOCK};
 pub use number::{NumberError, SpeedError, read_number, read_rpm};
 pub use sheet::MAX_WORKBOOK;
@@ -181,6 +183,9 @@ pub struct Trace {
     pub angle_deg: Vec<f64>,
     /// Absolute pressure (Pa), or torque (N m) for a turning-moment file.
     pub values: Vec<f64>,
+    /// The speed over this cycle (rpm), when the file measures it cycle by
+    /// cycle (a time record's TDC pulses).
+    pub rpm: Option<f64>,
 }
 
 /// What a diagram's values are.
@@ -210,6 +215,8 @@ pub struct Diagram {
     pub pv: bool,
     /// Cycles left out of the averages (a gap in the data).
     pub cycles_skipped: usize,
+    /// Those cycles and why.
+    pub skipped: Vec<SkippedCycle>,
     /// Things worth telling the user.
     pub notes: Vec<String>,
 }
@@ -258,6 +265,7 @@ impl Diagram {
             cycle_deg: self.cycle_deg,
             pv: self.pv,
             cycles_skipped: self.cycles_skipped,
+            skipped: self.skipped.clone(),
             notes: Vec::new(),
         })
     }
@@ -306,6 +314,8 @@ pub struct Header {
     pub pv: bool,
     /// Cycles left out of the averages (a gap in the data).
     pub cycles_skipped: usize,
+    /// Those cycles and why.
+    pub skipped: Vec<SkippedCycle>,
     /// Things worth telling the user.
     pub notes: Vec<String>,
 }
@@ -324,6 +334,7 @@ pub fn parse(reader: impl BufRead, opts: &ParseOptions) -> Result<Diagram, Inges
         cycle_deg: opts.cycle_deg,
         pv: h.pv,
         cycles_skipped: h.cycles_skipped,
+        skipped: h.skipped,
         notes: h.notes,
     })
 }
@@ -395,10 +406,11 @@ fn load_from(
     let started = std::time::Instant::now();
     let resampled = match acc {
         Some(a) => {
-            let (pv, skipped) = (h.pv, h.cycles_skipped);
+            let (pv, cycles_skipped) = (h.pv, h.cycles_skipped);
             a.finish(h.rpm, h.notes).map(|mut r| {
                 r.pv = pv;
-                r.cycles_skipped = skipped;
+                r.cycles_skipped = cycles_skipped;
+                r.skipped = h.skipped;
                 r
             })
         }
@@ -422,6 +434,7 @@ pub fn resample_with(d: &Diagram, grid: &GridOptions) -> Result<Resampled, Inges
     let mut r = acc.finish(d.rpm, d.notes.clone())?;
     r.pv = d.pv;
     r.cycles_skipped = d.cycles_skipped;
+    r.skipped = d.skipped.clone();
     Ok(r)
 }
 

@@ -463,6 +463,7 @@ mod tests {
             cylinder: 0,
             angle_deg,
             values,
+            rpm: None,
         }
     }
 
@@ -574,6 +575,7 @@ mod tests {
             cylinder: 0,
             angle_deg,
             values,
+            rpm: None,
         };
         let e = run(&t, 720.0, &ctx(8.5, true)).unwrap_err();
         assert!(

@@ -111,6 +111,7 @@ pub(crate) fn to_angles(
         cylinder: tr.cylinder,
         angle_deg: Vec::with_capacity(angles.len()),
         values: Vec::with_capacity(angles.len()),
+        rpm: tr.rpm,
     };
     for i in order {
         if out.angle_deg.last().is_some_and(|&l| angles[i] - l < 1e-6) {

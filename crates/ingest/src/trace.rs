@@ -312,6 +312,7 @@ mod tests {
             cylinder: 0,
             angle_deg: angles.to_vec(),
             values: vec![p; angles.len()],
+            rpm: None,
         }
     }
 
@@ -356,6 +357,7 @@ mod tests {
                 cylinder: 0,
                 values: a.iter().map(|&x| p(x)).collect(),
                 angle_deg: a,
+                rpm: None,
             }
         };
         let exhaust = gap_work_share(&with_gap(250.0), &cyl, 720.0).unwrap();

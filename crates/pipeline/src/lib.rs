@@ -22,6 +22,7 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 pub mod notes;
+pub mod schema;
 mod summary;
 pub mod tdc;
 pub mod torsion;

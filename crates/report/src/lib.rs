@@ -16,6 +16,7 @@
 
 use enginedyn_engine::Engine;
 use enginedyn_numerics::format::csv_text;
+use enginedyn_pipeline::schema::{self, Cell, Group};
 use enginedyn_pipeline::{Analysis, Summary, Value};
 use std::path::{Path, PathBuf};
 
@@ -37,7 +38,9 @@ pub use chart::{
 pub use firing::{FIRING_FILES, crank_end_view, firing_csv, firing_json, firing_table};
 pub use html::{esc, percent_encode, report_html, table as html_table};
 pub use kinematics::{KINEMATICS_FILES, kinematics_csv, kinematics_svg, kinematics_table};
-pub use out::{LOCK_WAIT, MANIFEST, OutDir, STAGING_PREFIX, sha256_file, sha256_hex};
+pub use out::{
+    LOCK_WAIT, MANIFEST, OutDir, STAGING_PREFIX, Staged, replace_file, sha256_file, sha256_hex,
+};
 pub use tables::{
     KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_table, sweep_figure,
 };
@@ -224,41 +227,44 @@ pub fn summary_json(summary: &Summary, inputs: &Inputs) -> serde_json::Value {
 }
 
 /// The fixed columns of `summary.csv` after `file` and `error`: the summary
-/// keys of INTERFACE.md in their order, `models` flattened.
+/// keys of INTERFACE.md in their order, `models` flattened (the columns of
+/// [`schema::SUMMARY`] that are neither the row's own, provenance nor
+/// optional).
 pub fn summary_columns() -> Vec<String> {
-    let s = enginedyn_pipeline::Summary::empty();
-    flatten(&s).into_iter().map(|(k, _)| k).collect()
+    schema::SUMMARY
+        .iter()
+        .filter(|c| c.group > Group::Provenance && !c.group.optional())
+        .map(|c| c.name.to_string())
+        .collect()
 }
 
-/// The summary as (column, cell) pairs: `models` and `pegging` flattened to
-/// `models.kinematics` …, `notes` joined with ` | `, null as an empty cell,
-/// numbers in shortest round-trip form, text cells as
-/// [`enginedyn_numerics::format::csv_text`] writes them (never a formula).
-/// Fixed keys first, then the optional keys present.
+/// A value as a `summary.csv` cell: null as an empty cell, numbers in
+/// shortest round-trip form, text as
+/// [`enginedyn_numerics::format::csv_text`] writes it (never a formula).
+fn csv_cell(c: &Cell<'_>) -> String {
+    match c {
+        Cell::Float(x) => enginedyn_numerics::format::csv(*x),
+        Cell::Int(i) => i.to_string(),
+        Cell::Bool(b) => b.to_string(),
+        Cell::Text(t) => csv_text(t).into_owned(),
+        Cell::Null | Cell::Absent => String::new(),
+    }
+}
+
+/// The summary as (column, cell) pairs, from [`schema::SUMMARY`]: `models`
+/// and `pegging` flattened to `models.kinematics` …, `notes` joined with
+/// ` | `, cells as `summary.csv` writes them. Fixed keys first, then the
+/// optional keys present.
 pub fn flatten(s: &Summary) -> Vec<(String, String)> {
-    fn cell(v: &Value) -> String {
-        match v {
-            Value::Num(Some(x)) if x.is_finite() => enginedyn_numerics::format::csv(*x),
-            Value::Num(_) => String::new(),
-            Value::Int(i) => i.to_string(),
-            // Text cells never start a formula (`numerics::format::csv_text`).
-            Value::Text(t) => csv_text(t).into_owned(),
-            Value::List(l) => csv_text(&l.join(" | ")).into_owned(),
-            Value::Map(_) => String::new(),
-        }
-    }
-    let mut out = Vec::new();
-    for (k, v) in s.fields() {
-        match &v {
-            Value::Map(m) => {
-                for (kk, vv) in m {
-                    out.push((format!("{k}.{kk}"), cell(vv)));
-                }
-            }
-            _ => out.push((k.to_string(), cell(&v))),
-        }
-    }
-    out
+    let record = schema::SummaryRecord::of(s);
+    schema::SUMMARY
+        .iter()
+        .filter(|c| c.group > Group::Provenance)
+        .filter_map(|c| {
+            let cell = (c.get)(&record);
+            (cell != Cell::Absent).then(|| (c.name.to_string(), csv_cell(&cell)))
+        })
+        .collect()
 }
 
 /// One row of `summary.csv`: the file, its error (empty when it ran), and
@@ -279,7 +285,12 @@ pub fn summary_csv(rows: &[CsvRow]) -> String {
         }
     }
     let mut w = csv::Writer::from_writer(Vec::new());
-    let mut header = vec!["file".to_string(), "error".to_string()];
+    // `file` and `error`, the row's own columns.
+    let mut header: Vec<String> = schema::SUMMARY
+        .iter()
+        .filter(|c| c.group == Group::Row)
+        .map(|c| c.name.to_string())
+        .collect();
     header.extend(columns.iter().cloned());
     let _ = w.write_record(&header);
     for (file, error, r) in rows {
@@ -609,6 +620,77 @@ pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<String>,
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `flatten` (from the schema) gives the cells the summary's fields
+    /// (`KEYS`) give, flattened as `summary.csv` always wrote them: every
+    /// subset of the optional keys, nulls, text and a non-finite number.
+    #[test]
+    fn flatten_is_the_summary_fields_flattened() {
+        fn by_keys(s: &Summary) -> Vec<(String, String)> {
+            fn cell(v: &Value) -> String {
+                match v {
+                    Value::Num(Some(x)) if x.is_finite() => enginedyn_numerics::format::csv(*x),
+                    Value::Num(_) | Value::Map(_) => String::new(),
+                    Value::Int(i) => i.to_string(),
+                    Value::Text(t) => csv_text(t).into_owned(),
+                    Value::List(l) => csv_text(&l.join(" | ")).into_owned(),
+                }
+            }
+            let mut out = Vec::new();
+            for (k, v) in s.fields() {
+                match &v {
+                    Value::Map(m) => {
+                        out.extend(m.iter().map(|(f, v)| (format!("{k}.{f}"), cell(v))))
+                    }
+                    _ => out.push((k.to_string(), cell(&v))),
+                }
+            }
+            out
+        }
+        for mask in 0..32u32 {
+            let mut s = Summary::empty();
+            s.rpm = 2200.0;
+            s.imep_bar = Some(f64::NAN);
+            s.mean_torque_nm = Some(-1.5e-7);
+            s.journal_most_loaded = 3;
+            s.kinematics = "exact";
+            s.notes = vec!["=x".into(), "y".into()];
+            if mask & 1 != 0 {
+                s.cycles = Some(20);
+                s.cycles_skipped = Some(2);
+            }
+            if mask & 2 != 0 {
+                s.cycle_stats = Some(enginedyn_pipeline::CycleSummary {
+                    cycles: 20,
+                    imep_std_bar: None,
+                    imep_cov: Some(0.02),
+                    p_max_mean_bar: 55.0,
+                    p_max_cov: 0.03,
+                    p_max_angle_mean_deg: 11.5,
+                    p_max_angle_std_deg: 0.7,
+                });
+            }
+            if mask & 4 != 0 {
+                s.pegging = Some(enginedyn_pipeline::Pegging {
+                    method: "polytropic",
+                    offset_bar: 0.25,
+                    polytropic_n: Some(1.32),
+                });
+            }
+            if mask & 8 != 0 {
+                s.tdc_offset_estimate_deg = Some(-0.4);
+            }
+            if mask & 16 != 0 {
+                s.estimated_relative_error = Some(3e-6);
+            }
+            assert_eq!(flatten(&s), by_keys(&s), "mask {mask}");
+        }
+        let fixed: Vec<String> = by_keys(&Summary::empty())
+            .into_iter()
+            .map(|c| c.0)
+            .collect();
+        assert_eq!(summary_columns(), fixed);
+    }
 
     /// Text cells that a spreadsheet would evaluate get a leading `'`;
     /// numbers, negative ones too, are never altered.

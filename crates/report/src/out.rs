@@ -218,20 +218,7 @@ impl OutDir {
     /// `Ok(true)` when `name` exists and may be replaced, `Ok(false)` when
     /// it does not exist, the refusal when something else is in the way.
     fn replaceable(&self, name: &str, target: Target) -> Result<bool, ReportError> {
-        let path = self.dir.join(name);
-        let meta = match std::fs::symlink_metadata(&path) {
-            Ok(m) => m,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(false),
-            Err(e) => return Err(io(&path)(e)),
-        };
-        match in_the_way(&path, &meta, target) {
-            None => Ok(true),
-            Some(what) => Err(ReportError::InTheWay {
-                path,
-                what,
-                run_folder: target == Target::RunFolder,
-            }),
-        }
+        replaceable(self.dir.join(name), target)
     }
 
     /// The folder.
@@ -494,6 +481,105 @@ impl OutDir {
         }
         Ok(())
     }
+}
+
+/// `Ok(true)` when `path` exists and may be replaced by a `target`,
+/// `Ok(false)` when it does not exist, the refusal when something else is
+/// in the way.
+fn replaceable(path: PathBuf, target: Target) -> Result<bool, ReportError> {
+    let meta = match std::fs::symlink_metadata(&path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(false),
+        Err(e) => return Err(io(&path)(e)),
+    };
+    match in_the_way(&path, &meta, target) {
+        None => Ok(true),
+        Some(what) => Err(ReportError::InTheWay {
+            path,
+            what,
+            run_folder: target == Target::RunFolder,
+        }),
+    }
+}
+
+/// One file of a folder that several writers share (a campaign's Parquet
+/// parts, written by every shard, and its `_manifest.json`), written
+/// beside its final place and moved into it whole: no lock and no
+/// [`MANIFEST`] (each name has one writer, and a folder written again does
+/// not hold one run's outputs alone). It is staged in a folder made
+/// exclusively inside the target folder with an unpredictable name
+/// ([`STAGING_PREFIX`]), flushed to the disk, and renamed into place on
+/// [`Staged::commit`]; dropped uncommitted, nothing is left but what a
+/// killed process leaves (a hidden staging folder). What it replaces must
+/// be a regular, writable file (checked before and again at the move):
+/// anything else is [`ReportError::InTheWay`].
+#[derive(Debug)]
+pub struct Staged {
+    stage: tempfile::TempDir,
+    staged: PathBuf,
+    file: std::io::BufWriter<File>,
+    target: PathBuf,
+}
+
+impl Staged {
+    /// Starts writing `name` (a plain file name) in `dir`, which is made
+    /// when missing.
+    pub fn new(dir: &Path, name: &str) -> Result<Self, ReportError> {
+        check_name(name)?;
+        std::fs::create_dir_all(dir).map_err(io(dir))?;
+        let target = dir.join(name);
+        replaceable(target.clone(), Target::File)?;
+        let stage = tempfile::Builder::new()
+            .prefix(STAGING_PREFIX)
+            .tempdir_in(dir)
+            .map_err(io(dir))?;
+        let staged = stage.path().join(name);
+        let file = File::create_new(&staged).map_err(io(&staged))?;
+        if let Some(err) = injected_failure() {
+            return Err(io(&staged)(err));
+        }
+        Ok(Self {
+            stage,
+            file: std::io::BufWriter::with_capacity(1 << 16, file),
+            staged,
+            target,
+        })
+    }
+
+    /// The final path.
+    pub fn path(&self) -> &Path {
+        &self.target
+    }
+
+    /// Flushes the file to the disk and moves it into place.
+    pub fn commit(self) -> Result<(), ReportError> {
+        let file = self
+            .file
+            .into_inner()
+            .map_err(|e| io(&self.staged)(e.into_error()))?;
+        file.sync_all().map_err(io(&self.staged))?;
+        drop(file);
+        replaceable(self.target.clone(), Target::File)?;
+        std::fs::rename(&self.staged, &self.target).map_err(io(&self.target))?;
+        drop(self.stage);
+        Ok(())
+    }
+}
+
+impl std::io::Write for Staged {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.file.write(buf)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.flush()
+    }
+}
+
+/// Writes `bytes` as `dir/name` whole or not at all ([`Staged`]).
+pub fn replace_file(dir: &Path, name: &str, bytes: &[u8]) -> Result<(), ReportError> {
+    let mut s = Staged::new(dir, name)?;
+    s.write_all(bytes).map_err(io(&s.staged))?;
+    s.commit()
 }
 
 /// What a name of ours is written as.
@@ -921,6 +1007,39 @@ mod tests {
             std::fs::read_to_string(d.path().join("0003_z/summary.json")).unwrap(),
             "[]"
         );
+    }
+
+    /// A shared folder's file: written whole, replaced only when it is a
+    /// regular file, nothing staged left behind either way.
+    #[test]
+    fn staged_files_replace_only_a_regular_file() {
+        let root = tempfile::tempdir().unwrap();
+        let dir = root.path().join("summary");
+        replace_file(&dir, "part-00000-of-00001.parquet", b"one").unwrap();
+        replace_file(&dir, "part-00000-of-00001.parquet", b"two").unwrap();
+        assert_eq!(
+            std::fs::read(dir.join("part-00000-of-00001.parquet")).unwrap(),
+            b"two"
+        );
+        std::fs::create_dir(dir.join("b.parquet")).unwrap();
+        let e = replace_file(&dir, "b.parquet", b"x").unwrap_err();
+        assert!(
+            matches!(
+                e,
+                ReportError::InTheWay {
+                    what: "a folder",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        // Dropped uncommitted: nothing in place, nothing staged left.
+        let s = Staged::new(&dir, "c.parquet").unwrap();
+        drop(s);
+        let mut names = listing(&dir);
+        names.sort();
+        assert_eq!(names, ["b.parquet", "part-00000-of-00001.parquet"]);
+        assert!(replace_file(&dir, "../x", b"x").is_err());
     }
 
     #[test]

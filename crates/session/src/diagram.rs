@@ -231,14 +231,30 @@ pub fn merge_per_cylinder(files: Vec<(String, Resampled)>) -> Result<Resampled> 
         ));
     }
     let mut cylinders = vec![std::mem::take(&mut first.pressure)];
-    for (name, r) in std::iter::once((name, second)).chain(it) {
+    // Each file's cycles are its cylinder's (k + 1), in the cycles table.
+    for s in &mut first.stats {
+        s.cylinder = 1;
+    }
+    for s in &mut first.skipped {
+        s.cylinder = 1;
+    }
+    for (k, (name, mut r)) in std::iter::once((name, second)).chain(it).enumerate() {
         if !r.cylinders.is_empty() {
             return Err(Error::usage(format!(
                 "{name}: has a `cylinder` column; with several --diagram files each file is one cylinder"
             )));
         }
+        let cylinder = k as i64 + 2;
         first.cycles = first.cycles.min(r.cycles);
+        for s in &mut r.stats {
+            s.cylinder = cylinder;
+        }
+        for s in &mut r.skipped {
+            s.cylinder = cylinder;
+        }
         first.stats.extend(r.stats);
+        first.skipped.extend(r.skipped);
+        first.cycles_skipped += r.cycles_skipped;
         for n in r.notes {
             // One axis note for the files (each file's says the same kind).
             let same_kind = n.starts_with("cylinder traces ")

@@ -21,6 +21,9 @@ pub(super) struct Building {
     pub line: usize,
     /// It began at its firing TDC, not midway.
     pub from_start: bool,
+    /// The time (s) and angle (deg) of its first and last samples, for its
+    /// speed.
+    span: Option<((f64, f64), (f64, f64))>,
 }
 
 impl Building {
@@ -32,10 +35,25 @@ impl Building {
                 cylinder: 0,
                 angle_deg: Vec::with_capacity(capacity),
                 values: Vec::with_capacity(capacity),
+                rpm: None,
             },
             line,
             from_start,
+            span: None,
         }
+    }
+
+    /// Notes a sample at time `t` (s), angle `a` (deg) for the speed.
+    fn timed(&mut self, t: f64, a: f64) {
+        let first = self.span.map_or((t, a), |s| s.0);
+        self.span = Some((first, (t, a)));
+    }
+
+    /// Its speed (rpm): the angle its samples cover over their time.
+    fn rpm(&self) -> Option<f64> {
+        let ((t0, a0), (t1, a1)) = self.span?;
+        let rpm = (a1 - a0) / (t1 - t0) / 6.0;
+        (t1 > t0 && rpm.is_finite() && rpm > 0.0).then_some(rpm)
     }
 }
 
@@ -60,7 +78,7 @@ pub(super) struct Cycles {
     pub firing: Firing,
     /// Samples held until the firing TDC is known: revolution, degrees
     /// within it, value, line.
-    held: Vec<(i64, f64, f64, usize)>,
+    held: Vec<(i64, f64, f64, usize, f64)>,
     cur: Option<Building>,
     pub complete: usize,
     pub partial: usize,
@@ -95,23 +113,26 @@ impl Cycles {
         }
     }
 
-    /// A sample `within` degrees into revolution `k` from the reference.
+    /// A sample `within` degrees into revolution `k` from the reference,
+    /// taken at time `t` (s).
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn push<F: FnMut(Streamed) -> Result<(), IngestError>>(
         &mut self,
         k: i64,
         within: f64,
         p: f64,
         line: usize,
+        t: f64,
         out: &mut Emitter<'_, F>,
     ) -> Result<(), IngestError> {
         match self.parity {
-            Some(par) => self.place(k, within, p, line, par, out),
+            Some(par) => self.place(k, within, p, line, t, par, out),
             None => {
                 if self.held.first().is_some_and(|h| k >= h.0 + DECIDE_REVS) {
                     self.decide(line, out)?;
-                    return self.push(k, within, p, line, out);
+                    return self.push(k, within, p, line, t, out);
                 }
-                self.held.push((k, within, p, line));
+                self.held.push((k, within, p, line, t));
                 Ok(())
             }
         }
@@ -157,8 +178,8 @@ impl Cycles {
             Some(_) => Ok(()),
             None => {
                 self.parity = Some(par);
-                for (k, w, p, l) in std::mem::take(&mut self.held) {
-                    self.place(k, w, p, l, par, out)?;
+                for (k, w, p, l, t) in std::mem::take(&mut self.held) {
+                    self.place(k, w, p, l, t, par, out)?;
                 }
                 Ok(())
             }
@@ -200,19 +221,21 @@ impl Cycles {
         }
         let par = if score[1] > score[0] { 1 } else { 0 };
         self.parity = Some(par);
-        for (k, w, p, l) in held {
-            self.place(k, w, p, l, par, out)?;
+        for (k, w, p, l, t) in held {
+            self.place(k, w, p, l, t, par, out)?;
         }
         Ok(())
     }
 
     /// Puts a sample on its crank angle and into its cycle.
+    #[allow(clippy::too_many_arguments)]
     fn place<F: FnMut(Streamed) -> Result<(), IngestError>>(
         &mut self,
         k: i64,
         within: f64,
         p: f64,
         line: usize,
+        t: f64,
         parity: i64,
         out: &mut Emitter<'_, F>,
     ) -> Result<(), IngestError> {
@@ -231,6 +254,7 @@ impl Cycles {
         if let Some(b) = self.cur.as_mut() {
             b.trace.angle_deg.push(a - b.index as f64 * self.cycle_deg);
             b.trace.values.push(p);
+            b.timed(t, a);
         }
         Ok(())
     }
@@ -242,10 +266,11 @@ impl Cycles {
         out: &mut Emitter<'_, F>,
         reached: bool,
     ) -> Result<(), IngestError> {
-        if let Some(b) = self.cur.take() {
+        if let Some(mut b) = self.cur.take() {
             if b.from_start && reached {
                 self.complete += 1;
                 self.last_len = b.trace.angle_deg.len();
+                b.trace.rpm = b.rpm();
                 out.trace(b.trace, b.line, Quantity::Pressure, false, 0)?;
             } else {
                 self.partial += 1;

@@ -109,7 +109,7 @@ impl Pulse {
             // A whole revolution: its samples linear in time between pulses.
             let dur = t1 - t0;
             for (t, p, l) in samples {
-                cycles.push(k, 360.0 * (t - t0) / dur, p, l, out)?;
+                cycles.push(k, 360.0 * (t - t0) / dur, p, l, t, out)?;
             }
             cycles.reached(k, 360.0, line, out)?;
         }

@@ -405,7 +405,7 @@ impl Crank {
                         continue;
                     };
                     let k = (a / 360.0).floor();
-                    cycles.push(k as i64, a - 360.0 * k, p, l, out)?;
+                    cycles.push(k as i64, a - 360.0 * k, p, l, t, out)?;
                 }
                 _ => break,
             }

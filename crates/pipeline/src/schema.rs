@@ -1,0 +1,724 @@
+//! The fixed, typed tables of a campaign (INTERFACE.md, "Parquet tables"):
+//! `summary/1`, `cycles/1` and `traces/1`, each column's name, logical type
+//! and how to get its value. **The one definition**: the Parquet writers
+//! (`enginedyn-tables`) and `summary.csv` (`report::summary_csv`,
+//! `report::flatten`) are built from it; the summary's values come from
+//! [`KEYS`](crate::KEYS) by the column's key, so a figure has one accessor.
+//!
+//! [`SUMMARY`] lists its columns in `summary.json`'s order (the order of
+//! `summary.csv`); each column's [`Group`] places it in the Parquet table
+//! ([`summary_columns`]: the fixed keys, then the optional ones, then
+//! `models.*` and `notes`). A new column is appended to its table and bumps
+//! the table's number (`summary/2`).
+
+use crate::summary::{Summary, Value};
+use enginedyn_ingest::Resampled;
+use std::borrow::Cow;
+
+/// The schema names and versions written as `enginedyn.schema`.
+pub const SUMMARY_SCHEMA: &str = "summary/1";
+/// See [`SUMMARY_SCHEMA`].
+pub const CYCLES_SCHEMA: &str = "cycles/1";
+/// See [`SUMMARY_SCHEMA`].
+pub const TRACES_SCHEMA: &str = "traces/1";
+
+/// A column's logical type (the Arrow type the tables crate maps it to).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ColumnType {
+    /// UTF-8 text.
+    Utf8,
+    /// True or false.
+    Bool,
+    /// 16-bit signed integer.
+    Int16,
+    /// 32-bit signed integer.
+    Int32,
+    /// 64-bit signed integer.
+    Int64,
+    /// 64-bit float.
+    Float64,
+}
+
+impl ColumnType {
+    /// The name INTERFACE.md gives it (`utf8`, `float64`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            ColumnType::Utf8 => "utf8",
+            ColumnType::Bool => "bool",
+            ColumnType::Int16 => "int16",
+            ColumnType::Int32 => "int32",
+            ColumnType::Int64 => "int64",
+            ColumnType::Float64 => "float64",
+        }
+    }
+}
+
+/// One value of a column in one row.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Cell<'a> {
+    /// The key is absent from this summary (an optional key that does not
+    /// apply): no `summary.csv` column of its own, null in Parquet.
+    Absent,
+    /// Null: the figure does not exist for the case (never a NaN or an
+    /// infinity: those become null).
+    Null,
+    /// A number.
+    Float(f64),
+    /// A whole number.
+    Int(i64),
+    /// True or false.
+    Bool(bool),
+    /// Text.
+    Text(Cow<'a, str>),
+}
+
+impl Cell<'_> {
+    /// A number, null when absent or not finite.
+    pub fn num(x: Option<f64>) -> Self {
+        match x {
+            Some(x) if x.is_finite() => Cell::Float(x),
+            _ => Cell::Null,
+        }
+    }
+
+    /// Null or absent.
+    pub fn is_null(&self) -> bool {
+        matches!(self, Cell::Null | Cell::Absent)
+    }
+
+    /// The same value, owning its text.
+    pub fn into_owned(self) -> Cell<'static> {
+        match self {
+            Cell::Absent => Cell::Absent,
+            Cell::Null => Cell::Null,
+            Cell::Float(x) => Cell::Float(x),
+            Cell::Int(i) => Cell::Int(i),
+            Cell::Bool(b) => Cell::Bool(b),
+            Cell::Text(t) => Cell::Text(Cow::Owned(t.into_owned())),
+        }
+    }
+}
+
+/// Where a column of [`SUMMARY`] stands: in the Parquet table the groups
+/// follow in this order; in `summary.csv` the optional groups come last,
+/// and only the columns some row has.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Group {
+    /// The row's own columns (`file`, `error`; every column of `cycles/1`
+    /// and `traces/1`).
+    Row,
+    /// What the figures came from (`engine`, `diagram_sha256`): Parquet
+    /// only (`summary.json` keeps them in `inputs`).
+    Provenance,
+    /// The fixed keys of `summary.json` (numbers).
+    Fixed,
+    /// The optional keys (present when they apply).
+    Optional,
+    /// `pegging.*` (optional).
+    Pegging,
+    /// `models.*` text.
+    ModelsText,
+    /// `models.*` numbers.
+    ModelsNumber,
+    /// `notes`, joined with ` | `.
+    Notes,
+}
+
+impl Group {
+    /// True for the optional keys (absent when they do not apply).
+    pub fn optional(self) -> bool {
+        matches!(self, Group::Optional | Group::Pegging)
+    }
+
+    /// True for the columns of `summary.csv` (all but the provenance).
+    pub fn in_csv(self) -> bool {
+        self != Group::Provenance
+    }
+}
+
+/// One column: its name, logical type, whether it may be null, where it
+/// stands, and how its value is got from a row.
+#[derive(Debug, Clone, Copy)]
+pub struct Column<G> {
+    /// The name, as INTERFACE.md gives it.
+    pub name: &'static str,
+    /// The logical type.
+    pub ty: ColumnType,
+    /// Whether it may be null.
+    pub nullable: bool,
+    /// Where it stands (summary columns; [`Group::Row`] elsewhere).
+    pub group: Group,
+    /// Its value in a row.
+    pub get: G,
+}
+
+/// How a [`SUMMARY`] column gets its value.
+pub type SummaryGet = for<'r, 'a> fn(&'r SummaryRecord<'a>) -> Cell<'r>;
+/// How a [`CYCLES`] column gets its value.
+pub type CycleGet = for<'r, 'a> fn(&'r CycleRow<'a>) -> Cell<'r>;
+/// How a [`TRACES`] column gets its value.
+pub type TraceGet = for<'r, 'a> fn(&'r TracePoint<'a>) -> Cell<'r>;
+
+/// One row of `summary/1`: a diagram file and its summary, or its error.
+#[derive(Debug, Clone, Copy)]
+pub struct SummaryRecord<'a> {
+    /// The path as given.
+    pub file: &'a str,
+    /// Why it failed; `None` when it ran.
+    pub error: Option<&'a str>,
+    /// The engine's `name`.
+    pub engine: &'a str,
+    /// The diagram file's SHA-256 (hex), when it could be read.
+    pub diagram_sha256: Option<&'a str>,
+    /// The summary, when it ran.
+    pub summary: Option<&'a Summary>,
+}
+
+impl<'a> SummaryRecord<'a> {
+    /// A record of `summary` alone (no file): what `summary.csv`'s
+    /// flattened cells are built from.
+    pub fn of(summary: &'a Summary) -> Self {
+        Self {
+            file: "",
+            error: None,
+            engine: "",
+            diagram_sha256: None,
+            summary: Some(summary),
+        }
+    }
+
+    /// The summary key `key` ([`KEYS`](crate::KEYS)), or the field `field` of the
+    /// object it holds (`models`, `pegging`): absent when the key is,
+    /// null without a summary.
+    fn key(&self, key: &str, field: Option<&str>) -> Cell<'static> {
+        let Some(s) = self.summary else {
+            return Cell::Null;
+        };
+        let Some(v) = Summary::key(key).and_then(|k| (k.get)(s)) else {
+            return Cell::Absent;
+        };
+        let v = match (field, v) {
+            (None, v) => v,
+            (Some(f), Value::Map(m)) => match m.into_iter().find(|(k, _)| *k == f) {
+                Some((_, v)) => v,
+                None => return Cell::Absent,
+            },
+            (Some(_), _) => return Cell::Absent,
+        };
+        match v {
+            Value::Num(x) => Cell::num(x),
+            Value::Int(i) => i64::try_from(i).map_or(Cell::Null, Cell::Int),
+            Value::Text(t) => Cell::Text(Cow::Borrowed(t)),
+            Value::List(l) => Cell::Text(Cow::Owned(l.join(" | "))),
+            Value::Map(_) => Cell::Null,
+        }
+    }
+}
+
+fn text<'r>(s: &'r str) -> Cell<'r> {
+    Cell::Text(Cow::Borrowed(s))
+}
+
+fn opt_text<'r>(s: Option<&'r str>) -> Cell<'r> {
+    s.map_or(Cell::Null, text)
+}
+
+/// A column of `summary/1` holding the summary key `$key` (or its field
+/// `$field`), of type `$ty`, in group `$group`.
+macro_rules! key {
+    ($key:literal, $ty:ident, $group:ident) => {
+        Column {
+            name: $key,
+            ty: ColumnType::$ty,
+            nullable: true,
+            group: Group::$group,
+            get: |r| r.key($key, None),
+        }
+    };
+    ($key:literal . $field:literal, $ty:ident, $group:ident) => {
+        Column {
+            name: concat!($key, ".", $field),
+            ty: ColumnType::$ty,
+            nullable: true,
+            group: Group::$group,
+            get: |r| r.key($key, Some($field)),
+        }
+    };
+}
+
+/// `summary/1`, in `summary.json`'s order (that of `summary.csv`); the
+/// Parquet table's order is [`summary_columns`]. Every column but `file`
+/// and `engine` may be null (a failed file has no figures).
+pub const SUMMARY: &[Column<SummaryGet>] = &[
+    Column {
+        name: "file",
+        ty: ColumnType::Utf8,
+        nullable: false,
+        group: Group::Row,
+        get: |r| text(r.file),
+    },
+    Column {
+        name: "error",
+        ty: ColumnType::Utf8,
+        nullable: true,
+        group: Group::Row,
+        get: |r| opt_text(r.error),
+    },
+    Column {
+        name: "engine",
+        ty: ColumnType::Utf8,
+        nullable: false,
+        group: Group::Provenance,
+        get: |r| text(r.engine),
+    },
+    Column {
+        name: "diagram_sha256",
+        ty: ColumnType::Utf8,
+        nullable: true,
+        group: Group::Provenance,
+        get: |r| opt_text(r.diagram_sha256),
+    },
+    key!("rpm", Float64, Fixed),
+    key!("omega_rad_s", Float64, Fixed),
+    key!("imep_bar", Float64, Fixed),
+    key!("indicated_work_per_cylinder_j", Float64, Fixed),
+    key!("mean_torque_nm", Float64, Fixed),
+    key!("power_kw", Float64, Fixed),
+    key!("indicated_mean_torque_nm", Float64, Fixed),
+    key!("indicated_power_kw", Float64, Fixed),
+    key!("torque_max_nm", Float64, Fixed),
+    key!("torque_min_nm", Float64, Fixed),
+    key!("torque_nonuniformity", Float64, Fixed),
+    key!("excess_work_j", Float64, Fixed),
+    key!("excess_work_coefficient", Float64, Fixed),
+    key!("required_inertia_kg_m2", Float64, Fixed),
+    key!("flywheel_inertia_kg_m2", Float64, Fixed),
+    key!("flywheel_gd2_n_m2", Float64, Fixed),
+    key!("flywheel_outer_diameter_m", Float64, Fixed),
+    key!("flywheel_mass_kg", Float64, Fixed),
+    key!("flywheel_width_m", Float64, Fixed),
+    key!("speed_fluctuation_achieved", Float64, Fixed),
+    key!("stroke_m", Float64, Fixed),
+    key!("lambda", Float64, Fixed),
+    key!("piston_speed_mean_m_s", Float64, Fixed),
+    key!("piston_speed_max_m_s", Float64, Fixed),
+    key!("piston_accel_max_m_s2", Float64, Fixed),
+    key!("piston_accel_min_m_s2", Float64, Fixed),
+    key!("gas_force_max_n", Float64, Fixed),
+    key!("side_force_max_n", Float64, Fixed),
+    key!("rod_force_max_n", Float64, Fixed),
+    key!("crankpin_load_max_n", Float64, Fixed),
+    key!("crankpin_load_mean_n", Float64, Fixed),
+    key!("journal_torque_max_nm", Float64, Fixed),
+    key!("journal_most_loaded", Int32, Fixed),
+    key!("energy_balance_error", Float64, Fixed),
+    key!("models"."kinematics", Utf8, ModelsText),
+    key!("models"."rod_model", Utf8, ModelsText),
+    key!("models"."interpolation", Utf8, ModelsText),
+    key!("models"."grid_step_deg", Float64, ModelsNumber),
+    key!("models"."integration", Utf8, ModelsText),
+    key!("notes", Utf8, Notes),
+    key!("cycles", Int64, Optional),
+    key!("cycles_skipped", Int64, Optional),
+    key!("imep_std_bar", Float64, Optional),
+    key!("imep_cov", Float64, Optional),
+    key!("p_max_mean_bar", Float64, Optional),
+    key!("p_max_cov", Float64, Optional),
+    key!("p_max_angle_mean_deg", Float64, Optional),
+    key!("p_max_angle_std_deg", Float64, Optional),
+    key!("pegging"."method", Utf8, Pegging),
+    key!("pegging"."offset_bar", Float64, Pegging),
+    key!("pegging"."polytropic_n", Float64, Pegging),
+    key!("tdc_offset_estimate_deg", Float64, Optional),
+    key!("estimated_relative_error", Float64, Optional),
+];
+
+/// The columns of `summary/1` in the Parquet table's order: `file`,
+/// `error`, `engine`, `diagram_sha256`, the fixed keys, the optional keys,
+/// `pegging.*`, the text of `models.*`, `models.grid_step_deg`, `notes`.
+pub fn summary_columns() -> Vec<&'static Column<SummaryGet>> {
+    let mut c: Vec<_> = SUMMARY.iter().collect();
+    // Stable: within a group, summary.json's order.
+    c.sort_by_key(|c| c.group);
+    c
+}
+
+/// One row of `cycles/1`: a measured cycle of one cylinder of one file,
+/// used or left out. SI units; the columns convert.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CycleRow<'a> {
+    /// The diagram file, as given.
+    pub file: &'a str,
+    /// Cylinder (0: a trace that stands for every cylinder).
+    pub cylinder: i64,
+    /// Cycle number, as numbered in the file (else from 1).
+    pub cycle: i64,
+    /// Why it was left out of the averages; `None` when used.
+    pub skip_reason: Option<&'a str>,
+    /// IMEP (Pa), when the volume law is known.
+    pub imep_pa: Option<f64>,
+    /// Peak pressure (Pa).
+    pub p_max_pa: Option<f64>,
+    /// Its angle (deg from firing TDC, in `[-cycle/2, cycle/2)`).
+    pub p_max_angle_deg: Option<f64>,
+    /// The pegging offset added (Pa), when the trace was pegged.
+    pub peg_offset_pa: Option<f64>,
+    /// The speed over this cycle (rpm): a time record's, else the run's.
+    pub rpm: f64,
+}
+
+/// Pa to bar, in the tables.
+fn bar(x: Option<f64>) -> Cell<'static> {
+    Cell::num(x.map(|p| p / 1e5))
+}
+
+/// `cycles/1`, in its order.
+pub const CYCLES: &[Column<CycleGet>] = &[
+    Column {
+        name: "file",
+        ty: ColumnType::Utf8,
+        nullable: false,
+        group: Group::Row,
+        get: |r| text(r.file),
+    },
+    Column {
+        name: "cylinder",
+        ty: ColumnType::Int16,
+        nullable: false,
+        group: Group::Row,
+        get: |r| Cell::Int(r.cylinder),
+    },
+    Column {
+        name: "cycle",
+        ty: ColumnType::Int64,
+        nullable: false,
+        group: Group::Row,
+        get: |r| Cell::Int(r.cycle),
+    },
+    Column {
+        name: "used",
+        ty: ColumnType::Bool,
+        nullable: false,
+        group: Group::Row,
+        get: |r| Cell::Bool(r.skip_reason.is_none()),
+    },
+    Column {
+        name: "skip_reason",
+        ty: ColumnType::Utf8,
+        nullable: true,
+        group: Group::Row,
+        get: |r| opt_text(r.skip_reason),
+    },
+    Column {
+        name: "imep_bar",
+        ty: ColumnType::Float64,
+        nullable: true,
+        group: Group::Row,
+        get: |r| bar(r.imep_pa),
+    },
+    Column {
+        name: "p_max_bar",
+        ty: ColumnType::Float64,
+        nullable: true,
+        group: Group::Row,
+        get: |r| bar(r.p_max_pa),
+    },
+    Column {
+        name: "p_max_angle_deg",
+        ty: ColumnType::Float64,
+        nullable: true,
+        group: Group::Row,
+        get: |r| Cell::num(r.p_max_angle_deg),
+    },
+    Column {
+        name: "peg_offset_bar",
+        ty: ColumnType::Float64,
+        nullable: true,
+        group: Group::Row,
+        get: |r| bar(r.peg_offset_pa),
+    },
+    Column {
+        name: "rpm",
+        ty: ColumnType::Float64,
+        nullable: false,
+        group: Group::Row,
+        get: |r| Cell::num(Some(r.rpm)),
+    },
+];
+
+/// The rows of `cycles/1` for one file: every measured cycle of
+/// `resampled`, used ([`Resampled::stats`]) or left out
+/// ([`Resampled::skipped`], with the reason), by cylinder, then cycle;
+/// `run_rpm` is the speed of cycles the file does not time.
+pub fn cycle_rows<'a>(file: &'a str, resampled: &'a Resampled, run_rpm: f64) -> Vec<CycleRow<'a>> {
+    let pegged = resampled.pegging.is_some();
+    let mut rows: Vec<CycleRow<'a>> = resampled
+        .stats
+        .iter()
+        .map(|s| CycleRow {
+            file,
+            cylinder: s.cylinder,
+            cycle: s.cycle,
+            skip_reason: None,
+            imep_pa: s.imep_pa,
+            p_max_pa: Some(s.p_max),
+            p_max_angle_deg: Some(s.p_max_angle_deg),
+            peg_offset_pa: pegged.then_some(s.peg_offset),
+            rpm: s.rpm.unwrap_or(run_rpm),
+        })
+        .chain(resampled.skipped.iter().map(|s| CycleRow {
+            file,
+            cylinder: s.cylinder,
+            cycle: s.cycle,
+            skip_reason: Some(s.reason.as_str()),
+            imep_pa: None,
+            p_max_pa: None,
+            p_max_angle_deg: None,
+            peg_offset_pa: None,
+            rpm: run_rpm,
+        }))
+        .collect();
+    rows.sort_by_key(|r| (r.cylinder, r.cycle));
+    rows
+}
+
+/// One row of `traces/1`: the cycle-averaged absolute pressure of one
+/// cylinder at one grid angle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TracePoint<'a> {
+    /// The diagram file, as given.
+    pub file: &'a str,
+    /// Cylinder (0: a trace that stands for every cylinder).
+    pub cylinder: i64,
+    /// The grid angle (deg from firing TDC, in `[0, cycle)`).
+    pub crank_deg: f64,
+    /// The pressure (Pa, absolute).
+    pub pressure_pa: f64,
+}
+
+/// `traces/1`, in its order.
+pub const TRACES: &[Column<TraceGet>] = &[
+    Column {
+        name: "file",
+        ty: ColumnType::Utf8,
+        nullable: false,
+        group: Group::Row,
+        get: |r| text(r.file),
+    },
+    Column {
+        name: "cylinder",
+        ty: ColumnType::Int16,
+        nullable: false,
+        group: Group::Row,
+        get: |r| Cell::Int(r.cylinder),
+    },
+    Column {
+        name: "crank_deg",
+        ty: ColumnType::Float64,
+        nullable: false,
+        group: Group::Row,
+        get: |r| Cell::Float(r.crank_deg),
+    },
+    Column {
+        name: "pressure_bar",
+        ty: ColumnType::Float64,
+        nullable: false,
+        group: Group::Row,
+        get: |r| Cell::num(Some(r.pressure_pa / 1e5)),
+    },
+];
+
+/// The rows of `traces/1` for one file: each cylinder's mean pressure on
+/// the grid (cylinder 1…z when the traces name cylinders, else cylinder
+/// 0), angles without binary noise (0.30000000000000004 → 0.3, as in
+/// `curves.csv`). None for a turning-moment file.
+pub fn trace_points<'a>(file: &'a str, r: &'a Resampled) -> Vec<TracePoint<'a>> {
+    if r.quantity != enginedyn_ingest::Quantity::Pressure {
+        return Vec::new();
+    }
+    let traces: Vec<(i64, &[f64])> = if r.cylinders.is_empty() {
+        vec![(0, &r.pressure)]
+    } else {
+        (1..)
+            .zip(&r.cylinders)
+            .map(|(c, p)| (c, p.as_slice()))
+            .collect()
+    };
+    let mut out = Vec::with_capacity(traces.iter().map(|t| t.1.len()).sum());
+    for (cylinder, p) in traces {
+        out.extend(p.iter().enumerate().map(|(k, &pressure_pa)| TracePoint {
+            file,
+            cylinder,
+            crank_deg: ((k as f64 * r.step_deg) * 1e9).round() / 1e9,
+            pressure_pa,
+        }));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A summary with every optional key present.
+    fn full() -> Summary {
+        let mut s = Summary::empty();
+        s.cycles = Some(10);
+        s.cycles_skipped = Some(2);
+        s.cycle_stats = Some(crate::CycleSummary {
+            cycles: 10,
+            imep_std_bar: Some(0.1),
+            imep_cov: Some(0.01),
+            p_max_mean_bar: 50.0,
+            p_max_cov: 0.02,
+            p_max_angle_mean_deg: 12.0,
+            p_max_angle_std_deg: 1.0,
+        });
+        s.pegging = Some(crate::Pegging {
+            method: "bar",
+            offset_bar: 1.0,
+            polytropic_n: None,
+        });
+        s.tdc_offset_estimate_deg = Some(0.3);
+        s.estimated_relative_error = Some(1e-4);
+        s.notes = vec!["a".into(), "b".into()];
+        s
+    }
+
+    /// Every summary key is a column (objects field by field), in
+    /// `summary.json`'s order: a key added to `KEYS` without its column
+    /// fails here.
+    #[test]
+    fn summary_columns_are_the_keys_in_order() {
+        let s = full();
+        let mut expected = vec!["file", "error", "engine", "diagram_sha256"]
+            .into_iter()
+            .map(String::from)
+            .collect::<Vec<_>>();
+        for (k, v) in s.fields() {
+            match v {
+                Value::Map(m) => expected.extend(m.iter().map(|(f, _)| format!("{k}.{f}"))),
+                _ => expected.push(k.to_string()),
+            }
+        }
+        let names: Vec<String> = SUMMARY.iter().map(|c| c.name.to_string()).collect();
+        assert_eq!(names, expected);
+        // And every one has a value in a full summary.
+        let r = SummaryRecord::of(&s);
+        for c in SUMMARY.iter().filter(|c| c.group > Group::Provenance) {
+            assert!(!matches!((c.get)(&r), Cell::Absent), "{}", c.name);
+        }
+    }
+
+    /// The Parquet order is INTERFACE.md's.
+    #[test]
+    fn parquet_order() {
+        let names: Vec<&str> = summary_columns().iter().map(|c| c.name).collect();
+        assert_eq!(names.len(), SUMMARY.len());
+        assert_eq!(
+            names[..5],
+            ["file", "error", "engine", "diagram_sha256", "rpm"]
+        );
+        let at = |n: &str| names.iter().position(|x| *x == n).unwrap();
+        assert_eq!(at("energy_balance_error") + 1, at("cycles"));
+        assert_eq!(at("estimated_relative_error") + 1, at("pegging.method"));
+        assert_eq!(
+            names[names.len() - 6..],
+            [
+                "models.kinematics",
+                "models.rod_model",
+                "models.interpolation",
+                "models.integration",
+                "models.grid_step_deg",
+                "notes"
+            ]
+        );
+        let ty = |n: &str| SUMMARY.iter().find(|c| c.name == n).unwrap().ty;
+        assert_eq!(ty("journal_most_loaded"), ColumnType::Int32);
+        assert_eq!(ty("cycles_skipped"), ColumnType::Int64);
+        assert_eq!(ty("pegging.method"), ColumnType::Utf8);
+    }
+
+    /// Absent optional keys are absent, a null figure is null, the notes
+    /// are joined, a failed row is null everywhere but its own columns.
+    #[test]
+    fn cells() {
+        let s = Summary::empty();
+        let r = SummaryRecord::of(&s);
+        let cell = |r: &SummaryRecord<'_>, n: &str| {
+            (SUMMARY.iter().find(|c| c.name == n).unwrap().get)(r).into_owned()
+        };
+        assert_eq!(cell(&r, "cycles"), Cell::Absent);
+        assert_eq!(cell(&r, "pegging.offset_bar"), Cell::Absent);
+        assert_eq!(cell(&r, "imep_bar"), Cell::Null);
+        assert_eq!(cell(&r, "journal_most_loaded"), Cell::Int(0));
+        let f = full();
+        let r = SummaryRecord::of(&f);
+        assert_eq!(cell(&r, "notes"), Cell::Text("a | b".into()));
+        assert_eq!(cell(&r, "pegging.polytropic_n"), Cell::Null);
+        assert_eq!(cell(&r, "pegging.method"), Cell::Text("bar".into()));
+        assert_eq!(cell(&r, "p_max_cov"), Cell::Float(0.02));
+        let failed = SummaryRecord {
+            file: "x.csv",
+            error: Some("line 3: no number"),
+            engine: "e",
+            diagram_sha256: None,
+            summary: None,
+        };
+        assert_eq!(cell(&failed, "rpm"), Cell::Null);
+        assert_eq!(
+            cell(&failed, "error"),
+            Cell::Text("line 3: no number".into())
+        );
+    }
+
+    /// Used and skipped cycles in cylinder, then cycle order, in bar.
+    #[test]
+    fn cycle_rows_keep_skipped_cycles() {
+        let mut r = Resampled::from_grid(1.0, vec![1e5; 720]);
+        let stat = |cylinder, cycle| enginedyn_ingest::CycleStats {
+            cylinder,
+            cycle,
+            imep_pa: Some(8e5),
+            p_max: 50e5,
+            p_max_angle_deg: 12.0,
+            peg_offset: 0.0,
+            rpm: None,
+        };
+        r.stats = vec![stat(1, 1), stat(1, 3), stat(0, 2)];
+        r.skipped = vec![enginedyn_ingest::SkippedCycle {
+            cylinder: 1,
+            cycle: 2,
+            reason: "a gap".into(),
+        }];
+        let rows = cycle_rows("f", &r, 2000.0);
+        let order: Vec<(i64, i64, bool)> = rows
+            .iter()
+            .map(|r| (r.cylinder, r.cycle, r.skip_reason.is_none()))
+            .collect();
+        assert_eq!(
+            order,
+            [(0, 2, true), (1, 1, true), (1, 2, false), (1, 3, true)]
+        );
+        let get = |n: &str, row: &CycleRow<'_>| {
+            (CYCLES.iter().find(|c| c.name == n).unwrap().get)(row).into_owned()
+        };
+        assert_eq!(get("imep_bar", &rows[0]), Cell::Float(8.0));
+        assert_eq!(get("peg_offset_bar", &rows[0]), Cell::Null);
+        assert_eq!(get("imep_bar", &rows[2]), Cell::Null);
+        assert_eq!(get("used", &rows[2]), Cell::Bool(false));
+        assert_eq!(get("rpm", &rows[2]), Cell::Float(2000.0));
+    }
+
+    /// One point per grid angle and cylinder, angles clean.
+    #[test]
+    fn trace_points_per_cylinder() {
+        let mut r = Resampled::from_grid(0.1, vec![2e5; 7200]);
+        assert_eq!(trace_points("f", &r).len(), 7200);
+        r.cylinders = vec![vec![1e5; 7200], vec![3e5; 7200]];
+        let p = trace_points("f", &r);
+        assert_eq!(p.len(), 14400);
+        assert_eq!((p[7203].cylinder, p[7203].crank_deg), (2, 0.3));
+        assert_eq!((TRACES[3].get)(&p[7203]), Cell::Float(3.0), "bar, absolute");
+    }
+}
