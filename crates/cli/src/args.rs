@@ -33,6 +33,19 @@ pub enum Command {
     Torsion(TorsionArgs),
     /// Print a commented engine file (every key: unit, default, meaning) that runs as it is.
     Template(TemplateArgs),
+    /// Check a campaign's Parquet parts (`batch --parquet DIR`) and write DIR/_manifest.json.
+    Merge(MergeArgs),
+}
+
+/// `enginedyn merge`.
+#[derive(Debug, Clone, Args)]
+pub struct MergeArgs {
+    /// The campaign folder every shard wrote its parts into.
+    #[arg(value_name = "DIR")]
+    pub dir: PathBuf,
+    /// The number of parts expected (N of `--shard I/N`) [default: from the part names].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    pub parts: Option<u64>,
 }
 
 /// `enginedyn template`: the layouts it writes.

@@ -18,6 +18,8 @@ struct Row {
     folder: Option<String>,
     /// With `--json`: its `summary.json` object, on one line.
     json: Option<String>,
+    /// With `--parquet`: its rows of the campaign's tables.
+    campaign: Option<enginedyn_session::campaign::Row>,
 }
 
 /// A batch row as `--json` prints it: `file`, `error` (null when it ran),
@@ -137,7 +139,11 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
         work,
         |i, f, an, times| {
             let shown = f.display().to_string();
-            let Some(an) = an else {
+            let Some(enginedyn_session::Analysed {
+                analysis: an,
+                resampled,
+            }) = an
+            else {
                 return Ok(Row {
                     file: shown,
                     error: String::new(),
@@ -145,8 +151,10 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                     key: None,
                     folder: None,
                     json: None,
+                    campaign: None,
                 });
             };
+            let campaign = a.parquet.is_some().then(|| session.row(f, &an, resampled));
             let s = &an.summary;
             let inputs = engine_inputs
                 .as_ref()
@@ -196,6 +204,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                 )),
                 folder,
                 json,
+                campaign,
             })
         },
         |item| {
@@ -215,12 +224,16 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
             items.len(),
         );
     }
-    let rows: Vec<Row> = items
+    let mut rows: Vec<Row> = items
         .into_iter()
         .map(|item| {
             item.result.unwrap_or_else(|e| {
                 // The row names the file: the message alone.
                 let shown = item.file.display().to_string();
+                let campaign = a
+                    .parquet
+                    .is_some()
+                    .then(|| enginedyn_session::campaign::Row::failed(&item.file, &e));
                 let msg = e.message;
                 Row {
                     json: a.json.then(|| json_row(&shown, &msg, None)),
@@ -229,11 +242,33 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                     cells: Vec::new(),
                     key: None,
                     folder: None,
+                    campaign,
                 }
             })
         })
         .collect();
     let failed = rows.iter().filter(|r| !r.error.is_empty()).count();
+    // The campaign's parts: whole or not at all; one that cannot be
+    // written is exit 2 (so a dependent job can trust every part exists).
+    if let Some(dir) = &a.parquet {
+        let campaign: Vec<enginedyn_session::campaign::Row> =
+            rows.iter_mut().filter_map(|r| r.campaign.take()).collect();
+        let shard = a.shard.unwrap_or(enginedyn_session::batch::Shard::WHOLE);
+        let written = session
+            .write_parts(dir, shard, &campaign, a.traces)
+            .map_err(|e| Failure::usage(format!("--parquet {}: {e}", dir.display())))?;
+        eprintln!(
+            "wrote {} ({} of {} files failed): {}",
+            enginedyn_report::count(written.len(), "part"),
+            failed,
+            rows.len(),
+            written
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     let table: Vec<enginedyn_report::CsvRow> = rows
         .iter()
         .map(|r| (r.file.clone(), r.error.clone(), r.cells.clone()))
@@ -303,7 +338,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
             crate::emit(&text);
         }
     }
-    if failed > 0 {
+    if failed > 0 && a.parquet.is_none() {
         return Err(Failure::data(format!(
             "{failed} of {} diagrams failed (their rows say why)",
             rows.len()

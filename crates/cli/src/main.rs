@@ -7,6 +7,7 @@ mod args;
 mod batch;
 mod firing;
 mod kinematics;
+mod merge;
 mod run;
 mod template;
 mod tolerance;
@@ -166,6 +167,7 @@ fn main() -> ExitCode {
         args::Command::Accuracy(a) => accuracy::run(&a),
         args::Command::Torsion(a) => torsion::run(&a),
         args::Command::Template(a) => template::run(&a),
+        args::Command::Merge(a) => merge::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -418,11 +418,10 @@ impl NativeSession {
         .py()
     }
 
-    /// Many files on `jobs` threads (0: one per core): a row per file,
-    /// `(file, error, summary.json text)`; a failed file is a row, never
-    /// an exception.
+    /// Many files on `jobs` threads (0: one per core): a row per file;
+    /// a failed file is a row with its error, never an exception.
     #[pyo3(signature = (paths, jobs=0))]
-    fn batch(&self, py: Python<'_>, paths: Vec<PathBuf>, jobs: usize) -> PyResult<Vec<BatchRow>> {
+    fn batch(&self, py: Python<'_>, paths: Vec<PathBuf>, jobs: usize) -> PyResult<NativeBatch> {
         if jobs > enginedyn_session::options::MAX_JOBS {
             return Err(UsageError::new_err(format!(
                 "jobs: {jobs} is outside 0 to {}",
@@ -441,37 +440,109 @@ impl NativeSession {
                         return Err(Error::usage("nothing analysed"));
                     };
                     let inputs = engine.with_diagrams(&[enginedyn_report::Source::File(f)])?;
-                    let json = enginedyn_report::summary_json(&an.summary, &inputs);
-                    Ok((
-                        serde_json::to_string(&json).unwrap_or_default(),
-                        an.summary.notes,
-                    ))
+                    let json = enginedyn_report::summary_json(&an.analysis.summary, &inputs);
+                    let text = serde_json::to_string(&json).unwrap_or_default();
+                    Ok((text, s.row(f, &an.analysis, an.resampled)))
                 },
                 |_| {},
             )?;
-            Ok(items
-                .into_iter()
-                .map(|item| {
-                    let file = item.file.display().to_string();
-                    match item.result {
-                        Ok((summary, notes)) => BatchRow {
-                            file,
-                            error: None,
-                            summary: Some(summary),
-                            notes,
-                        },
-                        Err(e) => BatchRow {
-                            file,
-                            error: Some(e.message),
-                            summary: None,
-                            notes: Vec::new(),
-                        },
+            let mut rows = Vec::with_capacity(items.len());
+            let mut summaries = Vec::with_capacity(items.len());
+            for item in items {
+                match item.result {
+                    Ok((json, row)) => {
+                        summaries.push(Some(json));
+                        rows.push(row);
                     }
-                })
-                .collect())
+                    Err(e) => {
+                        summaries.push(None);
+                        rows.push(enginedyn_session::campaign::Row::failed(&item.file, &e));
+                    }
+                }
+            }
+            Ok(NativeBatch {
+                session: s.clone(),
+                rows,
+                summaries,
+            })
         })
         .py()
     }
+}
+
+/// A batch's rows, for Python and for the campaign's Parquet tables.
+#[pyclass(module = "enginedyn._native", frozen)]
+struct NativeBatch {
+    session: Arc<Session>,
+    rows: Vec<enginedyn_session::campaign::Row>,
+    summaries: Vec<Option<String>>,
+}
+
+#[pymethods]
+impl NativeBatch {
+    /// The files, as given.
+    fn files(&self) -> Vec<String> {
+        self.rows.iter().map(|r| r.file.clone()).collect()
+    }
+
+    /// Each file's error (`None` when it ran).
+    fn errors(&self) -> Vec<Option<String>> {
+        self.rows.iter().map(|r| r.error.clone()).collect()
+    }
+
+    /// Each file's `summary.json` as text (`None` when it failed).
+    fn summaries(&self) -> Vec<Option<String>> {
+        self.summaries.clone()
+    }
+
+    /// The `summary/1` table as Parquet bytes (what a part holds).
+    fn summary_parquet<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
+        let bytes = self.session.summary_bytes(&self.rows).py()?;
+        Ok(pyo3::types::PyBytes::new(py, &bytes))
+    }
+
+    /// The `cycles/1` table as Parquet bytes.
+    fn cycles_parquet<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
+        let bytes = self.session.cycles_bytes(&self.rows).py()?;
+        Ok(pyo3::types::PyBytes::new(py, &bytes))
+    }
+
+    /// Writes part `part` of `parts` into the campaign folder `dir`: the
+    /// same files `batch --shard part/parts --parquet dir` writes.
+    #[pyo3(signature = (dir, part=0, parts=1, traces=false))]
+    fn write_parquet(
+        &self,
+        py: Python<'_>,
+        dir: PathBuf,
+        part: usize,
+        parts: usize,
+        traces: bool,
+    ) -> PyResult<Vec<PathBuf>> {
+        let shard = enginedyn_session::batch::Shard::new(part, parts)
+            .map_err(|e| UsageError::new_err(format!("part/parts: {e}")))?;
+        py.detach(|| self.session.write_parts(&dir, shard, &self.rows, traces))
+            .py()
+    }
+}
+
+/// The paths of shard `part` of `parts`: sorted bytewise, path k to shard
+/// k mod N (the rule of `batch --shard`).
+#[pyfunction]
+fn shard(paths: Vec<PathBuf>, part: usize, parts: usize) -> PyResult<Vec<PathBuf>> {
+    let s = enginedyn_session::batch::Shard::new(part, parts)
+        .map_err(|e| UsageError::new_err(format!("part/parts: {e}")))?;
+    Ok(s.take(&paths))
+}
+
+/// `enginedyn merge DIR [--parts N]`: checks the campaign and writes
+/// `DIR/_manifest.json`; returns the manifest as JSON text.
+#[pyfunction]
+#[pyo3(signature = (dir, parts=None))]
+fn merge(py: Python<'_>, dir: PathBuf, parts: Option<usize>) -> PyResult<String> {
+    let (m, _) = py
+        .detach(|| enginedyn_session::campaign::merge(&dir, parts))
+        .py()?;
+    Ok(serde_json::to_string_pretty(&m).unwrap_or_default())
 }
 
 /// What a torsion study writes: `torsion.json`, `modes.csv`,
@@ -485,24 +556,12 @@ fn speeds(start: f64, stop: f64, step: f64) -> PyResult<Vec<f64>> {
     enginedyn_session::speed::speed_range(start, stop, step, &format!("{start}:{stop}:{step}")).py()
 }
 
-/// One file's row of a batch.
-#[pyclass(module = "enginedyn._native", frozen, get_all)]
-struct BatchRow {
-    /// The path as given.
-    file: String,
-    /// Why it failed (`None` when it ran).
-    error: Option<String>,
-    /// Its `summary.json` as text (`None` when it failed).
-    summary: Option<String>,
-    /// Its notes.
-    notes: Vec<String>,
-}
-
 /// One operating point analysed.
 #[pyclass(module = "enginedyn._native", frozen)]
 struct Run {
     engine: Arc<Loaded>,
     analysis: Arc<enginedyn_pipeline::Analysis>,
+    resampled: Option<Arc<enginedyn_ingest::Resampled>>,
     inputs: enginedyn_report::Inputs,
 }
 
@@ -515,9 +574,62 @@ impl Run {
         Self {
             engine: Arc::new(s.loaded.clone()),
             analysis: Arc::new(outcome.analysis),
+            resampled: outcome.resampled.map(Arc::new),
             inputs,
         }
     }
+}
+
+/// How a table's column gets its value from a row.
+type Getter<R> = for<'r> fn(&'r R) -> enginedyn_pipeline::schema::Cell<'r>;
+
+/// Columns of one of the tables (`pipeline::schema`) as a dict: float64
+/// arrays (NaN for null), int64 arrays, bool arrays, lists of str or None.
+fn table_dict<'py, R>(
+    py: Python<'py>,
+    columns: &[enginedyn_pipeline::schema::Column<Getter<R>>],
+    rows: &[R],
+) -> PyResult<Bound<'py, PyDict>> {
+    use enginedyn_pipeline::schema::{Cell, ColumnType};
+    let d = PyDict::new(py);
+    for c in columns {
+        let cells = rows.iter().map(|r| (c.get)(r));
+        match c.ty {
+            ColumnType::Float64 => {
+                let v: Vec<f64> = cells
+                    .map(|x| match x {
+                        Cell::Float(f) => f,
+                        Cell::Int(i) => i as f64,
+                        _ => f64::NAN,
+                    })
+                    .collect();
+                d.set_item(c.name, PyArray1::from_vec(py, v))?;
+            }
+            ColumnType::Bool => {
+                let v: Vec<bool> = cells.map(|x| matches!(x, Cell::Bool(true))).collect();
+                d.set_item(c.name, PyArray1::from_vec(py, v))?;
+            }
+            ColumnType::Utf8 => {
+                let v: Vec<Option<String>> = cells
+                    .map(|x| match x {
+                        Cell::Text(t) => Some(t.into_owned()),
+                        _ => None,
+                    })
+                    .collect();
+                d.set_item(c.name, v)?;
+            }
+            _ => {
+                let v: Vec<i64> = cells
+                    .map(|x| match x {
+                        Cell::Int(i) => i,
+                        _ => 0,
+                    })
+                    .collect();
+                d.set_item(c.name, PyArray1::from_vec(py, v))?;
+            }
+        }
+    }
+    Ok(d)
 }
 
 fn columns_dict<'py>(
@@ -570,6 +682,16 @@ impl Run {
                 .zip(cols)
                 .collect(),
         )
+    }
+
+    /// The `cycles` table's columns for this run (`file` as given).
+    fn cycles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let file = self.inputs.diagram_files.join(" | ");
+        let rows = match &self.resampled {
+            Some(r) => enginedyn_pipeline::schema::cycle_rows(&file, r, self.analysis.summary.rpm),
+            None => Vec::new(),
+        };
+        table_dict(py, enginedyn_pipeline::schema::CYCLES, &rows)
     }
 
     /// The chart names (`torque`, `pressure`, …) `svg` takes.
@@ -643,11 +765,13 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Engine>()?;
     m.add_class::<NativeSession>()?;
     m.add_class::<Run>()?;
-    m.add_class::<BatchRow>()?;
+    m.add_class::<NativeBatch>()?;
     m.add_function(wrap_pyfunction!(check_reader, m)?)?;
     m.add_function(wrap_pyfunction!(check_method, m)?)?;
     m.add_function(wrap_pyfunction!(canonical, m)?)?;
     m.add_function(wrap_pyfunction!(speeds, m)?)?;
+    m.add_function(wrap_pyfunction!(shard, m)?)?;
+    m.add_function(wrap_pyfunction!(merge, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -123,6 +123,17 @@ pub fn run_folder(i: usize, file: &Path) -> String {
     )
 }
 
+/// A batch file analysed: the analysis, and the diagram on the grid it
+/// came from (with its per-cycle figures; `None` with a tolerance, which
+/// puts the diagram on several grids).
+#[derive(Debug)]
+pub struct Analysed {
+    /// The analysis.
+    pub analysis: Analysis,
+    /// The diagram on the grid.
+    pub resampled: Option<enginedyn_ingest::Resampled>,
+}
+
 /// What a batch does with each file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Work {
@@ -165,7 +176,7 @@ impl Session {
         file: &Path,
         work: Work,
         times: &mut Times,
-    ) -> Result<Option<Analysis>> {
+    ) -> Result<Option<Analysed>> {
         if work == Work::ParseOnly {
             parse_only(file, &self.parse)?;
             return Ok(None);
@@ -189,7 +200,10 @@ impl Session {
             an.summary.estimated_relative_error = Some(choice.estimated);
             an.summary.notes.extend(choice.notes);
             an.summary.notes.extend(speed.note);
-            return Ok(Some(an));
+            return Ok(Some(Analysed {
+                analysis: an,
+                resampled: None,
+            }));
         }
         let resampled =
             load_diagram_timed(Input::File(file), &self.parse, &self.grid, &mut times.grid)?;
@@ -207,7 +221,10 @@ impl Session {
         )?;
         an.summary.notes.extend(speed.note);
         times.analysis += started.elapsed();
-        Ok(Some(an))
+        Ok(Some(Analysed {
+            analysis: an,
+            resampled: Some(resampled),
+        }))
     }
 
     /// Every file of `files` on `jobs` threads (0: one per core): each
@@ -219,7 +236,7 @@ impl Session {
         files: &[PathBuf],
         jobs: usize,
         work: Work,
-        each: impl Fn(usize, &Path, Option<Analysis>, &mut Times) -> Result<T> + Sync,
+        each: impl Fn(usize, &Path, Option<Analysed>, &mut Times) -> Result<T> + Sync,
         done: impl Fn(&Item<T>) + Sync,
     ) -> Result<Vec<Item<T>>> {
         let pool = rayon::ThreadPoolBuilder::new()

@@ -42,6 +42,7 @@
 
 pub mod accuracy;
 pub mod batch;
+pub mod campaign;
 pub mod diagram;
 pub mod engine;
 pub mod error;
@@ -55,7 +56,7 @@ pub mod sweep;
 pub mod tolerance;
 pub mod torsion;
 
-pub use batch::{Item, Times, Work};
+pub use batch::{Analysed, Item, Times, Work};
 pub use diagram::Input;
 pub use engine::{BUNDLED, Bundled, EXAMPLE, Loaded};
 pub use error::{Class, Error, Result};

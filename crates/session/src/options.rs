@@ -212,7 +212,58 @@ pub struct Reader {
     pub wheel_tdc_deg: Option<f64>,
 }
 
+/// The name `table` gives `value`.
+fn name_of<T: PartialEq>(table: &[(&'static str, T)], value: &T) -> &'static str {
+    table
+        .iter()
+        .find(|(_, v)| v == value)
+        .map_or("", |(n, _)| n)
+}
+
 impl Reader {
+    /// The options given, by their names (the `options` a campaign's parts
+    /// record).
+    pub fn json(&self) -> serde_json::Value {
+        let mut o = serde_json::Map::new();
+        let mut put = |k: &str, v: serde_json::Value| {
+            if !v.is_null() {
+                o.insert(k.to_string(), v);
+            }
+        };
+        put(
+            "cylinder_axis",
+            self.cylinder_axis
+                .map(|a| name_of(CYLINDER_AXES, &a))
+                .into(),
+        );
+        put("tdc_deg", self.tdc_deg.into());
+        if self.gauge {
+            put("gauge", true.into());
+        }
+        put("columns", self.columns.clone().into());
+        put("peg_bar", self.peg_bar.into());
+        put(
+            "peg",
+            self.peg_polytropic
+                .map(|n| format!("polytropic={n}"))
+                .into(),
+        );
+        if self.pv_start_bdc {
+            put("pv_start", "bdc".into());
+        }
+        put("skip_lines", self.skip_lines.into());
+        put("sheet", self.sheet.clone().into());
+        put("group", self.group.into());
+        put("max_gap_deg", self.max_gap_deg.into());
+        put("tdc_time", self.tdc_time.into());
+        put("gain_bar_per_v", self.gain_bar_per_v.into());
+        put("rpm", self.rpm.into());
+        put("encoder_ppr", self.encoder_ppr.into());
+        put("wheel", self.wheel.map(|w| w.to_string()).into());
+        put("wheel_tdc_deg", self.wheel_tdc_deg.into());
+        serde_json::Value::Object(o)
+    }
+
     /// Every bound checked; the error names the option as `name` gives it
     /// (the CLI's flags are checked by their parsers before this).
     pub fn check(&self, name: impl Fn(&str) -> String) -> Result<()> {
@@ -286,6 +337,36 @@ pub struct Method {
 }
 
 impl Method {
+    /// The options given, by their names (the `options` a campaign's parts
+    /// record).
+    pub fn json(&self) -> serde_json::Value {
+        let mut o = serde_json::Map::new();
+        let mut put = |k: &str, v: serde_json::Value| {
+            if !v.is_null() {
+                o.insert(k.to_string(), v);
+            }
+        };
+        put("step_deg", self.step_deg.into());
+        put(
+            "kinematics",
+            self.kinematics.map(|m| name_of(KINEMATICS, &m)).into(),
+        );
+        put(
+            "rod_model",
+            self.rod_model.map(|m| name_of(ROD_MODELS, &m)).into(),
+        );
+        put(
+            "interp",
+            self.interp.map(|m| name_of(INTERPOLANTS, &m)).into(),
+        );
+        put(
+            "integration",
+            self.integration.map(|m| name_of(INTEGRATIONS, &m)).into(),
+        );
+        put("tolerance", self.tolerance.into());
+        serde_json::Value::Object(o)
+    }
+
     /// The grid step (deg): given or the default.
     pub fn step(&self) -> f64 {
         self.step_deg.unwrap_or(DEFAULT_STEP_DEG)

@@ -42,6 +42,9 @@ pub struct Outcome {
     pub analysis: Analysis,
     /// The options used.
     pub opts: Options,
+    /// The diagram on the grid with its per-cycle figures (the cycles
+    /// table), when the run read one grid.
+    pub resampled: Option<Resampled>,
 }
 
 impl Session {
@@ -95,7 +98,9 @@ impl Session {
             })
             .collect::<Result<Vec<_>>>()?;
         let resampled = merge_per_cylinder(loaded)?;
-        self.analyse_resampled(&resampled, &shown_of(inputs))
+        let mut out = self.analyse_resampled(&resampled, &shown_of(inputs))?;
+        out.resampled = Some(resampled);
+        Ok(out)
     }
 
     /// One operating point from a diagram already on the grid.
@@ -112,6 +117,7 @@ impl Session {
         Ok(Outcome {
             analysis,
             opts: self.opts,
+            resampled: None,
         })
     }
 
@@ -145,6 +151,7 @@ impl Session {
         Ok(Outcome {
             analysis,
             opts: self.opts,
+            resampled: None,
         })
     }
 
@@ -178,6 +185,7 @@ impl Session {
         Ok(Outcome {
             analysis,
             opts: self.opts,
+            resampled: Some(resampled),
         })
     }
 
@@ -239,6 +247,7 @@ impl Session {
                 scope: self.opts.scope,
                 ..choice.options
             },
+            resampled: None,
         })
     }
 }

@@ -439,6 +439,10 @@ const ROW_GROUP: usize = 1 << 20;
 pub struct PartWriter<W: Write + Send> {
     table: Table,
     writer: ArrowWriter<W>,
+    /// The table's schema with the metadata on it too, so that Arrow
+    /// readers (pyarrow's `schema.metadata`, polars) see it as well as
+    /// Parquet's key-value metadata.
+    schema: SchemaRef,
 }
 
 impl<W: Write + Send> PartWriter<W> {
@@ -454,9 +458,21 @@ impl<W: Write + Send> PartWriter<W> {
             .set_max_row_group_row_count(Some(ROW_GROUP))
             .set_key_value_metadata(Some(kv))
             .build();
-        let writer = ArrowWriter::try_new(out, table.arrow_schema(), Some(props))
+        let schema: SchemaRef = std::sync::Arc::new(
+            table.arrow_schema().as_ref().clone().with_metadata(
+                meta.key_values(table)
+                    .into_iter()
+                    .map(|(k, v)| (k.to_string(), v))
+                    .collect::<std::collections::HashMap<String, String>>(),
+            ),
+        );
+        let writer = ArrowWriter::try_new(out, schema.clone(), Some(props))
             .map_err(|source| TablesError::Parquet { table, source })?;
-        Ok(Self { table, writer })
+        Ok(Self {
+            table,
+            writer,
+            schema,
+        })
     }
 
     /// Adds `rows` (of this part's table).
@@ -472,7 +488,12 @@ impl<W: Write + Send> PartWriter<W> {
         if rows.is_empty() {
             return Ok(());
         }
-        let batch = R::batch(rows)?;
+        let batch = R::batch(rows)?
+            .with_schema(self.schema.clone())
+            .map_err(|e| TablesError::Parquet {
+                table: self.table,
+                source: e.into(),
+            })?;
         self.writer
             .write(&batch)
             .map_err(|source| TablesError::Parquet {

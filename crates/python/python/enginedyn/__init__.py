@@ -15,6 +15,7 @@ True
 
 from __future__ import annotations
 
+import io as io_module
 import json
 import os
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Union
@@ -224,6 +225,13 @@ class Result:
         return list(self._native.notes)
 
     @property
+    def cycles(self) -> Dict[str, Any]:
+        """The ``cycles/1`` table's columns for this run: every measured
+        cycle, used or left out (``used``, ``skip_reason``), its IMEP, peak
+        and speed (NumPy arrays; NaN where the table holds null)."""
+        return dict(self._native.cycles())
+
+    @property
     def curves(self) -> Dict[str, np.ndarray]:
         """``curves.csv``'s columns (NaN where its cell is empty)."""
         return dict(self._native.curves(False))
@@ -357,42 +365,64 @@ class Torsion:
 
 
 class Batch:
-    """Many files: one row per file; a failed file is a row with ``error``."""
+    """Many files: one row per file; a failed file is a row with ``error``.
+    Its tables are the campaign's (``summary/1``, ``cycles/1``): the same
+    columns, types and metadata ``enginedyn batch --parquet`` writes."""
 
-    __slots__ = ("rows",)
+    __slots__ = ("_native",)
 
-    def __init__(self, rows: Sequence[Any]) -> None:
-        self.rows = list(rows)
+    def __init__(self, native: "_native.NativeBatch") -> None:
+        self._native = native
 
     def __len__(self) -> int:
-        return len(self.rows)
+        return len(self._native.files())
 
     @property
     def files(self) -> List[str]:
-        return [r.file for r in self.rows]
+        return list(self._native.files())
 
     @property
     def errors(self) -> List[Optional[str]]:
-        return [r.error for r in self.rows]
+        return list(self._native.errors())
 
     def summaries(self) -> List[Optional[Dict[str, Any]]]:
         """Each file's ``summary.json`` keys (``None`` for a failed file)."""
-        return [None if r.summary is None else json.loads(r.summary) for r in self.rows]
+        return [None if t is None else json.loads(t) for t in self._native.summaries()]
+
+    def to_arrow(self) -> Any:
+        """The ``summary/1`` table as a ``pyarrow.Table`` (one row per file)."""
+        return _read_parquet(self._native.summary_parquet())
+
+    def cycles_arrow(self) -> Any:
+        """The ``cycles/1`` table as a ``pyarrow.Table``."""
+        return _read_parquet(self._native.cycles_parquet())
 
     def to_pandas(self) -> Any:
-        import pandas as pd
+        """The ``summary/1`` table as a pandas DataFrame."""
+        return self.to_arrow().to_pandas()
 
-        records = []
-        for r, s in zip(self.rows, self.summaries()):
-            rec: Dict[str, Any] = {"file": r.file, "error": r.error}
-            if s is not None:
-                rec.update(_flat(s))
-            records.append(rec)
-        return pd.DataFrame(records)
+    def to_polars(self) -> Any:
+        """The ``summary/1`` table as a polars DataFrame."""
+        import polars as pl
+
+        return pl.read_parquet(io_module.BytesIO(self._native.summary_parquet()))
+
+    def write_parquet(
+        self, dir: PathLike, part: int = 0, parts: int = 1, traces: bool = False
+    ) -> List[str]:
+        """Writes part ``part`` of ``parts`` of the campaign in ``dir``: the
+        files ``enginedyn batch --shard part/parts --parquet dir`` writes."""
+        return [os.fspath(p) for p in self._native.write_parquet(os.fspath(dir), part, parts, traces)]
 
     def __repr__(self) -> str:
-        failed = sum(1 for r in self.rows if r.error is not None)
-        return f"Batch({len(self.rows)} files, {failed} failed)"
+        failed = sum(1 for e in self.errors if e is not None)
+        return f"Batch({len(self)} files, {failed} failed)"
+
+
+def _read_parquet(data: bytes) -> Any:
+    import pyarrow.parquet as pq
+
+    return pq.read_table(io_module.BytesIO(data))
 
 
 class Session:
