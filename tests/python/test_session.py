@@ -125,3 +125,19 @@ def test_torsion_gives_the_clis_files(cli, tmp_path):
     assert t.modes["frequency_hz"][0] > 0
     with pytest.raises(ed.UsageError):
         ed.Session(ed.Engine.from_toml("data/single.toml")).torsion()
+
+
+def test_a_results_tables_are_the_campaigns():
+    pa = pytest.importorskip("pyarrow")
+    s = ed.Session(ed.Engine.from_toml("data/single.toml"))
+    r = s.analyse("tests/fixtures/measured/dropout_20cycles.csv")
+    c = r.cycles
+    assert len(c["cycle"]) == 20 and int((~c["used"]).sum()) == 2
+    assert all(reason for reason, used in zip(c["skip_reason"], c["used"]) if not used)
+    used = c["imep_bar"][c["used"]]
+    assert abs(used.mean() - r.summary["imep_bar"]) <= 1e-9 * r.summary["imep_bar"]
+    t = r.to_arrow()
+    b = s.batch(["tests/fixtures/measured/dropout_20cycles.csv"], jobs=1).to_arrow()
+    assert t.num_rows == 1 and t.schema == b.schema
+    assert t.column("imep_bar")[0].as_py() == r.summary["imep_bar"]
+    assert r.to_pandas()["cycles_skipped"][0] == 2

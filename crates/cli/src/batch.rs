@@ -154,12 +154,15 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                     campaign: None,
                 });
             };
-            let campaign = a.parquet.is_some().then(|| session.row(f, &an, resampled));
             let s = &an.summary;
             let inputs = engine_inputs
                 .as_ref()
                 .map(|e| e.with_diagrams(&[enginedyn_report::Source::File(f)]))
                 .transpose()?;
+            let campaign = a.parquet.is_some().then(|| {
+                let hash = inputs.as_ref().and_then(|i| i.diagram_sha256.first().cloned());
+                session.row(f, &an, resampled, hash)
+            });
             let mut folder = None;
             if let Some(dir) = &out_dir
                 && let Some(name) = folders.get(i)

@@ -442,7 +442,8 @@ impl NativeSession {
                     let inputs = engine.with_diagrams(&[enginedyn_report::Source::File(f)])?;
                     let json = enginedyn_report::summary_json(&an.analysis.summary, &inputs);
                     let text = serde_json::to_string(&json).unwrap_or_default();
-                    Ok((text, s.row(f, &an.analysis, an.resampled)))
+                    let hash = inputs.diagram_sha256.first().cloned();
+                    Ok((text, s.row(f, &an.analysis, an.resampled, hash)))
                 },
                 |_| {},
             )?;
@@ -559,6 +560,7 @@ fn speeds(start: f64, stop: f64, step: f64) -> PyResult<Vec<f64>> {
 /// One operating point analysed.
 #[pyclass(module = "enginedyn._native", frozen)]
 struct Run {
+    session: Arc<Session>,
     engine: Arc<Loaded>,
     analysis: Arc<enginedyn_pipeline::Analysis>,
     resampled: Option<Arc<enginedyn_ingest::Resampled>>,
@@ -567,11 +569,12 @@ struct Run {
 
 impl Run {
     fn new(
-        s: &Session,
+        s: &Arc<Session>,
         outcome: enginedyn_session::Outcome,
         inputs: enginedyn_report::Inputs,
     ) -> Self {
         Self {
+            session: s.clone(),
             engine: Arc::new(s.loaded.clone()),
             analysis: Arc::new(outcome.analysis),
             resampled: outcome.resampled.map(Arc::new),
@@ -692,6 +695,21 @@ impl Run {
             None => Vec::new(),
         };
         table_dict(py, enginedyn_pipeline::schema::CYCLES, &rows)
+    }
+
+    /// This run as the `summary/1` table's one row, as Parquet bytes (the
+    /// schema and metadata a campaign's parts have).
+    fn summary_parquet<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
+        let row = enginedyn_session::campaign::Row {
+            file: self.inputs.diagram_files.join(" | "),
+            error: None,
+            diagram_sha256: (self.inputs.diagram_sha256.len() == 1)
+                .then(|| self.inputs.diagram_sha256[0].clone()),
+            summary: Some(self.analysis.summary.clone()),
+            resampled: None,
+        };
+        let bytes = self.session.summary_bytes(&[row]).py()?;
+        Ok(pyo3::types::PyBytes::new(py, &bytes))
     }
 
     /// The chart names (`torque`, `pressure`, …) `svg` takes.

@@ -79,17 +79,19 @@ impl Session {
     }
 
     /// A campaign row of a file analysed (`resampled` kept for the cycles
-    /// and traces tables).
+    /// and traces tables); `sha256`: the file's hash when the caller has it
+    /// already (a `summary.json`'s `inputs`), else it is read and hashed.
     pub fn row(
         &self,
         file: &Path,
         analysis: &enginedyn_pipeline::Analysis,
         resampled: Option<Resampled>,
+        sha256: Option<String>,
     ) -> Row {
         Row {
             file: file.display().to_string(),
             error: None,
-            diagram_sha256: enginedyn_report::sha256_file(file).ok(),
+            diagram_sha256: sha256.or_else(|| enginedyn_report::sha256_file(file).ok()),
             summary: Some(analysis.summary.clone()),
             resampled,
         }

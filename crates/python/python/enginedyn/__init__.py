@@ -253,11 +253,20 @@ class Result:
         """Every file ``run --out DIR`` writes, as (name, bytes)."""
         return list(self._native.files(centered))
 
-    def to_pandas(self) -> Any:
-        """The summary as a one-row pandas DataFrame (``summary.csv``'s columns)."""
-        import pandas as pd
+    def to_arrow(self) -> Any:
+        """This run as the ``summary/1`` table's one row (``pyarrow.Table``):
+        the columns, types and metadata of a campaign's parts."""
+        return _read_parquet(self._native.summary_parquet())
 
-        return pd.DataFrame([_flat(self.summary)])
+    def to_pandas(self) -> Any:
+        """This run as a one-row pandas DataFrame (the ``summary/1`` columns)."""
+        return self.to_arrow().to_pandas()
+
+    def to_polars(self) -> Any:
+        """This run as a one-row polars DataFrame (the ``summary/1`` columns)."""
+        import polars as pl
+
+        return pl.read_parquet(io_module.BytesIO(self._native.summary_parquet()))
 
     def _repr_html_(self) -> str:
         s = self.summary
@@ -294,18 +303,6 @@ def _esc(t: str) -> str:
 
 def _shown(v: Any) -> str:
     return "—" if v is None else _esc(str(v))
-
-
-def _flat(d: Dict[str, Any], prefix: str = "") -> Dict[str, Any]:
-    out: Dict[str, Any] = {}
-    for k, v in d.items():
-        if isinstance(v, dict):
-            out.update(_flat(v, f"{prefix}{k}."))
-        elif isinstance(v, list):
-            out[prefix + k] = " | ".join(str(x) for x in v)
-        else:
-            out[prefix + k] = v
-    return out
 
 
 def _csv_columns(text: str) -> Dict[str, np.ndarray]:
