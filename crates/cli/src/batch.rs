@@ -160,7 +160,9 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                 .map(|e| e.with_diagrams(&[enginedyn_report::Source::File(f)]))
                 .transpose()?;
             let campaign = a.parquet.is_some().then(|| {
-                let hash = inputs.as_ref().and_then(|i| i.diagram_sha256.first().cloned());
+                let hash = inputs
+                    .as_ref()
+                    .and_then(|i| i.diagram_sha256.first().cloned());
                 session.row(f, &an, resampled, hash)
             });
             let mut folder = None;
