@@ -57,7 +57,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
         enginedyn_session::options::check_tolerance(t, "--tolerance")?;
     }
     let loaded = Loaded::from_file(&a.engine)?;
-    let session = Session::new(
+    let mut session = Session::new(
         loaded,
         a.diagram_args.reader(None),
         a.method.method(a.tolerance),
@@ -68,6 +68,9 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
             enginedyn_pipeline::Scope::Summary
         },
     )?;
+    // The cycles and traces tables need each file's grid; else it is freed.
+    session.keep_grid = a.parquet.is_some();
+    let session = session;
     let engine = session.engine();
     let (mut files, notes) = enginedyn_session::batch::expand(&a.diagrams)?;
     for note in &notes {

@@ -308,7 +308,9 @@ impl NativeSession {
             enginedyn_pipeline::Scope::Summary
         };
         let loaded = (*engine.loaded).clone();
-        let session = Session::new(loaded, r, m, scope).py()?;
+        let mut session = Session::new(loaded, r, m, scope).py()?;
+        // A batch's rows feed the cycles table and `write_parquet`.
+        session.keep_grid = true;
         Ok(Self {
             session: Arc::new(session),
         })

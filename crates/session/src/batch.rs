@@ -223,7 +223,8 @@ impl Session {
         times.analysis += started.elapsed();
         Ok(Some(Analysed {
             analysis: an,
-            resampled: Some(resampled),
+            // Freed here unless a campaign's tables want it.
+            resampled: self.keep_grid.then_some(resampled),
         }))
     }
 

@@ -29,6 +29,9 @@ pub struct Session {
     pub grid: GridOptions,
     /// The pipeline's options.
     pub opts: Options,
+    /// A batch keeps each file's diagram on the grid for the cycles and
+    /// traces tables (a campaign); otherwise it is freed after its analysis.
+    pub keep_grid: bool,
     /// The motion and volume law on the grid, built once for every file
     /// (`None` when the model does not apply: the analysis then says why).
     tables: Option<enginedyn_pipeline::Tables>,
@@ -67,6 +70,7 @@ impl Session {
             parse,
             grid,
             opts,
+            keep_grid: false,
             tables,
         })
     }
