@@ -48,7 +48,7 @@ pub use grid::{
     Accumulator, CycleStats, GridOptions, Peg, PegReport, Resampled, SkippedCycle, mean_std,
 };
 pub use mdf::{MAX_MDF, MAX_MDF_BLOCK};
-pub use number::{NumberError, SpeedError, read_number, read_rpm};
+pub use number::{NumberError, SpeedError, check_rpm, read_number, read_rpm};
 pub use sheet::MAX_WORKBOOK;
 pub use text::MAX_LINE;
 pub use time::{MAX_ENCODER_PPR, MAX_WHEEL_TDC_DEG, Wheel};

@@ -317,8 +317,13 @@ pub enum SpeedError {
 /// assert!(read_rpm("0").is_err());
 /// ```
 pub fn read_rpm(token: &str) -> Result<f64, SpeedError> {
+    check_rpm(read_number(token, false).map_err(SpeedError::Number)?)
+}
+
+/// A speed already a number (a keyword argument) held to the speed bound
+/// (`MIN_RPM` to `MAX_RPM`), as [`read_rpm`] holds one read from text.
+pub fn check_rpm(v: f64) -> Result<f64, SpeedError> {
     use enginedyn_kinematics::{MAX_RPM, MIN_RPM};
-    let v = read_number(token, false).map_err(SpeedError::Number)?;
     if (MIN_RPM..=MAX_RPM).contains(&v) {
         Ok(v)
     } else {

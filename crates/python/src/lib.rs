@@ -324,10 +324,9 @@ impl NativeSession {
             let own;
             let mut inputs: Vec<Input<'_>> = paths.iter().map(|p| Input::File(p)).collect();
             if inputs.is_empty() {
-                match s.loaded.bundled {
-                    Some(b) if s.loaded.engine.diagram().is_none() || s.loaded.path.is_none() => {
-                        inputs.push(Input::Bundled(b))
-                    }
+                // A bundled engine's own diagram is bundled too.
+                match (&s.loaded.path, s.loaded.bundled) {
+                    (None, Some(b)) => inputs.push(Input::Bundled(b)),
                     _ => {
                         own = enginedyn_session::diagram::diagram_path(None, &s.loaded)?;
                         inputs.push(Input::File(&own));

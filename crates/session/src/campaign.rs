@@ -107,20 +107,17 @@ impl Session {
         rows: &[Row],
         traces: bool,
     ) -> Result<Vec<PathBuf>> {
-        let bytes = self.summary_bytes(rows)?;
-        let cycle_bytes = self.cycles_bytes(rows)?;
-        let mut written = Vec::new();
+        let meta = self.meta()?;
+        let bytes = self.summary_with(rows, &meta)?;
+        let cycle_bytes = self.cycles_with(rows, &meta)?;
         let (i, n) = (shard.index, shard.count);
-        written.push(
+        let mut written = vec![
             enginedyn_tables::write_part(dir, Table::Summary, i, n, &bytes)
                 .map_err(tables_error)?,
-        );
-        written.push(
             enginedyn_tables::write_part(dir, Table::Cycles, i, n, &cycle_bytes)
                 .map_err(tables_error)?,
-        );
+        ];
         if traces {
-            let meta = self.meta()?;
             let mut w = enginedyn_tables::stage_part(dir, Table::Traces, i, n, &meta)
                 .map_err(tables_error)?;
             for r in rows {
@@ -135,7 +132,15 @@ impl Session {
 
     /// The `summary` table of `rows` as Parquet bytes (what a part holds).
     pub fn summary_bytes(&self, rows: &[Row]) -> Result<Vec<u8>> {
-        let meta = self.meta()?;
+        self.summary_with(rows, &self.meta()?)
+    }
+
+    /// The `cycles` table of `rows` as Parquet bytes.
+    pub fn cycles_bytes(&self, rows: &[Row]) -> Result<Vec<u8>> {
+        self.cycles_with(rows, &self.meta()?)
+    }
+
+    fn summary_with(&self, rows: &[Row], meta: &Meta) -> Result<Vec<u8>> {
         let engine = self.engine().name();
         let summary: Vec<SummaryRecord<'_>> = rows
             .iter()
@@ -147,18 +152,16 @@ impl Session {
                 summary: r.summary.as_ref(),
             })
             .collect();
-        enginedyn_tables::summary_parquet(&summary, &meta).map_err(tables_error)
+        enginedyn_tables::summary_parquet(&summary, meta).map_err(tables_error)
     }
 
-    /// The `cycles` table of `rows` as Parquet bytes.
-    pub fn cycles_bytes(&self, rows: &[Row]) -> Result<Vec<u8>> {
-        let meta = self.meta()?;
+    fn cycles_with(&self, rows: &[Row], meta: &Meta) -> Result<Vec<u8>> {
         let cycles: Vec<_> = rows
             .iter()
             .filter_map(|r| Some((r, r.resampled.as_ref()?, r.summary.as_ref()?)))
             .flat_map(|(r, res, s)| cycle_rows(&r.file, res, s.rpm))
             .collect();
-        enginedyn_tables::cycles_parquet(&cycles, &meta).map_err(tables_error)
+        enginedyn_tables::cycles_parquet(&cycles, meta).map_err(tables_error)
     }
 }
 

@@ -136,7 +136,7 @@ pub fn read_rpm(s: &str) -> std::result::Result<f64, String> {
 
 /// An engine speed given as a number, held to the speed bound.
 pub fn check_rpm(v: f64) -> std::result::Result<f64, String> {
-    read_rpm(&format!("{v:?}"))
+    enginedyn_ingest::check_rpm(v).map_err(|e| format!("{} rpm {e}", human(v)))
 }
 
 /// Reads `polytropic` or `polytropic=N` (1 < N < 2): the exponent.
