@@ -9,7 +9,11 @@
 //!
 //! - [`gamma`]: the ratio of specific heats, constant or Brunt's γ(T);
 //! - [`wiebe`]: the single and double Wiebe law and its CA50 + 10–90
-//!   duration form.
+//!   duration form;
+//! - [`smooth`]: the Savitzky–Golay filter applied before any derivative;
+//! - [`burn`]: one cycle's heat release (cumulative without a derivative
+//!   of p), burn points by the min–max rule, the pressure rise, the gross
+//!   work, and the curves of the mean trace.
 //!
 //! ```
 //! use enginedyn_combustion::{BurnLaw, Wiebe, DEFAULT_A};
@@ -20,10 +24,17 @@
 //! # Ok::<(), enginedyn_combustion::CombustionError>(())
 //! ```
 
+pub mod burn;
 pub mod gamma;
+pub mod smooth;
 pub mod wiebe;
 
+pub use burn::{
+    BurnPoints, Curves, CycleBurn, CycleGrid, DEFAULT_LEVELS, DEFAULT_WINDOW, Options, analyse,
+    analyse_with, curves, gross_work,
+};
 pub use gamma::{DEFAULT_GAMMA, DEFAULT_INTAKE_TEMP_K, DEFAULT_IVC_DEG, GammaModel, brunt};
+pub use smooth::{Filter, Smoothing};
 pub use wiebe::{BurnLaw, DEFAULT_A, Wiebe};
 
 /// Why a law or an analysis cannot be set up. Messages carry the

@@ -1,0 +1,395 @@
+//! The analysis of one cycle on the uniform grid: the net apparent heat
+//! release (single zone, first law), the burn points by the min–max rule,
+//! the pressure rise and the gross work (PHYSICS.md "Combustion").
+
+use crate::{CombustionError, GammaModel, Smoothing, check_range, smooth::Filter};
+
+/// The burn levels reported by default (percent).
+pub const DEFAULT_LEVELS: [f64; 4] = [5.0, 10.0, 50.0, 90.0];
+/// The default burn window (deg from firing TDC).
+pub const DEFAULT_WINDOW: (f64, f64) = (-90.0, 120.0);
+/// A cycle burns when its heat released is at least this share of
+/// `p_max V(p_max) / (γ − 1)`, the charge's energy at the peak.
+pub const NO_COMBUSTION_SHARE: f64 = 0.05;
+
+/// How a cycle is analysed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Options {
+    /// The γ model.
+    pub gamma: GammaModel,
+    /// The smoothing before any derivative and the SOC/EOC search.
+    pub smoothing: Smoothing,
+    /// The burn window (deg from firing TDC): SOC and EOC lie inside it.
+    pub window_deg: (f64, f64),
+    /// The burn levels to report (percent, 1–99, rising).
+    pub levels_pct: Vec<f64>,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            gamma: GammaModel::default(),
+            smoothing: Smoothing::default(),
+            window_deg: DEFAULT_WINDOW,
+            levels_pct: DEFAULT_LEVELS.to_vec(),
+        }
+    }
+}
+
+impl Options {
+    /// Checks every part: γ, the filter, the window (within −180…180°,
+    /// at least 10° long) and the levels (1–99 %, at most 16).
+    pub fn check(&self) -> Result<(), CombustionError> {
+        self.gamma.check()?;
+        self.smoothing.check()?;
+        let (a, b) = self.window_deg;
+        check_range("burn window start", a, -180.0, 170.0)?;
+        check_range("burn window end", b, a + 10.0, 180.0)?;
+        if self.levels_pct.is_empty() || self.levels_pct.len() > 16 {
+            return Err(CombustionError::Input(format!(
+                "{} burn levels: give 1 to 16",
+                self.levels_pct.len()
+            )));
+        }
+        for &l in &self.levels_pct {
+            check_range("burn level (%)", l, 1.0, 99.0)?;
+        }
+        Ok(())
+    }
+
+    /// The index of a level (percent) among [`Self::levels_pct`].
+    pub fn level_index(&self, pct: f64) -> Option<usize> {
+        self.levels_pct.iter().position(|l| (l - pct).abs() < 1e-9)
+    }
+}
+
+/// One cycle's pressure on the grid `k * step_deg` from firing TDC, with
+/// the volume law on the same grid.
+#[derive(Debug, Clone, Copy)]
+pub struct CycleGrid<'a> {
+    /// Absolute pressure (Pa), one cycle, periodic.
+    pub pressure: &'a [f64],
+    /// Volume (m³).
+    pub volume: &'a [f64],
+    /// `dV/dφ` (m³/rad).
+    pub dvolume: &'a [f64],
+    /// Grid step (deg).
+    pub step_deg: f64,
+}
+
+impl CycleGrid<'_> {
+    fn n(&self) -> i64 {
+        self.pressure.len() as i64
+    }
+    fn cycle_deg(&self) -> f64 {
+        self.pressure.len() as f64 * self.step_deg
+    }
+    fn at(&self, v: &[f64], k: i64) -> f64 {
+        v[k.rem_euclid(self.n()) as usize]
+    }
+}
+
+/// The burn points of a cycle that burns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BurnPoints {
+    /// Start of combustion (deg): where the cumulative is least before EOC.
+    pub soc_deg: f64,
+    /// End of combustion (deg): where the cumulative is largest.
+    pub eoc_deg: f64,
+    /// The angle of each level of [`Options::levels_pct`] (deg), in order.
+    pub levels_deg: Vec<f64>,
+    /// The largest dp/dφ between SOC and EOC (Pa/°).
+    pub dp_max_pa_deg: f64,
+    /// Its angle (deg).
+    pub dp_max_angle_deg: f64,
+}
+
+impl BurnPoints {
+    /// The angle of level `pct` when it was asked for.
+    pub fn level(&self, opts: &Options, pct: f64) -> Option<f64> {
+        opts.level_index(pct).map(|i| self.levels_deg[i])
+    }
+}
+
+/// What one cycle says of its combustion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CycleBurn {
+    /// `Q(EOC) − Q(SOC)` (J), whether or not it clears the bound.
+    pub heat_released_j: f64,
+    /// The no-combustion bound (J): `0.05 p_max V(p_max) / (γ − 1)`.
+    pub bound_j: f64,
+    /// The burn points; `None` when the heat released is under the bound.
+    pub burn: Option<BurnPoints>,
+    /// `∫ p dV` over −180…180° (J): the gross work (the whole cycle for a
+    /// two-stroke).
+    pub gross_work_j: f64,
+}
+
+/// The cumulative heat release over the window and what it needs.
+struct Window {
+    /// First grid index of the window (may be negative: it wraps).
+    i0: i64,
+    /// Smoothed pressure over the window.
+    p: Vec<f64>,
+    /// Cumulative heat release from the window's start (J).
+    q: Vec<f64>,
+}
+
+/// The index range `[i0, i1]` of grid points inside `window_deg`.
+fn window_indices(step: f64, (a, b): (f64, f64)) -> (i64, i64) {
+    (
+        (a / step - 1e-9).ceil() as i64,
+        (b / step + 1e-9).floor() as i64,
+    )
+}
+
+/// `pV` at intake valve closing, for γ(T) (1 for a constant γ: unused).
+fn pv_ivc(g: &CycleGrid, opts: &Options, f: &Filter) -> f64 {
+    match opts.gamma {
+        GammaModel::Constant(_) => 1.0,
+        GammaModel::Brunt { ivc_deg, .. } => {
+            let k = (ivc_deg / g.step_deg).round() as i64;
+            f.value(g.pressure, k) * g.at(g.volume, k)
+        }
+    }
+}
+
+fn cumulative(g: &CycleGrid, opts: &Options, f: &Filter) -> Result<Window, CombustionError> {
+    if g.pressure.len() != g.volume.len() || g.pressure.len() != g.dvolume.len() {
+        return Err(CombustionError::Input(
+            "pressure and volume law of different lengths".into(),
+        ));
+    }
+    let (i0, i1) = window_indices(g.step_deg, opts.window_deg);
+    if i1 - i0 < 4 || (i1 - i0) as f64 * g.step_deg >= g.cycle_deg() {
+        return Err(CombustionError::Input(format!(
+            "the burn window {}…{}° does not fit the {}° cycle at a {}° step",
+            opts.window_deg.0,
+            opts.window_deg.1,
+            g.cycle_deg(),
+            g.step_deg
+        )));
+    }
+    let ivc = pv_ivc(g, opts, f);
+    let h = g.step_deg.to_radians();
+    let len = (i1 - i0 + 1) as usize;
+    let mut p = Vec::with_capacity(len);
+    let mut q = Vec::with_capacity(len);
+    let (mut work, mut e0, mut prev) = (0.0, 0.0, 0.0);
+    for (j, k) in (i0..=i1).enumerate() {
+        let pk = f.value(g.pressure, k);
+        let pdv = pk * g.at(g.dvolume, k);
+        let e = opts.gamma.energy(pk * g.at(g.volume, k), ivc);
+        if j == 0 {
+            e0 = e;
+        } else {
+            work += 0.5 * h * (prev + pdv);
+        }
+        prev = pdv;
+        p.push(pk);
+        q.push(work + e - e0);
+    }
+    Ok(Window { i0, p, q })
+}
+
+/// The first angle after index `from` where `xb` reaches `x`, linearly
+/// interpolated between grid points.
+fn crossing(
+    xb: impl Fn(usize) -> f64,
+    from: usize,
+    to: usize,
+    x: f64,
+    deg: impl Fn(f64) -> f64,
+) -> f64 {
+    for j in from + 1..=to {
+        let (a, b) = (xb(j - 1), xb(j));
+        if b >= x {
+            let t = if b > a { (x - a) / (b - a) } else { 1.0 };
+            return deg((j - 1) as f64 + t.clamp(0.0, 1.0));
+        }
+    }
+    deg(to as f64)
+}
+
+/// Analyses one cycle (checked options: [`Options::check`]).
+pub fn analyse(g: &CycleGrid, opts: &Options) -> Result<CycleBurn, CombustionError> {
+    let f = Filter::new(opts.smoothing, g.step_deg);
+    analyse_with(g, opts, &f)
+}
+
+/// [`analyse`] with the filter built once for many cycles.
+pub fn analyse_with(
+    g: &CycleGrid,
+    opts: &Options,
+    f: &Filter,
+) -> Result<CycleBurn, CombustionError> {
+    let w = cumulative(g, opts, f)?;
+    let deg = |j: f64| (w.i0 as f64 + j) * g.step_deg;
+    let eoc = arg_max(&w.q);
+    let soc = arg_min(&w.q[..=eoc]);
+    let released = w.q[eoc] - w.q[soc];
+    let peak = arg_max(&w.p);
+    let gamma = opts.gamma.nominal();
+    let bound =
+        NO_COMBUSTION_SHARE * w.p[peak] * g.at(g.volume, w.i0 + peak as i64) / (gamma - 1.0);
+    let gross_work_j = gross_work(g);
+    let mut out = CycleBurn {
+        heat_released_j: released,
+        bound_j: bound,
+        burn: None,
+        gross_work_j,
+    };
+    if !(released >= bound) || eoc <= soc {
+        return Ok(out);
+    }
+    let xb = |j: usize| (w.q[j] - w.q[soc]) / released;
+    let levels_deg = opts
+        .levels_pct
+        .iter()
+        .map(|l| crossing(xb, soc, eoc, l / 100.0, deg))
+        .collect();
+    // The pressure rise: the smoothed slope's largest value between SOC and
+    // EOC, refined by the parabola through it and its neighbours.
+    let slope = |j: usize| f.slope(g.pressure, w.i0 + j as i64);
+    let (mut best, mut at) = (f64::NEG_INFINITY, soc);
+    for j in soc..=eoc {
+        let s = slope(j);
+        if s > best {
+            best = s;
+            at = j;
+        }
+    }
+    let (mut dp_max, mut dp_at) = (best, at as f64);
+    if at > 0 && at + 1 < w.q.len() {
+        let (a, c) = (slope(at - 1), slope(at + 1));
+        let den = a - 2.0 * best + c;
+        if den < 0.0 {
+            let t = (0.5 * (a - c) / den).clamp(-0.5, 0.5);
+            dp_at += t;
+            dp_max = best - 0.25 * (a - c) * t;
+        }
+    }
+    out.burn = Some(BurnPoints {
+        soc_deg: deg(soc as f64),
+        eoc_deg: deg(eoc as f64),
+        levels_deg,
+        dp_max_pa_deg: dp_max,
+        dp_max_angle_deg: deg(dp_at),
+    });
+    Ok(out)
+}
+
+/// `∫ p dV` (J) over −180…180°, trapezoidal on `p dV/dφ` (the whole cycle
+/// for a two-stroke; the ends lie at BDC, where `dV/dφ` is nearly 0).
+pub fn gross_work(g: &CycleGrid) -> f64 {
+    let h = g.step_deg.to_radians();
+    let half = (180.0 / g.step_deg).round() as i64;
+    if g.cycle_deg() <= 360.0 + 1e-9 {
+        return g
+            .pressure
+            .iter()
+            .zip(g.dvolume)
+            .map(|(p, d)| p * d)
+            .sum::<f64>()
+            * h;
+    }
+    let mut s = 0.0;
+    for k in -half..=half {
+        let w = if k == -half || k == half { 0.5 } else { 1.0 };
+        s += w * g.at(g.pressure, k) * g.at(g.dvolume, k);
+    }
+    s * h
+}
+
+fn arg_max(v: &[f64]) -> usize {
+    let mut at = 0;
+    for (j, x) in v.iter().enumerate() {
+        if *x > v[at] {
+            at = j;
+        }
+    }
+    at
+}
+
+fn arg_min(v: &[f64]) -> usize {
+    let mut at = 0;
+    for (j, x) in v.iter().enumerate() {
+        if *x < v[at] {
+            at = j;
+        }
+    }
+    at
+}
+
+/// The heat release over the whole cycle, for `curves.csv` and the chart.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Curves {
+    /// `dQ/dφ` (J/°) at every grid point, from the smoothed pressure and
+    /// slope.
+    pub rate_j_deg: Vec<f64>,
+    /// `Q(φ) − Q(SOC)` (J) inside the window; 0 before it, its end value
+    /// after it.
+    pub cumulative_j: Vec<f64>,
+    /// The mass fraction burned: 0 before SOC, `xb` between SOC and EOC, 1
+    /// after; `None` without combustion.
+    pub mfb: Option<Vec<f64>>,
+}
+
+/// The heat-release curves of one cycle (typically the mean trace), with
+/// its [`CycleBurn`].
+pub fn curves(g: &CycleGrid, opts: &Options, burn: &CycleBurn) -> Result<Curves, CombustionError> {
+    let f = Filter::new(opts.smoothing, g.step_deg);
+    let w = cumulative(g, opts, &f)?;
+    let n = g.pressure.len();
+    let ivc = pv_ivc(g, opts, &f);
+    let deg_per_rad = 180.0 / std::f64::consts::PI;
+    let mut rate = Vec::with_capacity(n);
+    for k in 0..n as i64 {
+        let p = f.value(g.pressure, k);
+        let dp = f.slope(g.pressure, k);
+        let (v, dv) = (g.at(g.volume, k), g.at(g.dvolume, k) / deg_per_rad);
+        let gm = opts.gamma.gamma(p * v, ivc);
+        rate.push(gm / (gm - 1.0) * p * dv + v * dp / (gm - 1.0));
+    }
+    let base = burn.burn.as_ref().map_or(0.0, |b| {
+        w.q[((b.soc_deg / g.step_deg).round() as i64 - w.i0) as usize]
+    });
+    let mut cumulative = vec![0.0; n];
+    let mut mfb = burn.burn.as_ref().map(|_| vec![0.0; n]);
+    let last = w.q.len() - 1;
+    let half = (n / 2) as i64;
+    // Walk one cycle from the window's start `a = i0 + j`: inside the
+    // window its values; after it (up to half a cycle), the end values;
+    // the rest lies before the window (0).
+    for j in 0..n {
+        let a = w.i0 + j as i64;
+        let k = a.rem_euclid(n as i64) as usize;
+        let (q, x) = if j <= last {
+            let q = w.q[j] - base;
+            let x = burn.burn.as_ref().map(|b| {
+                let deg = a as f64 * g.step_deg;
+                if deg < b.soc_deg {
+                    0.0
+                } else if deg > b.eoc_deg {
+                    1.0
+                } else {
+                    (q / burn.heat_released_j).clamp(0.0, 1.0)
+                }
+            });
+            (q, x)
+        } else if a < half {
+            (w.q[last] - base, Some(1.0))
+        } else {
+            (0.0, Some(0.0))
+        };
+        cumulative[k] = q;
+        if let (Some(m), Some(x)) = (mfb.as_mut(), x) {
+            m[k] = x;
+        }
+    }
+    Ok(Curves {
+        rate_j_deg: rate,
+        cumulative_j: cumulative,
+        mfb,
+    })
+}

@@ -1,0 +1,318 @@
+//! The analysis against traces whose burn is known exactly: a closed
+//! charge with constant γ burning a Wiebe law obeys
+//! `d(p V^γ) = (γ − 1) Q V^(γ−1) dxb`, so `p V^γ` is a quadrature of known
+//! functions (Simpson at 0.001°), independent of the analysis' own rules.
+
+use enginedyn_combustion::{
+    BurnLaw, CycleGrid, DEFAULT_A, GammaModel, Options, Smoothing, Wiebe, analyse, curves,
+};
+use enginedyn_kinematics::{CrankSlider, Cylinder, Mechanism};
+
+fn cylinder() -> Cylinder {
+    // VAZ-2108 type: R 35.5 mm, λ 0.26, bore 76 mm, ε 9.9.
+    let cs = CrankSlider::new(0.0355, 0.0355 / 0.26, 0.0).unwrap();
+    Cylinder::new(Mechanism::CrankSlider(cs), 0.076, 9.9).unwrap()
+}
+
+/// The closed-charge trace on the grid `k step` over a 720° cycle: from
+/// 1 bar at −180° (BDC) to +180°, burning `heat_j` by `law`; 1 bar on the
+/// gas-exchange half. `shift_deg` moves the trace later (a TDC mark
+/// early by that much).
+fn trace(
+    cyl: &Cylinder,
+    law: &BurnLaw,
+    heat_j: f64,
+    gamma: f64,
+    step: f64,
+    shift_deg: f64,
+) -> Vec<f64> {
+    let n = (720.0 / step).round() as usize;
+    let fine = 0.001;
+    let vol = |deg: f64| cyl.volume(deg.to_radians());
+    // Running integral I(φ) = ∫ V^(γ−1) dxb from −180°, Simpson per fine step.
+    let mut table = Vec::new();
+    let (mut i, mut a) = (0.0, -180.0);
+    let f = |deg: f64| vol(deg).powf(gamma - 1.0) * law.rate(deg);
+    table.push((a, i));
+    while a < 180.0 - 1e-12 {
+        let b = a + fine;
+        i += fine / 6.0 * (f(a) + 4.0 * f(0.5 * (a + b)) + f(b));
+        a = b;
+        table.push((a, i));
+    }
+    let c0 = 1e5 * vol(-180.0).powf(gamma);
+    (0..n)
+        .map(|k| {
+            let mut deg = k as f64 * step - shift_deg;
+            if deg >= 360.0 {
+                deg -= 720.0;
+            }
+            if !(-180.0..=180.0).contains(&deg) {
+                return 1e5;
+            }
+            let j = (((deg + 180.0) / fine).round() as usize).min(table.len() - 1);
+            let pvg = c0 + (gamma - 1.0) * heat_j * table[j].1;
+            pvg / vol(deg).powf(gamma)
+        })
+        .collect()
+}
+
+fn grid_of(cyl: &Cylinder, step: f64) -> (Vec<f64>, Vec<f64>) {
+    cyl.fill_volume(step.to_radians(), (720.0 / step).round() as usize)
+}
+
+fn petrol() -> BurnLaw {
+    BurnLaw::single(Wiebe::from_ca50(8.0, 22.0, 2.0, DEFAULT_A).unwrap())
+}
+
+/// The true largest dp/dφ (Pa/°) of the closed charge, scanned at 0.001°.
+fn true_dp_max(
+    cyl: &Cylinder,
+    p: impl Fn(f64) -> f64,
+    law: &BurnLaw,
+    heat: f64,
+    gamma: f64,
+) -> f64 {
+    let mut best = f64::NEG_INFINITY;
+    let mut deg: f64 = -30.0;
+    while deg < 60.0 {
+        let r = deg.to_radians();
+        let v = cyl.volume(r);
+        let dv = cyl.dvolume(r).to_radians();
+        let dp = ((gamma - 1.0) * heat * law.rate(deg) - gamma * p(deg) * dv) / v;
+        best = best.max(dp);
+        deg += 0.001;
+    }
+    best
+}
+
+#[test]
+fn a_single_wiebe_comes_back_within_a_hundredth_of_a_degree() {
+    let cyl = cylinder();
+    let (step, gamma, heat) = (0.1, 1.32, 600.0);
+    let law = petrol();
+    let p = trace(&cyl, &law, heat, gamma, step, 0.0);
+    let (v, dv) = grid_of(&cyl, step);
+    let g = CycleGrid {
+        pressure: &p,
+        volume: &v,
+        dvolume: &dv,
+        step_deg: step,
+    };
+    let opts = Options::default();
+    let r = analyse(&g, &opts).unwrap();
+    let b = r.burn.expect("a fired cycle burns");
+    for (pct, got) in opts.levels_pct.iter().zip(&b.levels_deg) {
+        let want = law.angle_of(pct / 100.0);
+        assert!((got - want).abs() < 0.01, "CA{pct}: {got} against {want}");
+    }
+    // The heat released: 99.9 % of the law's within the window's end.
+    let want = heat * (law.fraction(b.eoc_deg) - law.fraction(b.soc_deg));
+    assert!(
+        (r.heat_released_j - want).abs() < 1e-3 * heat,
+        "{} {want}",
+        r.heat_released_j
+    );
+    // The pressure rise within 2 % of the true largest slope.
+    let fine = |deg: f64| {
+        let k = ((deg / step).round() as i64).rem_euclid(p.len() as i64) as usize;
+        p[k]
+    };
+    let truth = true_dp_max(&cyl, fine, &law, heat, gamma);
+    assert!(
+        (b.dp_max_pa_deg / truth - 1.0).abs() < 0.02,
+        "{} {truth}",
+        b.dp_max_pa_deg
+    );
+}
+
+#[test]
+fn a_diesel_double_wiebe_on_a_half_degree_grid() {
+    let cyl = cylinder();
+    let (step, gamma, heat) = (0.5, 1.32, 900.0);
+    let pre = Wiebe::new(-4.0, 8.0, DEFAULT_A, 2.0).unwrap();
+    let diff = Wiebe::new(-1.0, 55.0, DEFAULT_A, 0.8).unwrap();
+    let law = BurnLaw::double(pre, diff, 0.8).unwrap();
+    let p = trace(&cyl, &law, heat, gamma, step, 0.0);
+    let (v, dv) = grid_of(&cyl, step);
+    let g = CycleGrid {
+        pressure: &p,
+        volume: &v,
+        dvolume: &dv,
+        step_deg: step,
+    };
+    let opts = Options::default();
+    let b = analyse(&g, &opts).unwrap().burn.unwrap();
+    for (pct, tol) in [(10.0, 0.2), (50.0, 0.2), (90.0, 0.4)] {
+        let got = b.level(&opts, pct).unwrap();
+        let want = law.angle_of(pct / 100.0);
+        assert!((got - want).abs() < tol, "CA{pct}: {got} against {want}");
+    }
+}
+
+#[test]
+fn brunt_gamma_round_trip_on_its_own_charge() {
+    // Analysed with constant γ, a constant-γ trace comes back; analysed
+    // with γ(T), the CA50 moves late (γ falls as T rises): the model
+    // matters, and the shift is of the size PHYSICS.md's sensitivities say.
+    let cyl = cylinder();
+    let step = 0.1;
+    let law = petrol();
+    let p = trace(&cyl, &law, 600.0, 1.32, step, 0.0);
+    let (v, dv) = grid_of(&cyl, step);
+    let g = CycleGrid {
+        pressure: &p,
+        volume: &v,
+        dvolume: &dv,
+        step_deg: step,
+    };
+    let opts = Options {
+        gamma: GammaModel::brunt_default(),
+        ..Options::default()
+    };
+    let b = analyse(&g, &opts).unwrap().burn.unwrap();
+    let ca50 = b.level(&opts, 50.0).unwrap();
+    assert!(
+        (ca50 - 8.0).abs() < 3.0 && (ca50 - 8.0).abs() > 0.01,
+        "{ca50}"
+    );
+}
+
+#[test]
+fn a_motored_cycle_has_no_burn_points() {
+    let cyl = cylinder();
+    let step = 0.1;
+    let p = trace(&cyl, &petrol(), 0.0, 1.32, step, 0.0);
+    let (v, dv) = grid_of(&cyl, step);
+    let g = CycleGrid {
+        pressure: &p,
+        volume: &v,
+        dvolume: &dv,
+        step_deg: step,
+    };
+    let r = analyse(&g, &Options::default()).unwrap();
+    assert!(r.burn.is_none());
+    assert!(
+        r.heat_released_j < r.bound_j,
+        "{} {}",
+        r.heat_released_j,
+        r.bound_j
+    );
+    // Gross work of a motored closed charge: 0 to the trapezoid's error.
+    assert!(r.gross_work_j.abs() < 1e-3, "{}", r.gross_work_j);
+}
+
+#[test]
+fn a_tdc_shift_of_half_a_degree_moves_ca50_by_half_a_degree() {
+    let cyl = cylinder();
+    let step = 0.1;
+    let law = petrol();
+    let (v, dv) = grid_of(&cyl, step);
+    let opts = Options::default();
+    let ca50 = |shift: f64| {
+        let p = trace(&cyl, &law, 600.0, 1.32, step, shift);
+        let g = CycleGrid {
+            pressure: &p,
+            volume: &v,
+            dvolume: &dv,
+            step_deg: step,
+        };
+        analyse(&g, &opts)
+            .unwrap()
+            .burn
+            .unwrap()
+            .level(&opts, 50.0)
+            .unwrap()
+    };
+    let moved = ca50(0.5) - ca50(0.0);
+    assert!((0.5..=0.6).contains(&moved), "{moved}");
+}
+
+/// A deterministic noise of standard deviation `sd` (a linear
+/// congruential generator through Box–Muller).
+fn noise(n: usize, sd: f64, seed: u64) -> Vec<f64> {
+    let mut s = seed;
+    let mut u = || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((s >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    };
+    (0..n)
+        .map(|_| sd * (-2.0 * u().ln()).sqrt() * (2.0 * std::f64::consts::PI * u()).cos())
+        .collect()
+}
+
+#[test]
+fn noise_of_two_hundredths_of_a_bar_moves_the_pressure_rise_under_three_percent() {
+    let cyl = cylinder();
+    let step = 0.1;
+    let law = petrol();
+    let clean = trace(&cyl, &law, 600.0, 1.32, step, 0.0);
+    let (v, dv) = grid_of(&cyl, step);
+    let rise = |p: &[f64], opts: &Options| {
+        let g = CycleGrid {
+            pressure: p,
+            volume: &v,
+            dvolume: &dv,
+            step_deg: step,
+        };
+        analyse(&g, opts).unwrap().burn.unwrap()
+    };
+    let smooth = Options::default();
+    let raw = Options {
+        smoothing: Smoothing::Off,
+        ..Options::default()
+    };
+    let base = rise(&clean, &smooth).dp_max_pa_deg;
+    let mut worst_smooth: f64 = 0.0;
+    let mut worst_raw: f64 = 0.0;
+    for seed in 1..=5 {
+        let noisy: Vec<f64> = clean
+            .iter()
+            .zip(noise(clean.len(), 0.02e5, seed))
+            .map(|(p, e)| p + e)
+            .collect();
+        worst_smooth = worst_smooth.max((rise(&noisy, &smooth).dp_max_pa_deg / base - 1.0).abs());
+        worst_raw = worst_raw.max((rise(&noisy, &raw).dp_max_pa_deg / base - 1.0).abs());
+        let b = rise(&noisy, &smooth);
+        let ca50 = b.level(&smooth, 50.0).unwrap();
+        assert!((ca50 - 8.0).abs() < 0.2, "CA50 {ca50}");
+    }
+    assert!(worst_smooth < 0.03, "smoothed: {worst_smooth}");
+    assert!(worst_raw > 0.05, "unsmoothed should fail: {worst_raw}");
+}
+
+#[test]
+fn the_curves_end_where_the_burn_does() {
+    let cyl = cylinder();
+    let step = 0.5;
+    let law = petrol();
+    let p = trace(&cyl, &law, 600.0, 1.32, step, 0.0);
+    let (v, dv) = grid_of(&cyl, step);
+    let g = CycleGrid {
+        pressure: &p,
+        volume: &v,
+        dvolume: &dv,
+        step_deg: step,
+    };
+    let opts = Options::default();
+    let r = analyse(&g, &opts).unwrap();
+    let c = curves(&g, &opts, &r).unwrap();
+    let mfb = c.mfb.unwrap();
+    let at = |deg: f64| ((deg / step).round() as i64).rem_euclid(p.len() as i64) as usize;
+    assert_eq!(mfb[at(-100.0)], 0.0);
+    assert_eq!(mfb[at(150.0)], 1.0);
+    assert!((mfb[at(8.0)] - 0.5).abs() < 0.01, "{}", mfb[at(8.0)]);
+    // The rate integrates to the heat released (trapezoid on the grid).
+    let total: f64 = (at(-90.0)..p.len())
+        .chain(0..=at(120.0))
+        .map(|k| c.rate_j_deg[k] * step)
+        .sum();
+    assert!(
+        (total / r.heat_released_j - 1.0).abs() < 0.01,
+        "{total} {}",
+        r.heat_released_j
+    );
+    assert!((c.cumulative_j[at(150.0)] - r.heat_released_j).abs() < 1.0);
+}
