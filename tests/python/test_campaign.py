@@ -59,14 +59,14 @@ def test_parts_read_back_with_schema_nulls_and_metadata(cli, tmp_path):
     path = tmp_path / "c" / "summary" / "part-00000-of-00001.parquet"
     t = pq.read_table(path)
     meta = {k.decode(): v.decode() for k, v in t.schema.metadata.items() if not k.startswith(b"ARROW")}
-    assert meta["enginedyn.schema"] == "summary/1"
+    assert meta["enginedyn.schema"] == "summary/2"
     assert meta["enginedyn.version"] == ed.__version__
     assert len(meta["engine.sha256"]) == 64 and json.loads(meta["options"]) == {"method": {}, "reader": {}}
     names = t.schema.names
     assert names[:4] == ["file", "error", "engine", "diagram_sha256"]
     assert t.schema.field("journal_most_loaded").type == pa.int32()
     assert t.schema.field("cycles").type == pa.int64()
-    assert names[-1] == "notes" and "models.grid_step_deg" in names and "pegging.method" in names
+    assert names[-1] == "imep_lnv" and "ca50_deg" in names and "models.grid_step_deg" in names and "pegging.method" in names
     rows = {r["file"]: r for r in t.to_pylist()}
     failed = rows["no/such.csv"]
     assert failed["error"].startswith("cannot open") and failed["imep_bar"] is None

@@ -180,7 +180,53 @@ pub struct MethodArgs {
     /// Integration rule for means and the running integral E(φ) [default: trapezoid].
     #[arg(long, value_enum)]
     pub integration: Option<IntegrationArg>,
+    /// The combustion analysis.
+    #[command(flatten)]
+    pub burn: BurnArgs,
 }
+
+// ---- the combustion analysis' flags (INTERFACE.md "Combustion") ----
+
+/// How each fired cycle's combustion is analysed; parsed and bounded by
+/// `enginedyn_session::burn`.
+#[derive(Debug, Clone, Args)]
+#[command(next_help_heading = "Combustion analysis")]
+pub struct BurnArgs {
+    /// Burn levels to report, in percent burnt (whole numbers 1-99) [default: 5,10,50,90].
+    #[arg(long, value_name = "K,K,...", value_parser = enginedyn_session::burn::Levels::parse)]
+    pub burn_points: Option<enginedyn_session::burn::Levels>,
+    /// Window for SOC and EOC (deg from firing TDC) [default: -90:120].
+    #[arg(long, value_name = "A:B", allow_hyphen_values = true, value_parser = enginedyn_session::burn::parse_window)]
+    pub burn_window: Option<(f64, f64)>,
+    /// Ratio of specific heats: a constant, or `brunt` for γ(T) [default: 1.32].
+    #[arg(long, value_name = "G|brunt", value_parser = enginedyn_session::burn::parse_gamma)]
+    pub gamma: Option<enginedyn_session::burn::Gamma>,
+    /// Smoothing before dp/dφ and the SOC/EOC search: Savitzky-Golay cubic over DEG, or off [default: SG:2].
+    #[arg(long, value_name = "SG:DEG|off", value_parser = enginedyn_session::burn::parse_smooth)]
+    pub smooth: Option<enginedyn_session::burn::Smoothing>,
+    /// With --gamma brunt: charge temperature at intake valve closing (K) [default: 320].
+    #[arg(long, value_name = "K")]
+    pub intake_temp_k: Option<f64>,
+    /// With --gamma brunt: intake valve closing (deg from firing TDC) [default: -140].
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub ivc_deg: Option<f64>,
+}
+
+impl BurnArgs {
+    /// The options as given.
+    pub fn method(&self) -> enginedyn_session::burn::BurnMethod {
+        enginedyn_session::burn::BurnMethod {
+            levels: self.burn_points,
+            window_deg: self.burn_window,
+            gamma: self.gamma,
+            smooth: self.smooth,
+            intake_temp_k: self.intake_temp_k,
+            ivc_deg: self.ivc_deg,
+        }
+    }
+}
+
+// ---- end of the combustion analysis' flags ----
 
 /// How the diagram file is read.
 #[derive(Debug, Clone, Args)]
@@ -404,6 +450,7 @@ impl MethodArgs {
             interp: self.interp.map(InterpArg::interp),
             integration: self.integration.map(IntegrationArg::rule),
             tolerance,
+            burn: self.burn.method(),
         }
     }
 }

@@ -125,22 +125,54 @@ pub struct CycleBurn {
     pub gross_work_j: f64,
 }
 
-/// The cumulative heat release over the window and what it needs.
-struct Window {
+/// The cumulative heat release over the window: from the pressure as read
+/// (one pass, no derivative), and from the smoothed pressure where the
+/// rules need it (near SOC, EOC and each level's crossing): the smoothing
+/// touches only the energy term `E(pV)`, as the work is an integral.
+struct Window<'a> {
+    g: &'a CycleGrid<'a>,
+    f: &'a Filter,
+    gamma: GammaModel,
     /// First grid index of the window (may be negative: it wraps).
     i0: i64,
-    /// Smoothed pressure over the window.
-    p: Vec<f64>,
-    /// Cumulative heat release from the window's start (J).
+    /// `pV` at IVC (γ(T) only).
+    ivc: f64,
+    /// The energy term at the window's start (subtracted: Q starts at 0).
+    e0: f64,
+    /// `∫ p dV` from the window's start (J), trapezoidal.
+    w: Vec<f64>,
+    /// The cumulative heat release from the pressure as read (J).
     q: Vec<f64>,
+    /// The largest pressure in the window and its index.
+    peak: (f64, usize),
+}
+
+impl Window<'_> {
+    /// The cumulative heat release at window index `j` from the smoothed
+    /// pressure (J).
+    fn smoothed(&self, j: usize) -> f64 {
+        let k = self.i0 + j as i64;
+        let ps = self.f.value(self.g.pressure, k);
+        self.w[j] + self.gamma.energy(ps * self.g.at(self.g.volume, k), self.ivc) - self.e0
+    }
+
+    /// The index in `lo..=hi` where the smoothed cumulative is largest
+    /// (`max`) or smallest.
+    fn extreme(&self, lo: usize, hi: usize, max: bool) -> (usize, f64) {
+        let mut best = (lo, self.smoothed(lo));
+        for j in lo + 1..=hi {
+            let v = self.smoothed(j);
+            if (max && v > best.1) || (!max && v < best.1) {
+                best = (j, v);
+            }
+        }
+        best
+    }
 }
 
 /// The index range `[i0, i1]` of grid points inside `window_deg`.
 fn window_indices(step: f64, (a, b): (f64, f64)) -> (i64, i64) {
-    (
-        (a / step - 1e-9).ceil() as i64,
-        (b / step + 1e-9).floor() as i64,
-    )
+    ((a / step - 1e-9).ceil() as i64, (b / step + 1e-9).floor() as i64)
 }
 
 /// `pV` at intake valve closing, for γ(T) (1 for a constant γ: unused).
@@ -154,7 +186,11 @@ fn pv_ivc(g: &CycleGrid, opts: &Options, f: &Filter) -> f64 {
     }
 }
 
-fn cumulative(g: &CycleGrid, opts: &Options, f: &Filter) -> Result<Window, CombustionError> {
+fn cumulative<'a>(
+    g: &'a CycleGrid<'a>,
+    opts: &Options,
+    f: &'a Filter,
+) -> Result<Window<'a>, CombustionError> {
     if g.pressure.len() != g.volume.len() || g.pressure.len() != g.dvolume.len() {
         return Err(CombustionError::Input(
             "pressure and volume law of different lengths".into(),
@@ -171,44 +207,61 @@ fn cumulative(g: &CycleGrid, opts: &Options, f: &Filter) -> Result<Window, Combu
         )));
     }
     let ivc = pv_ivc(g, opts, f);
-    let h = g.step_deg.to_radians();
+    let half_h = 0.5 * g.step_deg.to_radians();
     let len = (i1 - i0 + 1) as usize;
-    let mut p = Vec::with_capacity(len);
+    let mut w = Vec::with_capacity(len);
     let mut q = Vec::with_capacity(len);
-    let (mut work, mut e0, mut prev) = (0.0, 0.0, 0.0);
-    for (j, k) in (i0..=i1).enumerate() {
-        let pk = f.value(g.pressure, k);
-        let pdv = pk * g.at(g.dvolume, k);
-        let e = opts.gamma.energy(pk * g.at(g.volume, k), ivc);
-        if j == 0 {
-            e0 = e;
-        } else {
-            work += 0.5 * h * (prev + pdv);
+    let gamma = opts.gamma;
+    let e0 = gamma.energy(g.at(g.pressure, i0) * g.at(g.volume, i0), ivc);
+    let (mut work, mut prev, mut peak) = (0.0, g.at(g.pressure, i0) * g.at(g.dvolume, i0), (f64::NEG_INFINITY, 0));
+    // The window in at most two contiguous pieces of the periodic grid.
+    let n = g.n();
+    let mut j = 0;
+    let mut k = i0;
+    while k <= i1 {
+        let start = k.rem_euclid(n) as usize;
+        let end = (start + (i1 - k + 1) as usize).min(n as usize);
+        let (p, v, dv) = (&g.pressure[start..end], &g.volume[start..end], &g.dvolume[start..end]);
+        for t in 0..p.len() {
+            let pdv = p[t] * dv[t];
+            if j > 0 {
+                work += half_h * (prev + pdv);
+            }
+            prev = pdv;
+            if p[t] > peak.0 {
+                peak = (p[t], j);
+            }
+            w.push(work);
+            q.push(work + gamma.energy(p[t] * v[t], ivc) - e0);
+            j += 1;
         }
-        prev = pdv;
-        p.push(pk);
-        q.push(work + e - e0);
+        k += (end - start) as i64;
     }
-    Ok(Window { i0, p, q })
+    Ok(Window {
+        g,
+        f,
+        gamma,
+        i0,
+        ivc,
+        e0,
+        w,
+        q,
+        peak,
+    })
 }
 
-/// The first angle after index `from` where `xb` reaches `x`, linearly
-/// interpolated between grid points.
-fn crossing(
-    xb: impl Fn(usize) -> f64,
-    from: usize,
-    to: usize,
-    x: f64,
-    deg: impl Fn(f64) -> f64,
-) -> f64 {
-    for j in from + 1..=to {
-        let (a, b) = (xb(j - 1), xb(j));
-        if b >= x {
-            let t = if b > a { (x - a) / (b - a) } else { 1.0 };
-            return deg((j - 1) as f64 + t.clamp(0.0, 1.0));
-        }
+/// The first angle after `soc` where the smoothed cumulative reaches
+/// `target`, linearly interpolated between grid points; the crossing is
+/// found on the cumulative as read, then taken on the smoothed one.
+fn crossing(win: &Window, soc: usize, eoc: usize, target: f64) -> f64 {
+    let mut j = (soc + 1..=eoc).find(|&j| win.q[j] >= target).unwrap_or(eoc);
+    // The smoothed curve may cross a little earlier: step back while it has.
+    while j > soc + 1 && win.smoothed(j - 1) >= target {
+        j -= 1;
     }
-    deg(to as f64)
+    let (a, b) = (win.smoothed(j - 1), win.smoothed(j));
+    let t = if b > a { ((target - a) / (b - a)).clamp(0.0, 1.0) } else { 1.0 };
+    (win.i0 as f64 + (j - 1) as f64 + t) * win.g.step_deg
 }
 
 /// Analyses one cycle (checked options: [`Options::check`]).
@@ -223,52 +276,35 @@ pub fn analyse_with(
     opts: &Options,
     f: &Filter,
 ) -> Result<CycleBurn, CombustionError> {
-    let w = cumulative(g, opts, f)?;
-    let deg = |j: f64| (w.i0 as f64 + j) * g.step_deg;
-    let eoc = arg_max(&w.q);
-    let soc = arg_min(&w.q[..=eoc]);
-    let released = w.q[eoc] - w.q[soc];
-    let peak = arg_max(&w.p);
+    let win = cumulative(g, opts, f)?;
+    let last = win.q.len() - 1;
+    let deg = |j: f64| (win.i0 as f64 + j) * g.step_deg;
+    // SOC and EOC on the cumulative as read, then taken where the smoothed
+    // cumulative has its extreme within a filter's width of them.
+    let eoc0 = arg_max(&win.q);
+    let soc0 = arg_min(&win.q[..=eoc0]);
+    let r = 2 * f.half_points().max(1);
+    let (eoc, q_eoc) = win.extreme(eoc0.saturating_sub(r), (eoc0 + r).min(last), true);
+    let (soc, q_soc) = win.extreme(soc0.saturating_sub(r), (soc0 + r).min(eoc), false);
+    let released = q_eoc - q_soc;
     let gamma = opts.gamma.nominal();
-    let bound =
-        NO_COMBUSTION_SHARE * w.p[peak] * g.at(g.volume, w.i0 + peak as i64) / (gamma - 1.0);
-    let gross_work_j = gross_work(g);
+    let (p_max, at) = win.peak;
+    let bound = NO_COMBUSTION_SHARE * p_max * g.at(g.volume, win.i0 + at as i64) / (gamma - 1.0);
     let mut out = CycleBurn {
         heat_released_j: released,
         bound_j: bound,
         burn: None,
-        gross_work_j,
+        gross_work_j: gross_work(g),
     };
     if !(released >= bound) || eoc <= soc {
         return Ok(out);
     }
-    let xb = |j: usize| (w.q[j] - w.q[soc]) / released;
     let levels_deg = opts
         .levels_pct
         .iter()
-        .map(|l| crossing(xb, soc, eoc, l / 100.0, deg))
+        .map(|l| crossing(&win, soc, eoc, q_soc + l / 100.0 * released))
         .collect();
-    // The pressure rise: the smoothed slope's largest value between SOC and
-    // EOC, refined by the parabola through it and its neighbours.
-    let slope = |j: usize| f.slope(g.pressure, w.i0 + j as i64);
-    let (mut best, mut at) = (f64::NEG_INFINITY, soc);
-    for j in soc..=eoc {
-        let s = slope(j);
-        if s > best {
-            best = s;
-            at = j;
-        }
-    }
-    let (mut dp_max, mut dp_at) = (best, at as f64);
-    if at > 0 && at + 1 < w.q.len() {
-        let (a, c) = (slope(at - 1), slope(at + 1));
-        let den = a - 2.0 * best + c;
-        if den < 0.0 {
-            let t = (0.5 * (a - c) / den).clamp(-0.5, 0.5);
-            dp_at += t;
-            dp_max = best - 0.25 * (a - c) * t;
-        }
-    }
+    let (dp_max, dp_at) = pressure_rise(&win, soc, eoc);
     out.burn = Some(BurnPoints {
         soc_deg: deg(soc as f64),
         eoc_deg: deg(eoc as f64),
@@ -279,26 +315,60 @@ pub fn analyse_with(
     Ok(out)
 }
 
+/// The largest smoothed dp/dφ (Pa/°) between SOC and EOC and its window
+/// index: found on the difference across the filter's width (one
+/// subtraction a point), then taken on the filter's own slope around it
+/// and refined by the parabola through it and its neighbours.
+fn pressure_rise(win: &Window, soc: usize, eoc: usize) -> (f64, f64) {
+    let g = win.g;
+    let m = win.f.half_points().max(1) as i64;
+    let at = |j: usize| win.i0 + j as i64;
+    let (mut best, mut arg) = (f64::NEG_INFINITY, soc);
+    for j in soc..=eoc {
+        let d = g.at(g.pressure, at(j) + m) - g.at(g.pressure, at(j) - m);
+        if d > best {
+            best = d;
+            arg = j;
+        }
+    }
+    let slope = |j: usize| win.f.slope(g.pressure, at(j));
+    let lo = arg.saturating_sub(m as usize).max(soc);
+    let hi = (arg + m as usize).min(eoc);
+    let (mut top, mut j_top) = (slope(lo), lo);
+    for j in lo + 1..=hi {
+        let s = slope(j);
+        if s > top {
+            top = s;
+            j_top = j;
+        }
+    }
+    let (mut value, mut x) = (top, j_top as f64);
+    if j_top > 0 && j_top < win.q.len() - 1 {
+        let (a, c) = (slope(j_top - 1), slope(j_top + 1));
+        let den = a - 2.0 * top + c;
+        if den < 0.0 {
+            let t = (0.5 * (a - c) / den).clamp(-0.5, 0.5);
+            x += t;
+            value = top - 0.25 * (a - c) * t;
+        }
+    }
+    (value, x)
+}
+
 /// `∫ p dV` (J) over −180…180°, trapezoidal on `p dV/dφ` (the whole cycle
 /// for a two-stroke; the ends lie at BDC, where `dV/dφ` is nearly 0).
 pub fn gross_work(g: &CycleGrid) -> f64 {
     let h = g.step_deg.to_radians();
-    let half = (180.0 / g.step_deg).round() as i64;
-    if g.cycle_deg() <= 360.0 + 1e-9 {
-        return g
-            .pressure
-            .iter()
-            .zip(g.dvolume)
-            .map(|(p, d)| p * d)
-            .sum::<f64>()
-            * h;
+    let dot = |p: &[f64], d: &[f64]| p.iter().zip(d).map(|(p, d)| p * d).sum::<f64>();
+    let n = g.pressure.len();
+    let half = (180.0 / g.step_deg).round() as usize;
+    if g.cycle_deg() <= 360.0 + 1e-9 || 2 * half >= n {
+        return dot(g.pressure, g.dvolume) * h;
     }
-    let mut s = 0.0;
-    for k in -half..=half {
-        let w = if k == -half || k == half { 0.5 } else { 1.0 };
-        s += w * g.at(g.pressure, k) * g.at(g.dvolume, k);
-    }
-    s * h
+    // −180…0 is the cycle's end, n − half … n − 1; 0…180 its start.
+    let (p, d) = (g.pressure, g.dvolume);
+    let ends = 0.5 * (p[n - half] * d[n - half] + p[half] * d[half]);
+    (dot(&p[n - half..], &d[n - half..]) + dot(&p[..=half], &d[..=half]) - ends) * h
 }
 
 fn arg_max(v: &[f64]) -> usize {
@@ -351,8 +421,9 @@ pub fn curves(g: &CycleGrid, opts: &Options, burn: &CycleBurn) -> Result<Curves,
         let gm = opts.gamma.gamma(p * v, ivc);
         rate.push(gm / (gm - 1.0) * p * dv + v * dp / (gm - 1.0));
     }
+    let qs: Vec<f64> = (0..w.q.len()).map(|j| w.smoothed(j)).collect();
     let base = burn.burn.as_ref().map_or(0.0, |b| {
-        w.q[((b.soc_deg / g.step_deg).round() as i64 - w.i0) as usize]
+        qs[((b.soc_deg / g.step_deg).round() as i64 - w.i0) as usize]
     });
     let mut cumulative = vec![0.0; n];
     let mut mfb = burn.burn.as_ref().map(|_| vec![0.0; n]);
@@ -365,7 +436,7 @@ pub fn curves(g: &CycleGrid, opts: &Options, burn: &CycleBurn) -> Result<Curves,
         let a = w.i0 + j as i64;
         let k = a.rem_euclid(n as i64) as usize;
         let (q, x) = if j <= last {
-            let q = w.q[j] - base;
+            let q = qs[j] - base;
             let x = burn.burn.as_ref().map(|b| {
                 let deg = a as f64 * g.step_deg;
                 if deg < b.soc_deg {
@@ -378,7 +449,7 @@ pub fn curves(g: &CycleGrid, opts: &Options, burn: &CycleBurn) -> Result<Curves,
             });
             (q, x)
         } else if a < half {
-            (w.q[last] - base, Some(1.0))
+            (qs[last] - base, Some(1.0))
         } else {
             (0.0, Some(0.0))
         };

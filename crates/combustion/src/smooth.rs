@@ -95,6 +95,11 @@ impl Filter {
         }
     }
 
+    /// Half the smoothing window in points (0 without smoothing).
+    pub fn half_points(&self) -> usize {
+        self.value.len() / 2
+    }
+
     /// The smoothed value at index `k` of the periodic `p` (any integer:
     /// it wraps).
     #[inline]

@@ -31,6 +31,9 @@ pub struct GridOptions {
     /// [`GridOptions::share_volume_law`] for every file read with these
     /// options; without it (or when it does not fit) each file builds its own.
     pub volume_law: Option<Arc<VolumeGrid>>,
+    /// The combustion analysis of every pressure cycle (needs `cylinder`);
+    /// `None`: no analysis.
+    pub combustion: Option<Arc<enginedyn_combustion::Options>>,
 }
 
 impl GridOptions {
@@ -42,6 +45,7 @@ impl GridOptions {
             peg: None,
             cylinder: None,
             volume_law: None,
+            combustion: None,
         }
     }
 
@@ -66,8 +70,22 @@ fn grid_points(step_deg: f64, cycle_deg: f64) -> Option<usize> {
         .then_some(n)
 }
 
+/// What one measured cycle says of its combustion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CycleCombustion {
+    /// Gross IMEP (Pa): `∫ p dV` over −180…180° / V_d.
+    pub imep_gross_pa: f64,
+    /// Heat released (J), `Q(EOC) − Q(SOC)`, whether or not it clears the
+    /// no-combustion bound.
+    pub heat_released_j: f64,
+    /// The no-combustion bound (J).
+    pub bound_j: f64,
+    /// The burn points, `None` without combustion.
+    pub burn: Option<enginedyn_combustion::BurnPoints>,
+}
+
 /// Figures of one measured cycle.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct CycleStats {
     /// Cylinder number (0: one trace for all).
     pub cylinder: i64,
@@ -84,6 +102,9 @@ pub struct CycleStats {
     /// The speed over this cycle (rpm), when the file measures it cycle by
     /// cycle (a time record's TDC pulses).
     pub rpm: Option<f64>,
+    /// The combustion analysis, when it was asked for and the volume law
+    /// is known.
+    pub combustion: Option<CycleCombustion>,
 }
 
 /// A measured cycle left out of the averages, and why.
@@ -139,6 +160,8 @@ pub struct Resampled {
     pub sample_step_deg: f64,
     /// Things worth telling the user.
     pub notes: Vec<String>,
+    /// The combustion options the cycles were analysed with.
+    pub combustion: Option<Arc<enginedyn_combustion::Options>>,
 }
 
 impl Resampled {
@@ -159,6 +182,7 @@ impl Resampled {
             skipped: Vec::new(),
             sample_step_deg: step_deg,
             notes: Vec::new(),
+            combustion: None,
         }
     }
 }
@@ -290,6 +314,8 @@ pub struct Accumulator {
     /// The coarsest mean spacing of a trace's samples (deg); the grid step
     /// for traces on the grid.
     spacing: f64,
+    /// The smoothing filter of the combustion analysis, built once.
+    filter: Option<enginedyn_combustion::Filter>,
 }
 
 impl Accumulator {
@@ -311,7 +337,6 @@ impl Accumulator {
             ));
         }
         Ok(Self {
-            opts,
             cycle_deg,
             quantity,
             n,
@@ -327,6 +352,11 @@ impl Accumulator {
             overshoot: (0, 0.0),
             sparse: (0, 0.0, None),
             spacing: step,
+            filter: opts
+                .combustion
+                .as_ref()
+                .map(|c| enginedyn_combustion::Filter::new(c.smoothing, step)),
+            opts,
         })
     }
 
@@ -408,6 +438,7 @@ impl Accumulator {
                 .opts
                 .cylinder
                 .map(|c| pass.p_dv * self.opts.step_deg.to_radians() / c.swept_volume());
+            let combustion = self.combustion(src)?;
             self.stats.push(CycleStats {
                 cylinder: tr.cylinder,
                 cycle: tr.cycle,
@@ -416,6 +447,7 @@ impl Accumulator {
                 p_max_angle_deg: angle,
                 peg_offset,
                 rpm: tr.rpm,
+                combustion,
             });
         }
         self.count += 1;
@@ -435,6 +467,33 @@ impl Accumulator {
         }
         self.interp.get_or_insert(kind);
         Ok(())
+    }
+
+    /// The combustion analysis of one cycle's pressure on the grid, when it
+    /// is asked for and the volume law is known.
+    fn combustion(&self, p: &[f64]) -> Result<Option<CycleCombustion>, IngestError> {
+        let (Some(opts), Some(filter), Some(law), Some(cyl)) = (
+            self.opts.combustion.as_deref(),
+            self.filter.as_ref(),
+            self.law.as_deref(),
+            self.opts.cylinder,
+        ) else {
+            return Ok(None);
+        };
+        let grid = enginedyn_combustion::CycleGrid {
+            pressure: p,
+            volume: law.volume(),
+            dvolume: law.dvolume(),
+            step_deg: self.opts.step_deg,
+        };
+        let r = enginedyn_combustion::analyse_with(&grid, opts, filter)
+            .map_err(|e| IngestError::Data(e.to_string()))?;
+        Ok(Some(CycleCombustion {
+            imep_gross_pa: r.gross_work_j / cyl.swept_volume(),
+            heat_released_j: r.heat_released_j,
+            bound_j: r.bound_j,
+            burn: r.burn,
+        }))
     }
 
     /// Pegs `buf` in place; returns the offset added (Pa).
@@ -606,6 +665,7 @@ impl Accumulator {
             skipped: Vec::new(),
             sample_step_deg: self.spacing,
             notes,
+            combustion: self.opts.combustion.clone(),
         })
     }
 }

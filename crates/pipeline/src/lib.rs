@@ -21,11 +21,13 @@ use enginedyn_torque::{EngineTorque, Harmonic};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
+pub mod combustion;
 pub mod notes;
 pub mod schema;
 mod summary;
 pub mod tdc;
 pub mod torsion;
+pub use combustion::CombustionSummary;
 pub use summary::{Basis, CycleSummary, KEYS, Key, Pegging, Shown, Summary, Value};
 
 /// Why an operating point cannot be analysed.
@@ -122,6 +124,12 @@ pub struct Analysis {
     pub engine_harmonics: Vec<Harmonic>,
     /// The summary figures.
     pub summary: Summary,
+    /// Cylinder 1's mean trace's heat release on the grid, when the
+    /// combustion analysis ran.
+    pub heat_release: Option<enginedyn_combustion::Curves>,
+    /// Each used cycle that burns: `(cylinder, cycle, IMEP bar, CA50 deg)`
+    /// (the CA50–IMEP scatter).
+    pub burn_cycles: Vec<(i64, i64, f64, f64)>,
 }
 
 /// Below this IMEP (Pa) an engine runs near idle: idle IMEP is about
@@ -592,7 +600,20 @@ pub fn analyse_with(
         }),
         motion: tables.motion,
     };
-    complete(engine, parts, rpm, opts)
+    let mut analysis = complete(engine, parts, rpm, opts)?;
+    if pressure.quantity == Quantity::Pressure {
+        let imep_pa = analysis.summary.imep_bar.map(|i| i * 1e5);
+        let swept = engine.cylinder().swept_volume();
+        if let Some(found) =
+            combustion::analyse(pressure, &traces, volume, dvolume, swept, imep_pa)
+        {
+            analysis.summary.notes.extend(found.notes);
+            analysis.summary.combustion = Some(found.summary);
+            analysis.heat_release = Some(found.curves);
+            analysis.burn_cycles = found.scatter;
+        }
+    }
+    Ok(analysis)
 }
 
 /// Analyses one operating point from a turning-moment diagram (torque of one
@@ -826,6 +847,7 @@ fn complete(
         tdc_offset_estimate_deg: tdc_offset,
         estimated_relative_error: None,
         mechanical_efficiency: eta,
+        combustion: None,
         notes,
     };
     Ok(Analysis {
@@ -842,6 +864,8 @@ fn complete(
         cylinder_harmonics,
         engine_harmonics,
         summary,
+        heat_release: None,
+        burn_cycles: Vec::new(),
     })
 }
 

@@ -61,6 +61,8 @@ pub const DECIDED: &[&str] = &[
     "--tolerance",
     "interpolation and grid-step errors against",
     "imep_std_bar, imep_cov",
+    // The combustion analysis: a cycle that does not burn (motored, a fuel cut).
+    "no combustion in ",
     // batch over folders (one file, or several).
     "1 file of another kind passed over",
 ];

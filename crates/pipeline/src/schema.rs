@@ -1,5 +1,5 @@
 //! The fixed, typed tables of a campaign (INTERFACE.md, "Parquet tables"):
-//! `summary/1`, `cycles/1` and `traces/1`, each column's name, logical type
+//! `summary/2`, `cycles/2` and `traces/1`, each column's name, logical type
 //! and how to get its value. **The one definition**: the Parquet writers
 //! (`enginedyn-tables`) and `summary.csv` (`report::summary_csv`,
 //! `report::flatten`) are built from it; the summary's values come from
@@ -12,13 +12,14 @@
 //! the table's number (`summary/2`).
 
 use crate::summary::{Summary, Value};
-use enginedyn_ingest::Resampled;
+use enginedyn_combustion::BurnPoints;
+use enginedyn_ingest::{CycleCombustion, Resampled};
 use std::borrow::Cow;
 
 /// The schema names and versions written as `enginedyn.schema`.
-pub const SUMMARY_SCHEMA: &str = "summary/1";
+pub const SUMMARY_SCHEMA: &str = "summary/2";
 /// See [`SUMMARY_SCHEMA`].
-pub const CYCLES_SCHEMA: &str = "cycles/1";
+pub const CYCLES_SCHEMA: &str = "cycles/2";
 /// See [`SUMMARY_SCHEMA`].
 pub const TRACES_SCHEMA: &str = "traces/1";
 
@@ -104,7 +105,7 @@ impl Cell<'_> {
 /// and only the columns some row has.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Group {
-    /// The row's own columns (`file`, `error`; every column of `cycles/1`
+    /// The row's own columns (`file`, `error`; every column of `cycles/2`
     /// and `traces/1`).
     Row,
     /// What the figures came from (`engine`, `diagram_sha256`): Parquet
@@ -122,12 +123,15 @@ pub enum Group {
     ModelsNumber,
     /// `notes`, joined with ` | `.
     Notes,
+    /// The combustion keys and their `models.*` (optional; appended in
+    /// `summary/2`).
+    Combustion,
 }
 
 impl Group {
     /// True for the optional keys (absent when they do not apply).
     pub fn optional(self) -> bool {
-        matches!(self, Group::Optional | Group::Pegging)
+        matches!(self, Group::Optional | Group::Pegging | Group::Combustion)
     }
 
     /// True for the columns of `summary.csv` (all but the provenance).
@@ -159,7 +163,7 @@ pub type CycleGet = for<'r, 'a> fn(&'r CycleRow<'a>) -> Cell<'r>;
 /// How a [`TRACES`] column gets its value.
 pub type TraceGet = for<'r, 'a> fn(&'r TracePoint<'a>) -> Cell<'r>;
 
-/// One row of `summary/1`: a diagram file and its summary, or its error.
+/// One row of `summary/2`: a diagram file and its summary, or its error.
 #[derive(Debug, Clone, Copy)]
 pub struct SummaryRecord<'a> {
     /// The path as given.
@@ -209,6 +213,7 @@ impl<'a> SummaryRecord<'a> {
             Value::Num(x) => Cell::num(x),
             Value::Int(i) => i64::try_from(i).map_or(Cell::Null, Cell::Int),
             Value::Text(t) => Cell::Text(Cow::Borrowed(t)),
+            Value::Str(t) => Cell::Text(Cow::Owned(t)),
             Value::List(l) => Cell::Text(Cow::Owned(l.join(" | "))),
             Value::Map(_) => Cell::Null,
         }
@@ -223,7 +228,7 @@ fn opt_text<'r>(s: Option<&'r str>) -> Cell<'r> {
     s.map_or(Cell::Null, text)
 }
 
-/// A column of `summary/1` holding the summary key `$key` (or its field
+/// A column of `summary/2` holding the summary key `$key` (or its field
 /// `$field`), of type `$ty`, in group `$group`.
 macro_rules! key {
     ($key:literal, $ty:ident, $group:ident) => {
@@ -246,7 +251,7 @@ macro_rules! key {
     };
 }
 
-/// `summary/1`, in `summary.json`'s order (that of `summary.csv`); the
+/// `summary/2`, in `summary.json`'s order (that of `summary.csv`); the
 /// Parquet table's order is [`summary_columns`]. Every column but `file`
 /// and `engine` may be null (a failed file has no figures).
 pub const SUMMARY: &[Column<SummaryGet>] = &[
@@ -317,6 +322,9 @@ pub const SUMMARY: &[Column<SummaryGet>] = &[
     key!("models"."interpolation", Utf8, ModelsText),
     key!("models"."grid_step_deg", Float64, ModelsNumber),
     key!("models"."integration", Utf8, ModelsText),
+    key!("models"."gamma", Utf8, Combustion),
+    key!("models"."smoothing", Utf8, Combustion),
+    key!("models"."burn_window", Utf8, Combustion),
     key!("notes", Utf8, Notes),
     key!("cycles", Int64, Optional),
     key!("cycles_skipped", Int64, Optional),
@@ -331,9 +339,25 @@ pub const SUMMARY: &[Column<SummaryGet>] = &[
     key!("pegging"."polytropic_n", Float64, Pegging),
     key!("tdc_offset_estimate_deg", Float64, Optional),
     key!("estimated_relative_error", Float64, Optional),
+    key!("ca5_deg", Float64, Combustion),
+    key!("ca10_deg", Float64, Combustion),
+    key!("ca50_deg", Float64, Combustion),
+    key!("ca90_deg", Float64, Combustion),
+    key!("burn_10_90_deg", Float64, Combustion),
+    key!("soc_deg", Float64, Combustion),
+    key!("eoc_deg", Float64, Combustion),
+    key!("heat_released_j", Float64, Combustion),
+    key!("dp_dphi_max_bar_deg", Float64, Combustion),
+    key!("dp_dphi_max_angle_deg", Float64, Combustion),
+    key!("imep_gross_bar", Float64, Combustion),
+    key!("pmep_bar", Float64, Combustion),
+    key!("ca50_std_deg", Float64, Combustion),
+    key!("burn_10_90_std_deg", Float64, Combustion),
+    key!("dp_dphi_max_std_bar_deg", Float64, Combustion),
+    key!("imep_lnv", Float64, Combustion),
 ];
 
-/// The columns of `summary/1` in the Parquet table's order: `file`,
+/// The columns of `summary/2` in the Parquet table's order: `file`,
 /// `error`, `engine`, `diagram_sha256`, the fixed keys, the optional keys,
 /// `pegging.*`, the text of `models.*`, `models.grid_step_deg`, `notes`.
 pub fn summary_columns() -> Vec<&'static Column<SummaryGet>> {
@@ -343,7 +367,7 @@ pub fn summary_columns() -> Vec<&'static Column<SummaryGet>> {
     c
 }
 
-/// One row of `cycles/1`: a measured cycle of one cylinder of one file,
+/// One row of `cycles/2`: a measured cycle of one cylinder of one file,
 /// used or left out. SI units; the columns convert.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CycleRow<'a> {
@@ -365,6 +389,31 @@ pub struct CycleRow<'a> {
     pub peg_offset_pa: Option<f64>,
     /// The speed over this cycle (rpm): a time record's, else the run's.
     pub rpm: f64,
+    /// The cycle's combustion analysis, and the options it ran with.
+    pub combustion: Option<(&'a CycleCombustion, &'a enginedyn_combustion::Options)>,
+}
+
+impl CycleRow<'_> {
+    /// A burn point of this cycle, when it burns.
+    fn burn(&self, get: impl Fn(&BurnPoints, &enginedyn_combustion::Options) -> Option<f64>) -> Cell<'static> {
+        Cell::num(
+            self.combustion
+                .and_then(|(c, o)| c.burn.as_ref().and_then(|b| get(b, o))),
+        )
+    }
+}
+
+/// A float column of `cycles/2`'s combustion part.
+macro_rules! burn_column {
+    ($name:literal, $get:expr) => {
+        Column {
+            name: $name,
+            ty: ColumnType::Float64,
+            nullable: true,
+            group: Group::Row,
+            get: $get,
+        }
+    };
 }
 
 /// Pa to bar, in the tables.
@@ -372,7 +421,7 @@ fn bar(x: Option<f64>) -> Cell<'static> {
     Cell::num(x.map(|p| p / 1e5))
 }
 
-/// `cycles/1`, in its order.
+/// `cycles/2`, in its order.
 pub const CYCLES: &[Column<CycleGet>] = &[
     Column {
         name: "file",
@@ -444,9 +493,41 @@ pub const CYCLES: &[Column<CycleGet>] = &[
         group: Group::Row,
         get: |r| Cell::num(Some(r.rpm)),
     },
+    burn_column!("imep_gross_bar", |r| bar(
+        r.combustion.map(|(c, _)| c.imep_gross_pa)
+    )),
+    burn_column!("pmep_bar", |r| bar(
+        r.combustion
+            .and_then(|(c, _)| r.imep_pa.map(|i| i - c.imep_gross_pa))
+    )),
+    burn_column!("ca5_deg", |r| r.burn(|b, o| b.level(o, 5.0))),
+    burn_column!("ca10_deg", |r| r.burn(|b, o| b.level(o, 10.0))),
+    burn_column!("ca50_deg", |r| r.burn(|b, o| b.level(o, 50.0))),
+    burn_column!("ca90_deg", |r| r.burn(|b, o| b.level(o, 90.0))),
+    burn_column!("burn_10_90_deg", |r| r.burn(crate::combustion::duration_10_90_of)),
+    burn_column!("soc_deg", |r| r.burn(|b, _| Some(b.soc_deg))),
+    burn_column!("eoc_deg", |r| r.burn(|b, _| Some(b.eoc_deg))),
+    burn_column!("heat_released_j", |r| Cell::num(
+        r.combustion
+            .and_then(|(c, _)| c.burn.as_ref().map(|_| c.heat_released_j))
+    )),
+    burn_column!("dp_dphi_max_bar_deg", |r| r
+        .burn(|b, _| Some(b.dp_max_pa_deg / 1e5))),
+    burn_column!("dp_dphi_max_angle_deg", |r| r
+        .burn(|b, _| Some(b.dp_max_angle_deg))),
+    Column {
+        name: "combustion",
+        ty: ColumnType::Bool,
+        nullable: true,
+        group: Group::Row,
+        get: |r| match r.combustion {
+            Some((c, _)) => Cell::Bool(c.burn.is_some()),
+            None => Cell::Null,
+        },
+    },
 ];
 
-/// The rows of `cycles/1` for one file: every measured cycle of
+/// The rows of `cycles/2` for one file: every measured cycle of
 /// `resampled`, used ([`Resampled::stats`]) or left out
 /// ([`Resampled::skipped`], with the reason), by cylinder, then cycle;
 /// `run_rpm` is the speed of cycles the file does not time.
@@ -465,6 +546,10 @@ pub fn cycle_rows<'a>(file: &'a str, resampled: &'a Resampled, run_rpm: f64) -> 
             p_max_angle_deg: Some(s.p_max_angle_deg),
             peg_offset_pa: pegged.then_some(s.peg_offset),
             rpm: s.rpm.unwrap_or(run_rpm),
+            combustion: s
+                .combustion
+                .as_ref()
+                .zip(resampled.combustion.as_deref()),
         })
         .chain(resampled.skipped.iter().map(|s| CycleRow {
             file,
@@ -476,6 +561,7 @@ pub fn cycle_rows<'a>(file: &'a str, resampled: &'a Resampled, run_rpm: f64) -> 
             p_max_angle_deg: None,
             peg_offset_pa: None,
             rpm: run_rpm,
+            combustion: None,
         }))
         .collect();
     rows.sort_by_key(|r| (r.cylinder, r.cycle));
@@ -581,6 +667,24 @@ mod tests {
         });
         s.tdc_offset_estimate_deg = Some(0.3);
         s.estimated_relative_error = Some(1e-4);
+        s.combustion = Some(crate::CombustionSummary {
+            levels: [5.0, 10.0, 50.0, 90.0].map(|l| (l, Some(l / 10.0))).to_vec(),
+            burn_10_90_deg: Some(20.0),
+            soc_deg: Some(-10.0),
+            eoc_deg: Some(40.0),
+            heat_released_j: Some(600.0),
+            dp_dphi_max_bar_deg: Some(2.5),
+            dp_dphi_max_angle_deg: Some(5.0),
+            imep_gross_bar: Some(10.2),
+            pmep_bar: Some(-0.2),
+            ca50_std_deg: Some(1.0),
+            burn_10_90_std_deg: Some(0.5),
+            dp_dphi_max_std_bar_deg: Some(0.1),
+            imep_lnv: Some(0.95),
+            gamma: "1.32".into(),
+            smoothing: "Savitzky-Golay cubic, 2° (21 points), zero-phase".into(),
+            burn_window: "-90:120".into(),
+        });
         s.notes = vec!["a".into(), "b".into()];
         s
     }
@@ -622,8 +726,9 @@ mod tests {
         let at = |n: &str| names.iter().position(|x| *x == n).unwrap();
         assert_eq!(at("energy_balance_error") + 1, at("cycles"));
         assert_eq!(at("estimated_relative_error") + 1, at("pegging.method"));
+        // summary/2: the combustion columns appended after `notes`.
         assert_eq!(
-            names[names.len() - 6..],
+            names[at("notes") - 5..=at("notes")],
             [
                 "models.kinematics",
                 "models.rod_model",
@@ -632,6 +737,14 @@ mod tests {
                 "models.grid_step_deg",
                 "notes"
             ]
+        );
+        assert_eq!(
+            names[at("notes") + 1..at("notes") + 3],
+            ["models.gamma", "models.smoothing"]
+        );
+        assert_eq!(
+            names[names.len() - 2..],
+            ["dp_dphi_max_std_bar_deg", "imep_lnv"]
         );
         let ty = |n: &str| SUMMARY.iter().find(|c| c.name == n).unwrap().ty;
         assert_eq!(ty("journal_most_loaded"), ColumnType::Int32);
@@ -684,6 +797,7 @@ mod tests {
             p_max_angle_deg: 12.0,
             peg_offset: 0.0,
             rpm: None,
+            combustion: None,
         };
         r.stats = vec![stat(1, 1), stat(1, 3), stat(0, 2)];
         r.skipped = vec![enginedyn_ingest::SkippedCycle {

@@ -64,6 +64,8 @@ pub struct Summary {
     /// The mechanical efficiency η_m the effective figures carry (not a
     /// key: the labels of the readable tables show it).
     pub mechanical_efficiency: f64,
+    /// The combustion figures, when a pressure diagram was analysed for them.
+    pub combustion: Option<crate::CombustionSummary>,
     pub notes: Vec<String>,
 }
 
@@ -100,6 +102,8 @@ pub enum Value {
     Int(usize),
     /// Text.
     Text(&'static str),
+    /// Text made at run time (a model's description).
+    Str(String),
     /// A nested object, in key order.
     Map(Vec<(&'static str, Value)>),
     /// A list of strings.
@@ -157,6 +161,7 @@ impl Summary {
             tdc_offset_estimate_deg: None,
             estimated_relative_error: None,
             mechanical_efficiency: 1.0,
+            combustion: None,
             notes: Vec::new(),
         }
     }
@@ -164,9 +169,19 @@ impl Summary {
     /// Every key in INTERFACE.md's order, then the optional keys present
     /// (built from [`KEYS`]).
     pub fn fields(&self) -> Vec<(&'static str, Value)> {
-        KEYS.iter()
+        let mut f: Vec<(&'static str, Value)> = KEYS
+            .iter()
             .filter_map(|k| (k.get)(self).map(|v| (k.key, v)))
-            .collect()
+            .collect();
+        // Burn levels asked for beyond the four of KEYS: `caK_deg`.
+        if let Some(c) = &self.combustion {
+            for (pct, deg) in &c.levels {
+                if !crate::combustion::FIXED_LEVELS.contains(pct) {
+                    f.push((crate::combustion::level_key(*pct), Value::Num(*deg)));
+                }
+            }
+        }
+        f
     }
 
     /// The descriptor of `key`, if it is a summary key.
@@ -261,6 +276,13 @@ const FLY: &str = "Flywheel";
 const KIN: &str = "Kinematics";
 const FORCES: &str = "Forces (largest magnitude over the cylinders)";
 const DATA: &str = "Data and method";
+const BURN: &str = "Combustion";
+
+/// A combustion key: present when the analysis ran, null where the figure
+/// does not exist (no combustion, or a level not asked for).
+fn burn(s: &Summary, get: fn(&crate::CombustionSummary) -> Option<f64>) -> Option<Value> {
+    s.combustion.as_ref().map(|c| Value::Num(get(c)))
+}
 
 macro_rules! num {
     ($field:ident) => {
@@ -483,13 +505,19 @@ pub const KEYS: &[Key] = &[
         key: "models",
         shown: None,
         get: |s| {
-            Some(Value::Map(vec![
+            let mut m = vec![
                 ("kinematics", Value::Text(s.kinematics)),
                 ("rod_model", Value::Text(s.rod_model)),
                 ("interpolation", Value::Text(s.interpolation)),
                 ("grid_step_deg", Value::Num(Some(s.grid_step_deg))),
                 ("integration", Value::Text(s.integration)),
-            ]))
+            ];
+            if let Some(c) = &s.combustion {
+                m.push(("gamma", Value::Str(c.gamma.clone())));
+                m.push(("smoothing", Value::Str(c.smoothing.clone())));
+                m.push(("burn_window", Value::Str(c.burn_window.clone())));
+            }
+            Some(Value::Map(m))
         },
     },
     Key {
@@ -594,5 +622,85 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: |s| s.estimated_relative_error.map(|e| Value::Num(Some(e))),
+    },
+    Key {
+        key: "ca5_deg",
+        shown: shown(BURN, "CA5", "deg", 1.0, 2, Basis::None),
+        get: |s| burn(s, |c| c.level(5.0)),
+    },
+    Key {
+        key: "ca10_deg",
+        shown: shown(BURN, "CA10", "deg", 1.0, 2, Basis::None),
+        get: |s| burn(s, |c| c.level(10.0)),
+    },
+    Key {
+        key: "ca50_deg",
+        shown: shown(BURN, "CA50", "deg", 1.0, 2, Basis::None),
+        get: |s| burn(s, |c| c.level(50.0)),
+    },
+    Key {
+        key: "ca90_deg",
+        shown: shown(BURN, "CA90", "deg", 1.0, 2, Basis::None),
+        get: |s| burn(s, |c| c.level(90.0)),
+    },
+    Key {
+        key: "burn_10_90_deg",
+        shown: shown(BURN, "burn duration 10–90 %", "deg", 1.0, 2, Basis::None),
+        get: |s| burn(s, |c| c.burn_10_90_deg),
+    },
+    Key {
+        key: "soc_deg",
+        shown: shown(BURN, "start of combustion", "deg", 1.0, 2, Basis::None),
+        get: |s| burn(s, |c| c.soc_deg),
+    },
+    Key {
+        key: "eoc_deg",
+        shown: shown(BURN, "end of combustion", "deg", 1.0, 2, Basis::None),
+        get: |s| burn(s, |c| c.eoc_deg),
+    },
+    Key {
+        key: "heat_released_j",
+        shown: shown(BURN, "net heat released per cylinder", "J", 1.0, 1, Basis::None),
+        get: |s| burn(s, |c| c.heat_released_j),
+    },
+    Key {
+        key: "dp_dphi_max_bar_deg",
+        shown: shown(BURN, "max pressure rise dp/dφ", "bar/deg", 1.0, 3, Basis::None),
+        get: |s| burn(s, |c| c.dp_dphi_max_bar_deg),
+    },
+    Key {
+        key: "dp_dphi_max_angle_deg",
+        shown: shown(BURN, "max pressure rise at", "deg", 1.0, 2, Basis::None),
+        get: |s| burn(s, |c| c.dp_dphi_max_angle_deg),
+    },
+    Key {
+        key: "imep_gross_bar",
+        shown: shown(BURN, "IMEP gross (−180…180°)", "bar", 1.0, 3, Basis::None),
+        get: |s| burn(s, |c| c.imep_gross_bar),
+    },
+    Key {
+        key: "pmep_bar",
+        shown: shown(BURN, "PMEP = net − gross", "bar", 1.0, 3, Basis::None),
+        get: |s| burn(s, |c| c.pmep_bar),
+    },
+    Key {
+        key: "ca50_std_deg",
+        shown: shown(BURN, "CA50 std over cycles", "deg", 1.0, 3, Basis::None),
+        get: |s| burn(s, |c| c.ca50_std_deg),
+    },
+    Key {
+        key: "burn_10_90_std_deg",
+        shown: shown(BURN, "10–90 duration std over cycles", "deg", 1.0, 3, Basis::None),
+        get: |s| burn(s, |c| c.burn_10_90_std_deg),
+    },
+    Key {
+        key: "dp_dphi_max_std_bar_deg",
+        shown: shown(BURN, "max dp/dφ std over cycles", "bar/deg", 1.0, 3, Basis::None),
+        get: |s| burn(s, |c| c.dp_dphi_max_std_bar_deg),
+    },
+    Key {
+        key: "imep_lnv",
+        shown: shown(BURN, "IMEP LNV (lowest cycle / mean)", "", 1.0, 4, Basis::None),
+        get: |s| burn(s, |c| c.imep_lnv),
     },
 ];

@@ -267,9 +267,54 @@ fn method(d: &Bound<'_, PyDict>) -> PyResult<Method> {
         interp: named(d, "interp", o::INTERPOLANTS)?,
         integration: named(d, "integration", o::INTEGRATIONS)?,
         tolerance: get(d, "tolerance")?,
+        burn: burn(d)?,
     };
     m.check(kw).py()?;
     Ok(m)
+}
+
+/// The combustion keywords, each as a string the session's parser reads
+/// (`burn_points=[5, 50]` or `"5,50"`, `burn_window=(-90, 120)` or
+/// `"-90:120"`, `gamma=1.32` or `"brunt"`, `smooth="SG:2"` or `"off"`).
+fn burn(d: &Bound<'_, PyDict>) -> PyResult<enginedyn_session::burn::BurnMethod> {
+    use enginedyn_session::burn as b;
+    let text = |key: &str, sep: &str| -> PyResult<Option<String>> {
+        match d.get_item(key)? {
+            Some(v) if v.is_none() => Ok(None),
+            Some(v) => {
+                if let Ok(s) = v.extract::<String>() {
+                    Ok(Some(s))
+                } else if let Ok(l) = v.extract::<Vec<f64>>() {
+                    Ok(Some(l.iter().map(f64::to_string).collect::<Vec<_>>().join(sep)))
+                } else if let Ok(x) = v.extract::<f64>() {
+                    Ok(Some(x.to_string()))
+                } else {
+                    Err(UsageError::new_err(format!("{key}: give a number, a list or a string")))
+                }
+            }
+            None => Ok(None),
+        }
+    };
+    let read = |key: &str, sep: &str| -> PyResult<Option<String>> { text(key, sep) };
+    fn fail(key: &'static str) -> impl Fn(String) -> PyErr {
+        move |e| UsageError::new_err(format!("{key}={e}"))
+    }
+    Ok(b::BurnMethod {
+        levels: read("burn_points", ",")?
+            .map(|s| b::Levels::parse(&s).map_err(fail("burn_points")))
+            .transpose()?,
+        window_deg: read("burn_window", ":")?
+            .map(|s| b::parse_window(&s).map_err(fail("burn_window")))
+            .transpose()?,
+        gamma: read("gamma", "")?
+            .map(|s| b::parse_gamma(&s).map_err(fail("gamma")))
+            .transpose()?,
+        smooth: read("smooth", "")?
+            .map(|s| b::parse_smooth(&s).map_err(fail("smooth")))
+            .transpose()?,
+        intake_temp_k: get(d, "intake_temp_k")?,
+        ivc_deg: get(d, "ivc_deg")?,
+    })
 }
 
 /// Checks reader keyword arguments (raises `UsageError` naming the argument).
@@ -497,13 +542,13 @@ impl NativeBatch {
         self.summaries.clone()
     }
 
-    /// The `summary/1` table as Parquet bytes (what a part holds).
+    /// The `summary/2` table as Parquet bytes (what a part holds).
     fn summary_parquet<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
         let bytes = self.session.summary_bytes(&self.rows).py()?;
         Ok(pyo3::types::PyBytes::new(py, &bytes))
     }
 
-    /// The `cycles/1` table as Parquet bytes.
+    /// The `cycles/2` table as Parquet bytes.
     fn cycles_parquet<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
         let bytes = self.session.cycles_bytes(&self.rows).py()?;
         Ok(pyo3::types::PyBytes::new(py, &bytes))
@@ -698,7 +743,7 @@ impl Run {
         table_dict(py, enginedyn_pipeline::schema::CYCLES, &rows)
     }
 
-    /// This run as the `summary/1` table's one row, as Parquet bytes (the
+    /// This run as the `summary/2` table's one row, as Parquet bytes (the
     /// schema and metadata a campaign's parts have).
     fn summary_parquet<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
         let row = enginedyn_session::campaign::Row {

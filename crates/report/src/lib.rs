@@ -21,6 +21,7 @@ use enginedyn_pipeline::{Analysis, Summary, Value};
 use std::path::{Path, PathBuf};
 
 mod chart;
+mod combustion;
 mod firing;
 mod html;
 mod kinematics;
@@ -35,6 +36,7 @@ pub use chart::{
     Chart, Figure, RUN_CHARTS, ScatterChart, ScatterGroup, ScatterLayout, ScatterPoint, Series,
     kinematics_chart, periodic, run_figures, run_figures_with, tick_label,
 };
+pub use combustion::{combustion_figures, combustion_section};
 pub use firing::{FIRING_FILES, crank_end_view, firing_csv, firing_json, firing_table};
 pub use html::{esc, percent_encode, report_html, table as html_table};
 pub use kinematics::{KINEMATICS_FILES, kinematics_csv, kinematics_svg, kinematics_table};
@@ -207,6 +209,7 @@ pub fn summary_json(summary: &Summary, inputs: &Inputs) -> serde_json::Value {
             Value::Num(_) => serde_json::Value::Null,
             Value::Int(i) => serde_json::Value::from(*i),
             Value::Text(s) => serde_json::Value::from(*s),
+            Value::Str(s) => serde_json::Value::from(s.as_str()),
             Value::List(l) => serde_json::Value::from(l.clone()),
             Value::Map(m) => {
                 serde_json::Value::Object(m.iter().map(|(k, v)| (k.to_string(), conv(v))).collect())
@@ -437,6 +440,11 @@ pub fn curve_names(a: &Analysis) -> Vec<String> {
     if a.flywheel.is_some() {
         names.push("speed_rad_s".into());
     }
+    if a.heat_release.is_some() {
+        names.extend(
+            ["heat_release_rate_j_deg", "heat_release_j", "mfb"].map(String::from),
+        );
+    }
     names
 }
 
@@ -504,6 +512,13 @@ fn curve_row(a: &Analysis, row_index: usize, centered: bool, row: &mut Vec<Optio
             .map(|j| at(j, k))
             .chain(a.flywheel.iter().map(|fw| at(&fw.speed, k))),
     );
+    if let Some(h) = &a.heat_release {
+        row.extend([
+            at(&h.rate_j_deg, k),
+            at(&h.cumulative_j, k),
+            h.mfb.as_ref().and_then(|m| at(m, k)),
+        ]);
+    }
 }
 
 /// Grid angles are printed without binary noise (0.30000000000000004 → 0.3).
@@ -595,13 +610,20 @@ pub fn run_files_with(
         ("harmonics.csv".to_string(), harmonics_csv(a).into_bytes()),
     ];
     let mut charts = Vec::new();
-    for fig in chart::run_figures_with(engine, a, centered) {
+    for fig in chart::run_figures_with(engine, a, centered)
+        .into_iter()
+        .chain(combustion::combustion_figures(engine, a))
+    {
         charts.push((fig.file.clone(), fig.render()?));
     }
     charts.extend(extra.charts.iter().cloned());
+    let sections: Vec<(String, String)> = combustion::combustion_section(a)
+        .into_iter()
+        .chain(extra.sections.iter().cloned())
+        .collect();
     files.push((
         "report.html".to_string(),
-        html::report_html(engine, a, inputs, &extra.sections, &charts).into_bytes(),
+        html::report_html(engine, a, inputs, &sections, &charts).into_bytes(),
     ));
     for (name, svg) in charts {
         files.push((name, svg.into_bytes()));
@@ -633,6 +655,7 @@ mod tests {
                     Value::Num(_) | Value::Map(_) => String::new(),
                     Value::Int(i) => i.to_string(),
                     Value::Text(t) => csv_text(t).into_owned(),
+                    Value::Str(t) => csv_text(t).into_owned(),
                     Value::List(l) => csv_text(&l.join(" | ")).into_owned(),
                 }
             }

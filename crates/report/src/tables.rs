@@ -10,7 +10,7 @@ use enginedyn_pipeline::Summary;
 use std::fmt::Write as _;
 
 /// The key figures of a batch or sweep row, in this order.
-pub const KEY_FIGURES: [&str; 8] = [
+pub const KEY_FIGURES: [&str; 10] = [
     "rpm",
     "imep_bar",
     "mean_torque_nm",
@@ -19,6 +19,8 @@ pub const KEY_FIGURES: [&str; 8] = [
     "torque_min_nm",
     "crankpin_load_max_n",
     "required_inertia_kg_m2",
+    "ca50_deg",
+    "dp_dphi_max_bar_deg",
 ];
 
 /// The key figures of a sweep's printed table (the speed is the row).

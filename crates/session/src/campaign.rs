@@ -1,5 +1,5 @@
-//! Campaigns: a batch's rows kept for the Parquet tables (`summary/1`,
-//! `cycles/1`, `traces/1`), its parts written whole into a folder shared by
+//! Campaigns: a batch's rows kept for the Parquet tables (`summary/2`,
+//! `cycles/2`, `traces/1`), its parts written whole into a folder shared by
 //! every shard, and the merge check. `enginedyn batch --parquet`,
 //! `enginedyn merge` and the Python package's `write_parquet`,
 //! `run_shard` and `check_campaign` all come here.

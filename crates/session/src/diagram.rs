@@ -88,6 +88,7 @@ pub fn diagram_options(
         peg,
         cylinder,
         volume_law: None,
+        combustion: None,
     };
     // Built once here for every file the command reads.
     grid.share_volume_law(parse.cycle_deg);

@@ -42,6 +42,7 @@
 
 pub mod accuracy;
 pub mod batch;
+pub mod burn;
 pub mod campaign;
 pub mod diagram;
 pub mod engine;

@@ -334,6 +334,8 @@ pub struct Method {
     pub integration: Option<enginedyn_numerics::integrate::Rule>,
     /// The cheapest setting whose estimated relative error is below this.
     pub tolerance: Option<f64>,
+    /// The combustion analysis' options.
+    pub burn: crate::burn::BurnMethod,
 }
 
 impl Method {
@@ -364,6 +366,7 @@ impl Method {
             self.integration.map(|m| name_of(INTEGRATIONS, &m)).into(),
         );
         put("tolerance", self.tolerance.into());
+        self.burn.json(&mut o);
         serde_json::Value::Object(o)
     }
 
@@ -405,7 +408,7 @@ impl Method {
         if let Some(t) = self.tolerance {
             check_tolerance(t, &name("tolerance"))?;
         }
-        Ok(())
+        self.burn.check(&name)
     }
 }
 
@@ -450,6 +453,12 @@ pub const METHOD_KEYS: &[&str] = &[
     "interp",
     "integration",
     "tolerance",
+    "burn_points",
+    "burn_window",
+    "gamma",
+    "smooth",
+    "intake_temp_k",
+    "ivc_deg",
 ];
 
 /// `kinematics` by name.

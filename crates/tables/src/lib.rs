@@ -1,5 +1,5 @@
 //! A campaign's fixed, typed tables as Parquet (INTERFACE.md, "Campaigns:
-//! shards and Parquet" and "Parquet tables"): `summary/1`, `cycles/1` and
+//! shards and Parquet" and "Parquet tables"): `summary/2`, `cycles/2` and
 //! `traces/1`, built from the one definition in
 //! [`enginedyn_pipeline::schema`], each part a file
 //! `DIR/TABLE/part-IIIII-of-NNNNN.parquet` written whole or not at all; and
@@ -141,9 +141,9 @@ pub enum TablesError {
 /// One of a campaign's tables.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Table {
-    /// `summary/1`: one row per diagram file.
+    /// `summary/2`: one row per diagram file.
     Summary,
-    /// `cycles/1`: one row per file × cylinder × measured cycle.
+    /// `cycles/2`: one row per file × cylinder × measured cycle.
     Cycles,
     /// `traces/1`: one row per file × cylinder × grid angle (opt-in).
     Traces,
@@ -518,12 +518,12 @@ pub fn parquet_bytes<R: Rows>(rows: &[R], meta: &Meta) -> Result<Vec<u8>, Tables
     w.finish()
 }
 
-/// A `summary/1` part holding `rows` (in the shard's order), as bytes.
+/// A `summary/2` part holding `rows` (in the shard's order), as bytes.
 pub fn summary_parquet(rows: &[SummaryRecord<'_>], meta: &Meta) -> Result<Vec<u8>, TablesError> {
     parquet_bytes(rows, meta)
 }
 
-/// A `cycles/1` part holding `rows` (file order, then cylinder, then
+/// A `cycles/2` part holding `rows` (file order, then cylinder, then
 /// cycle: [`schema::cycle_rows`] per file), as bytes.
 pub fn cycles_parquet(rows: &[CycleRow<'_>], meta: &Meta) -> Result<Vec<u8>, TablesError> {
     parquet_bytes(rows, meta)
@@ -624,6 +624,7 @@ mod tests {
             p_max_angle_deg: None,
             peg_offset_pa: None,
             rpm: 1000.0,
+            combustion: None,
         };
         let e = cycles_parquet(&[row(1), row(40_000)], &meta).unwrap_err();
         assert_eq!(

@@ -159,9 +159,12 @@ fn summary_part_reads_back() {
     assert_eq!(ty("cycles_skipped"), DataType::Int64);
     assert_eq!(ty("pegging.method"), DataType::Utf8);
     assert_eq!(ty("models.grid_step_deg"), DataType::Float64);
-    assert_eq!(fields.last().unwrap().0, "notes");
+    // summary/2: the combustion columns after `notes`.
+    assert_eq!(fields.last().unwrap().0, "imep_lnv");
+    assert_eq!(ty("ca50_deg"), DataType::Float64);
+    assert_eq!(ty("models.gamma"), DataType::Utf8);
     // Metadata.
-    assert_eq!(kv["enginedyn.schema"], "summary/1");
+    assert_eq!(kv["enginedyn.schema"], "summary/2");
     assert_eq!(kv["enginedyn.version"], env!("CARGO_PKG_VERSION"));
     assert_eq!(kv["engine.sha256"].len(), 64);
     let options: serde_json::Value = serde_json::from_str(&kv["options"]).unwrap();
@@ -232,7 +235,7 @@ fn cycles_part_keeps_skipped_cycles() {
     );
     let rows = schema::cycle_rows(&r.file, &r.resampled, r.analysis.summary.rpm);
     let (b, kv) = read(cycles_parquet(&rows, &meta("vaz2108.toml")).unwrap());
-    assert_eq!(kv["enginedyn.schema"], "cycles/1");
+    assert_eq!(kv["enginedyn.schema"], "cycles/2");
     let schema = b.schema();
     let names: Vec<&str> = schema.fields().iter().map(|f| f.name().as_str()).collect();
     assert_eq!(
@@ -404,7 +407,7 @@ fn merge_names_a_missing_or_different_part() {
     let json: serde_json::Value = serde_json::from_slice(&std::fs::read(written).unwrap()).unwrap();
     assert_eq!(json["files"], 4);
     assert_eq!(json["failed"], 1);
-    assert_eq!(json["tables"][1], "cycles/1");
+    assert_eq!(json["tables"][1], "cycles/2");
 
     // --parts 4: part 3 is missing, and named.
     match check_campaign(d, Some(4)) {
@@ -452,7 +455,7 @@ fn merge_names_a_missing_or_different_part() {
         "{err}"
     );
     assert!(
-        err.contains("`enginedyn.schema` is `summary/1` here"),
+        err.contains("`enginedyn.schema` is `summary/2` here"),
         "{err}"
     );
     std::fs::write(&gone, &kept).unwrap();

@@ -145,7 +145,11 @@ class Method(_Options):
     """How the computation is done: ``step_deg``, ``kinematics``,
     ``rod_model``, ``interp``, ``integration``, ``tolerance`` (the CLI's
     method flags, with their bounds; a value out of bounds raises
-    ``UsageError`` naming the argument)."""
+    ``UsageError`` naming the argument), and the combustion analysis:
+    ``burn_points`` (levels in percent, e.g. ``[5, 10, 50, 90]``),
+    ``burn_window`` (``(-90, 120)`` or ``"-90:120"``), ``gamma`` (``1.32``
+    or ``"brunt"``), ``smooth`` (``"SG:2"`` or ``"off"``),
+    ``intake_temp_k`` and ``ivc_deg`` (with ``gamma="brunt"``)."""
 
     __slots__ = ()
 
@@ -157,6 +161,12 @@ class Method(_Options):
         interp: Optional[str] = None,
         integration: Optional[str] = None,
         tolerance: Optional[float] = None,
+        burn_points: Optional[Union[Sequence[float], str]] = None,
+        burn_window: Optional[Union[Sequence[float], str]] = None,
+        gamma: Optional[Union[float, str]] = None,
+        smooth: Optional[str] = None,
+        intake_temp_k: Optional[float] = None,
+        ivc_deg: Optional[float] = None,
     ) -> None:
         super().__init__(
             step_deg=step_deg,
@@ -165,6 +175,12 @@ class Method(_Options):
             interp=interp,
             integration=integration,
             tolerance=tolerance,
+            burn_points=burn_points if burn_points is None or isinstance(burn_points, str) else list(burn_points),
+            burn_window=burn_window if burn_window is None or isinstance(burn_window, str) else list(burn_window),
+            gamma=gamma,
+            smooth=smooth,
+            intake_temp_k=intake_temp_k,
+            ivc_deg=ivc_deg,
         )
 
 
@@ -226,7 +242,7 @@ class Result:
 
     @property
     def cycles(self) -> Dict[str, Any]:
-        """The ``cycles/1`` table's columns for this run: every measured
+        """The ``cycles/2`` table's columns for this run: every measured
         cycle, used or left out (``used``, ``skip_reason``), its IMEP, peak
         and speed (NumPy arrays; NaN where the table holds null)."""
         return dict(self._native.cycles())
@@ -254,16 +270,16 @@ class Result:
         return list(self._native.files(centered))
 
     def to_arrow(self) -> Any:
-        """This run as the ``summary/1`` table's one row (``pyarrow.Table``):
+        """This run as the ``summary/2`` table's one row (``pyarrow.Table``):
         the columns, types and metadata of a campaign's parts."""
         return _read_parquet(self._native.summary_parquet())
 
     def to_pandas(self) -> Any:
-        """This run as a one-row pandas DataFrame (the ``summary/1`` columns)."""
+        """This run as a one-row pandas DataFrame (the ``summary/2`` columns)."""
         return self.to_arrow().to_pandas()
 
     def to_polars(self) -> Any:
-        """This run as a one-row polars DataFrame (the ``summary/1`` columns)."""
+        """This run as a one-row polars DataFrame (the ``summary/2`` columns)."""
         import polars as pl
 
         return pl.read_parquet(io_module.BytesIO(self._native.summary_parquet()))
@@ -363,7 +379,7 @@ class Torsion:
 
 class Batch:
     """Many files: one row per file; a failed file is a row with ``error``.
-    Its tables are the campaign's (``summary/1``, ``cycles/1``): the same
+    Its tables are the campaign's (``summary/2``, ``cycles/2``): the same
     columns, types and metadata ``enginedyn batch --parquet`` writes."""
 
     __slots__ = ("_native",)
@@ -387,19 +403,19 @@ class Batch:
         return [None if t is None else json.loads(t) for t in self._native.summaries()]
 
     def to_arrow(self) -> Any:
-        """The ``summary/1`` table as a ``pyarrow.Table`` (one row per file)."""
+        """The ``summary/2`` table as a ``pyarrow.Table`` (one row per file)."""
         return _read_parquet(self._native.summary_parquet())
 
     def cycles_arrow(self) -> Any:
-        """The ``cycles/1`` table as a ``pyarrow.Table``."""
+        """The ``cycles/2`` table as a ``pyarrow.Table``."""
         return _read_parquet(self._native.cycles_parquet())
 
     def to_pandas(self) -> Any:
-        """The ``summary/1`` table as a pandas DataFrame."""
+        """The ``summary/2`` table as a pandas DataFrame."""
         return self.to_arrow().to_pandas()
 
     def to_polars(self) -> Any:
-        """The ``summary/1`` table as a polars DataFrame."""
+        """The ``summary/2`` table as a polars DataFrame."""
         import polars as pl
 
         return pl.read_parquet(io_module.BytesIO(self._native.summary_parquet()))

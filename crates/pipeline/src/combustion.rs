@@ -1,0 +1,232 @@
+//! The combustion figures of one operating point: the mean trace's burn
+//! points, heat released and pressure rise, the gross IMEP and PMEP, and
+//! their spread over the measured cycles (INTERFACE.md "Combustion"). The
+//! laws are `enginedyn_combustion`'s; each cycle was analysed as it was
+//! read (`enginedyn_ingest::CycleCombustion`), the mean trace is analysed
+//! here.
+
+use enginedyn_combustion::{Curves, CycleGrid, Options};
+use enginedyn_ingest::{CycleCombustion, Resampled, mean_std};
+use enginedyn_numerics::format::sig;
+
+/// The burn levels that have keys of their own in [`crate::KEYS`].
+pub const FIXED_LEVELS: [f64; 4] = [5.0, 10.0, 50.0, 90.0];
+
+/// The summary key of a burn level beyond [`FIXED_LEVELS`] (`ca25_deg`):
+/// levels are whole percentages 1–99, each name made once.
+pub fn level_key(pct: f64) -> &'static str {
+    static NAMES: std::sync::OnceLock<Vec<&'static str>> = std::sync::OnceLock::new();
+    let names = NAMES.get_or_init(|| {
+        (0..100)
+            .map(|k| &*Box::leak(format!("ca{k}_deg").into_boxed_str()))
+            .collect()
+    });
+    names[(pct.round() as usize).min(99)]
+}
+
+/// The combustion keys of `summary.json` (SI inside: bar and degrees only
+/// where the key says so).
+#[derive(Debug, Clone, PartialEq, Default)]
+#[allow(missing_docs)] // each field is the summary.json key of the same name (INTERFACE.md)
+pub struct CombustionSummary {
+    /// `(level %, its angle)` for every level asked for.
+    pub levels: Vec<(f64, Option<f64>)>,
+    pub burn_10_90_deg: Option<f64>,
+    pub soc_deg: Option<f64>,
+    pub eoc_deg: Option<f64>,
+    pub heat_released_j: Option<f64>,
+    pub dp_dphi_max_bar_deg: Option<f64>,
+    pub dp_dphi_max_angle_deg: Option<f64>,
+    pub imep_gross_bar: Option<f64>,
+    pub pmep_bar: Option<f64>,
+    pub ca50_std_deg: Option<f64>,
+    pub burn_10_90_std_deg: Option<f64>,
+    pub dp_dphi_max_std_bar_deg: Option<f64>,
+    pub imep_lnv: Option<f64>,
+    /// `models.gamma`.
+    pub gamma: String,
+    /// `models.smoothing`.
+    pub smoothing: String,
+    /// `models.burn_window`.
+    pub burn_window: String,
+}
+
+impl CombustionSummary {
+    /// The angle of level `pct`, when asked for and found.
+    pub fn level(&self, pct: f64) -> Option<f64> {
+        self.levels
+            .iter()
+            .find(|(l, _)| (l - pct).abs() < 1e-9)
+            .and_then(|(_, a)| *a)
+    }
+}
+
+/// The 10–90 duration of a cycle's burn points, when both levels were
+/// asked for.
+pub fn duration_10_90(opts: &Options, b: &enginedyn_combustion::BurnPoints) -> Option<f64> {
+    Some(b.level(opts, 90.0)? - b.level(opts, 10.0)?)
+}
+
+/// [`duration_10_90`] in the argument order of the cycles table's getters.
+pub(crate) fn duration_10_90_of(
+    b: &enginedyn_combustion::BurnPoints,
+    opts: &Options,
+) -> Option<f64> {
+    duration_10_90(opts, b)
+}
+
+/// The mean trace's analysis with its curves, the summary, and the notes.
+pub(crate) struct Found {
+    pub summary: CombustionSummary,
+    pub curves: Curves,
+    pub notes: Vec<String>,
+    /// `(cylinder, cycle, IMEP bar, CA50 deg)` of each used cycle that burns.
+    pub scatter: Vec<(i64, i64, f64, f64)>,
+}
+
+/// Analyses the mean trace `trace` (cylinder 1's) and gathers the cycles'
+/// figures. `traces` are every cylinder's means (the gross IMEP is their
+/// mean, as `imep_bar` is), `imep_pa` the run's net IMEP.
+pub(crate) fn analyse(
+    pressure: &Resampled,
+    traces: &[&[f64]],
+    volume: &[f64],
+    dvolume: &[f64],
+    swept: f64,
+    imep_pa: Option<f64>,
+) -> Option<Found> {
+    let opts = pressure.combustion.as_deref()?;
+    let grid = |p| CycleGrid {
+        pressure: p,
+        volume,
+        dvolume,
+        step_deg: pressure.step_deg,
+    };
+    let mean = enginedyn_combustion::analyse(&grid(traces[0]), opts).ok()?;
+    let curves = enginedyn_combustion::curves(&grid(traces[0]), opts, &mean).ok()?;
+    let gross = traces
+        .iter()
+        .map(|p| enginedyn_combustion::gross_work(&grid(p)))
+        .sum::<f64>()
+        / traces.len() as f64
+        / swept;
+    let mut notes = Vec::new();
+    let b = mean.burn.as_ref();
+    if b.is_none() {
+        notes.push(format!(
+            "no combustion in the mean trace: heat released {} J, under the bound of {} J (5 % of p_max V/(γ−1)): the burn keys are null",
+            sig(mean.heat_released_j, 3),
+            sig(mean.bound_j, 3)
+        ));
+    }
+    notes.extend(cycle_note(pressure));
+    let step = pressure.step_deg;
+    let mut s = CombustionSummary {
+        levels: opts
+            .levels_pct
+            .iter()
+            .enumerate()
+            .map(|(i, l)| (*l, b.map(|b| b.levels_deg[i])))
+            .collect(),
+        burn_10_90_deg: b.and_then(|b| duration_10_90(opts, b)),
+        soc_deg: b.map(|b| b.soc_deg),
+        eoc_deg: b.map(|b| b.eoc_deg),
+        heat_released_j: b.map(|_| mean.heat_released_j),
+        dp_dphi_max_bar_deg: b.map(|b| b.dp_max_pa_deg / 1e5),
+        dp_dphi_max_angle_deg: b.map(|b| b.dp_max_angle_deg),
+        imep_gross_bar: Some(gross / 1e5),
+        pmep_bar: imep_pa.map(|i| (i - gross) / 1e5),
+        gamma: opts.gamma.describe(),
+        smoothing: opts.smoothing.describe(step),
+        burn_window: format!("{}:{}", opts.window_deg.0, opts.window_deg.1),
+        ..CombustionSummary::default()
+    };
+    spread(pressure, opts, &mut s);
+    let scatter = pressure
+        .stats
+        .iter()
+        .filter_map(|c| {
+            let b = c.combustion.as_ref()?.burn.as_ref()?;
+            Some((c.cylinder, c.cycle, c.imep_pa? / 1e5, b.level(opts, 50.0)?))
+        })
+        .collect();
+    Some(Found {
+        summary: s,
+        curves,
+        notes,
+        scatter,
+    })
+}
+
+/// The spread over the used cycles that burn: CA50, the 10–90 duration and
+/// the pressure rise (standard deviations), and the IMEP's LNV.
+fn spread(pressure: &Resampled, opts: &Options, s: &mut CombustionSummary) {
+    let burns: Vec<&enginedyn_combustion::BurnPoints> = pressure
+        .stats
+        .iter()
+        .filter_map(|c| c.combustion.as_ref()?.burn.as_ref())
+        .collect();
+    if burns.len() >= 2 {
+        let std = |v: Vec<f64>| (v.len() >= 2).then(|| mean_std(v.iter().copied()).1);
+        s.ca50_std_deg = std(burns.iter().filter_map(|b| b.level(opts, 50.0)).collect());
+        s.burn_10_90_std_deg = std(burns.iter().filter_map(|b| duration_10_90(opts, b)).collect());
+        s.dp_dphi_max_std_bar_deg = std(burns.iter().map(|b| b.dp_max_pa_deg / 1e5).collect());
+    }
+    let imeps: Vec<f64> = pressure.stats.iter().filter_map(|c| c.imep_pa).collect();
+    if imeps.len() >= 2 {
+        let mean = imeps.iter().sum::<f64>() / imeps.len() as f64;
+        let low = imeps.iter().copied().fold(f64::INFINITY, f64::min);
+        if mean > 0.0 {
+            s.imep_lnv = Some(low / mean);
+        }
+    }
+}
+
+/// One note on the measured cycles without combustion, naming them (up to
+/// eight) with the largest heat released among them.
+fn cycle_note(pressure: &Resampled) -> Option<String> {
+    let none: Vec<(i64, i64, &CycleCombustion)> = pressure
+        .stats
+        .iter()
+        .filter_map(|c| {
+            let b = c.combustion.as_ref()?;
+            b.burn.is_none().then_some((c.cylinder, c.cycle, b))
+        })
+        .collect();
+    if none.is_empty() || pressure.stats.len() < 2 {
+        return None;
+    }
+    let name = |(cyl, cycle, _): &(i64, i64, &CycleCombustion)| {
+        if *cyl > 0 {
+            format!("{cycle} of cylinder {cyl}")
+        } else {
+            cycle.to_string()
+        }
+    };
+    let (most, bound) = none.iter().fold((f64::NEG_INFINITY, 0.0), |(m, b), c| {
+        if c.2.heat_released_j > m {
+            (c.2.heat_released_j, c.2.bound_j)
+        } else {
+            (m, b)
+        }
+    });
+    let listed: Vec<String> = none.iter().take(8).map(name).collect();
+    Some(if none.len() == 1 {
+        format!(
+            "no combustion in cycle {}: heat released {} J, under the bound of {} J; its burn points are null",
+            listed[0],
+            sig(most, 3),
+            sig(bound, 3)
+        )
+    } else {
+        format!(
+            "no combustion in {} of {} cycles ({}{}): heat released {} J at most, under the bound of {} J; their burn points are null",
+            none.len(),
+            pressure.stats.len(),
+            listed.join(", "),
+            if none.len() > 8 { ", …" } else { "" },
+            sig(most, 3),
+            sig(bound, 3)
+        )
+    })
+}

@@ -1,0 +1,242 @@
+//! The combustion analysis' options (INTERFACE.md "Combustion"): the burn
+//! levels, the window, the γ model, the smoothing and the IVC state, as
+//! both front ends give them (`--burn-points 5,10,50,90`, `--burn-window
+//! -90:120`, `--gamma 1.32|brunt`, `--smooth SG:2|off`, `--intake-temp-k`,
+//! `--ivc-deg`; Python's keywords of the same names). Parsed and checked
+//! here once, defaults from `enginedyn_combustion`.
+
+use crate::error::{Error, Result};
+use enginedyn_combustion::{
+    DEFAULT_INTAKE_TEMP_K, DEFAULT_IVC_DEG, DEFAULT_LEVELS, DEFAULT_WINDOW, GammaModel, Options,
+};
+use enginedyn_ingest::read_number;
+
+pub use enginedyn_combustion::Smoothing;
+
+/// Most burn levels one run reports.
+pub const MAX_LEVELS: usize = 16;
+
+/// The γ asked for: a constant, or Brunt's γ(T).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Gamma {
+    /// One γ throughout.
+    Constant(f64),
+    /// Brunt's γ(T) from the IVC state.
+    Brunt,
+}
+
+/// Burn levels (percent), rising, at most [`MAX_LEVELS`]: a fixed array so
+/// the method options stay `Copy`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Levels {
+    pct: [f64; MAX_LEVELS],
+    len: usize,
+}
+
+impl Levels {
+    /// The levels as a slice.
+    pub fn as_slice(&self) -> &[f64] {
+        &self.pct[..self.len]
+    }
+
+    /// Levels from a list (sorted, duplicates dropped), each 1–99 %.
+    pub fn new(v: &[f64]) -> std::result::Result<Self, String> {
+        let mut v: Vec<f64> = v.to_vec();
+        v.sort_by(f64::total_cmp);
+        v.dedup();
+        if v.is_empty() || v.len() > MAX_LEVELS {
+            return Err(format!("{} levels: give 1 to {MAX_LEVELS}", v.len()));
+        }
+        if let Some(bad) = v.iter().find(|l| !(1.0..=99.0).contains(*l)) {
+            return Err(format!("{bad} is outside 1 to 99 (percent burnt)"));
+        }
+        if let Some(bad) = v.iter().find(|l| l.fract() != 0.0) {
+            return Err(format!("{bad}: give whole percentages (the key is caK_deg)"));
+        }
+        let mut pct = [0.0; MAX_LEVELS];
+        pct[..v.len()].copy_from_slice(&v);
+        Ok(Self { pct, len: v.len() })
+    }
+
+    /// `5,10,50,90` (commas or spaces between levels).
+    pub fn parse(s: &str) -> std::result::Result<Self, String> {
+        let v: std::result::Result<Vec<f64>, String> = s
+            .split([',', ' ', ';'])
+            .filter(|t| !t.trim().is_empty())
+            .map(|t| read_number(t.trim(), false).map_err(|e| format!("`{t}` {e}")))
+            .collect();
+        Self::new(&v?)
+    }
+}
+
+/// The combustion analysis' options as given (`None`: the default).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct BurnMethod {
+    /// `--burn-points`.
+    pub levels: Option<Levels>,
+    /// `--burn-window A:B` (deg).
+    pub window_deg: Option<(f64, f64)>,
+    /// `--gamma`.
+    pub gamma: Option<Gamma>,
+    /// `--smooth`.
+    pub smooth: Option<Smoothing>,
+    /// `--intake-temp-k` (γ(T) only).
+    pub intake_temp_k: Option<f64>,
+    /// `--ivc-deg` (γ(T) only).
+    pub ivc_deg: Option<f64>,
+}
+
+/// `A:B` in degrees.
+pub fn parse_window(s: &str) -> std::result::Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(':')
+        .ok_or_else(|| format!("`{s}`: give the window as A:B in degrees, e.g. -90:120"))?;
+    let a = read_number(a.trim(), false).map_err(|e| format!("`{a}` {e}"))?;
+    let b = read_number(b.trim(), false).map_err(|e| format!("`{b}` {e}"))?;
+    Ok((a, b))
+}
+
+/// `1.32` or `brunt`.
+pub fn parse_gamma(s: &str) -> std::result::Result<Gamma, String> {
+    if s.trim().eq_ignore_ascii_case("brunt") {
+        return Ok(Gamma::Brunt);
+    }
+    read_number(s.trim(), false)
+        .map(Gamma::Constant)
+        .map_err(|e| format!("`{s}` {e}: give a number such as 1.32, or brunt"))
+}
+
+/// `SG:DEG` (Savitzky–Golay over DEG degrees) or `off`.
+pub fn parse_smooth(s: &str) -> std::result::Result<Smoothing, String> {
+    let t = s.trim();
+    if t.eq_ignore_ascii_case("off") {
+        return Ok(Smoothing::Off);
+    }
+    let w = t
+        .strip_prefix("SG:")
+        .or_else(|| t.strip_prefix("sg:"))
+        .ok_or_else(|| format!("`{s}`: give SG:DEG (e.g. SG:2) or off"))?;
+    read_number(w.trim(), false)
+        .map(|width_deg| Smoothing::SavitzkyGolay { width_deg })
+        .map_err(|e| format!("`{w}` {e}"))
+}
+
+impl BurnMethod {
+    /// The analysis' options, defaults where none is given.
+    pub fn options(&self) -> Options {
+        let gamma = match self.gamma {
+            Some(Gamma::Constant(g)) => GammaModel::Constant(g),
+            Some(Gamma::Brunt) => GammaModel::Brunt {
+                ivc_deg: self.ivc_deg.unwrap_or(DEFAULT_IVC_DEG),
+                intake_temp_k: self.intake_temp_k.unwrap_or(DEFAULT_INTAKE_TEMP_K),
+            },
+            None => GammaModel::default(),
+        };
+        Options {
+            gamma,
+            smoothing: self.smooth.unwrap_or_default(),
+            window_deg: self.window_deg.unwrap_or(DEFAULT_WINDOW),
+            levels_pct: self
+                .levels
+                .map_or(DEFAULT_LEVELS.to_vec(), |l| l.as_slice().to_vec()),
+        }
+    }
+
+    /// Every bound checked; `name` gives an option's name as the front end
+    /// says it (`--gamma` or `gamma=`).
+    pub fn check(&self, name: impl Fn(&str) -> String) -> Result<()> {
+        if (self.intake_temp_k.is_some() || self.ivc_deg.is_some())
+            && self.gamma != Some(Gamma::Brunt)
+        {
+            return Err(Error::usage(format!(
+                "{} and {} set the state for γ(T): give them with {} brunt",
+                name("intake_temp_k"),
+                name("ivc_deg"),
+                name("gamma")
+            )));
+        }
+        self.options().check().map_err(|e| {
+            let key = match &e {
+                enginedyn_combustion::CombustionError::Range { name: n, .. } => match *n {
+                    "gamma" => "gamma",
+                    "ivc_deg" => "ivc_deg",
+                    "intake_temp_k" => "intake_temp_k",
+                    "smooth" => "smooth",
+                    "burn window start" | "burn window end" => "burn_window",
+                    _ => "burn_points",
+                },
+                _ => "burn_points",
+            };
+            Error::usage(format!("{}: {e}", name(key)))
+        })
+    }
+
+    /// The options given, by their names (a campaign's `options`).
+    pub fn json(&self, o: &mut serde_json::Map<String, serde_json::Value>) {
+        if let Some(l) = self.levels {
+            o.insert("burn_points".into(), l.as_slice().to_vec().into());
+        }
+        if let Some((a, b)) = self.window_deg {
+            o.insert("burn_window".into(), vec![a, b].into());
+        }
+        match self.gamma {
+            Some(Gamma::Constant(g)) => {
+                o.insert("gamma".into(), g.into());
+            }
+            Some(Gamma::Brunt) => {
+                o.insert("gamma".into(), "brunt".into());
+            }
+            None => {}
+        }
+        match self.smooth {
+            Some(Smoothing::Off) => {
+                o.insert("smooth".into(), "off".into());
+            }
+            Some(Smoothing::SavitzkyGolay { width_deg }) => {
+                o.insert("smooth".into(), format!("SG:{width_deg}").into());
+            }
+            None => {}
+        }
+        if let Some(t) = self.intake_temp_k {
+            o.insert("intake_temp_k".into(), t.into());
+        }
+        if let Some(a) = self.ivc_deg {
+            o.insert("ivc_deg".into(), a.into());
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flags_read() {
+        assert_eq!(Levels::parse("90, 5,50,10,50").unwrap().as_slice(), &[5.0, 10.0, 50.0, 90.0]);
+        assert!(Levels::parse("0,50").is_err());
+        assert_eq!(parse_window("-90:120").unwrap(), (-90.0, 120.0));
+        assert!(parse_window("-90").is_err());
+        assert_eq!(parse_gamma("Brunt").unwrap(), Gamma::Brunt);
+        assert_eq!(parse_gamma("1.3").unwrap(), Gamma::Constant(1.3));
+        assert_eq!(parse_smooth("off").unwrap(), Smoothing::Off);
+        assert_eq!(
+            parse_smooth("SG:3").unwrap(),
+            Smoothing::SavitzkyGolay { width_deg: 3.0 }
+        );
+    }
+
+    #[test]
+    fn bounds_name_the_option() {
+        let m = BurnMethod {
+            gamma: Some(Gamma::Constant(2.5)),
+            ..BurnMethod::default()
+        };
+        let e = m.check(|k| format!("--{}", k.replace('_', "-"))).unwrap_err();
+        assert!(e.to_string().contains("--gamma"), "{e}");
+        let m = BurnMethod {
+            ivc_deg: Some(-150.0),
+            ..BurnMethod::default()
+        };
+        assert!(m.check(|k| k.to_string()).is_err());
+    }
+}
