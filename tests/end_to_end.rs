@@ -608,7 +608,7 @@ fn batch_rows_in_input_order() {
     // error spans the figures' columns.
     let rpm: f64 = lines[1].split(',').nth(2).unwrap().parse().unwrap();
     assert!(index.contains(&format!("<td>{g}</td><td class=\"v\">{rpm:.0}</td>")));
-    assert!(index.contains("<th>speed (rpm)</th>") && index.contains("colspan=\"9\""));
+    assert!(index.contains("<th>speed (rpm)</th>") && index.contains("colspan=\"11\""));
     let out = run(&[
         "batch",
         "--engine",

@@ -8,8 +8,14 @@ pub mod fuzz;
 
 use std::path::PathBuf;
 
-/// Path of the `enginedyn` binary of this build profile, built on demand.
+/// Path of the `enginedyn` binary of this build profile, built on demand;
+/// or `ENGINEDYN_BIN`, a binary already built from these sources (CI runs
+/// the end-to-end tests against the one release build it also runs and
+/// ships, so the tests never build a second CLI).
 pub fn binary() -> PathBuf {
+    if let Some(bin) = std::env::var_os("ENGINEDYN_BIN") {
+        return PathBuf::from(bin);
+    }
     let exe = std::env::current_exe().expect("test executable path");
     // target/<profile>/deps/end_to_end-xxxx → target/<profile>/enginedyn
     let dir = exe

@@ -204,12 +204,15 @@ pub struct BurnArgs {
     /// Smoothing before dp/dφ and the SOC/EOC search: Savitzky-Golay cubic over DEG, or off [default: SG:2].
     #[arg(long, value_name = "SG:DEG|off", value_parser = enginedyn_session::burn::parse_smooth)]
     pub smooth: Option<enginedyn_session::burn::Smoothing>,
-    /// With --gamma brunt: charge temperature at intake valve closing (K) [default: 320].
-    #[arg(long, value_name = "K")]
+    /// With --gamma brunt: charge temperature at intake valve closing (K, 200 to 1000) [default: 320].
+    #[arg(long, value_name = "K", requires = "gamma", value_parser = enginedyn_session::burn::parse_intake_temp_k)]
     pub intake_temp_k: Option<f64>,
-    /// With --gamma brunt: intake valve closing (deg from firing TDC) [default: -140].
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    /// With --gamma brunt: intake valve closing (deg from firing TDC, -270 to 0) [default: -140].
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, requires = "gamma", value_parser = enginedyn_session::burn::parse_ivc_deg)]
     pub ivc_deg: Option<f64>,
+    /// No combustion analysis (benches: what it costs).
+    #[arg(long, hide = true)]
+    pub no_burn: bool,
 }
 
 impl BurnArgs {
@@ -222,6 +225,7 @@ impl BurnArgs {
             smooth: self.smooth,
             intake_temp_k: self.intake_temp_k,
             ivc_deg: self.ivc_deg,
+            off: self.no_burn,
         }
     }
 }

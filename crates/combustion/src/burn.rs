@@ -84,8 +84,22 @@ impl CycleGrid<'_> {
     fn cycle_deg(&self) -> f64 {
         self.pressure.len() as f64 * self.step_deg
     }
+    #[inline]
     fn at(&self, v: &[f64], k: i64) -> f64 {
-        v[k.rem_euclid(self.n()) as usize]
+        v[wrap(k, self.n())]
+    }
+}
+
+/// `k` wrapped into `0..n` (a compare, not a division, for the indices
+/// within a cycle of the grid that the analysis uses).
+#[inline]
+fn wrap(k: i64, n: i64) -> usize {
+    if k < 0 {
+        (if k >= -n { k + n } else { k.rem_euclid(n) }) as usize
+    } else if k >= n {
+        (if k < 2 * n { k - n } else { k.rem_euclid(n) }) as usize
+    } else {
+        k as usize
     }
 }
 
@@ -137,11 +151,8 @@ struct Window<'a> {
     i0: i64,
     /// `pV` at IVC (γ(T) only).
     ivc: f64,
-    /// The energy term at the window's start (subtracted: Q starts at 0).
-    e0: f64,
-    /// `∫ p dV` from the window's start (J), trapezoidal.
-    w: Vec<f64>,
-    /// The cumulative heat release from the pressure as read (J).
+    /// The cumulative heat release from the pressure as read (J); the
+    /// work `∫ p dV` from the window's start is `q − E(pV) + e0`.
     q: Vec<f64>,
     /// The largest pressure in the window and its index.
     peak: (f64, usize),
@@ -152,8 +163,12 @@ impl Window<'_> {
     /// pressure (J).
     fn smoothed(&self, j: usize) -> f64 {
         let k = self.i0 + j as i64;
+        let v = self.g.at(self.g.volume, k);
+        let raw = self
+            .gamma
+            .energy(self.g.at(self.g.pressure, k) * v, self.ivc);
         let ps = self.f.value(self.g.pressure, k);
-        self.w[j] + self.gamma.energy(ps * self.g.at(self.g.volume, k), self.ivc) - self.e0
+        self.q[j] - raw + self.gamma.energy(ps * v, self.ivc)
     }
 
     /// The index in `lo..=hi` where the smoothed cumulative is largest
@@ -172,7 +187,10 @@ impl Window<'_> {
 
 /// The index range `[i0, i1]` of grid points inside `window_deg`.
 fn window_indices(step: f64, (a, b): (f64, f64)) -> (i64, i64) {
-    ((a / step - 1e-9).ceil() as i64, (b / step + 1e-9).floor() as i64)
+    (
+        (a / step - 1e-9).ceil() as i64,
+        (b / step + 1e-9).floor() as i64,
+    )
 }
 
 /// `pV` at intake valve closing, for γ(T) (1 for a constant γ: unused).
@@ -209,31 +227,40 @@ fn cumulative<'a>(
     let ivc = pv_ivc(g, opts, f);
     let half_h = 0.5 * g.step_deg.to_radians();
     let len = (i1 - i0 + 1) as usize;
-    let mut w = Vec::with_capacity(len);
     let mut q = Vec::with_capacity(len);
     let gamma = opts.gamma;
     let e0 = gamma.energy(g.at(g.pressure, i0) * g.at(g.volume, i0), ivc);
-    let (mut work, mut prev, mut peak) = (0.0, g.at(g.pressure, i0) * g.at(g.dvolume, i0), (f64::NEG_INFINITY, 0));
-    // The window in at most two contiguous pieces of the periodic grid.
+    let mut work = 0.0;
+    let mut prev = g.at(g.pressure, i0) * g.at(g.dvolume, i0);
+    let mut peak = (f64::NEG_INFINITY, 0);
+    // The window in at most two contiguous pieces of the periodic grid; a
+    // constant γ takes the product form (no call, no division).
     let n = g.n();
-    let mut j = 0;
+    let inv = match gamma {
+        GammaModel::Constant(c) => Some(1.0 / (c - 1.0)),
+        GammaModel::Brunt { .. } => None,
+    };
     let mut k = i0;
     while k <= i1 {
-        let start = k.rem_euclid(n) as usize;
+        let start = wrap(k, n);
         let end = (start + (i1 - k + 1) as usize).min(n as usize);
-        let (p, v, dv) = (&g.pressure[start..end], &g.volume[start..end], &g.dvolume[start..end]);
+        let (p, v, dv) = (
+            &g.pressure[start..end],
+            &g.volume[start..end],
+            &g.dvolume[start..end],
+        );
         for t in 0..p.len() {
             let pdv = p[t] * dv[t];
-            if j > 0 {
-                work += half_h * (prev + pdv);
-            }
+            work += half_h * (prev + pdv);
             prev = pdv;
             if p[t] > peak.0 {
-                peak = (p[t], j);
+                peak = (p[t], q.len());
             }
-            w.push(work);
-            q.push(work + gamma.energy(p[t] * v[t], ivc) - e0);
-            j += 1;
+            let e = match inv {
+                Some(c) => p[t] * v[t] * c,
+                None => gamma.energy(p[t] * v[t], ivc),
+            };
+            q.push(work + e - e0);
         }
         k += (end - start) as i64;
     }
@@ -243,25 +270,30 @@ fn cumulative<'a>(
         gamma,
         i0,
         ivc,
-        e0,
-        w,
         q,
         peak,
     })
 }
 
-/// The first angle after `soc` where the smoothed cumulative reaches
-/// `target`, linearly interpolated between grid points; the crossing is
-/// found on the cumulative as read, then taken on the smoothed one.
-fn crossing(win: &Window, soc: usize, eoc: usize, target: f64) -> f64 {
-    let mut j = (soc + 1..=eoc).find(|&j| win.q[j] >= target).unwrap_or(eoc);
+/// The first angle after `from` (SOC, or the crossing of the level below)
+/// where the smoothed cumulative reaches `target`, linearly interpolated
+/// between grid points, and its index; the crossing is found on the
+/// cumulative as read, then taken on the smoothed one.
+fn crossing(win: &Window, soc: usize, from: usize, eoc: usize, target: f64) -> (f64, usize) {
+    let mut j = (from.max(soc + 1)..=eoc)
+        .find(|&j| win.q[j] >= target)
+        .unwrap_or(eoc);
     // The smoothed curve may cross a little earlier: step back while it has.
     while j > soc + 1 && win.smoothed(j - 1) >= target {
         j -= 1;
     }
     let (a, b) = (win.smoothed(j - 1), win.smoothed(j));
-    let t = if b > a { ((target - a) / (b - a)).clamp(0.0, 1.0) } else { 1.0 };
-    (win.i0 as f64 + (j - 1) as f64 + t) * win.g.step_deg
+    let t = if b > a {
+        ((target - a) / (b - a)).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
+    ((win.i0 as f64 + (j - 1) as f64 + t) * win.g.step_deg, j)
 }
 
 /// Analyses one cycle (checked options: [`Options::check`]).
@@ -283,7 +315,7 @@ pub fn analyse_with(
     // cumulative has its extreme within a filter's width of them.
     let eoc0 = arg_max(&win.q);
     let soc0 = arg_min(&win.q[..=eoc0]);
-    let r = 2 * f.half_points().max(1);
+    let r = f.half_points().max(1);
     let (eoc, q_eoc) = win.extreme(eoc0.saturating_sub(r), (eoc0 + r).min(last), true);
     let (soc, q_soc) = win.extreme(soc0.saturating_sub(r), (soc0 + r).min(eoc), false);
     let released = q_eoc - q_soc;
@@ -299,10 +331,16 @@ pub fn analyse_with(
     if !(released >= bound) || eoc <= soc {
         return Ok(out);
     }
+    // Levels rise, so each search starts where the one below it crossed.
+    let mut from = soc + 1;
     let levels_deg = opts
         .levels_pct
         .iter()
-        .map(|l| crossing(&win, soc, eoc, q_soc + l / 100.0 * released))
+        .map(|l| {
+            let (deg, j) = crossing(&win, soc, from, eoc, q_soc + l / 100.0 * released);
+            from = j.saturating_sub(win.f.half_points() + 1).max(soc + 1);
+            deg
+        })
         .collect();
     let (dp_max, dp_at) = pressure_rise(&win, soc, eoc);
     out.burn = Some(BurnPoints {
@@ -323,8 +361,11 @@ fn pressure_rise(win: &Window, soc: usize, eoc: usize) -> (f64, f64) {
     let g = win.g;
     let m = win.f.half_points().max(1) as i64;
     let at = |j: usize| win.i0 + j as i64;
+    // The difference across the filter's width, every half width: a rise
+    // narrower than that is one the filter does not keep either.
+    let stride = (m as usize / 2).max(1);
     let (mut best, mut arg) = (f64::NEG_INFINITY, soc);
-    for j in soc..=eoc {
+    for j in (soc..=eoc).step_by(stride) {
         let d = g.at(g.pressure, at(j) + m) - g.at(g.pressure, at(j) - m);
         if d > best {
             best = d;
@@ -332,8 +373,8 @@ fn pressure_rise(win: &Window, soc: usize, eoc: usize) -> (f64, f64) {
         }
     }
     let slope = |j: usize| win.f.slope(g.pressure, at(j));
-    let lo = arg.saturating_sub(m as usize).max(soc);
-    let hi = (arg + m as usize).min(eoc);
+    let lo = arg.saturating_sub(m as usize + stride).max(soc);
+    let hi = (arg + m as usize + stride).min(eoc);
     let (mut top, mut j_top) = (slope(lo), lo);
     for j in lo + 1..=hi {
         let s = slope(j);

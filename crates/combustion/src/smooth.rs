@@ -125,7 +125,21 @@ fn apply(w: &[f64], p: &[f64], k: i64) -> f64 {
     }
     w.iter()
         .enumerate()
-        .map(|(j, a)| a * p[(start + j as i64).rem_euclid(n) as usize])
+        .map(|(j, a)| {
+            let i = start + j as i64;
+            let i = if i < 0 {
+                i + n
+            } else if i >= n {
+                i - n
+            } else {
+                i
+            };
+            a * p[if (0..n).contains(&i) {
+                i
+            } else {
+                i.rem_euclid(n)
+            } as usize]
+        })
         .sum()
 }
 

@@ -330,7 +330,12 @@ fn sensitivities() {
     let base_p = trace(&cyl, &law, 600.0, 1.32, step, 0.0);
     let opts = Options::default();
     let run = |p: &[f64], v: &[f64], dv: &[f64], o: &Options| {
-        let g = CycleGrid { pressure: p, volume: v, dvolume: dv, step_deg: step };
+        let g = CycleGrid {
+            pressure: p,
+            volume: v,
+            dvolume: dv,
+            step_deg: step,
+        };
         analyse(&g, o).unwrap()
     };
     let base = run(&base_p, &v, &dv, &opts);
@@ -344,21 +349,35 @@ fn sensitivities() {
     let d_imep = early.gross_work_j / base.gross_work_j - 1.0;
     let d_q = early.heat_released_j / base.heat_released_j - 1.0;
     let d_ca50_tdc = ca(&early, &opts, 50.0) - ca50;
-    eprintln!("TDC 0.1° early: IMEP {:+.2} %, Q {:+.2} %, CA50 {:+.3}°", 100.0 * d_imep, 100.0 * d_q, d_ca50_tdc);
+    eprintln!(
+        "TDC 0.1° early: IMEP {:+.2} %, Q {:+.2} %, CA50 {:+.3}°",
+        100.0 * d_imep,
+        100.0 * d_q,
+        d_ca50_tdc
+    );
     assert!((0.08..0.14).contains(&d_ca50_tdc) && d_imep > 0.0 && d_q > 0.0);
     // γ 1.30 and 1.34 for a true 1.32.
     for (g, sign) in [(1.30, -1.0), (1.34, 1.0)] {
-        let o = Options { gamma: GammaModel::Constant(g), ..Options::default() };
+        let o = Options {
+            gamma: GammaModel::Constant(g),
+            ..Options::default()
+        };
         let r = run(&base_p, &v, &dv, &o);
         let (d50, d90) = (ca(&r, &o, 50.0) - ca50, ca(&r, &o, 90.0) - ca90);
         eprintln!("γ {g}: CA50 {d50:+.2}°, CA90 {d90:+.2}°");
-        assert!(d50 * sign > 0.05 && d50.abs() < 1.5 && d90 * sign > 0.1, "γ {g}: {d50} {d90}");
+        assert!(
+            d50 * sign > 0.05 && d50.abs() < 1.5 && d90 * sign > 0.1,
+            "γ {g}: {d50} {d90}"
+        );
     }
     // A pegging offset of +0.1 bar.
     let pegged: Vec<f64> = base_p.iter().map(|p| p + 0.1e5).collect();
     let r = run(&pegged, &v, &dv, &opts);
     let (d50, d90) = (ca(&r, &opts, 50.0) - ca50, ca(&r, &opts, 90.0) - ca90);
-    eprintln!("pegging +0.1 bar: CA50 {d50:+.2}°, CA90 {d90:+.2}°, IMEP {:+.4} %", 100.0 * (r.gross_work_j / base.gross_work_j - 1.0));
+    eprintln!(
+        "pegging +0.1 bar: CA50 {d50:+.2}°, CA90 {d90:+.2}°, IMEP {:+.4} %",
+        100.0 * (r.gross_work_j / base.gross_work_j - 1.0)
+    );
     assert!(d50 > 0.02 && d50 < 1.0 && d90 > d50);
     // The compression ratio 2 % low and high (the volume law the analysis
     // assumes, not the engine's).
@@ -368,17 +387,30 @@ fn sensitivities() {
         let (v2, dv2) = grid_of(&c2, step);
         let r = run(&base_p, &v2, &dv2, &opts);
         let d50 = ca(&r, &opts, 50.0) - ca50;
-        eprintln!("ε {eps:.2} for 9.9: CA50 {d50:+.2}°, Q {:+.2} %", 100.0 * (r.heat_released_j / base.heat_released_j - 1.0));
+        eprintln!(
+            "ε {eps:.2} for 9.9: CA50 {d50:+.2}°, Q {:+.2} %",
+            100.0 * (r.heat_released_j / base.heat_released_j - 1.0)
+        );
         assert!(d50 * sign > 0.02 && d50.abs() < 1.5, "ε {eps}: {d50}");
     }
     // The filter on a clean trace: what 2° and 4° cost against none.
     for w in [2.0, 4.0] {
-        let o = Options { smoothing: Smoothing::SavitzkyGolay { width_deg: w }, ..Options::default() };
-        let raw = Options { smoothing: Smoothing::Off, ..Options::default() };
+        let o = Options {
+            smoothing: Smoothing::SavitzkyGolay { width_deg: w },
+            ..Options::default()
+        };
+        let raw = Options {
+            smoothing: Smoothing::Off,
+            ..Options::default()
+        };
         let (s, r) = (run(&base_p, &v, &dv, &o), run(&base_p, &v, &dv, &raw));
-        let dp = s.burn.as_ref().unwrap().dp_max_pa_deg / r.burn.as_ref().unwrap().dp_max_pa_deg - 1.0;
+        let dp =
+            s.burn.as_ref().unwrap().dp_max_pa_deg / r.burn.as_ref().unwrap().dp_max_pa_deg - 1.0;
         let d50 = ca(&s, &o, 50.0) - ca(&r, &raw, 50.0);
-        eprintln!("SG {w}° against off, clean trace: max dp/dφ {:+.3} %, CA50 {d50:+.4}°", 100.0 * dp);
+        eprintln!(
+            "SG {w}° against off, clean trace: max dp/dφ {:+.3} %, CA50 {d50:+.4}°",
+            100.0 * dp
+        );
         assert!(dp.abs() < 0.02 && d50.abs() < 0.01);
     }
     assert!(bb.dp_max_pa_deg > 0.0);

@@ -45,7 +45,8 @@ pub use axis::CylinderAxis;
 pub use columns::{canonical, pressure_unit};
 pub use error::IngestError;
 pub use grid::{
-    Accumulator, CycleCombustion, CycleStats, GridOptions, Peg, PegReport, Resampled, SkippedCycle, mean_std,
+    Accumulator, CycleCombustion, CycleStats, GridOptions, Peg, PegReport, Resampled, SkippedCycle,
+    mean_std,
 };
 pub use mdf::{MAX_MDF, MAX_MDF_BLOCK};
 pub use number::{NumberError, SpeedError, check_rpm, read_number, read_rpm};

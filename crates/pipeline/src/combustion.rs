@@ -169,7 +169,10 @@ fn spread(pressure: &Resampled, opts: &Options, s: &mut CombustionSummary) {
     if burns.len() >= 2 {
         let std = |v: Vec<f64>| (v.len() >= 2).then(|| mean_std(v.iter().copied()).1);
         s.ca50_std_deg = std(burns.iter().filter_map(|b| b.level(opts, 50.0)).collect());
-        s.burn_10_90_std_deg = std(burns.iter().filter_map(|b| duration_10_90(opts, b)).collect());
+        s.burn_10_90_std_deg = std(burns
+            .iter()
+            .filter_map(|b| duration_10_90(opts, b))
+            .collect());
         s.dp_dphi_max_std_bar_deg = std(burns.iter().map(|b| b.dp_max_pa_deg / 1e5).collect());
     }
     let imeps: Vec<f64> = pressure.stats.iter().filter_map(|c| c.imep_pa).collect();

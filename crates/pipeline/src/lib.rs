@@ -604,8 +604,7 @@ pub fn analyse_with(
     if pressure.quantity == Quantity::Pressure {
         let imep_pa = analysis.summary.imep_bar.map(|i| i * 1e5);
         let swept = engine.cylinder().swept_volume();
-        if let Some(found) =
-            combustion::analyse(pressure, &traces, volume, dvolume, swept, imep_pa)
+        if let Some(found) = combustion::analyse(pressure, &traces, volume, dvolume, swept, imep_pa)
         {
             analysis.summary.notes.extend(found.notes);
             analysis.summary.combustion = Some(found.summary);

@@ -395,7 +395,10 @@ pub struct CycleRow<'a> {
 
 impl CycleRow<'_> {
     /// A burn point of this cycle, when it burns.
-    fn burn(&self, get: impl Fn(&BurnPoints, &enginedyn_combustion::Options) -> Option<f64>) -> Cell<'static> {
+    fn burn(
+        &self,
+        get: impl Fn(&BurnPoints, &enginedyn_combustion::Options) -> Option<f64>,
+    ) -> Cell<'static> {
         Cell::num(
             self.combustion
                 .and_then(|(c, o)| c.burn.as_ref().and_then(|b| get(b, o))),
@@ -493,18 +496,18 @@ pub const CYCLES: &[Column<CycleGet>] = &[
         group: Group::Row,
         get: |r| Cell::num(Some(r.rpm)),
     },
-    burn_column!("imep_gross_bar", |r| bar(
-        r.combustion.map(|(c, _)| c.imep_gross_pa)
-    )),
-    burn_column!("pmep_bar", |r| bar(
-        r.combustion
-            .and_then(|(c, _)| r.imep_pa.map(|i| i - c.imep_gross_pa))
-    )),
+    burn_column!("imep_gross_bar", |r| bar(r
+        .combustion
+        .map(|(c, _)| c.imep_gross_pa))),
+    burn_column!("pmep_bar", |r| bar(r
+        .combustion
+        .and_then(|(c, _)| r.imep_pa.map(|i| i - c.imep_gross_pa)))),
     burn_column!("ca5_deg", |r| r.burn(|b, o| b.level(o, 5.0))),
     burn_column!("ca10_deg", |r| r.burn(|b, o| b.level(o, 10.0))),
     burn_column!("ca50_deg", |r| r.burn(|b, o| b.level(o, 50.0))),
     burn_column!("ca90_deg", |r| r.burn(|b, o| b.level(o, 90.0))),
-    burn_column!("burn_10_90_deg", |r| r.burn(crate::combustion::duration_10_90_of)),
+    burn_column!("burn_10_90_deg", |r| r
+        .burn(crate::combustion::duration_10_90_of)),
     burn_column!("soc_deg", |r| r.burn(|b, _| Some(b.soc_deg))),
     burn_column!("eoc_deg", |r| r.burn(|b, _| Some(b.eoc_deg))),
     burn_column!("heat_released_j", |r| Cell::num(
@@ -546,10 +549,7 @@ pub fn cycle_rows<'a>(file: &'a str, resampled: &'a Resampled, run_rpm: f64) -> 
             p_max_angle_deg: Some(s.p_max_angle_deg),
             peg_offset_pa: pegged.then_some(s.peg_offset),
             rpm: s.rpm.unwrap_or(run_rpm),
-            combustion: s
-                .combustion
-                .as_ref()
-                .zip(resampled.combustion.as_deref()),
+            combustion: s.combustion.as_ref().zip(resampled.combustion.as_deref()),
         })
         .chain(resampled.skipped.iter().map(|s| CycleRow {
             file,
@@ -668,7 +668,9 @@ mod tests {
         s.tdc_offset_estimate_deg = Some(0.3);
         s.estimated_relative_error = Some(1e-4);
         s.combustion = Some(crate::CombustionSummary {
-            levels: [5.0, 10.0, 50.0, 90.0].map(|l| (l, Some(l / 10.0))).to_vec(),
+            levels: [5.0, 10.0, 50.0, 90.0]
+                .map(|l| (l, Some(l / 10.0)))
+                .to_vec(),
             burn_10_90_deg: Some(20.0),
             soc_deg: Some(-10.0),
             eoc_deg: Some(40.0),

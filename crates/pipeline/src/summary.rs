@@ -660,12 +660,26 @@ pub const KEYS: &[Key] = &[
     },
     Key {
         key: "heat_released_j",
-        shown: shown(BURN, "net heat released per cylinder", "J", 1.0, 1, Basis::None),
+        shown: shown(
+            BURN,
+            "net heat released per cylinder",
+            "J",
+            1.0,
+            1,
+            Basis::None,
+        ),
         get: |s| burn(s, |c| c.heat_released_j),
     },
     Key {
         key: "dp_dphi_max_bar_deg",
-        shown: shown(BURN, "max pressure rise dp/dφ", "bar/deg", 1.0, 3, Basis::None),
+        shown: shown(
+            BURN,
+            "max pressure rise dp/dφ",
+            "bar/deg",
+            1.0,
+            3,
+            Basis::None,
+        ),
         get: |s| burn(s, |c| c.dp_dphi_max_bar_deg),
     },
     Key {
@@ -690,17 +704,38 @@ pub const KEYS: &[Key] = &[
     },
     Key {
         key: "burn_10_90_std_deg",
-        shown: shown(BURN, "10–90 duration std over cycles", "deg", 1.0, 3, Basis::None),
+        shown: shown(
+            BURN,
+            "10–90 duration std over cycles",
+            "deg",
+            1.0,
+            3,
+            Basis::None,
+        ),
         get: |s| burn(s, |c| c.burn_10_90_std_deg),
     },
     Key {
         key: "dp_dphi_max_std_bar_deg",
-        shown: shown(BURN, "max dp/dφ std over cycles", "bar/deg", 1.0, 3, Basis::None),
+        shown: shown(
+            BURN,
+            "max dp/dφ std over cycles",
+            "bar/deg",
+            1.0,
+            3,
+            Basis::None,
+        ),
         get: |s| burn(s, |c| c.dp_dphi_max_std_bar_deg),
     },
     Key {
         key: "imep_lnv",
-        shown: shown(BURN, "IMEP LNV (lowest cycle / mean)", "", 1.0, 4, Basis::None),
+        shown: shown(
+            BURN,
+            "IMEP LNV (lowest cycle / mean)",
+            "",
+            1.0,
+            4,
+            Basis::None,
+        ),
         get: |s| burn(s, |c| c.imep_lnv),
     },
 ];

@@ -285,11 +285,15 @@ fn burn(d: &Bound<'_, PyDict>) -> PyResult<enginedyn_session::burn::BurnMethod> 
                 if let Ok(s) = v.extract::<String>() {
                     Ok(Some(s))
                 } else if let Ok(l) = v.extract::<Vec<f64>>() {
-                    Ok(Some(l.iter().map(f64::to_string).collect::<Vec<_>>().join(sep)))
+                    Ok(Some(
+                        l.iter().map(f64::to_string).collect::<Vec<_>>().join(sep),
+                    ))
                 } else if let Ok(x) = v.extract::<f64>() {
                     Ok(Some(x.to_string()))
                 } else {
-                    Err(UsageError::new_err(format!("{key}: give a number, a list or a string")))
+                    Err(UsageError::new_err(format!(
+                        "{key}: give a number, a list or a string"
+                    )))
                 }
             }
             None => Ok(None),
@@ -314,6 +318,7 @@ fn burn(d: &Bound<'_, PyDict>) -> PyResult<enginedyn_session::burn::BurnMethod> 
             .transpose()?,
         intake_temp_k: get(d, "intake_temp_k")?,
         ivc_deg: get(d, "ivc_deg")?,
+        off: false,
     })
 }
 

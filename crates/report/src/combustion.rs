@@ -17,7 +17,11 @@ const CROSS: f64 = 0.006;
 /// index `k`.
 fn angle(k: usize, n: usize, step_deg: f64) -> f64 {
     let a = k as f64 * step_deg;
-    if k >= n / 2 { a - n as f64 * step_deg } else { a }
+    if k >= n / 2 {
+        a - n as f64 * step_deg
+    } else {
+        a
+    }
 }
 
 /// The points of `y` over the burn window, in angle order.
@@ -119,7 +123,9 @@ fn scatter(name: &str, a: &Analysis) -> Chart {
         let (lo, hi) = pts
             .iter()
             .map(f)
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| (l.min(v), h.max(v)));
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+                (l.min(v), h.max(v))
+            });
         (hi - lo).max(1e-6)
     };
     let (dx, dy) = (CROSS * span(|p| p.3), CROSS * span(|p| p.2));
@@ -185,13 +191,33 @@ pub fn combustion_section(a: &Analysis) -> Option<(String, String)> {
     row("start / end of combustion: SOC", c.soc_deg, "deg", 1);
     row("start / end of combustion: EOC", c.eoc_deg, "deg", 1);
     row("net heat released per cylinder", c.heat_released_j, "J", 1);
-    row("max pressure rise dp/dφ", c.dp_dphi_max_bar_deg, "bar/deg", 3);
+    row(
+        "max pressure rise dp/dφ",
+        c.dp_dphi_max_bar_deg,
+        "bar/deg",
+        3,
+    );
     row("  at", c.dp_dphi_max_angle_deg, "deg", 1);
     row("IMEP gross (−180…180°)", c.imep_gross_bar, "bar", 3);
-    row("PMEP (net − gross; negative: a pumping loss)", c.pmep_bar, "bar", 3);
+    row(
+        "PMEP (net − gross; negative: a pumping loss)",
+        c.pmep_bar,
+        "bar",
+        3,
+    );
     row("CA50 std over cycles", c.ca50_std_deg, "deg", 3);
-    row("10–90 duration std over cycles", c.burn_10_90_std_deg, "deg", 3);
-    row("max dp/dφ std over cycles", c.dp_dphi_max_std_bar_deg, "bar/deg", 3);
+    row(
+        "10–90 duration std over cycles",
+        c.burn_10_90_std_deg,
+        "deg",
+        3,
+    );
+    row(
+        "max dp/dφ std over cycles",
+        c.dp_dphi_max_std_bar_deg,
+        "bar/deg",
+        3,
+    );
     row("IMEP LNV (lowest / mean)", c.imep_lnv, "", 4);
     let _ = writeln!(
         o,

@@ -441,9 +441,7 @@ pub fn curve_names(a: &Analysis) -> Vec<String> {
         names.push("speed_rad_s".into());
     }
     if a.heat_release.is_some() {
-        names.extend(
-            ["heat_release_rate_j_deg", "heat_release_j", "mfb"].map(String::from),
-        );
+        names.extend(["heat_release_rate_j_deg", "heat_release_j", "mfb"].map(String::from));
     }
     names
 }

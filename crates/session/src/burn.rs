@@ -51,7 +51,9 @@ impl Levels {
             return Err(format!("{bad} is outside 1 to 99 (percent burnt)"));
         }
         if let Some(bad) = v.iter().find(|l| l.fract() != 0.0) {
-            return Err(format!("{bad}: give whole percentages (the key is caK_deg)"));
+            return Err(format!(
+                "{bad}: give whole percentages (the key is caK_deg)"
+            ));
         }
         let mut pct = [0.0; MAX_LEVELS];
         pct[..v.len()].copy_from_slice(&v);
@@ -84,29 +86,43 @@ pub struct BurnMethod {
     pub intake_temp_k: Option<f64>,
     /// `--ivc-deg` (γ(T) only).
     pub ivc_deg: Option<f64>,
+    /// No analysis at all (the hidden `--no-burn` of the benches, which
+    /// measure what the analysis costs).
+    pub off: bool,
 }
 
-/// `A:B` in degrees.
+/// The analysis' own bound on one part of its options (the others at
+/// their defaults), as a flag parser's message.
+fn bounded(o: Options) -> std::result::Result<(), String> {
+    o.check().map_err(|e| e.to_string())
+}
+
+/// `A:B` in degrees, within −180…180° and at least 10° long.
 pub fn parse_window(s: &str) -> std::result::Result<(f64, f64), String> {
     let (a, b) = s
         .split_once(':')
         .ok_or_else(|| format!("`{s}`: give the window as A:B in degrees, e.g. -90:120"))?;
     let a = read_number(a.trim(), false).map_err(|e| format!("`{a}` {e}"))?;
     let b = read_number(b.trim(), false).map_err(|e| format!("`{b}` {e}"))?;
+    bounded(Options {
+        window_deg: (a, b),
+        ..Options::default()
+    })?;
     Ok((a, b))
 }
 
-/// `1.32` or `brunt`.
+/// `1.32` (within 1.01–1.67) or `brunt`.
 pub fn parse_gamma(s: &str) -> std::result::Result<Gamma, String> {
     if s.trim().eq_ignore_ascii_case("brunt") {
         return Ok(Gamma::Brunt);
     }
-    read_number(s.trim(), false)
-        .map(Gamma::Constant)
-        .map_err(|e| format!("`{s}` {e}: give a number such as 1.32, or brunt"))
+    let g = read_number(s.trim(), false)
+        .map_err(|e| format!("`{s}` {e}: give a number such as 1.32, or brunt"))?;
+    GammaModel::Constant(g).check().map_err(|e| e.to_string())?;
+    Ok(Gamma::Constant(g))
 }
 
-/// `SG:DEG` (Savitzky–Golay over DEG degrees) or `off`.
+/// `SG:DEG` (Savitzky–Golay over DEG degrees, 0.1–20) or `off`.
 pub fn parse_smooth(s: &str) -> std::result::Result<Smoothing, String> {
     let t = s.trim();
     if t.eq_ignore_ascii_case("off") {
@@ -116,9 +132,35 @@ pub fn parse_smooth(s: &str) -> std::result::Result<Smoothing, String> {
         .strip_prefix("SG:")
         .or_else(|| t.strip_prefix("sg:"))
         .ok_or_else(|| format!("`{s}`: give SG:DEG (e.g. SG:2) or off"))?;
-    read_number(w.trim(), false)
+    let smooth = read_number(w.trim(), false)
         .map(|width_deg| Smoothing::SavitzkyGolay { width_deg })
-        .map_err(|e| format!("`{w}` {e}"))
+        .map_err(|e| format!("`{w}` {e}"))?;
+    smooth.check().map_err(|e| e.to_string())?;
+    Ok(smooth)
+}
+
+/// The charge temperature at IVC (K), within Brunt's model's bound.
+pub fn parse_intake_temp_k(s: &str) -> std::result::Result<f64, String> {
+    let t = read_number(s.trim(), false).map_err(|e| format!("`{s}` {e}"))?;
+    GammaModel::Brunt {
+        ivc_deg: DEFAULT_IVC_DEG,
+        intake_temp_k: t,
+    }
+    .check()
+    .map_err(|e| e.to_string())?;
+    Ok(t)
+}
+
+/// Intake valve closing (deg from firing TDC), within Brunt's model's bound.
+pub fn parse_ivc_deg(s: &str) -> std::result::Result<f64, String> {
+    let a = read_number(s.trim(), false).map_err(|e| format!("`{s}` {e}"))?;
+    GammaModel::Brunt {
+        ivc_deg: a,
+        intake_temp_k: DEFAULT_INTAKE_TEMP_K,
+    }
+    .check()
+    .map_err(|e| e.to_string())?;
+    Ok(a)
 }
 
 impl BurnMethod {
@@ -212,7 +254,10 @@ mod tests {
 
     #[test]
     fn flags_read() {
-        assert_eq!(Levels::parse("90, 5,50,10,50").unwrap().as_slice(), &[5.0, 10.0, 50.0, 90.0]);
+        assert_eq!(
+            Levels::parse("90, 5,50,10,50").unwrap().as_slice(),
+            &[5.0, 10.0, 50.0, 90.0]
+        );
         assert!(Levels::parse("0,50").is_err());
         assert_eq!(parse_window("-90:120").unwrap(), (-90.0, 120.0));
         assert!(parse_window("-90").is_err());
@@ -231,7 +276,9 @@ mod tests {
             gamma: Some(Gamma::Constant(2.5)),
             ..BurnMethod::default()
         };
-        let e = m.check(|k| format!("--{}", k.replace('_', "-"))).unwrap_err();
+        let e = m
+            .check(|k| format!("--{}", k.replace('_', "-")))
+            .unwrap_err();
         assert!(e.to_string().contains("--gamma"), "{e}");
         let m = BurnMethod {
             ivc_deg: Some(-150.0),

@@ -61,7 +61,7 @@ impl Session {
             ..method.options()
         };
         let (parse, mut grid) = diagram_options(&loaded.engine, &reader, step, opts.interp)?;
-        grid.combustion = Some(std::sync::Arc::new(method.burn.options()));
+        grid.combustion = (!method.burn.off).then(|| std::sync::Arc::new(method.burn.options()));
         let n = (loaded.engine.cycle().to_degrees() / step).round() as usize;
         let tables = enginedyn_pipeline::Tables::new(&loaded.engine, n, &opts).ok();
         Ok(Self {
