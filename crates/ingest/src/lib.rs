@@ -47,7 +47,7 @@ pub use error::IngestError;
 pub use grid::{
     Accumulator, CycleStats, GridOptions, Peg, PegReport, Resampled, SkippedCycle, mean_std,
 };
-pub use mdf::{MAX_MDF, MAX_MDF_BLOCK};
+pub use mdf::{MAX_MDF, MAX_MDF_BLOCK, MAX_MDF_CHANNELS, MAX_MDF_DECODED, MAX_MDF_GROUPS};
 pub use number::{NumberError, SpeedError, check_rpm, read_number, read_rpm};
 pub use sheet::MAX_WORKBOOK;
 pub use text::MAX_LINE;
