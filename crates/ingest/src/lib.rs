@@ -570,7 +570,12 @@ pub fn parse_stream(
             mdf::read(bytes, opts, sink)
         }
         Kind::Binary(what) => Err(IngestError::Data(format!(
-            "not a text file: it starts like {what}; a diagram is CSV text (comma, semicolon, tab or space delimited), a spreadsheet (.xlsx, .xls, .ods) or an MDF4 file (.mf4)"
+            "not a text file: it starts like {what}; a diagram is CSV text (comma, semicolon, tab or space delimited), a spreadsheet (.xlsx, .xls, .ods) or an MDF4 file (.mf4){}",
+            if what.contains("TDMS") {
+                "; the Python package reads TDMS: `enginedyn.io.read_tdms(path, group, …)` (npTDMS), its result for `analyse_arrays` or `analyse_time_record`"
+            } else {
+                ""
+            }
         ))),
     }
 }
