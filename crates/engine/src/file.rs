@@ -86,6 +86,66 @@ struct RawFlywheel {
     rim_inner_ratio: Option<f64>,
 }
 
+/// The largest engine file read (bytes), and the most text checked.
+pub const MAX_ENGINE_FILE: usize = 1 << 20;
+
+/// An engine file's text: a regular file of at most [`MAX_ENGINE_FILE`]
+/// bytes. A FIFO, a device (`/dev/zero`), a folder or a larger file is an
+/// error, never read until memory runs out; the metadata is looked at before
+/// the file is opened, as opening a FIFO waits for a writer.
+pub fn read_text(path: &Path) -> Result<String, EngineError> {
+    use std::io::Read as _;
+    let cannot = |e: std::io::Error| EngineError::Toml(format!("cannot read the engine file: {e}"));
+    let regular = |m: &std::fs::Metadata| -> Result<(), EngineError> {
+        if !m.is_file() {
+            return Err(EngineError::Toml(format!(
+                "the engine file is not a regular file ({}): an engine file is TOML text",
+                if m.is_dir() {
+                    "a folder"
+                } else {
+                    "a FIFO, a device or a socket"
+                }
+            )));
+        }
+        if m.len() > MAX_ENGINE_FILE as u64 {
+            return Err(too_long(m.len()));
+        }
+        Ok(())
+    };
+    regular(&std::fs::metadata(path).map_err(cannot)?)?;
+    let file = std::fs::File::open(path).map_err(cannot)?;
+    regular(&file.metadata().map_err(cannot)?)?;
+    let mut bytes = Vec::new();
+    file.take(MAX_ENGINE_FILE as u64 + 1)
+        .read_to_end(&mut bytes)
+        .map_err(cannot)?;
+    if bytes.len() > MAX_ENGINE_FILE {
+        return Err(too_long(bytes.len() as u64));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        EngineError::Toml(format!(
+            "cannot read the engine file: not UTF-8 text (byte {} is not); save it as UTF-8",
+            e.utf8_error().valid_up_to() + 1
+        ))
+    })
+}
+
+/// Engine-file text of at most [`MAX_ENGINE_FILE`] bytes (Python's
+/// `Engine.from_str` takes no more than a file holds).
+pub fn check_len(text: &str) -> Result<(), EngineError> {
+    if text.len() > MAX_ENGINE_FILE {
+        return Err(too_long(text.len() as u64));
+    }
+    Ok(())
+}
+
+fn too_long(len: u64) -> EngineError {
+    EngineError::Toml(format!(
+        "the engine file holds {len} bytes, more than the {} MiB bound on one (an engine file is a page of TOML)",
+        MAX_ENGINE_FILE >> 20
+    ))
+}
+
 /// Reads and checks an engine file; `diagram` is resolved against its folder.
 pub fn read(path: &Path) -> Result<Engine, EngineError> {
     read_with(path, EngineBuilder::build)
@@ -101,8 +161,7 @@ fn read_with(
     path: &Path,
     build: fn(EngineBuilder) -> Result<Engine, EngineError>,
 ) -> Result<Engine, EngineError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| EngineError::Toml(format!("cannot read the engine file: {e}")))?;
+    let text = read_text(path)?;
     parse_with(&text, path, build)
 }
 

@@ -117,7 +117,7 @@ pub(crate) enum Role {
 impl Role {
     fn describe(self) -> String {
         match self {
-            Role::Angle(s) => format!("crank angle ({})", if same(s, 1.0) { "deg" } else { "rad" }),
+            Role::Angle(s) => format!("crank angle ({})", unit_name(ANGLE_UNITS, s)),
             Role::Volume(s) => format!("volume ({})", unit_name(VOLUME_UNITS, s)),
             Role::Time(s) => format!("time ({})", unit_name(TIME_UNITS, s)),
             Role::Pressure {
@@ -166,6 +166,8 @@ const PRESSURE_UNITS: &[Unit] = &[
     (&["pa"], 1.0, "Pa"),
     (&["psi", "psia"], PSI, "psi"),
     (&["kgfcm2", "kgcm2", "at", "kgf"], KGF_CM2, "kgf/cm²"),
+    (&["atm"], ATM, "atm"),
+    (&["torr"], ATM / 760.0, "Torr"),
 ];
 
 /// A charge amplifier's output, volts per unit.
@@ -184,6 +186,22 @@ const TIME_UNITS: &[Unit] = &[
     (&["s", "sec", "secs"], 1.0, "s"),
     (&["ms", "msec"], 1e-3, "ms"),
     (&["us", "usec"], 1e-6, "µs"),
+    (&["min"], 60.0, "min"),
+];
+
+/// Angle units, degrees per unit (`grad` is the German degree, `gon` the
+/// 400th of a turn).
+const ANGLE_UNITS: &[Unit] = &[
+    (
+        &[
+            "", "deg", "degca", "degkw", "degcrank", "grad", "ca", "kw", "cad", "degree", "degrees",
+        ],
+        1.0,
+        "deg",
+    ),
+    (&["rad"], 180.0 / std::f64::consts::PI, "rad"),
+    (&["gon"], 0.9, "gon"),
+    (&["rev", "revs", "turn", "turns"], 360.0, "rev"),
 ];
 
 /// The factor of spelling `u` in `table`.
@@ -368,12 +386,7 @@ const TORQUE_WORDS: &[&str] = &["torque", "drehmoment", "moment", "trq", "tq"];
 const CYLINDER_WORDS: &[&str] = &["cylinder", "cyl", "zylinder", "zyl"];
 
 fn angle_unit(u: &str) -> Option<f64> {
-    match u {
-        "" | "deg" | "degca" | "degkw" | "degcrank" | "grad" | "ca" | "kw" | "cad" | "degree"
-        | "degrees" => Some(1.0),
-        "rad" => Some(180.0 / std::f64::consts::PI),
-        _ => None,
-    }
+    factor(ANGLE_UNITS, u)
 }
 
 /// Ok: Pa per unit; Err: volts per unit (a charge amplifier's output).
@@ -392,6 +405,11 @@ fn volume_unit(u: &str) -> Option<f64> {
 }
 
 fn is_unit_word(w: &str) -> bool {
+    // Units only in brackets or after the quantity (`pressure_atm`): in a
+    // name, `min` is a minimum (`p_min`) and `atm` the ambient (`p_atm`).
+    if matches!(w, "min" | "atm") {
+        return false;
+    }
     pressure_scale(w).is_some()
         || time_unit(w).is_some()
         || volume_unit(w).is_some()

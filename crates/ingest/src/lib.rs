@@ -48,7 +48,7 @@ pub use grid::{
     Accumulator, CycleCombustion, CycleStats, GridOptions, Peg, PegReport, Resampled, SkippedCycle,
     mean_std,
 };
-pub use mdf::{MAX_MDF, MAX_MDF_BLOCK};
+pub use mdf::{MAX_MDF, MAX_MDF_BLOCK, MAX_MDF_CHANNELS, MAX_MDF_DECODED, MAX_MDF_GROUPS};
 pub use number::{NumberError, SpeedError, check_rpm, read_number, read_rpm};
 pub use sheet::MAX_WORKBOOK;
 pub use text::MAX_LINE;
@@ -571,7 +571,12 @@ pub fn parse_stream(
             mdf::read(bytes, opts, sink)
         }
         Kind::Binary(what) => Err(IngestError::Data(format!(
-            "not a text file: it starts like {what}; a diagram is CSV text (comma, semicolon, tab or space delimited), a spreadsheet (.xlsx, .xls, .ods) or an MDF4 file (.mf4)"
+            "not a text file: it starts like {what}; a diagram is CSV text (comma, semicolon, tab or space delimited), a spreadsheet (.xlsx, .xls, .ods) or an MDF4 file (.mf4){}",
+            if what.contains("TDMS") {
+                "; the Python package reads TDMS: `enginedyn.io.read_tdms(path, group, …)` (npTDMS), its result for `analyse_arrays` or `analyse_time_record`"
+            } else {
+                ""
+            }
         ))),
     }
 }

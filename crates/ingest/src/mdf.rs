@@ -10,9 +10,22 @@
 //! file order), else the first whose channels hold a pressure (or, for a
 //! turning-moment file, a torque).
 //!
+//! The checks of what is read live here, beside the source, not in the
+//! crate that decodes: master units converted by the reader's unit table
+//! (`time [ms]`, `crank angle [gon]` as a header names them; an unknown
+//! master unit an error), pressure units the table lacks named, a unit
+//! ending in `g` read as gauge; the records read held to the count the
+//! channel group declares in its own block ([`Records`]: falcon_mdf lowers
+//! its count to what the data hold).
+//!
 //! What a hostile file cannot do here:
 //! - stop the command with a panic, or print one: the whole read runs in
 //!   [`crate::sheet::guarded`];
+//! - make falcon_mdf walk more than it may: before it opens the file, its
+//!   blocks are walked from the bytes ([`survey`]): at most
+//!   [`MAX_MDF_GROUPS`] channel groups and [`MAX_MDF_CHANNELS`] channels,
+//!   data blocks expanding to at most [`MAX_MDF_DECODED`] in all, no block
+//!   named twice in a data list;
 //! - allocate from a size it declares: falcon_mdf caps an allocation sized
 //!   from the file at [`MAX_MDF_ALLOC`], and a compressed block's expansion
 //!   at [`MAX_MDF_BLOCK`] (a block that would expand further is an error);
@@ -24,7 +37,7 @@
 //! MDF4 file is read where its links point), one expanded block and one
 //! window.
 
-use crate::columns::{Role, recognise};
+use crate::columns::{Role, recognise, same};
 use crate::error::IngestError;
 use crate::reader::Reader;
 use crate::row::Cells;
@@ -59,12 +72,21 @@ struct Group {
     dg: usize,
     cg: usize,
     name: String,
-    /// The channels read, as columns (the master first).
-    columns: Vec<(Channel, String)>,
+    /// The channels read, as columns (the master first): each channel's
+    /// index in its group (no copy: a file may hold 65,536 groups).
+    columns: Vec<(usize, String)>,
     /// Channels left out, and why (`text`, `an array`).
     left_out: Vec<(String, &'static str)>,
     /// Its column names say it holds what is asked for (a pressure).
     holds: bool,
+    /// The pressure columns whose unit ends in `g` (`barg`, `psig`): gauge.
+    gauge: Vec<String>,
+    /// The pressure columns in an absolute unit.
+    absolute: Vec<String>,
+    /// Pressure channels in a unit the table lacks: (channel, unit).
+    unknown_pressure: Vec<(String, String)>,
+    /// A master channel in a unit the table lacks: (channel, unit, what).
+    unknown_master: Option<(String, String, &'static str)>,
 }
 
 impl Group {
@@ -113,11 +135,196 @@ fn list(groups: &[Group]) -> String {
     s.join("; ")
 }
 
+/// Column names for a message: `` `PCYL1 [bar]`, `PCYL2 [bar]` ``.
+fn names(columns: &[String]) -> String {
+    columns
+        .iter()
+        .map(|n| format!("`{}`", enginedyn_numerics::format::quote(n)))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// The damaged-file error, with falcon_mdf's reason.
 fn damaged(why: impl std::fmt::Display) -> IngestError {
     IngestError::Data(format!(
         "the MDF4 file is damaged or cut short ({why}): write it again, or export the channels as CSV"
     ))
+}
+
+/// The most channel groups a file may hold (all data groups together).
+pub const MAX_MDF_GROUPS: usize = 1 << 16;
+
+/// The most channels a file may hold (every group's, composed ones too).
+pub const MAX_MDF_CHANNELS: usize = 1 << 16;
+
+/// The most bytes the file's data blocks may expand to, every block counted
+/// each time a data group names it (as a sheet unpacks to at most 1 GiB).
+pub const MAX_MDF_DECODED: u64 = 1 << 30;
+
+/// The most data blocks the file's data lists may name.
+pub const MAX_MDF_BLOCKS: usize = 1 << 20;
+
+/// What the file declares, read from its bytes before falcon_mdf opens it,
+/// with the bounds on groups, channels and decoded bytes checked.
+struct Survey {
+    /// Each channel group's block and the record count it declares
+    /// (`cg_cycle_count`), sorted by block.
+    declared: Vec<(u64, u64)>,
+    /// An unfinished file whose record counts are not up to date.
+    counts_stale: bool,
+}
+
+impl Survey {
+    /// The record count the group at block `cg` declares.
+    fn declared(&self, cg: u64) -> Option<u64> {
+        self.declared
+            .binary_search_by_key(&cg, |&(at, _)| at)
+            .ok()
+            .map(|i| self.declared[i].1)
+    }
+}
+
+/// A block's header: its four-byte id, its length and its links.
+struct Block<'a> {
+    id: &'a [u8],
+    links: Vec<u64>,
+    /// The block's data (after its links).
+    data: &'a [u8],
+}
+
+/// The block at `at`, when one is there whole; `None` otherwise (falcon_mdf
+/// then names the damage).
+fn block(bytes: &[u8], at: u64) -> Option<Block<'_>> {
+    let at = usize::try_from(at).ok()?;
+    let head = bytes.get(at..at.checked_add(24)?)?;
+    if &head[..2] != b"##" {
+        return None;
+    }
+    let len = usize::try_from(u64::from_le_bytes(head[8..16].try_into().ok()?)).ok()?;
+    let n = usize::try_from(u64::from_le_bytes(head[16..24].try_into().ok()?)).ok()?;
+    let links_end = n.checked_mul(8)?.checked_add(24)?;
+    if len < links_end {
+        return None;
+    }
+    let whole = bytes.get(at..at.checked_add(len)?)?;
+    let links = whole[24..links_end]
+        .chunks_exact(8)
+        .map(|c| u64::from_le_bytes(c.try_into().unwrap_or_default()))
+        .collect();
+    Some(Block {
+        id: &whole[..4],
+        links,
+        data: &whole[links_end..],
+    })
+}
+
+fn u64_at(data: &[u8], at: usize) -> Option<u64> {
+    Some(u64::from_le_bytes(data.get(at..at + 8)?.try_into().ok()?))
+}
+
+/// Walks the file's data groups, channel groups, channels and data lists
+/// from its bytes: the bounds checked, the declared record counts kept.
+fn survey(bytes: &[u8]) -> Result<Survey, IngestError> {
+    use std::collections::HashSet;
+    let unfinished = bytes.starts_with(b"UnFinMF ");
+    // id_unfin_flags bit 0: the CG and CA cycle counters are not updated.
+    let counts_stale = unfinished && bytes.get(60).is_some_and(|f| f & 1 != 0);
+    let mut declared = Vec::new();
+    let mut channels = 0usize;
+    let mut blocks = 0usize;
+    let mut decoded = 0u64;
+    let Some(hd) = block(bytes, 64) else {
+        return Ok(Survey {
+            declared,
+            counts_stale,
+        });
+    };
+    let mut dgs = HashSet::new();
+    let mut dg = hd.links.first().copied().unwrap_or(0);
+    let mut dg_number = 0usize;
+    while dg != 0 && dgs.insert(dg) {
+        dg_number += 1;
+        let Some(d) = block(bytes, dg).filter(|b| b.id == b"##DG") else {
+            break;
+        };
+        // Channel groups and their channels.
+        let mut cgs = HashSet::new();
+        let mut cg = d.links.get(1).copied().unwrap_or(0);
+        while cg != 0 && cgs.insert(cg) {
+            let Some(c) = block(bytes, cg).filter(|b| b.id == b"##CG") else {
+                break;
+            };
+            if declared.len() == MAX_MDF_GROUPS {
+                return Err(IngestError::Data(format!(
+                    "the MDF4 file holds more than {MAX_MDF_GROUPS} channel groups, the bound on those read (a damaged or hostile file?): keep the groups wanted (asammdf's `filter`), or export the channels as CSV"
+                )));
+            }
+            declared.push((cg, u64_at(c.data, 8).unwrap_or(0)));
+            // The channels: the `cn_next` chain and what each composes.
+            let mut seen = HashSet::new();
+            let mut stack = vec![c.links.get(1).copied().unwrap_or(0)];
+            while let Some(cn) = stack.pop() {
+                if cn == 0 || !seen.insert(cn) {
+                    continue;
+                }
+                let Some(ch) = block(bytes, cn).filter(|b| b.id == b"##CN") else {
+                    continue;
+                };
+                channels += 1;
+                if channels > MAX_MDF_CHANNELS {
+                    return Err(IngestError::Data(format!(
+                        "the MDF4 file holds more than {MAX_MDF_CHANNELS} channels, the bound on those read (a damaged or hostile file?): keep the channels wanted (asammdf's `filter`), or export them as CSV"
+                    )));
+                }
+                stack.extend(ch.links.iter().take(2).copied());
+            }
+            cg = c.links.first().copied().unwrap_or(0);
+        }
+        // The data: one block, or a list (##DL, under a ##HL) of them.
+        let mut named = HashSet::new();
+        let mut lists = vec![d.links.get(2).copied().unwrap_or(0)];
+        while let Some(at) = lists.pop() {
+            if at == 0 {
+                continue;
+            }
+            if !named.insert(at) {
+                return Err(IngestError::Data(format!(
+                    "the MDF4 file is damaged: data group {dg_number}'s data list names the block at byte {at} twice (a hostile file?): write it again, or export the channels as CSV"
+                )));
+            }
+            blocks += 1;
+            if blocks > MAX_MDF_BLOCKS {
+                return Err(IngestError::Data(format!(
+                    "the MDF4 file's data lists name more than {MAX_MDF_BLOCKS} data blocks, the bound on those read (a damaged or hostile file?): export the channels as CSV"
+                )));
+            }
+            let Some(b) = block(bytes, at) else {
+                continue;
+            };
+            match b.id {
+                // A list: the next list first, then its blocks, in order.
+                b"##DL" | b"##LD" => {
+                    lists.push(b.links.first().copied().unwrap_or(0));
+                    lists.extend(b.links.iter().skip(1).rev().copied());
+                }
+                b"##HL" => lists.push(b.links.first().copied().unwrap_or(0)),
+                b"##DZ" => decoded = decoded.saturating_add(u64_at(b.data, 8).unwrap_or(0)),
+                _ => decoded = decoded.saturating_add(b.data.len() as u64),
+            }
+            if decoded > MAX_MDF_DECODED {
+                return Err(IngestError::Data(format!(
+                    "the MDF4 file's data blocks expand to more than {} GiB, the bound on what is decoded (every block counted each time a data group names it; a compression bomb?): cut it to the records wanted (asammdf's `cut` or `filter`), or export the channels as CSV",
+                    MAX_MDF_DECODED >> 30
+                )));
+            }
+        }
+        dg = d.links.first().copied().unwrap_or(0);
+    }
+    declared.sort_unstable();
+    Ok(Survey {
+        declared,
+        counts_stale,
+    })
 }
 
 /// Reads the MDF4 file in `bytes`: the chosen group's records, a window at
@@ -167,9 +374,50 @@ fn read_file<F: FnMut(Streamed) -> Result<(), IngestError>>(
         max_decompressed: MAX_MDF_BLOCK,
         ..OpenOptions::default()
     };
+    let survey = survey(&bytes)?;
     let file = Mf4File::from_bytes_with_options(bytes, options).map_err(damaged)?;
     let groups = groups(&file, opts);
     let group = choose(&groups, opts)?;
+    if let Some((name, unit, what)) = &group.unknown_master {
+        return Err(IngestError::Data(format!(
+            "group {}: the {what} master channel `{}` is in `{}`, a unit the reader does not know ({}): convert the master, or export the channels as CSV",
+            group.number,
+            enginedyn_numerics::format::quote(name),
+            enginedyn_numerics::format::quote(unit),
+            if *what == "time" {
+                "s, ms, us or min"
+            } else {
+                "deg, rad, gon or rev"
+            }
+        )));
+    }
+    let gauge_opts;
+    let opts = if group.gauge.is_empty() {
+        opts
+    } else if !group.absolute.is_empty() {
+        return Err(IngestError::Data(format!(
+            "group {}: gauge pressure channels ({}) beside absolute ones ({}): read one kind (--columns, `_` skipping a channel), or export the channels as CSV",
+            group.number,
+            names(&group.gauge),
+            names(&group.absolute)
+        )));
+    } else {
+        gauge_opts = ParseOptions {
+            gauge: true,
+            ..opts.clone()
+        };
+        &gauge_opts
+    };
+    let cg = &file.data_groups()[group.dg].channel_groups[group.cg];
+    let declared = match survey.declared(cg.block_offset()) {
+        Some(n) if !survey.counts_stale => n,
+        _ => cg.sample_count,
+    };
+    let records = Records {
+        declared,
+        held: cg.sample_count,
+    };
+    records.check(group)?;
     let mut notes = Vec::new();
     if opts.group.is_none() && groups.len() > 1 {
         notes.push(format!(
@@ -203,6 +451,19 @@ fn read_file<F: FnMut(Streamed) -> Result<(), IngestError>>(
             }
         ));
     }
+    if !group.gauge.is_empty() {
+        notes.push(format!(
+            "group {}: {} read as gauge pressure (its unit ends in g), 1.01325 bar added",
+            group.number,
+            names(&group.gauge)
+        ));
+    }
+    if survey.counts_stale {
+        notes.push(format!(
+            "an unfinished MDF4 file (its record counts not brought up to date): group {} read to the {} records its data hold",
+            group.number, records.held
+        ));
+    }
     if opts.sheet.is_some() {
         notes.push(
             "--sheet applies to spreadsheets; this file is MDF4 (--group picks a channel group)"
@@ -210,7 +471,7 @@ fn read_file<F: FnMut(Streamed) -> Result<(), IngestError>>(
         );
     }
     let mut rd = Reader::new(opts, sink);
-    let streamed = stream(&file, group, &mut rd);
+    let streamed = stream(&file, group, records.declared, &mut rd);
     let named = |e: IngestError| in_group(e, group);
     streamed.map_err(named)?;
     let mut head = rd.end().map_err(named)?;
@@ -264,15 +525,33 @@ fn groups(file: &Mf4File, opts: &ParseOptions) -> Vec<Group> {
             let mut columns = Vec::new();
             let mut left_out = Vec::new();
             let mut master = None;
-            for ch in &g.channels {
+            let mut gauge = Vec::new();
+            let mut absolute = Vec::new();
+            let mut unknown_pressure = Vec::new();
+            let mut unknown_master = None;
+            for (i, ch) in g.channels.iter().enumerate() {
                 match usable(ch) {
                     Err(why) => left_out.push((ch.name.clone(), why)),
                     Ok(()) => {
-                        let name = column_name(ch, columns.len() + 1);
+                        let (name, unit) = column(ch, columns.len() + 1);
+                        match unit {
+                            Unit::Known => {
+                                if matches!(recognise(&name), Ok(Role::Pressure { .. })) {
+                                    absolute.push(name.clone());
+                                }
+                            }
+                            Unit::Gauge => gauge.push(name.clone()),
+                            Unit::UnknownPressure(u) => {
+                                unknown_pressure.push((ch.name.trim().to_string(), u))
+                            }
+                            Unit::UnknownMaster(u, what) => {
+                                unknown_master.get_or_insert((ch.name.trim().to_string(), u, what));
+                            }
+                        }
                         if master.is_none() && is_master(ch) {
                             master = Some(columns.len());
                         }
-                        columns.push((ch.clone(), name));
+                        columns.push((i, name));
                     }
                 }
             }
@@ -293,6 +572,10 @@ fn groups(file: &Mf4File, opts: &ParseOptions) -> Vec<Group> {
                 columns,
                 left_out,
                 holds,
+                gauge,
+                absolute,
+                unknown_pressure,
+                unknown_master,
             });
         }
     }
@@ -326,18 +609,42 @@ fn usable(ch: &Channel) -> Result<(), &'static str> {
     Ok(())
 }
 
-/// A channel's column name: `crank_deg` for an angle master, `time_s` for a
-/// time master, else its name with its unit (`PCYL1 [bar]`).
-fn column_name(ch: &Channel, k: usize) -> String {
+/// What a channel's unit says, beside its column name.
+enum Unit {
+    /// A unit the table knows, or none.
+    Known,
+    /// A pressure unit ending in `g` (`barg`, `psig`): gauge pressure, its
+    /// column named with the unit without the `g`.
+    Gauge,
+    /// A pressure channel in a unit the table lacks.
+    UnknownPressure(String),
+    /// A time or angle master in a unit the table lacks (and which).
+    UnknownMaster(String, &'static str),
+}
+
+/// A channel's column name and what its unit says: `crank_deg` for an
+/// angle master in degrees, `time_s` for a time master in seconds, else the
+/// master as a header names one (`time [ms]`, `crank angle [gon]`), converted
+/// by the reader's unit table as a CSV header is; any other channel its name
+/// with its unit (`PCYL1 [bar]`).
+fn column(ch: &Channel, k: usize) -> (String, Unit) {
     let unit = ch.unit.trim();
     if is_master(ch) {
-        match ch.sync_type {
-            SyncType::Angle if unit.eq_ignore_ascii_case("rad") => {
-                return "crank angle [rad]".into();
-            }
-            SyncType::Angle => return "crank_deg".into(),
-            SyncType::Time => return "time_s".into(),
-            _ => {}
+        let (word, what) = match ch.sync_type {
+            SyncType::Angle => ("crank angle", "angle"),
+            SyncType::Time => ("time", "time"),
+            _ => ("", ""),
+        };
+        if !word.is_empty() {
+            let name = format!("{word} [{unit}]");
+            return match recognise(&name) {
+                _ if unit.is_empty() && what == "angle" => ("crank_deg".into(), Unit::Known),
+                _ if unit.is_empty() => ("time_s".into(), Unit::Known),
+                Ok(Role::Angle(s)) if same(s, 1.0) => ("crank_deg".into(), Unit::Known),
+                Ok(Role::Time(s)) if same(s, 1.0) => ("time_s".into(), Unit::Known),
+                Ok(Role::Angle(_) | Role::Time(_)) => (name, Unit::Known),
+                _ => (name, Unit::UnknownMaster(unit.to_string(), what)),
+            };
         }
     }
     let name = ch.name.trim();
@@ -347,10 +654,57 @@ fn column_name(ch: &Channel, k: usize) -> String {
         name.to_string()
     };
     if unit.is_empty() || name.ends_with(']') || name.ends_with(')') {
-        name
-    } else {
-        format!("{name} [{unit}]")
+        return (name, Unit::Known);
     }
+    let with = |u: &str| format!("{name} [{u}]");
+    let pressure = |u: &str| {
+        matches!(
+            recognise(&with(u)),
+            Ok(Role::Pressure { .. } | Role::Volts { .. })
+        )
+    };
+    if recognise(&with(unit)).is_ok() || !pressure("bar") {
+        return (with(unit), Unit::Known);
+    }
+    // A pressure channel in a unit the table lacks: gauge when the unit
+    // without a trailing `g` is one the table has (`barg`, `psig`).
+    if let Some(stem) = unit.strip_suffix(['g', 'G'])
+        && matches!(recognise(&with(stem)), Ok(Role::Pressure { .. }))
+    {
+        return (with(stem), Unit::Gauge);
+    }
+    (with(unit), Unit::UnknownPressure(unit.to_string()))
+}
+
+/// The pressure units the table has, for messages.
+const PRESSURE_UNITS: &str =
+    "bar, mbar, MPa, kPa, Pa, psi, kgf/cm2, atm, Torr or V; a trailing g (`barg`, `psig`) is gauge";
+
+/// The channels of every group in a pressure unit the table lacks, for an
+/// error: `` `PCYL1` (group 1) in `mmH2O` ``.
+fn unknown_pressure(groups: &[&Group]) -> Option<String> {
+    let all: Vec<String> = groups
+        .iter()
+        .flat_map(|g| {
+            g.unknown_pressure.iter().map(move |(c, u)| {
+                format!(
+                    "`{}` (group {}) in `{}`",
+                    enginedyn_numerics::format::quote(c),
+                    g.number,
+                    enginedyn_numerics::format::quote(u)
+                )
+            })
+        })
+        .collect();
+    if all.is_empty() {
+        return None;
+    }
+    let n = all.len();
+    Some(format!(
+        "{}{}, a pressure unit the reader does not know ({PRESSURE_UNITS}): convert the channel, or export it as CSV",
+        all.into_iter().take(4).collect::<Vec<_>>().join(", "),
+        if n > 4 { ", …" } else { "" }
+    ))
 }
 
 /// The group `--group` names, or the first holding a pressure.
@@ -380,6 +734,13 @@ fn choose<'g>(groups: &'g [Group], opts: &ParseOptions) -> Result<&'g Group, Ing
                 list(groups)
             )));
         }
+        if !g.holds
+            && opts.columns.is_none()
+            && !opts.torque
+            && let Some(m) = unknown_pressure(&[g])
+        {
+            return Err(IngestError::Data(format!("--group {n}: {m}")));
+        }
         if !g.holds && opts.columns.is_none() {
             return Err(IngestError::Data(format!(
                 "--group {n}: group {n} holds no {} channel (by its name and unit){}; the groups: {}",
@@ -402,6 +763,14 @@ fn choose<'g>(groups: &'g [Group], opts: &ParseOptions) -> Result<&'g Group, Ing
     {
         return Ok(g);
     }
+    if !opts.torque
+        && let Some(m) = unknown_pressure(&groups.iter().collect::<Vec<_>>())
+    {
+        return Err(IngestError::Data(format!(
+            "no channel group holds a pressure channel in a unit the reader knows: {m}; the groups: {}",
+            list(groups)
+        )));
+    }
     Err(IngestError::Data(format!(
         "no channel group holds {what} channel (by its name and unit, as in `PCYL1 [bar]` or `pressure_v`): {}; --group N with --columns names a group's channels in order, the master first",
         list(groups)
@@ -413,6 +782,7 @@ fn choose<'g>(groups: &'g [Group], opts: &ParseOptions) -> Result<&'g Group, Ing
 fn stream<F: FnMut(Streamed) -> Result<(), IngestError>>(
     file: &Mf4File,
     group: &Group,
+    declared: u64,
     rd: &mut Reader<'_, F>,
 ) -> Result<(), IngestError> {
     let names: Vec<String> = group.columns.iter().map(|(_, n)| n.clone()).collect();
@@ -430,7 +800,11 @@ fn stream<F: FnMut(Streamed) -> Result<(), IngestError>>(
     }
     let k = group.columns.len().max(1);
     let chunk = (WINDOW_BYTES / stride).min(WINDOW_VALUES / k).max(1);
-    let channels: Vec<&Channel> = group.columns.iter().map(|(c, _)| c).collect();
+    let channels: Vec<&Channel> = group
+        .columns
+        .iter()
+        .map(|(i, _)| &cg.channels[*i])
+        .collect();
     let windows = file.signals_chunks(&channels, chunk).map_err(damaged)?;
     let mut row = vec![f64::NAN; k];
     let mut cols: Vec<Vec<f64>> = Vec::with_capacity(k);
@@ -462,13 +836,41 @@ fn stream<F: FnMut(Streamed) -> Result<(), IngestError>>(
             record += 1;
         }
     }
-    if (record as u64) < cg.sample_count {
-        return Err(damaged(format!(
-            "group {} declares {} records, its data holds {record}",
-            group.number, cg.sample_count
-        )));
+    Records {
+        declared,
+        held: record as u64,
     }
-    Ok(())
+    .check(group)
+}
+
+/// The records a channel group declares (its own `cg_cycle_count`, read
+/// from the file: falcon_mdf lowers its count to what the data hold) and
+/// those its data hold or gave.
+struct Records {
+    declared: u64,
+    held: u64,
+}
+
+impl Records {
+    /// Fewer records than declared is an error naming the group and both
+    /// counts: a data block cut short, a data list with a null link, a record
+    /// of an unknown id in unsorted data would each read part of the record.
+    fn check(&self, group: &Group) -> Result<(), IngestError> {
+        if self.held >= self.declared {
+            return Ok(());
+        }
+        Err(damaged(format!(
+            "group {}{} declares {} records, its data hold {}: a data block cut short, a data list missing a block, or a record of unknown id",
+            group.number,
+            if group.name.is_empty() {
+                String::new()
+            } else {
+                format!(" `{}`", enginedyn_numerics::format::quote(&group.name))
+            },
+            self.declared,
+            self.held
+        )))
+    }
 }
 
 /// The header row: the column names. Never a data row, whatever a name.

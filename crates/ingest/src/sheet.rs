@@ -104,7 +104,7 @@ pub(crate) fn guarded<T>(f: impl FnOnce() -> T) -> Option<T> {
 fn read_book<F: FnMut(Streamed) -> Result<(), IngestError>>(
     bytes: &[u8],
     opts: &ParseOptions,
-    sink: F,
+    mut sink: F,
 ) -> Result<Header, IngestError> {
     let watch = RefCell::new(Watch::new(zip_parts(bytes)));
     let watched = || Watched {
@@ -115,90 +115,187 @@ fn read_book<F: FnMut(Streamed) -> Result<(), IngestError>>(
     let cut = || watch.borrow().cut;
     if let Ok(mut book) = calamine::Xlsx::new(watched()) {
         let names = book.sheet_names();
-        let index = choose(&names, opts)?;
-        let mut rd = Reader::new(opts, sink);
-        let streamed = book
-            .worksheet_cells_reader(&names[index])
-            .map_err(|e| match cut() {
-                Some(c) => cut_error(c),
-                None => IngestError::Data(format!("sheet `{}`: {e}", names[index])),
-            })
-            .and_then(|mut cells| stream_rows(&mut cells, opts, &mut rd, &watch));
-        return finish(rd, streamed, &names, opts);
+        let mut tried = Tried::default();
+        for index in sheets(&names, opts)? {
+            let mut rd = Reader::new(opts, &mut sink);
+            let streamed = book
+                .worksheet_cells_reader(&names[index])
+                .map_err(|e| match cut() {
+                    Some(c) => cut_error(c),
+                    None => IngestError::Data(format!("sheet `{}`: {e}", names[index])),
+                })
+                .and_then(|mut cells| stream_rows(&mut cells, opts, &mut rd, &watch));
+            match tried.next(finish(rd, streamed, &names, index, opts), cut().is_none()) {
+                Some(r) => return r,
+                None => continue,
+            }
+        }
+        return tried.none(&names);
     }
     if let Some(c) = cut() {
         return Err(cut_error(c));
     }
-    let (names, _, range, formulas) = open_sheet(watched(), opts).map_err(|e| match cut() {
+    let mut book = calamine::open_workbook_auto_from_rs(watched()).map_err(|e| match cut() {
         Some(c) => cut_error(c),
-        None => e,
+        None => IngestError::Data(format!(
+            "not a text file: a ZIP or OLE archive that is no spreadsheet calamine reads (.xlsx, .xls, .ods: {e}); export the diagram as CSV"
+        )),
     })?;
-    let mut rd = Reader::new(opts, sink);
-    let rows = read_rows(&range, formulas.as_ref(), opts, &mut rd);
-    finish(rd, rows, &names, opts)
+    let names = book.sheet_names();
+    let mut tried = Tried::default();
+    for index in sheets(&names, opts)? {
+        let range = book
+            .worksheet_range(&names[index])
+            .map_err(|e| match cut() {
+                Some(c) => cut_error(c),
+                None => IngestError::Data(format!("sheet `{}`: {e}", names[index])),
+            });
+        let formulas = book.worksheet_formula(&names[index]).ok();
+        let mut rd = Reader::new(opts, &mut sink);
+        let rows = range.and_then(|range| read_rows(&range, formulas.as_ref(), opts, &mut rd));
+        match tried.next(finish(rd, rows, &names, index, opts), cut().is_none()) {
+            Some(r) => return r,
+            None => continue,
+        }
+    }
+    tried.none(&names)
 }
 
-/// The reader's end, and what a workbook of several sheets adds to a note
-/// or an error: which sheet was read, and that --sheet reads another.
-/// `rows` says where the sheet's data ended early (a run of empty rows).
+/// A sheet's read, and whether it found a diagram: a sheet whose rows never
+/// left the preamble (no header over data: a cover page, notes, a table of
+/// settings) holds none, and the next sheet is tried (INTERFACE.md: the
+/// default sheet is the first that holds a diagram).
+type SheetRead = Result<Header, (IngestError, bool)>;
+
+/// The sheets tried so far without a diagram: the first one's error.
+#[derive(Default)]
+struct Tried {
+    first: Option<IngestError>,
+    count: usize,
+}
+
+impl Tried {
+    /// The read to return (`Some`), or `None` to try the next sheet. A bound
+    /// passed (`clean` false) ends the search.
+    fn next(&mut self, read: SheetRead, clean: bool) -> Option<Result<Header, IngestError>> {
+        match read {
+            Ok(h) => Some(Ok(h)),
+            Err((e, true)) if clean => {
+                self.count += 1;
+                self.first.get_or_insert(e);
+                None
+            }
+            Err((e, _)) => Some(Err(e)),
+        }
+    }
+
+    /// No sheet holds a diagram: the first sheet's error, with every sheet
+    /// listed by number and name (at most 20 named).
+    fn none(self, names: &[String]) -> Result<Header, IngestError> {
+        let e = self
+            .first
+            .unwrap_or_else(|| IngestError::Data("the workbook has no sheet".into()));
+        if names.len() < 2 || self.count < 2 {
+            return Err(e);
+        }
+        Err(add(
+            e,
+            &format!(
+                " (this is sheet 1 `{}`; no sheet of {} holds a diagram: {}; --sheet N or --sheet NAME reads another)",
+                enginedyn_numerics::format::quote(&names[0]),
+                names.len(),
+                listed(names)
+            ),
+        ))
+    }
+}
+
+/// Every sheet by number and name (at most 20 named), so the user can pick
+/// one without opening the workbook.
+fn listed(names: &[String]) -> String {
+    let mut l: Vec<String> = names
+        .iter()
+        .take(20)
+        .enumerate()
+        .map(|(i, n)| format!("{} `{}`", i + 1, enginedyn_numerics::format::quote(n)))
+        .collect();
+    if names.len() > 20 {
+        l.push("…".into());
+    }
+    l.join(", ")
+}
+
+/// `more` added to an error's message.
+fn add(e: IngestError, more: &str) -> IngestError {
+    match e {
+        IngestError::At {
+            line,
+            column,
+            message,
+        } => IngestError::At {
+            line,
+            column,
+            message: message + more,
+        },
+        IngestError::Data(m) => IngestError::Data(m + more),
+        e => e,
+    }
+}
+
+/// The reader's end of sheet `index`, and what a workbook of several sheets
+/// adds to a note: which sheet was read, and that --sheet reads another.
+/// `rows` says where the sheet's data ended early (a run of empty rows). An
+/// error says whether the sheet held no diagram (its rows never left the
+/// preamble), so that the next may be tried.
 fn finish<F: FnMut(Streamed) -> Result<(), IngestError>>(
     rd: Reader<'_, F>,
     rows: Result<Option<String>, IngestError>,
     names: &[String],
+    index: usize,
     opts: &ParseOptions,
-) -> Result<Header, IngestError> {
+) -> SheetRead {
     let several = names.len() > 1 && opts.sheet.is_none();
-    let add = |e: IngestError, more: &str| -> IngestError {
-        match e {
-            IngestError::At {
-                line,
-                column,
-                message,
-            } => IngestError::At {
-                line,
-                column,
-                message: message + more,
-            },
-            IngestError::Data(m) => IngestError::Data(m + more),
-            e => e,
+    // A sheet with a diagram that fails: which sheet it is, and the others.
+    let hint = |e: IngestError, none: bool| -> (IngestError, bool) {
+        if !several || none {
+            return (e, none);
         }
-    };
-    let hint = |e: IngestError| -> IngestError {
-        if !several {
-            return e;
-        }
-        // Every sheet by number and name (at most 20 named), so the user
-        // can pick one without opening the workbook.
-        let listed: Vec<String> = names
-            .iter()
-            .take(20)
-            .enumerate()
-            .map(|(i, n)| format!("{} `{}`", i + 1, enginedyn_numerics::format::quote(n)))
-            .collect();
         let more = format!(
-            " (this is sheet 1 `{}` of {}: {}{}; --sheet N or --sheet NAME reads another)",
-            enginedyn_numerics::format::quote(&names[0]),
+            " (this is sheet {} `{}` of {}: {}; --sheet N or --sheet NAME reads another)",
+            index + 1,
+            enginedyn_numerics::format::quote(&names[index]),
             names.len(),
-            listed.join(", "),
-            if names.len() > 20 { ", …" } else { "" }
+            listed(names)
         );
-        add(e, &more)
+        (add(e, &more), none)
     };
-    let ended = rows.map_err(hint)?;
+    let none = several && rd.in_preamble();
+    let ended = rows.map_err(|e| hint(e, none))?;
+    let none = several && rd.in_preamble();
     let mut head = rd
         .end()
         .map_err(|e| match &ended {
             Some(why) => add(e, &format!(" ({why})")),
             None => e,
         })
-        .map_err(hint)?;
+        .map_err(|e| hint(e, none))?;
     head.notes.extend(ended);
     if several {
-        head.notes.push(format!(
-            "read sheet 1 `{}` of {} (--sheet chooses another)",
-            enginedyn_numerics::format::quote(&names[0]),
-            names.len()
-        ));
+        head.notes.push(if index == 0 {
+            format!(
+                "read sheet 1 `{}` of {} (--sheet chooses another)",
+                enginedyn_numerics::format::quote(&names[0]),
+                names.len()
+            )
+        } else {
+            format!(
+                "read sheet {} `{}` of {}, the first that holds a diagram (sheet 1 `{}` holds none; --sheet chooses another)",
+                index + 1,
+                enginedyn_numerics::format::quote(&names[index]),
+                names.len(),
+                enginedyn_numerics::format::quote(&names[0]),
+            )
+        });
     }
     Ok(head)
 }
@@ -360,42 +457,14 @@ fn read_rows<F: FnMut(Streamed) -> Result<(), IngestError>>(
     Ok(None)
 }
 
-/// The workbook's sheet names, the chosen sheet, its cells and its
-/// formulas (to tell a formula never calculated from an empty cell).
-#[allow(clippy::type_complexity)]
-fn open_sheet(
-    bytes: Watched<'_>,
-    opts: &ParseOptions,
-) -> Result<
-    (
-        Vec<String>,
-        usize,
-        calamine::Range<Data>,
-        Option<calamine::Range<String>>,
-    ),
-    IngestError,
-> {
-    let mut book = calamine::open_workbook_auto_from_rs(bytes).map_err(|e| {
-        IngestError::Data(format!(
-            "not a text file: a ZIP or OLE archive that is no spreadsheet calamine reads (.xlsx, .xls, .ods: {e}); export the diagram as CSV"
-        ))
-    })?;
-    let names = book.sheet_names();
-    let index = choose(&names, opts)?;
-    let range = book
-        .worksheet_range(&names[index])
-        .map_err(|e| IngestError::Data(format!("sheet `{}`: {e}", names[index])))?;
-    let formulas = book.worksheet_formula(&names[index]).ok();
-    Ok((names, index, range, formulas))
-}
-
-/// The sheet `--sheet` names (the first without it).
-fn choose(names: &[String], opts: &ParseOptions) -> Result<usize, IngestError> {
+/// The sheets to try in order: the one `--sheet` names, or every sheet
+/// (the first that holds a diagram is read).
+fn sheets(names: &[String], opts: &ParseOptions) -> Result<std::ops::Range<usize>, IngestError> {
     if names.is_empty() {
         return Err(IngestError::Data("the workbook has no sheet".into()));
     }
-    Ok(match &opts.sheet {
-        None => 0,
+    let one = match &opts.sheet {
+        None => return Ok(0..names.len()),
         Some(Sheet::Index(n)) if (1..=names.len()).contains(n) => n - 1,
         Some(Sheet::Name(s)) if names.iter().any(|x| x == s) => {
             names.iter().position(|x| x == s).unwrap_or(0)
@@ -420,7 +489,8 @@ fn choose(names: &[String], opts: &ParseOptions) -> Result<usize, IngestError> {
                 names.len()
             )));
         }
-    })
+    };
+    Ok(one..one + 1)
 }
 
 /// A cell as the reader sees it: a number, text, a date (refused where an
@@ -1066,16 +1136,14 @@ mod tests {
         // The .ods: calamine reads it whole at open, the watch in step.
         let bytes = std::fs::read(format!("{dir}/libreoffice_cycles.ods")).unwrap();
         let watch = RefCell::new(Watch::new(zip_parts(&bytes)));
-        let opts = ParseOptions::new(720.0);
-        let (_, _, range, _) = open_sheet(
-            Watched {
-                bytes: &bytes,
-                pos: 0,
-                watch: &watch,
-            },
-            &opts,
-        )
+        let mut book = calamine::open_workbook_auto_from_rs(Watched {
+            bytes: &bytes,
+            pos: 0,
+            watch: &watch,
+        })
         .unwrap();
+        let names = book.sheet_names();
+        let range = book.worksheet_range(&names[0]).unwrap();
         assert!(range.height() > 100);
         assert!(watch.borrow().cut.is_none());
     }

@@ -83,18 +83,18 @@ impl Loaded {
     /// Reads and checks the engine file at `path` (`diagram` resolved
     /// against its folder).
     pub fn from_file(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            Error::from(enginedyn_engine::EngineError::Toml(format!(
-                "cannot read the engine file: {e}"
-            )))
-            .in_file(path.display())
-        })?;
+        let text = enginedyn_engine::file::read_text(path)
+            .map_err(|e| Error::from(e).in_file(path.display()))?;
         Self::from_text(text, Some(path))
     }
 
     /// Checks engine-file `text`; `path`, when given, is where it was read
     /// from (its stem the default name, `diagram` relative to its folder).
     pub fn from_text(text: String, path: Option<&Path>) -> Result<Self> {
+        enginedyn_engine::file::check_len(&text).map_err(|e| match path {
+            Some(p) => Error::from(e).in_file(p.display()),
+            None => Error::from(e),
+        })?;
         let engine = match path {
             Some(p) => enginedyn_engine::file::parse_file(&text, p)
                 .map_err(|e| Error::from(e).in_file(p.display()))?,

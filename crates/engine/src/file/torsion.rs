@@ -45,8 +45,7 @@ pub(super) struct RawTorsion {
 /// Reads the `[torsion]` section of an engine file: `None` when it has none.
 /// Unknown keys are [`super::read`]'s to report; read the engine first.
 pub fn read_torsion(path: &Path) -> Result<Option<TorsionSpec>, EngineError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| EngineError::Toml(format!("cannot read the engine file: {e}")))?;
+    let text = super::read_text(path)?;
     parse_torsion(&text)
 }
 
