@@ -141,3 +141,15 @@ def test_a_results_tables_are_the_campaigns():
     assert t.num_rows == 1 and t.schema == b.schema
     assert t.column("imep_bar")[0].as_py() == r.summary["imep_bar"]
     assert r.to_pandas()["cycles_skipped"][0] == 2
+
+
+def test_an_engine_file_is_a_regular_file_of_at_most_a_mebibyte(tmp_path):
+    # /dev/zero never ends: refused before it is read, as the CLI refuses it.
+    t = time.perf_counter()
+    with pytest.raises((ed.EnginedynError, OSError), match="regular file"):
+        ed.Engine.from_toml("/dev/zero")
+    assert time.perf_counter() - t < 2.0
+    big = tmp_path / "big.toml"
+    big.write_text("# " + "x" * (1 << 20) + "\n")
+    with pytest.raises((ed.EnginedynError, OSError), match="MiB"):
+        ed.Engine.from_toml(str(big))

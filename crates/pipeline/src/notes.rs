@@ -39,6 +39,7 @@ pub const DECIDED: &[&str] = &[
     "columns read",
     "skipped ",
     "read sheet ",
+    "read group ",
     "speed ",
     "time record: the angle from",
     "firing TDC at the file's 360°",

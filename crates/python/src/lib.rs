@@ -88,8 +88,13 @@ impl Engine {
     /// Reads and checks an engine file (TOML).
     #[staticmethod]
     fn from_toml(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        let text = std::fs::read_to_string(&path)?;
-        Self::from_str(py, text, Some(path))
+        // A missing file is Python's FileNotFoundError; anything else goes
+        // through the session's one rule (a regular file of at most 1 MiB).
+        std::fs::metadata(&path)?;
+        let loaded = py.detach(|| Loaded::from_file(&path)).py()?;
+        Ok(Self {
+            loaded: Arc::new(loaded),
+        })
     }
 
     /// Checks engine-file text; `path`, when given, is where it was read
