@@ -37,11 +37,12 @@ pub const DEFAULT_EVO_DEG_TWO_STROKE: f64 = 100.0;
 /// start sooner.
 pub const DESIGN_BLOWDOWN_DEG: f64 = 40.0;
 /// The largest internal step of a design trace's closed part (deg): RK4
-/// at 0.05° is converged to far below 1e-8 relative on every preset, and
-/// half the cost of the presets' 0.025°.
-pub const DESIGN_STEP_DEG: f64 = 0.05;
-/// The step (deg) of the trapezoid on `p dV/dphi` that measures a design
-/// trace's IMEP (0.05°: converged to 1e-6 relative).
+/// at 0.1° on tables of V, dV/dphi and dx_b/dphi built once per design
+/// (the secant integrates the cycle 3 to 5 times).
+pub const DESIGN_STEP_DEG: f64 = 0.1;
+/// The step (deg) of [`imep_of`]'s trapezoid on `p dV/dphi` (0.05°:
+/// converged to 1e-6 relative); the solver itself takes Simpson's rule on
+/// the RK4 nodes of the closed part and at 0.1° or finer on the rest.
 pub const IMEP_WORK_STEP_DEG: f64 = 0.05;
 
 /// The exhaust back pressure (Pa) of a design cycle with intake pressure
@@ -186,11 +187,146 @@ pub fn imep_of(cyl: &Cylinder, sol: &CycleSolution) -> f64 {
     work / cyl.swept_volume()
 }
 
+/// What every cycle of one design shares, built once: the closed part's
+/// V, dV/dphi (per degree) and burn rate at each RK4 node and half step,
+/// and dV/dphi on the open part's Simpson grid.
+struct Grid {
+    h: f64,
+    n: usize,
+    v: Vec<f64>,
+    dv: Vec<f64>,
+    rate: Vec<f64>,
+    open: Vec<(f64, f64)>,
+    open_h: f64,
+    pv_ivc: f64,
+}
+
+impl Grid {
+    fn new(cyl: &Cylinder, model: &DesignModel) -> Result<Self, SynthError> {
+        model.cycle_model(0.0).check()?;
+        let span = model.evo_deg - model.ivc_deg;
+        // An even count of steps, for Simpson's rule on the nodes.
+        let n = ((span / DESIGN_STEP_DEG / 2.0).ceil() as usize * 2).max(2);
+        let h = span / n as f64;
+        let (mut v, mut dv, mut rate) = (Vec::new(), Vec::new(), Vec::new());
+        for k in 0..=2 * n {
+            let deg = model.ivc_deg + k as f64 * h / 2.0;
+            let phi = deg.to_radians();
+            v.push(cyl.volume(phi));
+            dv.push(cyl.dvolume(phi) * (std::f64::consts::PI / 180.0));
+            rate.push(model.burn.rate(deg));
+        }
+        let open_span = model.cycle_deg() - span;
+        let m = ((open_span / DESIGN_STEP_DEG / 2.0).ceil() as usize * 2).max(2);
+        let open_h = open_span / m as f64;
+        let open = (0..=m)
+            .map(|k| {
+                let deg = model.evo_deg + k as f64 * open_h;
+                (
+                    deg,
+                    cyl.dvolume(deg.to_radians()) * (std::f64::consts::PI / 180.0),
+                )
+            })
+            .collect();
+        Ok(Self {
+            pv_ivc: model.intake_pressure_pa * v[0],
+            h,
+            n,
+            v,
+            dv,
+            rate,
+            open,
+            open_h,
+        })
+    }
+
+    /// The closed part releasing `q` (J): RK4 on the tables, then the
+    /// solution; and the cycle's `∮ p dV` (J).
+    fn cycle(
+        &self,
+        cyl: &Cylinder,
+        model: &DesignModel,
+        q: f64,
+    ) -> Result<(CycleSolution, f64), SynthError> {
+        let g = model.gamma;
+        let pv_ivc = self.pv_ivc;
+        let f = |k: usize, p: f64| {
+            let v = self.v[k];
+            let gam = g.gamma(p * v, pv_ivc);
+            ((gam - 1.0) * q * self.rate[k] - gam * p * self.dv[k]) / v
+        };
+        let h = self.h;
+        let mut p = Vec::with_capacity(self.n + 1);
+        let mut dp = Vec::with_capacity(self.n + 1);
+        let mut pi = model.intake_pressure_pa;
+        let mut k1 = f(0, pi);
+        p.push(pi);
+        dp.push(k1);
+        for i in 0..self.n {
+            let k2 = f(2 * i + 1, pi + h / 2.0 * k1);
+            let k3 = f(2 * i + 1, pi + h / 2.0 * k2);
+            let k4 = f(2 * i + 2, pi + h * k3);
+            pi += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+            if !(pi > 0.0 && pi.is_finite()) {
+                return Err(SynthError::Diverged {
+                    deg: model.ivc_deg + h * (i + 1) as f64,
+                    pressure_pa: pi,
+                });
+            }
+            k1 = f(2 * i + 2, pi);
+            p.push(pi);
+            dp.push(k1);
+        }
+        // Simpson on the nodes of the closed part.
+        let node = |i: usize| p[i] * self.dv[2 * i];
+        let mut closed = node(0) + node(self.n);
+        for i in 1..self.n {
+            closed += if i % 2 == 1 { 4.0 } else { 2.0 } * node(i);
+        }
+        closed *= h / 3.0;
+        let m = model.cycle_model(q);
+        let v_evo = self.v[2 * self.n];
+        let sol = CycleSolution {
+            cyl: *cyl,
+            model: m,
+            h,
+            p_evo: pi,
+            g_evo: g.gamma(pi * v_evo, pv_ivc),
+            v_evo,
+            v_ivc: self.v[0],
+            blowby_fraction: 0.0,
+            p,
+            dp,
+        };
+        // Simpson on the open part, EVO to the next IVC.
+        let last = self.open.len() - 1;
+        let mut open = 0.0;
+        for (k, &(deg, dv)) in self.open.iter().enumerate() {
+            let w = if k == 0 || k == last {
+                1.0
+            } else if k % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
+            open += w * sol.pressure(deg) * dv;
+        }
+        open *= self.open_h / 3.0;
+        Ok((sol, closed + open))
+    }
+}
+
 /// The cycle of `model` on `cyl` releasing `heat_j`, and its IMEP.
-fn solve_at(cyl: &Cylinder, model: &DesignModel, heat_j: f64) -> Result<(Design, f64), SynthError> {
-    let m = model.cycle_model(heat_j);
-    let solution = CycleSolution::with_step(cyl, &m, DESIGN_STEP_DEG)?;
-    let imep = imep_of(cyl, &solution);
+fn solve_at(
+    cyl: &Cylinder,
+    model: &DesignModel,
+    grid: &Grid,
+    heat_j: f64,
+) -> Result<(Design, f64), SynthError> {
+    model.cycle_model(heat_j).check()?;
+    let (solution, work) = grid.cycle(cyl, model, heat_j)?;
+    let m = *solution.model();
+    let imep = work / cyl.swept_volume();
     Ok((
         Design {
             model: m,
@@ -208,8 +344,9 @@ fn solve_at(cyl: &Cylinder, model: &DesignModel, heat_j: f64) -> Result<(Design,
 /// and a first guess at 35 % indicated efficiency, to 1e-9 relative;
 /// refused when the target is at or below the motored cycle's IMEP).
 pub fn design(cyl: &Cylinder, model: &DesignModel) -> Result<Design, SynthError> {
+    let grid = Grid::new(cyl, model)?;
     let target = match model.load {
-        Load::Heat { j } => return Ok(solve_at(cyl, model, j)?.0),
+        Load::Heat { j } => return Ok(solve_at(cyl, model, &grid, j)?.0),
         Load::Imep { pa } => pa,
     };
     if !(target.is_finite() && target > 0.0) {
@@ -219,7 +356,7 @@ pub fn design(cyl: &Cylinder, model: &DesignModel) -> Result<Design, SynthError>
             expected: "above 0".into(),
         });
     }
-    let (_, i0) = solve_at(cyl, model, 0.0)?;
+    let (_, i0) = solve_at(cyl, model, &grid, 0.0)?;
     if target <= i0 {
         return Err(SynthError::Load(format!(
             "imep_bar = {}: at or below the motored cycle's {:.4} bar (no heat release gives it)",
@@ -229,7 +366,7 @@ pub fn design(cyl: &Cylinder, model: &DesignModel) -> Result<Design, SynthError>
     }
     let (mut q0, mut f0) = (0.0, i0 - target);
     let mut q1 = (target - i0) * cyl.swept_volume() / 0.35;
-    let (mut best, mut f1) = solve_at(cyl, model, q1)?;
+    let (mut best, mut f1) = solve_at(cyl, model, &grid, q1)?;
     f1 -= target;
     let mut evaluations = 2;
     while (f1 / target).abs() > 1e-9 {
@@ -247,7 +384,7 @@ pub fn design(cyl: &Cylinder, model: &DesignModel) -> Result<Design, SynthError>
                 target / 1e5
             )));
         }
-        let (d, i2) = solve_at(cyl, model, q2)?;
+        let (d, i2) = solve_at(cyl, model, &grid, q2)?;
         evaluations += 1;
         (q0, f0) = (q1, f1);
         (q1, f1) = (q2, i2 - target);

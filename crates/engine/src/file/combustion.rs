@@ -283,41 +283,7 @@ pub(super) fn spec(raw: RawCombustion, stroke: Stroke) -> Result<CombustionSpec,
         1000.0,
         " K",
     )?;
-    let (ivc_lo, evo_hi) = if two {
-        (-155.0, 164.0)
-    } else {
-        (-270.0, 344.0)
-    };
-    let ivc_deg = raw.ivc_deg.unwrap_or(if two {
-        DEFAULT_IVC_DEG_TWO_STROKE
-    } else {
-        DEFAULT_IVC_DEG
-    });
-    if !(ivc_deg.is_finite() && ivc_deg >= ivc_lo && ivc_deg < 0.0) {
-        return Err(invalid(
-            "combustion.ivc_deg".into(),
-            ivc_deg,
-            format!(
-                "{ivc_lo} to below 0° for a {}",
-                if two { "two-stroke" } else { "four-stroke" }
-            ),
-        ));
-    }
-    let evo_deg = raw.evo_deg.unwrap_or(if two {
-        DEFAULT_EVO_DEG_TWO_STROKE
-    } else {
-        DEFAULT_EVO_DEG
-    });
-    if !(evo_deg.is_finite() && evo_deg > 0.0 && evo_deg <= evo_hi) {
-        return Err(invalid(
-            "combustion.evo_deg".into(),
-            evo_deg,
-            format!(
-                "above 0, up to {evo_hi}° for a {}",
-                if two { "two-stroke" } else { "four-stroke" }
-            ),
-        ));
-    }
+    let (ivc_deg, evo_deg) = valves(raw.ivc_deg, raw.evo_deg, two)?;
     check_start(&burn, raw.ca50_deg.is_some(), ivc_deg, evo_deg)?;
     let gamma = match raw.gamma {
         None => GammaModel::Constant(enginedyn_combustion::DEFAULT_GAMMA),
@@ -343,6 +309,47 @@ pub(super) fn spec(raw: RawCombustion, stroke: Stroke) -> Result<CombustionSpec,
         ivc_deg,
         evo_deg,
     })
+}
+
+/// `ivc_deg` and `evo_deg` (their defaults for the cycle), within the
+/// cycle model's range.
+fn valves(ivc: Option<f64>, evo: Option<f64>, two: bool) -> Result<(f64, f64), EngineError> {
+    let (ivc_lo, evo_hi) = if two {
+        (-155.0, 164.0)
+    } else {
+        (-270.0, 344.0)
+    };
+    let ivc_deg = ivc.unwrap_or(if two {
+        DEFAULT_IVC_DEG_TWO_STROKE
+    } else {
+        DEFAULT_IVC_DEG
+    });
+    if !(ivc_deg.is_finite() && ivc_deg >= ivc_lo && ivc_deg < 0.0) {
+        return Err(invalid(
+            "combustion.ivc_deg".into(),
+            ivc_deg,
+            format!(
+                "{ivc_lo} to below 0° for a {}",
+                if two { "two-stroke" } else { "four-stroke" }
+            ),
+        ));
+    }
+    let evo_deg = evo.unwrap_or(if two {
+        DEFAULT_EVO_DEG_TWO_STROKE
+    } else {
+        DEFAULT_EVO_DEG
+    });
+    if !(evo_deg.is_finite() && evo_deg > 0.0 && evo_deg <= evo_hi) {
+        return Err(invalid(
+            "combustion.evo_deg".into(),
+            evo_deg,
+            format!(
+                "above 0, up to {evo_hi}° for a {}",
+                if two { "two-stroke" } else { "four-stroke" }
+            ),
+        ));
+    }
+    Ok((ivc_deg, evo_deg))
 }
 
 /// Each burn starts inside the closed part (after IVC, before EVO) and
