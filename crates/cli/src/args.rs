@@ -33,6 +33,8 @@ pub enum Command {
     Torsion(TorsionArgs),
     /// Print a commented engine file (every key: unit, default, meaning) that runs as it is.
     Template(TemplateArgs),
+    /// Write the diagram of the engine file's [combustion] burn law (a synthesised, not measured, CSV).
+    Synth(SynthArgs),
     /// Check a campaign's Parquet parts (`batch --parquet DIR`) and write DIR/_manifest.json.
     Merge(MergeArgs),
 }
@@ -67,6 +69,8 @@ pub struct TemplateArgs {
     /// Add the `[torsion]` section (the crankshaft's torsional chain).
     #[arg(long)]
     pub torsion: bool,
+    #[command(flatten)]
+    pub combustion: TemplateCombustionArgs,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -535,6 +539,8 @@ pub struct SweepArgs {
     #[arg(long, conflicts_with = "csv")]
     pub json: bool,
     #[command(flatten)]
+    pub map: SweepMapArgs,
+    #[command(flatten)]
     pub diagram_args: DiagramArgs,
     #[command(flatten)]
     pub method: MethodArgs,
@@ -631,3 +637,54 @@ pub struct StudyInput {
     #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_rpm)]
     pub rpm: Option<f64>,
 }
+
+// ---- synthesis for design (issue 35, section 3): `synth`, `sweep --imep`,
+// `template --combustion` ----
+
+fn parse_imep(s: &str) -> Result<f64, String> {
+    bounds::IMEP_BAR.read(s)
+}
+
+/// `enginedyn synth`.
+#[derive(Debug, Clone, Args)]
+pub struct SynthArgs {
+    /// Engine file (TOML) with a `[combustion]` section.
+    #[arg(long, value_name = "FILE")]
+    pub engine: PathBuf,
+    /// Engine speed (rpm) for the `# rpm` line [default: the engine file's operating.rpm].
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_rpm)]
+    pub rpm: Option<f64>,
+    /// Net IMEP to meet (bar); stands for [combustion]'s imep_bar or heat_released_j.
+    #[arg(long, value_name = "X", allow_hyphen_values = true, value_parser = parse_imep)]
+    pub imep: Option<f64>,
+    /// Step of the rows (deg), dividing the cycle [default: 0.1].
+    #[arg(long, value_name = "DEG", value_parser = parse_step)]
+    pub step: Option<f64>,
+    /// The diagram file to write (`-`: standard output).
+    #[arg(long, value_name = "P.csv")]
+    pub out: PathBuf,
+}
+
+/// `sweep --imep`: a speed × load map from the engine file's `[combustion]`.
+#[derive(Debug, Clone, Args)]
+pub struct SweepMapArgs {
+    /// Loads FROM:TO:STEP (net IMEP, bar): a speed × load map synthesised from [combustion].
+    #[arg(long, value_name = "FROM:TO:STEP", conflicts_with = "diagram")]
+    pub imep: Option<String>,
+}
+
+/// `template --combustion`.
+#[derive(Debug, Clone, Args)]
+pub struct TemplateCombustionArgs {
+    /// Add a commented `[combustion]` section (a burn law for `enginedyn synth`).
+    #[arg(long, value_enum, value_name = "KIND")]
+    pub combustion: Option<CombustionArg>,
+}
+
+/// `template --combustion`'s burn laws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CombustionArg {
+    Petrol,
+    Diesel,
+}
+// ---- end synthesis for design ----

@@ -4,7 +4,7 @@
 use crate::Failure;
 use crate::args::{BatchArgs, SweepArgs};
 use enginedyn_session::batch::{one_line, run_folder};
-use enginedyn_session::{Input, Loaded, Session, Work};
+use enginedyn_session::{Loaded, Session, Work};
 use std::io::IsTerminal;
 use std::time::Instant;
 
@@ -371,14 +371,24 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
     )?;
     let engine = session.engine();
     let rpms = enginedyn_session::speed::speeds(&a.rpm)?;
-    let path = enginedyn_session::diagram::diagram_path(a.diagram.as_deref(), &session.loaded)?;
-    let shown = path.display().to_string();
+    // The diagram given, else the engine file's, else its [combustion]'s.
+    let diagram = match a.diagram.as_deref() {
+        Some(p) => enginedyn_session::synth::DefaultDiagram::File(p.to_path_buf()),
+        None => {
+            enginedyn_session::synth::default_diagram(&session.loaded, None, session.method.step())?
+        }
+    };
+    let input = diagram.input();
+    let shown = input.shown();
+    if let Some(note) = diagram.note() {
+        crate::say(None, note);
+    }
     let enginedyn_session::sweep::Sweep {
         results,
         sized_at,
         source,
         flywheel,
-    } = session.sweep(Input::File(&path), &rpms, &a.rpm)?;
+    } = session.sweep(input, &rpms, &a.rpm)?;
     let table: Vec<enginedyn_report::CsvRow> = results
         .iter()
         .map(|an| {
@@ -392,7 +402,7 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
     let csv = enginedyn_report::summary_csv(&table);
     // `--json`: the per-speed summary.json objects.
     let json = if a.json {
-        let inputs = enginedyn_session::inputs::of(&session.loaded, &[Input::File(&path)])?;
+        let inputs = enginedyn_session::inputs::of(&session.loaded, &[input])?;
         let each: Vec<String> = results
             .iter()
             .map(|an| {

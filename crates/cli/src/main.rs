@@ -9,6 +9,8 @@ mod firing;
 mod kinematics;
 mod merge;
 mod run;
+mod sweep_map;
+mod synth;
 mod template;
 mod tolerance;
 mod torsion;
@@ -160,6 +162,7 @@ fn main() -> ExitCode {
     let result = match command {
         args::Command::Run(a) => run::run(&a),
         args::Command::Batch(a) => batch::run(&a),
+        args::Command::Sweep(a) if a.map.imep.is_some() => sweep_map::run(&a),
         args::Command::Sweep(a) => batch::sweep(&a),
         args::Command::Kinematics(a) => kinematics::run(&a),
         args::Command::FiringOrders(a) => firing::run(&a),
@@ -167,6 +170,7 @@ fn main() -> ExitCode {
         args::Command::Accuracy(a) => accuracy::run(&a),
         args::Command::Torsion(a) => torsion::run(&a),
         args::Command::Template(a) => template::run(&a),
+        args::Command::Synth(a) => synth::run(&a),
         args::Command::Merge(a) => merge::run(&a),
     };
     match result {

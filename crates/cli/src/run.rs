@@ -19,15 +19,34 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
         let shown = path.display().to_string();
         return finish(a, &session, &shown, &[Input::File(path)], &outcome);
     }
-    let files = diagram_files(a, &session.loaded)?;
-    let inputs: Vec<Input<'_>> = files
-        .iter()
-        .map(|f| match f {
-            Some(p) => Input::File(p),
-            None => Input::Bundled(enginedyn_session::EXAMPLE),
-        })
-        .collect();
-    let outcome = session.analyse(&inputs)?;
+    // An engine file and no --diagram: its `diagram`, else the diagram
+    // synthesised from its [combustion] (the session decides).
+    let fallback = match (a.diagram.as_slice(), &session.loaded.path) {
+        ([], Some(_)) => Some(enginedyn_session::synth::default_diagram(
+            &session.loaded,
+            a.rpm,
+            session.method.step(),
+        )?),
+        _ => None,
+    };
+    let files = match &fallback {
+        Some(_) => Vec::new(),
+        None => diagram_files(a, &session.loaded)?,
+    };
+    let inputs: Vec<Input<'_>> = match &fallback {
+        Some(d) => vec![d.input()],
+        None => files
+            .iter()
+            .map(|f| match f {
+                Some(p) => Input::File(p),
+                None => Input::Bundled(enginedyn_session::EXAMPLE),
+            })
+            .collect(),
+    };
+    let mut outcome = session.analyse(&inputs)?;
+    if let Some(note) = fallback.as_ref().and_then(|d| d.note()) {
+        outcome.analysis.summary.notes.insert(0, note.to_string());
+    }
     finish(a, &session, &shown_of(&inputs), &inputs, &outcome)
 }
 

@@ -2,8 +2,8 @@
 //! with the bundled diagram (the text is `enginedyn_engine::template`'s).
 
 use crate::Failure;
-use crate::args::{TemplateArgs, TemplateLayoutArg};
-use enginedyn_engine::template::{TemplateLayout, TemplateOptions, template};
+use crate::args::{CombustionArg, TemplateArgs, TemplateLayoutArg};
+use enginedyn_engine::template::{CombustionKind, TemplateLayout, TemplateOptions, template};
 
 /// Prints the template on standard output (exit 2 for a cylinder count
 /// the layout cannot have).
@@ -13,10 +13,15 @@ pub fn run(a: &TemplateArgs) -> Result<(), Failure> {
         TemplateLayoutArg::Vee => TemplateLayout::Vee,
         TemplateLayoutArg::Boxer => TemplateLayout::Boxer,
     };
+    let combustion = a.combustion.combustion.map(|c| match c {
+        CombustionArg::Petrol => CombustionKind::Petrol,
+        CombustionArg::Diesel => CombustionKind::Diesel,
+    });
     let text = template(&TemplateOptions {
         cylinders: usize::from(a.cylinders),
         layout,
         torsion: a.torsion,
+        combustion,
     })
     .map_err(|e| Failure::usage(e.to_string()))?;
     crate::emit(&text);

@@ -54,6 +54,23 @@ impl Wiebe {
         Self::new(start, duration, a, m)
     }
 
+    /// A law from parameters already known to be in range (literal
+    /// presets, `const`): [`Wiebe::check`] checks it as [`Wiebe::new`] would.
+    pub const fn preset(start_deg: f64, duration_deg: f64, a: f64, m: f64) -> Self {
+        Self {
+            start_deg,
+            duration_deg,
+            a,
+            m,
+        }
+    }
+
+    /// Checks the parameters as [`Wiebe::new`] does (a law made by
+    /// [`Wiebe::preset`]).
+    pub fn check(&self) -> Result<(), CombustionError> {
+        Self::new(self.start_deg, self.duration_deg, self.a, self.m).map(|_| ())
+    }
+
     /// Start φ0 (deg).
     pub fn start_deg(&self) -> f64 {
         self.start_deg
@@ -125,6 +142,25 @@ impl BurnLaw {
             first,
             second: Some((second, fraction)),
         })
+    }
+
+    /// Checks each Wiebe ([`Wiebe::check`]) and the second burn's fraction.
+    pub fn check(&self) -> Result<(), CombustionError> {
+        self.first.check()?;
+        if let Some((w, f)) = self.second {
+            w.check()?;
+            check_range("fraction", f, 0.0, 1.0)?;
+        }
+        Ok(())
+    }
+
+    /// The end of the burn (deg): the latest start plus duration.
+    pub fn end_deg(&self) -> f64 {
+        let first = self.first.start_deg + self.first.duration_deg;
+        match self.second {
+            Some((w, f)) if f > 0.0 => first.max(w.start_deg + w.duration_deg),
+            _ => first,
+        }
     }
 
     /// The first (or only) Wiebe.

@@ -6,6 +6,7 @@ use enginedyn_kinematics::{CrankSlider, Mechanism, ScotchYoke};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
+mod combustion;
 mod torsion;
 pub use torsion::{parse_torsion, read_torsion};
 
@@ -51,6 +52,7 @@ struct Raw {
     #[serde(default)]
     tolerances: toml::Table,
     torsion: Option<torsion::RawTorsion>,
+    combustion: Option<combustion::RawCombustion>,
 }
 
 #[derive(Deserialize, Default)]
@@ -180,9 +182,10 @@ fn parse_with(
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "engine".into());
-    let (builder, defaults) = raw_builder(text, &stem)?;
+    let (builder, defaults, burn) = raw_builder(text, &stem)?;
     let mut engine = build(builder)?;
     engine.defaults_taken = defaults;
+    engine.combustion = burn;
     if let Some(d) = &engine.diagram
         && d.is_relative()
     {
@@ -197,30 +200,42 @@ pub const MAX_NAME: usize = 200;
 
 /// Parses engine-file text; `stem` is the default name.
 pub fn parse(text: &str, stem: &str) -> Result<Engine, EngineError> {
-    let (builder, defaults) = raw_builder(text, stem)?;
+    let (builder, defaults, burn) = raw_builder(text, stem)?;
     let mut engine = builder.build()?;
     engine.defaults_taken = defaults;
+    engine.combustion = burn;
     Ok(engine)
 }
 
 /// [`parse`] for a search of every crank: `firing_order` may be left out
 /// (see [`EngineBuilder::build_for_crank_search`]).
 pub fn parse_for_crank_search(text: &str, stem: &str) -> Result<Engine, EngineError> {
-    let (builder, defaults) = raw_builder(text, stem)?;
+    let (builder, defaults, burn) = raw_builder(text, stem)?;
     let mut engine = builder.build_for_crank_search()?;
     engine.defaults_taken = defaults;
+    engine.combustion = burn;
     Ok(engine)
 }
 
+/// The checked `[combustion]` section, when the file has one.
+type Burn = Option<crate::combustion::CombustionSpec>;
+
 /// The keys of an engine file as an unchecked builder (known keys, types,
-/// units and per-key bounds checked; the rest is `build`'s), and the
-/// defaults it leaves to enginedyn that shape the results.
-fn raw_builder(text: &str, stem: &str) -> Result<(EngineBuilder, Vec<TakenDefault>), EngineError> {
+/// units and per-key bounds checked; the rest is `build`'s), the
+/// defaults it leaves to enginedyn that shape the results, and its
+/// `[combustion]` section checked.
+fn raw_builder(
+    text: &str,
+    stem: &str,
+) -> Result<(EngineBuilder, Vec<TakenDefault>, Burn), EngineError> {
     let table: toml::Table = toml::from_str(text).map_err(|e| EngineError::Toml(e.to_string()))?;
     check_keys(&table, text)?;
-    let raw: Raw = toml::from_str(text).map_err(|e| EngineError::Toml(e.to_string()))?;
+    let mut raw: Raw = toml::from_str(text).map_err(|e| EngineError::Toml(e.to_string()))?;
     let defaults = taken_defaults(&raw);
-    Ok((builder(raw, stem)?, defaults))
+    let burn = raw.combustion.take();
+    let b = builder(raw, stem)?;
+    let burn = burn.map(|c| combustion::spec(c, b.stroke)).transpose()?;
+    Ok((b, defaults, burn))
 }
 
 /// The keys left out whose defaults shape the results (issue 30, item 11):
@@ -286,14 +301,19 @@ fn check_keys(table: &toml::Table, text: &str) -> Result<(), EngineError> {
                 if !keys.contains(&k.as_str()) {
                     return Err(unknown(k, section, &keys, text));
                 }
-                if section == "torsion"
-                    && k == "damper"
-                    && let Some(damper) = v.as_table()
+                // The inner tables: `[torsion]`'s damper, `[combustion.second]`.
+                let inner = match (section, k.as_str()) {
+                    ("torsion", "damper") => Some("torsion.damper"),
+                    ("combustion", "second") => Some("combustion.second"),
+                    _ => None,
+                };
+                if let Some(name) = inner
+                    && let Some(table) = v.as_table()
                 {
-                    let inner = section_keys("torsion.damper");
-                    for d in damper.keys() {
-                        if !inner.contains(&d.as_str()) {
-                            return Err(unknown(d, "torsion.damper", &inner, text));
+                    let known = section_keys(name);
+                    for d in table.keys() {
+                        if !known.contains(&d.as_str()) {
+                            return Err(unknown(d, name, &known, text));
                         }
                     }
                 }
@@ -706,6 +726,14 @@ mod tests {
         assert_eq!(fields::<RawFlywheel>(), documented("flywheel"));
         assert_eq!(fields::<RawTorsion>(), documented("torsion"));
         assert_eq!(fields::<RawDamper>(), documented("torsion.damper"));
+        assert_eq!(
+            fields::<combustion::RawCombustion>(),
+            documented("combustion")
+        );
+        assert_eq!(
+            fields::<combustion::RawSecond>(),
+            documented("combustion.second")
+        );
         let mut tol = TOLERANCE_KEYS.to_vec();
         tol.sort_unstable();
         assert_eq!(tol, documented("tolerances"));

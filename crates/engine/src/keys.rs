@@ -90,7 +90,14 @@ impl KeyDoc {
 }
 
 /// The tables of the file below the top, in the order a file writes them.
-pub const SECTIONS: &[&str] = &["masses", "operating", "flywheel", "tolerances", "torsion"];
+pub const SECTIONS: &[&str] = &[
+    "masses",
+    "operating",
+    "flywheel",
+    "tolerances",
+    "torsion",
+    "combustion",
+];
 
 macro_rules! key {
     ($section:expr, $key:expr, $unit:expr, $default:expr, $required:expr, $meaning:expr, $bounds:expr, $example:expr) => {
@@ -728,6 +735,217 @@ pub const KEYS: &[KeyDoc] = &[
         "the diameter for the shear stress 16 T / (π d³) of each section; one value or one per section",
         "",
         "50.8"
+    ),
+    // ---- [combustion] ----
+    key!(
+        "combustion",
+        "ca50_deg",
+        "deg",
+        "required unless start_deg",
+        false,
+        "the burn law as design tools take it: the angle where half the heat is released (CA50), with duration_10_90_deg and wiebe_m",
+        "-90 to 120°",
+        "8.0"
+    ),
+    key!(
+        "combustion",
+        "duration_10_90_deg",
+        "deg",
+        "required with ca50_deg",
+        false,
+        "the 10–90 % burn duration (CA90 − CA10), with ca50_deg",
+        "0.5 to 240°",
+        "20.0"
+    ),
+    key!(
+        "combustion",
+        "start_deg",
+        "deg",
+        "required unless ca50_deg",
+        false,
+        "the burn law as a Wiebe function: its start φ0 (start of combustion), with duration_deg, wiebe_a and wiebe_m",
+        "-180 to 180°, after ivc_deg and before evo_deg",
+        "-10.0"
+    ),
+    key!(
+        "combustion",
+        "duration_deg",
+        "deg",
+        "required with start_deg",
+        false,
+        "the Wiebe duration Δφ, at whose end the fraction 1 − exp(−a) has burnt",
+        "1 to 360°",
+        "40.0"
+    ),
+    key!(
+        "combustion",
+        "wiebe_a",
+        "",
+        "6.908 with ca50_deg (99.9 % burnt at the end); required with start_deg",
+        false,
+        "the Wiebe efficiency a in xb = 1 − exp(−a ((φ − φ0)/Δφ)^(m+1))",
+        "0.1 to 20",
+        "6.908"
+    ),
+    key!(
+        "combustion",
+        "wiebe_m",
+        "",
+        "required",
+        false,
+        "the Wiebe shape m: about 2 for a spark-ignition burn (its rate peaking late), 0.5–1 for a diesel's diffusion burn",
+        "0 to 10",
+        "2.0"
+    ),
+    key!(
+        "combustion",
+        "imep_bar",
+        "bar",
+        "none: give it, heat_released_j or --imep",
+        false,
+        "the load: the net IMEP the synthesised cycle gives (the heat released is solved for it, to 1e-6)",
+        "above 0, up to 500 bar; not with heat_released_j",
+        "9.0"
+    ),
+    key!(
+        "combustion",
+        "heat_released_j",
+        "J",
+        "none",
+        false,
+        "the load as the net heat released into the gas per cylinder and cycle, instead of imep_bar (0: a motored cycle)",
+        "0 to 1e7 J; not with imep_bar",
+        "600.0"
+    ),
+    key!(
+        "combustion",
+        "intake_pressure_bar",
+        "bar",
+        "1.0",
+        false,
+        "the absolute intake pressure, the cylinder's at intake valve closing (the boost pressure of a charged engine)",
+        "0.1 to 100 bar",
+        "1.0"
+    ),
+    key!(
+        "combustion",
+        "intake_temp_k",
+        "K",
+        "320",
+        false,
+        "the charge temperature at intake valve closing, from which γ(T) scales the gas temperature (gamma = \"brunt\")",
+        "200 to 1000 K",
+        "320.0"
+    ),
+    key!(
+        "combustion",
+        "gamma",
+        "",
+        "1.32",
+        false,
+        "the ratio of specific heats of the first law: a constant, or \"brunt\" for Brunt's γ(T) (the analysis' model, so the burn reads back)",
+        "1.01 to 1.67, or \"brunt\"",
+        "1.32"
+    ),
+    key!(
+        "combustion",
+        "ivc_deg",
+        "deg",
+        "-140 (two-stroke: -100)",
+        false,
+        "intake valve (or port) closing, where compression starts and γ(T) takes its state",
+        "four-stroke -270 to below 0°, two-stroke -155 to below 0°",
+        "-140.0"
+    ),
+    key!(
+        "combustion",
+        "evo_deg",
+        "deg",
+        "130 (two-stroke: 100)",
+        false,
+        "exhaust valve (or port) opening, where the blow-down starts",
+        "four-stroke above 0 to 344°, two-stroke above 0 to 164°",
+        "130.0"
+    ),
+    key!(
+        "combustion",
+        "second",
+        "table",
+        "none (one Wiebe)",
+        false,
+        "a second Wiebe burn (a diesel's diffusion burn beside its premixed one): `[combustion.second]` with fraction and its own burn-law keys",
+        "its keys below",
+        "{ fraction = 0.8, start_deg = -2.0, duration_deg = 60.0, wiebe_a = 6.908, wiebe_m = 0.8 }"
+    ),
+    key!(
+        "combustion.second",
+        "fraction",
+        "",
+        "required in the second burn",
+        false,
+        "the second burn's share of the heat; the first has the rest",
+        "0 to 1",
+        "0.8"
+    ),
+    key!(
+        "combustion.second",
+        "ca50_deg",
+        "deg",
+        "required unless start_deg",
+        false,
+        "the second burn's CA50, with duration_10_90_deg and wiebe_m",
+        "-90 to 120°",
+        "20.0"
+    ),
+    key!(
+        "combustion.second",
+        "duration_10_90_deg",
+        "deg",
+        "required with ca50_deg",
+        false,
+        "the second burn's 10–90 % duration",
+        "0.5 to 240°",
+        "40.0"
+    ),
+    key!(
+        "combustion.second",
+        "start_deg",
+        "deg",
+        "required unless ca50_deg",
+        false,
+        "the second burn's Wiebe start",
+        "-180 to 180°, after ivc_deg and before evo_deg",
+        "-2.0"
+    ),
+    key!(
+        "combustion.second",
+        "duration_deg",
+        "deg",
+        "required with start_deg",
+        false,
+        "the second burn's Wiebe duration",
+        "1 to 360°",
+        "60.0"
+    ),
+    key!(
+        "combustion.second",
+        "wiebe_a",
+        "",
+        "6.908 with ca50_deg; required with start_deg",
+        false,
+        "the second burn's Wiebe efficiency a",
+        "0.1 to 20",
+        "6.908"
+    ),
+    key!(
+        "combustion.second",
+        "wiebe_m",
+        "",
+        "required in the second burn",
+        false,
+        "the second burn's Wiebe shape m",
+        "0 to 10",
+        "0.8"
     ),
 ];
 

@@ -29,6 +29,7 @@
 //! assert!((engine.firing_angle(2).to_degrees() - 180.0).abs() < 1e-9);
 //! ```
 
+pub mod combustion;
 pub mod file;
 pub mod keys;
 mod model;

@@ -282,6 +282,7 @@ pub struct Engine {
     pub(crate) flywheel: FlywheelSpec,
     pub(crate) notes: Vec<String>,
     pub(crate) defaults_taken: Vec<TakenDefault>,
+    pub(crate) combustion: Option<crate::combustion::CombustionSpec>,
 }
 
 /// A default that shapes the results, taken because the engine file left
@@ -771,6 +772,7 @@ impl EngineBuilder {
             flywheel: self.flywheel,
             notes,
             defaults_taken: Vec::new(),
+            combustion: None,
         })
     }
 }
@@ -1226,6 +1228,11 @@ impl Engine {
     /// Rod model from the file.
     pub fn rod_model(&self) -> RodModel {
         self.rod_model
+    }
+    /// The engine file's `[combustion]` section: the burn law and load of a
+    /// synthesised diagram, when it has one.
+    pub fn combustion(&self) -> Option<&crate::combustion::CombustionSpec> {
+        self.combustion.as_ref()
     }
     /// Diagram path from the file (already resolved against the file's folder).
     pub fn diagram(&self) -> Option<&std::path::Path> {

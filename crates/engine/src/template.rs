@@ -41,6 +41,8 @@ pub struct TemplateOptions {
     pub layout: TemplateLayout,
     /// Add the `[torsion]` section.
     pub torsion: bool,
+    /// Add a `[combustion]` section (a burn law for a synthesised diagram).
+    pub combustion: Option<CombustionKind>,
 }
 
 impl Default for TemplateOptions {
@@ -49,6 +51,27 @@ impl Default for TemplateOptions {
             cylinders: 4,
             layout: TemplateLayout::Inline,
             torsion: false,
+            combustion: None,
+        }
+    }
+}
+
+/// The burn law `enginedyn template --combustion` writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CombustionKind {
+    /// A spark-ignition engine at full load: one Wiebe.
+    Petrol,
+    /// A turbocharged direct-injection diesel: a premixed and a diffusion
+    /// burn.
+    Diesel,
+}
+
+impl CombustionKind {
+    /// As the flag writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            CombustionKind::Petrol => "petrol",
+            CombustionKind::Diesel => "diesel",
         }
     }
 }
@@ -390,10 +413,13 @@ fn write_keys(
 fn render(o: &TemplateOptions, p: &Plan, engine: Option<&Engine>) -> String {
     let mut out = String::new();
     let flags = format!(
-        "--cylinders {} --layout {}{}",
+        "--cylinders {} --layout {}{}{}",
         o.cylinders,
         o.layout.name(),
-        if o.torsion { " --torsion" } else { "" }
+        if o.torsion { " --torsion" } else { "" },
+        o.combustion
+            .map(|c| format!(" --combustion {}", c.name()))
+            .unwrap_or_default()
     );
     comment(
         &mut out,
@@ -466,7 +492,87 @@ fn render(o: &TemplateOptions, p: &Plan, engine: Option<&Engine>) -> String {
             "[torsion]: the crankshaft's torsional vibration (`enginedyn torsion`); `enginedyn template --torsion` writes its keys.",
         );
     }
+    match o.combustion {
+        Some(kind) => combustion_section(&mut out, kind),
+        None => {
+            out.push('\n');
+            comment(
+                &mut out,
+                "",
+                "[combustion]: a burn law that makes the diagram for an engine that has none yet (`enginedyn synth`); `enginedyn template --combustion petrol|diesel` writes its keys.",
+            );
+        }
+    }
     out
+}
+
+/// The value of each `[combustion]` (and `[combustion.second]`) key in
+/// the template of `kind`, and whether it is set (the rest commented out).
+fn combustion_value(
+    kind: CombustionKind,
+    section: &str,
+    key: &str,
+) -> Option<(&'static str, bool)> {
+    let diesel = kind == CombustionKind::Diesel;
+    Some(match (section, key) {
+        ("combustion", "ca50_deg") => (if diesel { "2.0" } else { "8.0" }, true),
+        ("combustion", "duration_10_90_deg") => (if diesel { "6.0" } else { "20.0" }, true),
+        ("combustion", "wiebe_m") => ("2.0", true),
+        ("combustion", "imep_bar") => (if diesel { "18.0" } else { "10.0" }, true),
+        ("combustion", "intake_pressure_bar") => (if diesel { "2.2" } else { "1.0" }, diesel),
+        ("combustion", "ivc_deg") => (if diesel { "-145.0" } else { "-140.0" }, diesel),
+        ("combustion", "evo_deg") => (if diesel { "125.0" } else { "130.0" }, diesel),
+        ("combustion", "second") => return None,
+        ("combustion.second", "fraction") => ("0.8", diesel),
+        ("combustion.second", "ca50_deg") => ("18.0", diesel),
+        ("combustion.second", "duration_10_90_deg") => ("40.0", diesel),
+        ("combustion.second", "wiebe_m") => ("0.8", diesel),
+        _ => ("", false),
+    })
+}
+
+/// `[combustion]` for `kind`: the burn law as CA50, the 10–90 duration and
+/// m, set; the other form and the optional keys commented out.
+fn combustion_section(out: &mut String, kind: CombustionKind) {
+    let diesel = kind == CombustionKind::Diesel;
+    section_header(
+        out,
+        "combustion",
+        &if diesel {
+            "The burn law of a synthesised diagram (`enginedyn synth`; `run`, `torsion`, `tolerance` and `sweep` use it when no diagram is given): a turbocharged direct-injection diesel at full load, a short premixed burn (this section, a fifth of the heat) and a long diffusion burn ([combustion.second]). The burn law is given either as ca50_deg + duration_10_90_deg + wiebe_m, or as start_deg + duration_deg + wiebe_a + wiebe_m. docs/combustion.md, \"Synthesis for design\", says how the diagram is made.".to_string()
+        } else {
+            "The burn law of a synthesised diagram (`enginedyn synth`; `run`, `torsion`, `tolerance` and `sweep` use it when no diagram is given): a spark-ignition engine at full load, CA50 8° after TDC at best-torque timing, 10–90 in 20°. The burn law is given either as ca50_deg + duration_10_90_deg + wiebe_m, or as start_deg + duration_deg + wiebe_a + wiebe_m. docs/combustion.md, \"Synthesis for design\", says how the diagram is made.".to_string()
+        },
+    );
+    for section in ["combustion", "combustion.second"] {
+        if section == "combustion.second" {
+            out.push('\n');
+            if diesel {
+                out.push_str("[combustion.second]\n");
+            } else {
+                out.push_str("# [combustion.second]\n");
+            }
+            comment(
+                out,
+                "",
+                "A second Wiebe burn, its share of the heat `fraction` (a diesel's diffusion burn); optional.",
+            );
+        }
+        let keys: Vec<&KeyDoc> = KEYS.iter().filter(|k| k.section == section).collect();
+        for want in [true, false] {
+            for k in &keys {
+                let Some((v, set)) = combustion_value(kind, section, k.key) else {
+                    continue;
+                };
+                if set != want {
+                    continue;
+                }
+                let v = if v.is_empty() { k.example } else { v };
+                out.push('\n');
+                entry(out, k, v, set);
+            }
+        }
+    }
 }
 
 /// The commented engine file `enginedyn template` prints. It is read back

@@ -66,6 +66,8 @@ pub const DECIDED: &[&str] = &[
     "no combustion in ",
     // batch over folders (one file, or several).
     "1 file of another kind passed over",
+    // Synthesis for design: the diagram made from [combustion].
+    "diagram synthesised from [combustion]",
 ];
 
 /// Whether `note` only says what was decided or assumed.

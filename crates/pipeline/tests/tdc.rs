@@ -11,7 +11,7 @@ use enginedyn_ingest::{GridOptions, Interp, ParseOptions, Resampled, load};
 use enginedyn_kinematics::{CrankSlider, Cylinder, Mechanism};
 use enginedyn_pipeline::tdc::{self, Untrusted};
 use enginedyn_pipeline::{Options, analyse};
-use enginedyn_synth::{CycleModel, CycleSolution, Losses, write_csv};
+use enginedyn_synth::{BurnLaw, CycleModel, CycleSolution, Losses, Wiebe, write_csv};
 
 /// Accuracy asked of an estimate (deg).
 const RECOVERY_DEG: f64 = 0.2;
@@ -244,8 +244,7 @@ fn fired_traces_give_no_estimate() {
         (
             "early combustion",
             CycleModel {
-                soc_deg: -35.0,
-                burn_duration_deg: 30.0,
+                burn: BurnLaw::single(Wiebe::new(-35.0, 30.0, 5.0, 2.0).unwrap()),
                 heat_released_j: 300.0,
                 ..full
             },
@@ -253,7 +252,7 @@ fn fired_traces_give_no_estimate() {
         (
             "a little late fuel",
             CycleModel {
-                soc_deg: 5.0,
+                burn: BurnLaw::single(Wiebe::new(5.0, 42.0, 5.0, 2.0).unwrap()),
                 heat_released_j: 20.0,
                 ..full
             },

@@ -45,6 +45,7 @@ pub use out::{
 };
 pub use tables::{
     KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_table, sweep_figure,
+    sweep_map_figure,
 };
 pub use text::{heading, summary_table};
 pub use tolerance::{

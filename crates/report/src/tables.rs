@@ -282,6 +282,58 @@ pub fn sweep_figure(engine_name: &str, summaries: &[&Summary]) -> Figure {
     }
 }
 
+/// `sweep.svg` of a speed × load map (`sweep --imep`): the effective
+/// mean torque, the power and the speed fluctuation against speed, one
+/// line per load (`loads`: each IMEP target in bar with its summaries in
+/// speed order).
+pub fn sweep_map_figure(engine_name: &str, loads: &[(f64, Vec<&Summary>)]) -> Figure {
+    let lines = |f: fn(&Summary) -> Option<f64>| -> Vec<Series> {
+        loads
+            .iter()
+            .map(|(imep, ss)| Series {
+                name: format!("IMEP {} bar", enginedyn_numerics::format::human(*imep)),
+                points: ss.iter().filter_map(|s| f(s).map(|v| (s.rpm, v))).collect(),
+                dashed: false,
+            })
+            .collect()
+    };
+    let panel = |title: String, y: &str, series: Vec<Series>| Chart {
+        title,
+        x_label: "engine speed (rpm)".into(),
+        y_label: y.into(),
+        series,
+        log: false,
+        equal: false,
+        angle_ticks: None,
+    };
+    let eta = loads
+        .first()
+        .and_then(|(_, ss)| ss.first())
+        .map_or(1.0, |s| s.mechanical_efficiency);
+    Figure {
+        file: "sweep.svg".into(),
+        panels: vec![
+            panel(
+                format!(
+                    "{engine_name} — mean torque over speed, a line per load (synthesised diagrams; η_m = {eta:.2})"
+                ),
+                "mean torque, effective (N m)",
+                lines(|x| x.mean_torque_nm),
+            ),
+            panel(
+                "power, a line per load".into(),
+                "power, effective (kW)",
+                lines(|x| x.power_kw),
+            ),
+            panel(
+                "flywheel sized once, at the point that needs the most".into(),
+                "speed fluctuation δ achieved",
+                lines(|x| x.speed_fluctuation_achieved),
+            ),
+        ],
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -16,6 +16,8 @@ pub enum Input<'a> {
     File(&'a Path),
     /// A bundled example's diagram.
     Bundled(&'static Bundled),
+    /// A diagram synthesised from the engine file's `[combustion]`.
+    Synthesised(&'a crate::synth::Synthesised),
 }
 
 impl Input<'_> {
@@ -24,6 +26,7 @@ impl Input<'_> {
         match self {
             Input::File(p) => p.display().to_string(),
             Input::Bundled(b) => b.diagram_name(),
+            Input::Synthesised(s) => s.name.clone(),
         }
     }
 }
@@ -164,6 +167,10 @@ pub fn load_diagram_timed(
             enginedyn_ingest::load_timed(b.diagram.as_bytes(), parse, grid, on_grid)
                 .map_err(|e| Error::from(e).in_file(b.diagram_name()))
         }
+        Input::Synthesised(s) => {
+            enginedyn_ingest::load_timed(s.text.as_bytes(), parse, grid, on_grid)
+                .map_err(|e| Error::from(e).in_file(&s.name))
+        }
     }
 }
 
@@ -178,6 +185,8 @@ pub fn parse_diagram(input: Input<'_>, parse: &ParseOptions) -> Result<enginedyn
         }
         Input::Bundled(b) => enginedyn_ingest::parse(b.diagram.as_bytes(), parse)
             .map_err(|e| Error::from(e).in_file(b.diagram_name())),
+        Input::Synthesised(s) => enginedyn_ingest::parse(s.text.as_bytes(), parse)
+            .map_err(|e| Error::from(e).in_file(&s.name)),
     }
 }
 

@@ -19,6 +19,7 @@ pub fn of(loaded: &Loaded, diagrams: &[Input<'_>]) -> Result<Inputs> {
         .map(|d| match d {
             Input::File(p) => Source::File(p),
             Input::Bundled(b) => Source::Bundled(b.diagram.as_bytes()),
+            Input::Synthesised(s) => Source::Text("synthesised", s.text.as_bytes()),
         })
         .collect();
     Ok(Inputs::new(engine, &diagrams)?)

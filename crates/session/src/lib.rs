@@ -50,10 +50,12 @@ pub mod error;
 pub mod firing;
 pub mod inputs;
 pub mod kinematics;
+pub mod map;
 pub mod options;
 mod session;
 pub mod speed;
 pub mod sweep;
+pub mod synth;
 pub mod tolerance;
 pub mod torsion;
 

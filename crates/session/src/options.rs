@@ -496,3 +496,51 @@ pub const CYLINDER_AXES: &[(&str, CylinderAxis)] =
 
 /// `pv_start` by name: `true` for the BDC before firing TDC.
 pub const PV_STARTS: &[(&str, bool)] = &[("tdc", false), ("bdc", true)];
+
+// ---- synthesis for design (issue 35, section 3): `synth`, `sweep --imep` ----
+
+/// `--imep`: a net IMEP target (bar), above 0 up to 500 bar (the engine
+/// file's `[combustion].imep_bar` bound).
+pub const IMEP_BAR: Bound = Bound {
+    lo: 0.0,
+    hi: 500.0,
+    unit: " bar",
+    above_lo: Some("an IMEP above 0 bar is needed"),
+};
+
+/// The row step of `enginedyn synth` without `--step` (deg): the analysis'
+/// default grid, so that a run on it interpolates nothing.
+pub const DEFAULT_SYNTH_STEP_DEG: f64 = DEFAULT_STEP_DEG;
+
+/// The most loads of one `sweep --imep` map.
+pub const MAX_LOADS: usize = 1_000;
+
+/// `--imep FROM:TO:STEP` (bar): FROM, FROM + STEP, … up to TO (included
+/// when it falls on the step), each within [`IMEP_BAR`], at most
+/// [`MAX_LOADS`].
+pub fn imep_range(spec: &str) -> Result<Vec<f64>> {
+    let bad = |why: String| Error::usage(format!("--imep {}: {why}", quote(spec)));
+    let parts: Vec<f64> = spec
+        .split(':')
+        .map(|x| enginedyn_ingest::read_number(x, false))
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|_| bad("expected FROM:TO:STEP in bar".into()))?;
+    let [from, to, step] = parts[..] else {
+        return Err(bad("expected FROM:TO:STEP in bar".into()));
+    };
+    for v in [from, to] {
+        IMEP_BAR.check(v).map_err(bad)?;
+    }
+    if !(to >= from && step > 0.0 && step.is_finite()) {
+        return Err(bad("expected FROM <= TO and STEP > 0".into()));
+    }
+    let n = ((to - from) / step + 1e-9).floor();
+    if n + 1.0 > MAX_LOADS as f64 {
+        return Err(bad(format!(
+            "{} loads; a map takes at most {MAX_LOADS}",
+            n + 1.0
+        )));
+    }
+    Ok((0..=n as usize).map(|k| from + k as f64 * step).collect())
+}
+// ---- end synthesis for design ----

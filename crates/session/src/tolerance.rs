@@ -3,7 +3,7 @@
 //! real pipeline, their stack-up, and the Monte Carlo check; and the
 //! linear-model section `run --out` adds to `report.html`.
 
-use crate::diagram::{Input, check_step, diagram_options, diagram_path, load_diagram};
+use crate::diagram::{Input, check_step, diagram_options, load_diagram};
 use crate::engine::Loaded;
 use crate::error::{Error, Result};
 use crate::options::{Method, Reader};
@@ -75,12 +75,12 @@ pub fn study(
     let step = method.step();
     check_step(engine, step)?;
     let opts = method.options();
-    let path;
+    let fallback;
     let diagram = match diagram {
         Some(d) => d,
         None => {
-            path = diagram_path(None, loaded)?;
-            Input::File(&path)
+            fallback = crate::synth::default_diagram(loaded, reader.rpm, step)?;
+            fallback.input()
         }
     };
     let shown = diagram.shown();
@@ -114,6 +114,9 @@ pub fn study(
     study.notes.splice(0..0, input_notes);
     study.notes.extend(offset_note(engine, &study));
     study.notes.extend(speed.note);
+    if let Input::Synthesised(s) = diagram {
+        study.notes.insert(0, s.note.clone());
+    }
     Ok(ToleranceStudy {
         study,
         rpm,

@@ -4,7 +4,7 @@
 //! order); the chain from `[torsion]`. And the section `run --out` adds to
 //! `report.html` for an engine file with `[torsion]`.
 
-use crate::diagram::{Input, check_step, diagram_options, diagram_path, load_diagram};
+use crate::diagram::{Input, check_step, diagram_options, load_diagram};
 use crate::engine::Loaded;
 use crate::error::{Error, Result};
 use crate::options::{Method, Reader};
@@ -129,12 +129,12 @@ pub fn study(
     check_step(engine, step)?;
     let opts = method.options();
     let (parse, grid) = diagram_options(engine, reader, step, opts.interp)?;
-    let path;
+    let fallback;
     let diagram = match diagram {
         Some(d) => d,
         None => {
-            path = diagram_path(None, loaded)?;
-            Input::File(&path)
+            fallback = crate::synth::default_diagram(loaded, reader.rpm, step)?;
+            fallback.input()
         }
     };
     let resampled = load_diagram(diagram, &parse, &grid)?;
@@ -147,6 +147,9 @@ pub fn study(
         .map_err(|e| study_failure(&file, e))?;
     let warnings = prepared.train.warnings.clone();
     let mut notes = prepared.train.notes.clone();
+    if let Input::Synthesised(s) = diagram {
+        notes.insert(0, s.note.clone());
+    }
     if let Some(n) = &speed.note {
         notes.push(format!("flywheel sized and diagram taken at {n}"));
     }

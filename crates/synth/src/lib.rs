@@ -48,6 +48,17 @@
 use enginedyn_kinematics::Cylinder;
 use std::f64::consts::PI;
 
+mod design;
+pub use design::{
+    DEFAULT_EVO_DEG, DEFAULT_EVO_DEG_TWO_STROKE, DEFAULT_IVC_DEG_TWO_STROKE, DESIGN_BLOWDOWN_DEG,
+    DESIGN_STEP_DEG, Design, DesignModel, IMEP_WORK_STEP_DEG, Load, design, design_trace,
+    exhaust_pressure_for, imep_of,
+};
+pub use enginedyn_combustion::{
+    BurnLaw, CombustionError, DEFAULT_A, DEFAULT_GAMMA, DEFAULT_INTAKE_TEMP_K, DEFAULT_IVC_DEG,
+    GammaModel, Wiebe,
+};
+
 /// Largest internal step of the closed-part integration (deg).
 pub const CLOSED_STEP_DEG: f64 = 0.025;
 /// Width of the blend from the intake pressure into the compression
@@ -71,6 +82,14 @@ pub enum SynthError {
         /// What is expected.
         expected: String,
     },
+    /// The burn law or the γ model out of range (the combustion crate's
+    /// message names the key).
+    #[error("{0}")]
+    Combustion(#[from] CombustionError),
+    /// A design load that no heat release gives: an IMEP target below the
+    /// motored cycle's, or one the solver could not meet.
+    #[error("{0}")]
+    Load(String),
     /// The closed-part integration left the physical range (pressure not
     /// positive or not finite), e.g. an absurd heat release.
     #[error("closed-part integration failed at {deg}° (pressure {pressure_pa} Pa)")]
@@ -170,6 +189,30 @@ impl Losses {
     }
 }
 
+/// The ratio of specific heats in the closed part's first-law step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Gas {
+    /// The presets' blend: `compression` while nothing has burnt (the
+    /// compression polytropic exponent, e.g. 1.35), going to `expansion`
+    /// (e.g. 1.28) as the burnt fraction `x_b` goes to 1:
+    /// `g = compression + (expansion - compression) x_b`; `compression`
+    /// throughout a motored cycle.
+    Blend {
+        /// γ of the unburnt charge.
+        compression: f64,
+        /// γ of the burnt gas.
+        expansion: f64,
+    },
+    /// The analysis' γ model (PHYSICS.md "Combustion"): a constant, or
+    /// Brunt's γ(T) with `T = T_ivc p V / (p_ivc V_ivc)` from the state at
+    /// the cycle's IVC (the model's own `ivc_deg` must be the cycle's).
+    /// The step is then `d(pV)/dphi = (g - 1)(dQ/dphi - p dV/dphi)`, the
+    /// first law whose integral is the analysis' cumulative heat release
+    /// `Q = ∫ p dV + ∫ d(pV)/(g(T) - 1)`: a trace made so and analysed with
+    /// the same model gives its burn back.
+    Model(GammaModel),
+}
+
 /// The cycle model's parameters. Angles in degrees of cycle angle from
 /// firing TDC (negative before it), pressures absolute in Pa.
 ///
@@ -189,28 +232,20 @@ pub struct CycleModel {
     pub ivc_deg: f64,
     /// Exhaust valve opening (deg after firing TDC; `130` is 50° before BDC).
     pub evo_deg: f64,
-    /// Ratio of specific heats of the unburnt charge (the compression
-    /// polytropic exponent, e.g. 1.35), used as `g` in the first-law step
-    /// while nothing has burnt.
-    pub gamma_compression: f64,
-    /// Ratio of specific heats of the burnt gas (the expansion exponent,
-    /// e.g. 1.28), reached as the burnt fraction goes to 1.
-    pub gamma_expansion: f64,
+    /// The ratio of specific heats `g` of the first-law step: the presets'
+    /// blend, or the analysis' γ model.
+    pub gas: Gas,
     /// Net heat released into the gas per cycle (J): fuel energy times
     /// combustion efficiency, less wall heat losses. 0 gives a motored
     /// cycle (then `g = gamma_compression` throughout).
     pub heat_released_j: f64,
-    /// Start of combustion (deg, negative: before firing TDC), the spark or
-    /// injection timing plus the ignition delay.
-    pub soc_deg: f64,
-    /// Combustion duration (deg): the Wiebe time scale, at whose end the
-    /// fraction `1 - exp(-a)` has burnt (99.3 % for `a = 5`).
-    pub burn_duration_deg: f64,
-    /// Wiebe efficiency parameter `a` (5.0: 99.3 % burnt at the end).
-    pub wiebe_a: f64,
-    /// Wiebe shape parameter `m` (2.0 for a spark-ignition engine, a burn
-    /// rate peaking late; 0.5–1 for a diesel's early premixed peak).
-    pub wiebe_m: f64,
+    /// The burn law (the combustion crate's Wiebe, single or double):
+    /// start (SOC, the spark or injection timing plus the ignition delay),
+    /// duration (at whose end the fraction `1 - exp(-a)` has burnt, 99.3 %
+    /// for `a = 5`), efficiency `a` and shape `m` (2.0 for a spark-ignition
+    /// engine, a burn rate peaking late; 0.5–1 for a diesel's early
+    /// premixed peak).
+    pub burn: BurnLaw,
     /// Duration of the exhaust blow-down after EVO (deg): the pressure
     /// leaves the expansion polytrope at EVO and reaches the exhaust
     /// pressure this many degrees later (cosine blend in `ln p`).
@@ -249,13 +284,12 @@ impl CycleModel {
             exhaust_pressure_pa: 1.15e5,
             ivc_deg: -130.0,
             evo_deg: 130.0,
-            gamma_compression: 1.35,
-            gamma_expansion: 1.28,
+            gas: Gas::Blend {
+                compression: 1.35,
+                expansion: 1.28,
+            },
             heat_released_j: 660.0,
-            soc_deg: -17.0,
-            burn_duration_deg: 42.0,
-            wiebe_a: 5.0,
-            wiebe_m: 2.0,
+            burn: BurnLaw::single(Wiebe::preset(-17.0, 42.0, 5.0, 2.0)),
             blowdown_deg: 40.0,
             two_stroke: false,
             losses: Losses::NONE,
@@ -282,13 +316,12 @@ impl CycleModel {
             exhaust_pressure_pa: 1.9e5,
             ivc_deg: -145.0,
             evo_deg: 125.0,
-            gamma_compression: 1.36,
-            gamma_expansion: 1.28,
+            gas: Gas::Blend {
+                compression: 1.36,
+                expansion: 1.28,
+            },
             heat_released_j: 1700.0,
-            soc_deg: -8.0,
-            burn_duration_deg: 60.0,
-            wiebe_a: 5.0,
-            wiebe_m: 0.8,
+            burn: BurnLaw::single(Wiebe::preset(-8.0, 60.0, 5.0, 0.8)),
             blowdown_deg: 45.0,
             two_stroke: false,
             losses: Losses::NONE,
@@ -305,13 +338,12 @@ impl CycleModel {
             exhaust_pressure_pa: 1.15e5,
             ivc_deg: -100.0,
             evo_deg: 100.0,
-            gamma_compression: 1.35,
-            gamma_expansion: 1.28,
+            gas: Gas::Blend {
+                compression: 1.35,
+                expansion: 1.28,
+            },
             heat_released_j: 400.0,
-            soc_deg: -20.0,
-            burn_duration_deg: 45.0,
-            wiebe_a: 5.0,
-            wiebe_m: 2.0,
+            burn: BurnLaw::single(Wiebe::preset(-20.0, 45.0, 5.0, 2.0)),
             blowdown_deg: 50.0,
             two_stroke: true,
             losses: Losses::NONE,
@@ -382,46 +414,7 @@ impl CycleModel {
                 c - half
             ),
         )?;
-        test(
-            "gamma_compression",
-            self.gamma_compression,
-            self.gamma_compression > 1.0,
-            "above 1".into(),
-        )?;
-        test(
-            "gamma_expansion",
-            self.gamma_expansion,
-            self.gamma_expansion > 1.0,
-            "above 1".into(),
-        )?;
-        test(
-            "heat_released_j",
-            self.heat_released_j,
-            self.heat_released_j >= 0.0,
-            "0 or more".into(),
-        )?;
-        test(
-            "soc_deg",
-            self.soc_deg,
-            self.soc_deg > self.ivc_deg && self.soc_deg < self.evo_deg,
-            format!(
-                "between ivc_deg ({}) and evo_deg ({})",
-                self.ivc_deg, self.evo_deg
-            ),
-        )?;
-        test(
-            "burn_duration_deg",
-            self.burn_duration_deg,
-            self.burn_duration_deg > 0.0,
-            pos(),
-        )?;
-        test("wiebe_a", self.wiebe_a, self.wiebe_a > 0.0, pos())?;
-        test(
-            "wiebe_m",
-            self.wiebe_m,
-            self.wiebe_m >= 0.0,
-            "0 or more".into(),
-        )?;
+        self.check_gas_and_burn()?;
         let l = &self.losses;
         test(
             "losses.woschni_scale",
@@ -459,50 +452,134 @@ impl CycleModel {
         Ok(())
     }
 
-    /// Burnt mass fraction at cycle angle `deg` (Wiebe):
-    /// `1 - exp(-a ((deg - soc)/dur)^(m+1))` after SOC, 0 before. Angles
-    /// are taken as they come, not wrapped (the closed part runs from
-    /// `ivc_deg` < 0 to `evo_deg`).
-    pub fn burnt_fraction(&self, deg: f64) -> f64 {
-        if deg <= self.soc_deg {
-            return 0.0;
+    /// The γ model and the burn law: each γ above 1 (a Brunt model's IVC
+    /// the cycle's), the Wiebe laws in range, the burn starting between
+    /// IVC and EVO, the heat 0 or more.
+    fn check_gas_and_burn(&self) -> Result<(), SynthError> {
+        let param = |name, value: f64, expected: String| SynthError::Parameter {
+            name,
+            value,
+            expected,
+        };
+        match self.gas {
+            Gas::Blend {
+                compression,
+                expansion,
+            } => {
+                for (name, g) in [
+                    ("gamma_compression", compression),
+                    ("gamma_expansion", expansion),
+                ] {
+                    if !(g > 1.0 && g.is_finite()) {
+                        return Err(param(name, g, "above 1".into()));
+                    }
+                }
+            }
+            Gas::Model(g) => {
+                g.check()?;
+                if let GammaModel::Brunt { ivc_deg, .. } = g
+                    && ivc_deg.to_bits() != self.ivc_deg.to_bits()
+                {
+                    return Err(param(
+                        "ivc_deg",
+                        ivc_deg,
+                        format!(
+                            "the cycle's ivc_deg ({}): γ(T) takes its state at the cycle's intake closing",
+                            self.ivc_deg
+                        ),
+                    ));
+                }
+            }
         }
-        let t = (deg - self.soc_deg) / self.burn_duration_deg;
-        1.0 - (-self.wiebe_a * t.powf(self.wiebe_m + 1.0)).exp()
+        if !(self.heat_released_j >= 0.0 && self.heat_released_j.is_finite()) {
+            return Err(param(
+                "heat_released_j",
+                self.heat_released_j,
+                "0 or more".into(),
+            ));
+        }
+        self.burn.check()?;
+        let start = self.burn.start_deg();
+        if !(start > self.ivc_deg && start < self.evo_deg) {
+            return Err(param(
+                "start_deg",
+                start,
+                format!(
+                    "between ivc_deg ({}) and evo_deg ({}): the burn starts in the closed part",
+                    self.ivc_deg, self.evo_deg
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Burnt mass fraction at cycle angle `deg` (the burn law, e.g. a
+    /// Wiebe `1 - exp(-a ((deg - soc)/dur)^(m+1))` after SOC, 0 before).
+    /// Angles are taken as they come, not wrapped (the closed part runs
+    /// from `ivc_deg` < 0 to `evo_deg`).
+    pub fn burnt_fraction(&self, deg: f64) -> f64 {
+        self.burn.fraction(deg)
     }
 
     /// Burn rate `dx_b/dphi` (per degree) at cycle angle `deg`.
     pub fn burn_rate(&self, deg: f64) -> f64 {
-        if deg <= self.soc_deg {
-            return 0.0;
-        }
-        let m1 = self.wiebe_m + 1.0;
-        let t = (deg - self.soc_deg) / self.burn_duration_deg;
-        self.wiebe_a * m1 * t.powf(self.wiebe_m) * (-self.wiebe_a * t.powf(m1)).exp()
-            / self.burn_duration_deg
+        self.burn.rate(deg)
     }
 
-    /// The ratio of specific heats used in the first-law step at `deg`:
-    /// `gamma_compression + (gamma_expansion - gamma_compression) x_b`,
-    /// or `gamma_compression` throughout a motored cycle (no heat release).
-    pub fn gamma(&self, deg: f64) -> f64 {
-        if self.heat_released_j > 0.0 {
-            self.gamma_compression
-                + (self.gamma_expansion - self.gamma_compression) * self.burnt_fraction(deg)
-        } else {
-            self.gamma_compression
+    /// `p V` at IVC (Pa m³): the intake pressure times the volume there,
+    /// the reference state of Brunt's γ(T).
+    pub fn pv_at_ivc(&self, cyl: &Cylinder) -> f64 {
+        self.intake_pressure_pa * cyl.volume(self.ivc_deg.to_radians())
+    }
+
+    /// The ratio of specific heats used in the first-law step at `deg`,
+    /// for the state `pv` (Pa m³) given `pv_ivc` ([`Self::pv_at_ivc`]):
+    /// the blend `compression + (expansion - compression) x_b` (or
+    /// `compression` throughout a motored cycle), or the γ model at `pv`.
+    #[inline]
+    pub fn gamma(&self, deg: f64, pv: f64, pv_ivc: f64) -> f64 {
+        match self.gas {
+            Gas::Blend {
+                compression,
+                expansion,
+            } => {
+                if self.heat_released_j > 0.0 {
+                    compression + (expansion - compression) * self.burnt_fraction(deg)
+                } else {
+                    compression
+                }
+            }
+            Gas::Model(g) => g.gamma(pv, pv_ivc),
+        }
+    }
+
+    /// γ of the unburnt charge at IVC: the blend's `compression`, or the
+    /// γ model at the IVC state. The compression polytrope of the ramp
+    /// into IVC (and Woschni's motored pressure) uses it.
+    pub fn gamma_unburnt(&self) -> f64 {
+        match self.gas {
+            Gas::Blend { compression, .. } => compression,
+            Gas::Model(g) => g.gamma(1.0, 1.0),
         }
     }
 
     /// `dp/dphi` (Pa per degree) of the closed part at `deg`, pressure `p`:
-    /// `((g - 1) Q dx_b/dphi - g p dV/dphi) / V`. The term in `dg/dphi`
-    /// of a variable-`g` first law is neglected (it is of the order of the
-    /// heat release's uncertainty).
+    /// `((g - 1) Q dx_b/dphi - g p dV/dphi) / V`. With the blend the term in
+    /// `dg/dphi` of a variable-`g` first law is neglected (it is of the
+    /// order of the heat release's uncertainty); with a γ model the step
+    /// is `d(pV) = (g - 1)(dQ - p dV)`, the same expression, which the
+    /// analysis' `Q = ∫ p dV + ∫ d(pV)/(g - 1)` integrates back exactly.
     pub fn closed_rate(&self, cyl: &Cylinder, deg: f64, p: f64) -> f64 {
+        self.closed_rate_at(cyl, deg, p, self.pv_at_ivc(cyl))
+    }
+
+    /// [`Self::closed_rate`] given `pv_ivc` ([`Self::pv_at_ivc`]).
+    #[inline]
+    pub fn closed_rate_at(&self, cyl: &Cylinder, deg: f64, p: f64, pv_ivc: f64) -> f64 {
         let phi = deg.to_radians();
         let v = cyl.volume(phi);
         let dv = cyl.dvolume(phi) * (PI / 180.0);
-        let g = self.gamma(deg);
+        let g = self.gamma(deg, p * v, pv_ivc);
         let dq = self.heat_released_j * self.burn_rate(deg);
         ((g - 1.0) * dq - g * p * dv) / v
     }
@@ -522,13 +599,14 @@ impl CycleModel {
         at_ivc: (f64, f64, f64),
     ) -> (f64, f64) {
         let l = &self.losses;
+        let pv_ivc = at_ivc.0 * at_ivc.1;
         if !l.any() {
-            return (self.closed_rate(cyl, deg, p), 0.0);
+            return (self.closed_rate_at(cyl, deg, p, pv_ivc), 0.0);
         }
         let phi = deg.to_radians();
         let v = cyl.volume(phi);
         let dv = cyl.dvolume(phi) * (PI / 180.0);
-        let g = self.gamma(deg);
+        let g = self.gamma(deg, p * v, pv_ivc);
         let dq = self.heat_released_j * self.burn_rate(deg);
         let t = p * v / (m * GAS_CONSTANT);
         // Seconds per degree of crank angle.
@@ -539,8 +617,8 @@ impl CycleModel {
             let mean_speed = 2.0 * cyl.mechanism().stroke() * l.rpm / 60.0;
             let (p1, v1, t1) = at_ivc;
             let mut w = WOSCHNI_C1 * mean_speed;
-            if self.heat_released_j > 0.0 && deg > self.soc_deg {
-                let p_mot = p1 * (v1 / v).powf(self.gamma_compression);
+            if self.heat_released_j > 0.0 && deg > self.burn.start_deg() {
+                let p_mot = p1 * (v1 / v).powf(self.gamma_unburnt());
                 w += WOSCHNI_C2 * cyl.swept_volume() * t1 / (p1 * v1) * (p - p_mot);
             }
             let h =
@@ -606,11 +684,29 @@ pub struct CycleSolution {
 }
 
 impl CycleSolution {
-    /// Checks the model and integrates its closed part on `cyl`.
+    /// Checks the model and integrates its closed part on `cyl` at
+    /// [`CLOSED_STEP_DEG`] or finer.
     pub fn new(cyl: &Cylinder, model: &CycleModel) -> Result<Self, SynthError> {
+        Self::with_step(cyl, model, CLOSED_STEP_DEG)
+    }
+
+    /// [`Self::new`] with the closed part's RK4 at `max_step_deg` or finer
+    /// (0.001–0.5°).
+    pub fn with_step(
+        cyl: &Cylinder,
+        model: &CycleModel,
+        max_step_deg: f64,
+    ) -> Result<Self, SynthError> {
         model.check()?;
+        if !(0.001..=0.5).contains(&max_step_deg) {
+            return Err(SynthError::Parameter {
+                name: "max_step_deg",
+                value: max_step_deg,
+                expected: "0.001 to 0.5".into(),
+            });
+        }
         let span = model.evo_deg - model.ivc_deg;
-        let n = (span / CLOSED_STEP_DEG).ceil() as usize;
+        let n = (span / max_step_deg).ceil() as usize;
         let h = span / n as f64;
         // The trapped state at IVC; the mass changes only with blow-by
         // (without losses its rate is 0 and the pressure steps are those of
@@ -652,7 +748,11 @@ impl CycleSolution {
             model: *model,
             h,
             p_evo: pi,
-            g_evo: model.gamma(model.evo_deg),
+            g_evo: model.gamma(
+                model.evo_deg,
+                pi * cyl.volume(model.evo_deg.to_radians()),
+                p_ivc * v_ivc,
+            ),
             v_evo: cyl.volume(model.evo_deg.to_radians()),
             v_ivc: cyl.volume(model.ivc_deg.to_radians()),
             p,
@@ -728,7 +828,7 @@ impl CycleSolution {
             return pin;
         }
         let t = (d - ramp_start) / IVC_RAMP_DEG;
-        let ln_poly = pin.ln() + m.gamma_compression * (self.v_ivc / vol(d)).ln();
+        let ln_poly = pin.ln() + m.gamma_unburnt() * (self.v_ivc / vol(d)).ln();
         (pin.ln() + (ln_poly - pin.ln()) * blend(t)).exp()
     }
 }
@@ -989,7 +1089,7 @@ mod tests {
         let cyl = vaz();
         let mut m = CycleModel::petrol_full_load();
         m.heat_released_j = 0.0;
-        let g = m.gamma_compression;
+        let g = m.gamma_unburnt();
         let c0 = m.intake_pressure_pa * cyl.volume(m.ivc_deg.to_radians()).powf(g);
         let sol = CycleSolution::new(&cyl, &m).unwrap();
         let mut worst: f64 = 0.0;
@@ -1033,7 +1133,7 @@ mod tests {
         let f = sol.blowby_fraction();
         // About 1.5 % at 1500 rpm (Losses::warm_engine's documentation).
         assert!((0.01..0.02).contains(&f), "blow-by {f}");
-        let g = m.gamma_compression;
+        let g = m.gamma_unburnt();
         let v = |d: f64| cyl.volume(d.to_radians());
         let expected =
             m.intake_pressure_pa * (v(m.ivc_deg) / v(m.evo_deg)).powf(g) * (1.0 - f).powf(g);
@@ -1059,7 +1159,7 @@ mod tests {
         };
         let m = motored_with(l);
         let sol = CycleSolution::new(&cyl, &m).unwrap();
-        let g = m.gamma_compression;
+        let g = m.gamma_unburnt();
         let (a, b) = (-100.0, 100.0);
         let n = 20_000;
         let h = (b - a) / n as f64;
@@ -1303,8 +1403,9 @@ mod tests {
     #[test]
     fn wiebe_fraction_and_rate() {
         let m = CycleModel::petrol_full_load();
-        assert!(m.burnt_fraction(m.soc_deg - 1.0).abs() < 1e-300);
-        let end = m.soc_deg + m.burn_duration_deg;
+        let w = *m.burn.first();
+        assert!(m.burnt_fraction(w.start_deg() - 1.0).abs() < 1e-300);
+        let end = w.start_deg() + w.duration_deg();
         assert!(rel(m.burnt_fraction(end), 1.0 - (-5.0f64).exp()) < 1e-14);
         for d in [-10.0, 0.0, 10.0, 25.0] {
             let e = 1e-5;
@@ -1321,13 +1422,13 @@ mod tests {
         let e = pressure_trace(&cyl, &m, 0.5).unwrap_err();
         assert!(e.to_string().starts_with("evo_deg = 350"), "{e}");
         let m = CycleModel {
-            soc_deg: -140.0,
+            burn: BurnLaw::single(Wiebe::new(-140.0, 42.0, 5.0, 2.0).unwrap()),
             ..CycleModel::petrol_full_load()
         };
         assert!(matches!(
             pressure_trace(&cyl, &m, 0.5),
             Err(SynthError::Parameter {
-                name: "soc_deg",
+                name: "start_deg",
                 ..
             })
         ));
@@ -1336,7 +1437,10 @@ mod tests {
             assert!(pressure_trace(&cyl, &m, step).is_err(), "{step}");
         }
         let m = CycleModel {
-            gamma_expansion: f64::NAN,
+            gas: Gas::Blend {
+                compression: 1.35,
+                expansion: f64::NAN,
+            },
             ..CycleModel::petrol_full_load()
         };
         assert!(pressure_trace(&cyl, &m, 0.5).is_err());

@@ -1,0 +1,151 @@
+//! `enginedyn sweep --rpm A:B:S --imep X:Y:Z`: a speed × load map from the
+//! engine file's `[combustion]` (INTERFACE.md "Combustion"); the map is
+//! `enginedyn_session::map`'s, its tables and chart `enginedyn_report`'s.
+
+use crate::Failure;
+use crate::args::SweepArgs;
+use enginedyn_session::{Loaded, Session};
+
+const FILES: [&str; 2] = ["sweep.csv", "sweep.svg"];
+
+/// A JSON array of objects already written as text, one a line.
+fn json_array(objects: &[String]) -> String {
+    let mut s = String::from("[");
+    for (k, o) in objects.iter().enumerate() {
+        s.push_str(if k == 0 { "\n" } else { ",\n" });
+        s.push_str(o);
+    }
+    s.push_str("\n]\n");
+    s
+}
+
+/// Runs the map and prints or writes it.
+pub fn run(a: &SweepArgs) -> Result<(), Failure> {
+    let shown_loads = a.map.imep.as_deref().unwrap_or_default();
+    let loaded = Loaded::from_file(&a.engine)?;
+    enginedyn_session::synth::spec(&loaded)?;
+    let out = crate::open_out(a.out.as_deref(), &FILES, "sweep")?;
+    let session = Session::new(
+        loaded,
+        a.diagram_args.reader(None),
+        a.method.method(None),
+        enginedyn_pipeline::Scope::Summary,
+    )?;
+    let rpms = enginedyn_session::speed::speeds(&a.rpm)?;
+    let loads = enginedyn_session::options::imep_range(shown_loads)?;
+    let map = session.sweep_map(&rpms, &loads, &a.rpm, shown_loads)?;
+    crate::say_all(&map.notes);
+    for p in &map.points {
+        crate::say_all(&p.analysis.summary.notes);
+    }
+    let engine = session.engine();
+    let table: Vec<enginedyn_report::CsvRow> = map
+        .points
+        .iter()
+        .map(|p| {
+            let mut cells = enginedyn_report::flatten(&p.analysis.summary);
+            cells.push((
+                "imep_target_bar".to_string(),
+                enginedyn_numerics::format::csv(p.imep_target_bar),
+            ));
+            (map.diagrams[p.load].name.clone(), String::new(), cells)
+        })
+        .collect();
+    let csv = enginedyn_report::summary_csv(&table);
+    let json = if a.json {
+        let each = map
+            .points
+            .iter()
+            .zip(&map.diagrams_for_points())
+            .map(|(p, d)| {
+                let inputs = enginedyn_session::inputs::of(&session.loaded, &[d.input()])?;
+                let mut doc = enginedyn_report::summary_json(&p.analysis.summary, &inputs);
+                if let Some(o) = doc.as_object_mut() {
+                    o.insert("imep_target_bar".into(), p.imep_target_bar.into());
+                }
+                Ok(serde_json::to_string(&doc).unwrap_or_default())
+            })
+            .collect::<Result<Vec<String>, Failure>>()?;
+        Some(json_array(&each))
+    } else {
+        None
+    };
+    match &out {
+        Some(dir) => {
+            let per_load: Vec<(f64, Vec<&enginedyn_pipeline::Summary>)> = map
+                .loads
+                .iter()
+                .map(|&l| {
+                    let ss = map
+                        .points
+                        .iter()
+                        .filter(|p| map.loads[p.load].to_bits() == l.to_bits())
+                        .map(|p| &p.analysis.summary)
+                        .collect();
+                    (l, ss)
+                })
+                .collect();
+            let fig = enginedyn_report::sweep_map_figure(engine.name(), &per_load);
+            let svg = fig.render().map_err(|e| Failure::data(e.to_string()))?;
+            let [table, chart] = FILES.map(String::from);
+            for note in dir.write(&[(table, csv.into_bytes()), (chart, svg.into_bytes())])? {
+                crate::say(None, &note);
+            }
+            eprintln!(
+                "{} speeds × {} loads; wrote sweep.csv and sweep.svg to {}",
+                map.rpms.len(),
+                map.loads.len(),
+                dir.path().display()
+            );
+            if let Some(json) = &json {
+                crate::emit(json);
+            }
+        }
+        None if a.json => crate::emit(&json.unwrap_or_default()),
+        None if a.csv => crate::emit(&csv),
+        None => crate::emit(&table_text(engine, &map)),
+    }
+    Ok(())
+}
+
+/// The readable table: a row per load and speed.
+fn table_text(engine: &enginedyn_engine::Engine, map: &enginedyn_session::map::SweepMap) -> String {
+    let rows: Vec<enginedyn_report::KeyRow> = map
+        .points
+        .iter()
+        .map(|p| enginedyn_report::KeyRow {
+            name: format!(
+                "{} bar, {} rpm",
+                crate::human(p.imep_target_bar),
+                crate::human(p.analysis.summary.rpm)
+            ),
+            figures: Some(enginedyn_report::key_figures(
+                &enginedyn_report::SWEEP_FIGURES,
+                &p.analysis.summary,
+            )),
+            error: String::new(),
+            folder: None,
+        })
+        .collect();
+    let mut text = enginedyn_report::heading(
+        engine,
+        "sweep over speed and load, ",
+        f64::NAN,
+        "synthesised from [combustion]",
+    );
+    if let Some((rpm, imep)) = map.sized_at {
+        text.push_str(&format!(
+            "flywheel sized once at {} rpm and IMEP {} bar (the point that needs the most); δ is what it gives at each point\n",
+            crate::human(rpm),
+            crate::human(imep)
+        ));
+    }
+    text.push('\n');
+    text.push_str(&enginedyn_report::key_table(
+        "IMEP target, speed",
+        &enginedyn_report::SWEEP_FIGURES,
+        &rows,
+        engine.operating().mechanical_efficiency,
+    ));
+    text
+}

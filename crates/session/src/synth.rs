@@ -1,0 +1,310 @@
+//! Synthesis for design (INTERFACE.md "Combustion"): the diagram of an
+//! engine file's `[combustion]` section (`enginedyn synth`), and the
+//! diagram a command takes when it is given none and the engine file has
+//! no `diagram` but a `[combustion]` section. The cycle is
+//! `enginedyn_synth`'s design cycle ([`enginedyn_synth::design`]); the
+//! text it is written as is a diagram like any other, read back by the
+//! same reader.
+
+use crate::diagram::Input;
+use crate::engine::Loaded;
+use crate::error::{Error, Result};
+use enginedyn_engine::Engine;
+use enginedyn_engine::combustion::{CombustionLoad, CombustionSpec};
+use enginedyn_numerics::format::human;
+use enginedyn_synth::{Design, DesignModel, GammaModel, Load, SynthError};
+use std::path::{Path, PathBuf};
+
+/// How the notes that say a diagram was synthesised begin (a decision,
+/// `pipeline::notes::DECIDED`).
+pub const NOTE_PREFIX: &str = "diagram synthesised from [combustion]";
+
+/// A synthesised diagram: its text (`crank_deg,pressure_bar` with `#`
+/// lines giving every parameter), how messages name it, and what it gives.
+#[derive(Debug, Clone)]
+pub struct Synthesised {
+    /// How messages name it: `synthesised from FILE [combustion]`.
+    pub name: String,
+    /// The diagram as `enginedyn synth` writes it.
+    pub text: String,
+    /// The speed written in its `# rpm` line, when one was known.
+    pub rpm: Option<f64>,
+    /// The step of its rows (deg).
+    pub step_deg: f64,
+    /// The IMEP asked for (bar), when the load is an IMEP.
+    pub imep_target_bar: Option<f64>,
+    /// The net IMEP of the cycle (bar).
+    pub imep_bar: f64,
+    /// The heat released per cylinder and cycle (J): given, or solved for.
+    pub heat_released_j: f64,
+    /// The note a command says when it runs on it.
+    pub note: String,
+}
+
+impl Synthesised {
+    /// The diagram as a command's input.
+    pub fn input(&self) -> Input<'_> {
+        Input::Synthesised(self)
+    }
+}
+
+/// The `[combustion]` section of `loaded`, or a usage error naming the file.
+pub fn spec(loaded: &Loaded) -> Result<CombustionSpec> {
+    loaded.engine.combustion().copied().ok_or_else(|| {
+        Error::usage(format!(
+            "{}: no [combustion] section: give the burn law (`enginedyn template --combustion petrol` writes one)",
+            loaded.shown()
+        ))
+    })
+}
+
+/// The design cycle of `engine`'s `[combustion]` section, its load the
+/// file's unless `imep_bar` is given (`--imep`). `file` names the engine
+/// file in errors.
+pub fn design_model(
+    file: &str,
+    engine: &Engine,
+    spec: &CombustionSpec,
+    imep_bar: Option<f64>,
+) -> Result<DesignModel> {
+    let load = match (imep_bar, spec.load) {
+        (Some(i), _) => Load::Imep { pa: i * 1e5 },
+        (None, Some(CombustionLoad::Imep(pa))) => Load::Imep { pa },
+        (None, Some(CombustionLoad::Heat(j))) => Load::Heat { j },
+        (None, None) => {
+            return Err(Error::usage(format!(
+                "{file}: [combustion] gives no load: set `imep_bar` or `heat_released_j` there, or give --imep"
+            )));
+        }
+    };
+    let two = engine.stroke_kind() == enginedyn_engine::Stroke::Two;
+    let mut m = DesignModel::new(spec.burn, load, spec.gamma, two);
+    m.intake_pressure_pa = spec.intake_pressure_pa;
+    m.exhaust_pressure_pa = enginedyn_synth::exhaust_pressure_for(spec.intake_pressure_pa);
+    m.ivc_deg = spec.ivc_deg;
+    m.evo_deg = spec.evo_deg;
+    m.fit_blowdown();
+    Ok(m)
+}
+
+/// A synthesis error as the session's: an IMEP from `--imep` that no heat
+/// gives is the command line's; the rest the engine file's.
+fn failure(file: &str, from_flag: bool, e: SynthError) -> Error {
+    match e {
+        SynthError::Load(m) if from_flag => Error::usage(format!("--imep: {m}")),
+        e => Error::engine(format!("{file}: [combustion]: {e}")),
+    }
+}
+
+/// The diagram of `loaded`'s `[combustion]` at `step_deg`: the load the
+/// file's, or `imep_bar` (`--imep`); `rpm` written in its `# rpm` line
+/// (`None`: the engine file's `operating.rpm`, when it has one).
+pub fn synthesise(
+    loaded: &Loaded,
+    rpm: Option<f64>,
+    imep_bar: Option<f64>,
+    step_deg: f64,
+) -> Result<Synthesised> {
+    let file = loaded.shown();
+    let spec = spec(loaded)?;
+    let engine = &loaded.engine;
+    crate::diagram::check_step(engine, step_deg)?;
+    let model = design_model(&file, engine, &spec, imep_bar)?;
+    let cyl = engine.cylinder();
+    let design =
+        enginedyn_synth::design(cyl, &model).map_err(|e| failure(&file, imep_bar.is_some(), e))?;
+    let n = (model.cycle_deg() / step_deg).round() as usize;
+    let trace = design.sample(n, step_deg);
+    let rpm = rpm.or(engine.operating().rpm);
+    let lines = header(&file, engine, &model, &design, step_deg, &trace);
+    let refs: Vec<&str> = lines.iter().map(String::as_str).collect();
+    let mut buf = Vec::new();
+    enginedyn_synth::write_csv(&mut buf, &trace, rpm, &refs)
+        .map_err(|e| Error::io(e.to_string()))?;
+    let text = String::from_utf8(buf).map_err(|e| Error::io(e.to_string()))?;
+    let imep_target_bar = match model.load {
+        Load::Imep { pa } => Some(pa / 1e5),
+        Load::Heat { .. } => None,
+    };
+    let law = describe_burn(&model);
+    let load = match imep_target_bar {
+        Some(i) => format!(
+            "IMEP {} bar (heat released {} J per cylinder)",
+            human(i),
+            human(design.heat_released_j)
+        ),
+        None => format!(
+            "heat released {} J per cylinder (IMEP {} bar)",
+            human(design.heat_released_j),
+            human(design.imep_pa / 1e5)
+        ),
+    };
+    Ok(Synthesised {
+        name: format!("synthesised from {file} [combustion]"),
+        note: format!(
+            "{NOTE_PREFIX} of {file}: no diagram given and no `diagram` in the engine file, so the design cycle at {load}, {law}, γ {}; the lossless cycle is the same at every speed",
+            model.gamma.describe()
+        ),
+        text,
+        rpm,
+        step_deg,
+        imep_target_bar,
+        imep_bar: design.imep_pa / 1e5,
+        heat_released_j: design.heat_released_j,
+    })
+}
+
+/// The burn law in a few words: `Wiebe CA10 −1.6°, CA50 8°, CA90 18.4°`.
+fn describe_burn(m: &DesignModel) -> String {
+    let b = &m.burn;
+    format!(
+        "{} CA10 {}°, CA50 {}°, CA90 {}°",
+        if b.second().is_some() {
+            "double Wiebe"
+        } else {
+            "Wiebe"
+        },
+        human((b.angle_of(0.1) * 1e3).round() / 1e3),
+        human((b.angle_of(0.5) * 1e3).round() / 1e3),
+        human((b.angle_of(0.9) * 1e3).round() / 1e3)
+    )
+}
+
+/// The `#` lines of a synthesised diagram: that it is synthetic, the
+/// engine, every parameter of the cycle, and what it gives.
+fn header(
+    file: &str,
+    engine: &Engine,
+    m: &DesignModel,
+    d: &Design,
+    step_deg: f64,
+    trace: &[(f64, f64)],
+) -> Vec<String> {
+    let cyl = engine.cylinder();
+    let mech = cyl.mechanism();
+    let geometry = match mech {
+        enginedyn_kinematics::Mechanism::CrankSlider(cs) => format!(
+            "crank-slider, rod {} mm, pin offset {} mm",
+            human(cs.l() * 1e3),
+            human(cs.e() * 1e3)
+        ),
+        enginedyn_kinematics::Mechanism::ScotchYoke(_) => "Scotch yoke".to_string(),
+    };
+    let wiebe = |w: &enginedyn_synth::Wiebe| {
+        format!(
+            "start_deg = {}, duration_deg = {}, wiebe_a = {}, wiebe_m = {}",
+            w.start_deg(),
+            w.duration_deg(),
+            w.a(),
+            w.m()
+        )
+    };
+    let mut lines = vec![
+        "synthetic indicator diagram, not measured: enginedyn synth, the design cycle of the engine file's [combustion] (single-zone first law from IVC to EVO with a Wiebe heat release, no wall heat; docs/combustion.md, Synthesis for design)".to_string(),
+        format!(
+            "engine: {file} ({}): bore {} mm, stroke {} mm, {geometry}, compression ratio {}, {}",
+            engine.name(),
+            human(cyl.bore() * 1e3),
+            human(mech.stroke() * 1e3),
+            human(cyl.compression_ratio()),
+            if m.two_stroke { "two-stroke" } else { "four-stroke" }
+        ),
+        format!("burn: {}", wiebe(m.burn.first())),
+    ];
+    if let Some((w, f)) = m.burn.second() {
+        lines.push(format!("burn: second Wiebe, fraction = {f}: {}", wiebe(w)));
+    }
+    lines.push(format!("burn points of the law: {}", describe_burn(m)));
+    lines.push(match m.load {
+        Load::Imep { pa } => format!(
+            "load: imep_bar = {} (target), heat_released_j = {} (solved, {} cycles)",
+            pa / 1e5,
+            d.heat_released_j,
+            d.evaluations
+        ),
+        Load::Heat { j } => format!("load: heat_released_j = {j}"),
+    });
+    lines.push(format!(
+        "gas: gamma = {}, intake_pressure_bar = {}, intake_temp_k = {}, exhaust_pressure_bar = {}, ivc_deg = {}, evo_deg = {}, blowdown_deg = {}",
+        match m.gamma {
+            GammaModel::Constant(g) => format!("{g}"),
+            GammaModel::Brunt { .. } => "brunt".to_string(),
+        },
+        m.intake_pressure_pa / 1e5,
+        match m.gamma {
+            GammaModel::Brunt { intake_temp_k, .. } => intake_temp_k,
+            GammaModel::Constant(_) => engine
+                .combustion()
+                .map_or(enginedyn_synth::DEFAULT_INTAKE_TEMP_K, |c| c.intake_temp_k),
+        },
+        m.exhaust_pressure_pa / 1e5,
+        m.ivc_deg,
+        m.evo_deg,
+        m.blowdown_deg
+    ));
+    let (peak_deg, peak) = enginedyn_synth::peak_pressure(trace).unwrap_or((0.0, 0.0));
+    lines.push(format!(
+        "result: step_deg = {step_deg}, IMEP {:.4} bar net, peak {:.2} bar at {peak_deg:.1} deg after firing TDC",
+        d.imep_pa / 1e5,
+        peak / 1e5
+    ));
+    lines
+}
+
+/// The diagram a command reads when given none: the engine file's
+/// `diagram`, else (an engine file with `[combustion]`) the synthesised
+/// one at `step_deg` with `rpm` in its `# rpm` line, else a usage error
+/// that says so. A bundled engine keeps its bundled diagram (the caller's
+/// to give).
+#[derive(Debug)]
+pub enum DefaultDiagram {
+    /// The engine file's `diagram`.
+    File(PathBuf),
+    /// The synthesised diagram.
+    Synthesised(Box<Synthesised>),
+}
+
+impl DefaultDiagram {
+    /// As a command's input.
+    pub fn input(&self) -> Input<'_> {
+        match self {
+            DefaultDiagram::File(p) => Input::File(p),
+            DefaultDiagram::Synthesised(s) => s.input(),
+        }
+    }
+    /// The note to say (a synthesised diagram's).
+    pub fn note(&self) -> Option<&str> {
+        match self {
+            DefaultDiagram::File(_) => None,
+            DefaultDiagram::Synthesised(s) => Some(&s.note),
+        }
+    }
+}
+
+/// See [`DefaultDiagram`].
+pub fn default_diagram(loaded: &Loaded, rpm: Option<f64>, step_deg: f64) -> Result<DefaultDiagram> {
+    if let Some(p) = loaded.engine.diagram() {
+        return Ok(DefaultDiagram::File(p.to_path_buf()));
+    }
+    if loaded.engine.combustion().is_some() {
+        return Ok(DefaultDiagram::Synthesised(Box::new(synthesise(
+            loaded, rpm, None, step_deg,
+        )?)));
+    }
+    crate::diagram::diagram_path(None, loaded).map(DefaultDiagram::File)
+}
+
+/// Writes a synthesised diagram to `out` (its folder made when missing,
+/// the file whole or not at all; `-`: standard output is the caller's).
+pub fn write(s: &Synthesised, out: &Path) -> Result<()> {
+    let dir = match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let name = out
+        .file_name()
+        .and_then(|n| n.to_str())
+        .ok_or_else(|| Error::usage(format!("--out {}: not a file name", out.display())))?;
+    enginedyn_report::replace_file(dir, name, s.text.as_bytes())?;
+    Ok(())
+}
