@@ -223,16 +223,22 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                 fmt(crate::MAX_GAP_DEG)
             )
         };
-        let settle = share.map_or(String::new(), |(s, over)| match over {
-            Some(why) => format!(
-                "; the linear and the cubic interpolants' ∫ p dV over it differ by {} % of the cycle's work, but the data settle no gap that {why}",
+        let settle = share.map_or(String::new(), |(s, over)| {
+            let differ = format!(
+                "; the linear and the cubic interpolants' ∫ p dV over it differ by {} % of the cycle's work",
                 enginedyn_numerics::format::sig(100.0 * s, 2),
-            ),
-            None => format!(
-                "; the linear and the cubic interpolants' ∫ p dV over it differ by {} % of the cycle's work, more than the {} % that would let the data settle it",
-                enginedyn_numerics::format::sig(100.0 * s, 2),
-                enginedyn_numerics::format::human(100.0 * trace::SETTLED_SHARE)
-            ),
+            );
+            match (s >= trace::SETTLED_SHARE, over) {
+                (true, over) => format!(
+                    "{differ}, more than the {} % that would let the data settle it{}",
+                    enginedyn_numerics::format::human(100.0 * trace::SETTLED_SHARE),
+                    over.map_or(String::new(), |why| format!(
+                        ", nor do they settle a gap that {why}"
+                    ))
+                ),
+                (false, Some(why)) => format!("{differ}, but the data settle no gap that {why}"),
+                (false, None) => differ,
+            }
         });
         let hint = if needed <= crate::MAX_GAP_BOUND_DEG {
             format!(
