@@ -12,10 +12,10 @@ import pytest
 import enginedyn as ed
 
 # CLI flags whose Python names are not the flag's own with `_` for `-`.
-RENAMED = {"--max-gap": "max_gap_deg", "--gain": "gain_bar_per_v"}
-NUMERIC = {"tdc_deg", "peg_bar", "max_gap_deg", "tdc_time", "gain_bar_per_v", "rpm", "wheel_tdc_deg"}
+RENAMED = {"--max-gap": "max_gap_deg", "--gain": "gain_bar_per_v", "--no-compression-check": "compression_check"}
+NUMERIC = {"tdc_deg", "peg_bar", "max_gap_deg", "tdc_time", "gain_bar_per_v", "rpm", "wheel_tdc_deg", "angle_step"}
 INTEGER = {"encoder_ppr", "skip_lines", "group"}
-SWITCHES = {"--gauge"}
+SWITCHES = {"--gauge": True, "--no-compression-check": False}
 
 
 def reader_kwargs(flags):
@@ -24,7 +24,7 @@ def reader_kwargs(flags):
         flag = flags[i]
         name = RENAMED.get(flag, flag[2:].replace("-", "_"))
         if flag in SWITCHES:
-            kw[name] = True
+            kw[name] = SWITCHES[flag]
             i += 1
             continue
         value = flags[i + 1]

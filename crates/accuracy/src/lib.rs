@@ -510,6 +510,7 @@ pub fn study(input: &Input) -> Result<Accuracy, AccuracyError> {
         cycles_skipped: 0,
         skipped: Vec::new(),
         notes: Vec::new(),
+        peak_rule: None,
     };
     for interp in [Interp::Linear, Interp::Spline, Interp::Pchip] {
         let opts = Options {

@@ -137,6 +137,7 @@ fn samples(e: &Engine, spacing: f64) -> Diagram {
         cycles_skipped: 0,
         skipped: Vec::new(),
         notes: Vec::new(),
+        peak_rule: None,
     }
 }
 

@@ -289,6 +289,15 @@ pub struct DiagramArgs {
     /// The angle (deg) from the wheel's first tooth after the gap to cylinder 1's TDC.
     #[arg(long, value_name = "A", allow_hyphen_values = true, value_parser = parse_wheel_tdc)]
     pub wheel_tdc_deg: Option<f64>,
+    /// Read the trace as the cylinder's pressure without the checks that
+    /// assume a compressing engine (a steam engine, a compressor, a
+    /// textbook problem): the compression bound and the peak-angle rule.
+    #[arg(long)]
+    pub no_compression_check: bool,
+    /// A pressure-only record sampled on the crank angle: row k lies at k
+    /// times DEG (--tdc-deg places firing TDC on that axis).
+    #[arg(long, value_name = "DEG", value_parser = parse_angle_step)]
+    pub angle_step: Option<f64>,
 }
 
 fn parse_shard(s: &str) -> Result<enginedyn_session::batch::Shard, String> {
@@ -305,6 +314,10 @@ fn parse_tdc_time(s: &str) -> Result<f64, String> {
 
 fn parse_wheel_tdc(s: &str) -> Result<f64, String> {
     bounds::WHEEL_TDC_DEG.read(s)
+}
+
+fn parse_angle_step(s: &str) -> Result<f64, String> {
+    bounds::ANGLE_STEP.read(s)
 }
 
 fn parse_gain(s: &str) -> Result<f64, String> {
@@ -335,6 +348,8 @@ impl DiagramArgs {
             encoder_ppr: self.encoder_ppr,
             wheel: self.wheel,
             wheel_tdc_deg: self.wheel_tdc_deg,
+            no_compression_check: self.no_compression_check,
+            angle_step_deg: self.angle_step,
         }
     }
 }

@@ -291,31 +291,53 @@ fn words(name: &str) -> (Vec<String>, Option<String>) {
     (out, unit)
 }
 
-/// True when every cell of a row that is not empty or skipped is a unit
-/// alone (`deg`, `bar`, `[V]`, `-`): a units row, which belongs to the
-/// names row above it (INTERFACE.md, "Units are not angles").
+/// True when a row is a units row, which belongs to the names row above
+/// it (INTERFACE.md, "Units are not angles"): every cell that is not empty
+/// or skipped is a unit alone, and at least half of them are units the
+/// reader knows (`deg`, `bar`, `[V]`, `-`). The others may be any unit of
+/// a column the reader does not know (`J/°CA`, `kg/h`, `mm`): a unit's
+/// shape, one short token that is no number.
 pub(crate) fn units_row(cells: &[String]) -> bool {
     const OTHER: &[&str] = &[
         "deg", "degca", "degkw", "ca", "kw", "rad", "grad", "n", "nm", "rpm", "1min", "umin",
         "min1", "hz", "khz", "degc", "c", "k", "a", "ma", "w", "kw", "percent", "",
     ];
-    let mut any = false;
+    let (mut known, mut other) = (0usize, 0usize);
     for c in cells {
         let t = c.trim();
         if t.is_empty() || t == "_" || t == "-" || t == "%" {
             continue;
         }
         let u = normal_unit(t.trim_matches(['[', ']', '(', ')']));
-        let known = [PRESSURE_UNITS, VOLT_UNITS, VOLUME_UNITS, TIME_UNITS]
+        let is_known = [PRESSURE_UNITS, VOLT_UNITS, VOLUME_UNITS, TIME_UNITS]
             .iter()
             .any(|table| factor(table, &u).is_some())
             || OTHER.contains(&u.as_str());
-        if !known {
+        if is_known {
+            known += 1;
+        } else if unit_shaped(t) {
+            other += 1;
+        } else {
             return false;
         }
-        any = true;
     }
-    any
+    known > 0 && known >= other
+}
+
+/// A cell shaped like a unit: one token of at most 12 characters, no
+/// number, either short (`mm`, `kJ`) or written with a unit's signs
+/// (`J/°CA`, `kg/h`, `m³`, `1/min`).
+fn unit_shaped(t: &str) -> bool {
+    let t = t.trim_matches(['[', ']', '(', ')']);
+    let n = t.chars().count();
+    let signs = t.contains(['/', '°', '³', '²', '^', '·', '*', 'µ', 'μ']);
+    n > 0
+        && n <= 12
+        && !t.contains(char::is_whitespace)
+        && crate::read_number(t, false).is_err()
+        && crate::read_number(t, true).is_err()
+        && t.chars().any(|c| c.is_alphabetic() || c == '°')
+        && (signs || n <= 4)
 }
 
 fn normal_unit(u: &str) -> String {
@@ -683,18 +705,42 @@ pub(crate) fn expand(names: &[String], cells: usize) -> Vec<String> {
     }
 }
 
-impl Roles {
-    /// Resolves `names` (header cells, or `--columns` when `explicit`).
-    /// From a header, names that cannot be read are left out with a note;
-    /// from `--columns` they are errors. `line` is where the names are.
-    pub(crate) fn resolve(
-        names: &[String],
+/// The x column of a record sampled on the crank angle without one
+/// (`--angle-step`): no column of the file; row k lies at k times the step.
+pub(crate) const STEPPED_X: usize = usize::MAX;
+
+/// A value column as resolved: its role and what it is read as.
+type Values = (Vec<(usize, Role)>, Quantity, bool);
+
+/// The names of a header being resolved, phase by phase: each name read
+/// ([`Names::read`]), the axis chosen ([`Names::axis`]), the signal and
+/// numbering columns ([`Names::one`]), the value columns
+/// ([`Names::values`]), the layout's checks ([`Names::layout`]) and the
+/// note on how they were read ([`Names::note`]).
+struct Names<'a> {
+    names: &'a [String],
+    explicit: bool,
+    line: usize,
+    want_torque: bool,
+    /// Each name read, and its role.
+    read: Vec<(usize, Role)>,
+    /// Each name that cannot be read, and why (a header's only).
+    unread: Vec<(usize, Unread)>,
+    /// What is left out, as the note says it.
+    left_out: Vec<String>,
+}
+
+impl<'a> Names<'a> {
+    /// Phase 1: every name read. From a header, names that cannot be read
+    /// are kept for the note; from `--columns` they are errors.
+    fn read(
+        names: &'a [String],
         explicit: bool,
         line: usize,
         want_torque: bool,
-    ) -> Result<Roles, IngestError> {
-        let mut read: Vec<(usize, Role)> = Vec::new();
-        let mut unread: Vec<(usize, Unread)> = Vec::new();
+    ) -> Result<Self, IngestError> {
+        let mut read = Vec::new();
+        let mut unread = Vec::new();
         for (i, n) in names.iter().enumerate() {
             match recognise(n) {
                 Ok(Role::Skip) => {}
@@ -713,58 +759,100 @@ impl Roles {
                 Err(why) => unread.push((i, why)),
             }
         }
-        let missing = |what: &str| {
-            let mut m = format!("no {what} column");
-            if !unread.is_empty() {
-                let list: Vec<String> = unread
-                    .iter()
-                    .map(|(i, why)| {
-                        format!("{} (column {})", unread_message(&names[*i], why), i + 1)
-                    })
-                    .collect();
-                m.push_str(&format!(": {}", list.join("; ")));
-            }
-            let readable: Vec<String> = read
+        Ok(Self {
+            names,
+            explicit,
+            line,
+            want_torque,
+            read,
+            unread,
+            left_out: Vec::new(),
+        })
+    }
+
+    /// The error for a column the header lacks: what was read, what not.
+    fn missing(&self, what: &str) -> IngestError {
+        let names = self.names;
+        let mut m = format!("no {what} column");
+        if !self.unread.is_empty() {
+            let list: Vec<String> = self
+                .unread
                 .iter()
-                .map(|(i, r)| {
-                    format!(
-                        "`{}` as {}",
-                        enginedyn_numerics::format::quote(&names[*i]),
-                        r.describe()
-                    )
-                })
+                .map(|(i, why)| format!("{} (column {})", unread_message(&names[*i], why), i + 1))
                 .collect();
-            if !readable.is_empty() {
-                m.push_str(&format!("; read: {}", readable.join(", ")));
+            m.push_str(&format!(": {}", list.join("; ")));
+        }
+        let readable: Vec<String> = self
+            .read
+            .iter()
+            .map(|(i, r)| {
+                format!(
+                    "`{}` as {}",
+                    enginedyn_numerics::format::quote(&names[*i]),
+                    r.describe()
+                )
+            })
+            .collect();
+        if !readable.is_empty() {
+            m.push_str(&format!("; read: {}", readable.join(", ")));
+        }
+        m.push_str(&format!(
+            "; known names: {} and spellings such as `Crank Angle [deg]` or {}; --columns names the columns",
+            KNOWN.join(", "),
+            if self.want_torque {
+                "`Torque [Nm]` (the engine's; `Torque Cyl [Nm]` one cylinder's)"
+            } else {
+                "`Pressure [bar]`"
             }
-            m.push_str(&format!(
-                "; known names: {} and spellings such as `Crank Angle [deg]` or {}; --columns names the columns",
-                KNOWN.join(", "),
-                if want_torque { "`Torque [Nm]` (the engine's; `Torque Cyl [Nm]` one cylinder's)" } else { "`Pressure [bar]`" }
-            ));
-            at(line, None, m)
-        };
-        let mut left_out: Vec<String> = Vec::new();
-        let first = |f: fn(&Role) -> bool| {
-            read.iter()
-                .filter(|(_, r)| f(r))
-                .map(|(i, r)| (*i, *r))
-                .collect::<Vec<_>>()
-        };
-        let angles = first(|r| matches!(r, Role::Angle(_)));
-        let volumes = first(|r| matches!(r, Role::Volume(_)));
-        let times = first(|r| matches!(r, Role::Time(_)));
+        ));
+        if what.starts_with("crank angle") && !self.want_torque {
+            m.push_str(
+                "; a pressure-only record sampled on the crank angle (a DAQ clocked by the encoder) reads with --angle-step DEG",
+            );
+        }
+        at(self.line, None, m)
+    }
+
+    /// The columns whose role `f` accepts, in file order.
+    fn all(&self, f: fn(&Role) -> bool) -> Vec<(usize, Role)> {
+        self.read
+            .iter()
+            .filter(|(_, r)| f(r))
+            .map(|(i, r)| (*i, *r))
+            .collect()
+    }
+
+    /// Phase 2: the x column: the angle, else the volume, else the time;
+    /// the others left out. `stepped` (`--angle-step`): there is none, and
+    /// a file that has one is an error.
+    fn axis(&mut self, stepped: bool) -> Result<(usize, Axis), IngestError> {
+        let angles = self.all(|r| matches!(r, Role::Angle(_)));
+        let volumes = self.all(|r| matches!(r, Role::Volume(_)));
+        let times = self.all(|r| matches!(r, Role::Time(_)));
+        if stepped {
+            if let Some(&(i, _)) = angles.first().or(volumes.first()).or(times.first()) {
+                return Err(at(
+                    self.line,
+                    Some(i + 1),
+                    format!(
+                        "--angle-step gives the angle of a record without an angle, volume or time column; this one has `{}`: leave --angle-step out",
+                        enginedyn_numerics::format::quote(&self.names[i])
+                    ),
+                ));
+            }
+            return Ok((STEPPED_X, Axis::Angle(1.0)));
+        }
         let (x, axis) = match (angles.first(), volumes.first(), times.first()) {
             (Some(&(i, Role::Angle(s))), _, _) => (i, Axis::Angle(s)),
             (None, Some(&(i, Role::Volume(s))), _) => (i, Axis::Volume(s)),
             (None, None, Some(&(i, Role::Time(s)))) => (i, Axis::Time(s)),
-            _ => return Err(missing("crank angle (or volume, or time)")),
+            _ => return Err(self.missing("crank angle (or volume, or time)")),
         };
         for (i, _) in angles.iter().chain(&volumes).chain(&times) {
             if *i != x {
-                left_out.push(format!(
+                self.left_out.push(format!(
                     "`{}` (the {} is used)",
-                    enginedyn_numerics::format::quote(&names[*i]),
+                    enginedyn_numerics::format::quote(&self.names[*i]),
                     match axis {
                         Axis::Angle(_) => "angle",
                         Axis::Volume(_) => "volume",
@@ -773,35 +861,33 @@ impl Roles {
                 ));
             }
         }
-        let one = |f: fn(&Role) -> bool, what: &str| -> Result<Option<usize>, IngestError> {
-            let v = first(f);
-            if v.len() > 1 {
-                return Err(at(
-                    line,
-                    Some(v[1].0 + 1),
-                    format!(
-                        "two {what} columns (columns {} and {}): skip one with `_` in --columns",
-                        v[0].0 + 1,
-                        v[1].0 + 1
-                    ),
-                ));
-            }
-            Ok(v.first().map(|(i, _)| *i))
-        };
-        let cycle = one(|r| matches!(r, Role::Cycle), "cycle")?;
-        let cylinder = one(|r| matches!(r, Role::Cylinder), "cylinder")?;
-        let tdc = one(|r| matches!(r, Role::Tdc), "TDC pulse")?;
-        let encoder = one(|r| matches!(r, Role::Encoder), "encoder")?;
-        let wheel = one(|r| matches!(r, Role::Wheel), "tooth wheel")?;
-        let cam = one(|r| matches!(r, Role::Cam), "cam")?;
-        let torque = first(|r| matches!(r, Role::Torque(_)));
-        let pressures = first(|r| matches!(r, Role::Pressure { .. }));
-        let volts = first(|r| matches!(r, Role::Volts { .. }));
-        let (values, quantity, is_volts): (Vec<(usize, Role)>, Quantity, bool) = match (
-            torque.is_empty(),
-            pressures.is_empty(),
-            volts.is_empty(),
-        ) {
+        Ok((x, axis))
+    }
+
+    /// Phase 3: the one column of a role (cycle, cylinder, a signal), if
+    /// any; two are an error.
+    fn one(&self, f: fn(&Role) -> bool, what: &str) -> Result<Option<usize>, IngestError> {
+        let v = self.all(f);
+        if v.len() > 1 {
+            return Err(at(
+                self.line,
+                Some(v[1].0 + 1),
+                format!(
+                    "two {what} columns (columns {} and {}): skip one with `_` in --columns",
+                    v[0].0 + 1,
+                    v[1].0 + 1
+                ),
+            ));
+        }
+        Ok(v.first().map(|(i, _)| *i))
+    }
+
+    /// Phase 4: the value columns, one kind: torque, pressure or volts.
+    fn values(&self) -> Result<Values, IngestError> {
+        let torque = self.all(|r| matches!(r, Role::Torque(_)));
+        let pressures = self.all(|r| matches!(r, Role::Pressure { .. }));
+        let volts = self.all(|r| matches!(r, Role::Volts { .. }));
+        match (torque.is_empty(), pressures.is_empty(), volts.is_empty()) {
             (false, true, true) => {
                 let q = match torque[0].1 {
                     Role::Torque(q) => q,
@@ -809,30 +895,140 @@ impl Roles {
                 };
                 if torque.len() > 1 {
                     return Err(at(
-                        line,
+                        self.line,
                         Some(torque[1].0 + 1),
                         "two torque columns: a turning-moment file has one",
                     ));
                 }
-                (torque, q, false)
+                Ok((torque, q, false))
             }
-            (true, false, true) => (pressures, Quantity::Pressure, false),
-            (true, true, false) => (volts, Quantity::Pressure, true),
+            (true, false, true) => Ok((pressures, Quantity::Pressure, false)),
+            (true, true, false) => Ok((volts, Quantity::Pressure, true)),
             // A turning-moment file (`--torque`) is told about torque.
-            (true, true, true) if want_torque => return Err(missing("torque")),
-            (true, true, true) => return Err(missing("pressure")),
-            _ => {
-                return Err(at(
-                    line,
-                    None,
-                    "pressure, voltage and torque columns mixed: a diagram holds one kind (skip the others with `_` in --columns)",
-                ));
+            (true, true, true) if self.want_torque => Err(self.missing("torque")),
+            (true, true, true) => Err(self.missing("pressure")),
+            _ => Err(at(
+                self.line,
+                None,
+                "pressure, voltage and torque columns mixed: a diagram holds one kind (skip the others with `_` in --columns)",
+            )),
+        }
+    }
+
+    /// Phase 5: what several value columns allow (one cycle or one
+    /// cylinder per column is read against crank angle, without a cycle or
+    /// cylinder column).
+    fn layout(
+        &self,
+        values: &[ValueCol],
+        axis: Axis,
+        x: usize,
+        numbered: Option<usize>,
+    ) -> Result<(), IngestError> {
+        if values.len() <= 1 {
+            return Ok(());
+        }
+        if let Some(c) = numbered {
+            return Err(at(
+                self.line,
+                Some(c + 1),
+                "several pressure columns and a cycle or cylinder column: give one pressure column per row (long layout), or one cycle per column without cycle and cylinder columns",
+            ));
+        }
+        if matches!(axis, Axis::Time(_) | Axis::Volume(_)) || x == STEPPED_X {
+            return Err(at(
+                self.line,
+                Some(values[1].col + 1),
+                if x == STEPPED_X {
+                    "several pressure columns: --angle-step reads one pressure column, a row a step; skip the others with `_` in --columns"
+                } else {
+                    "several pressure columns: one cycle per column is read against crank angle, not time or volume; skip the others with `_` in --columns"
+                },
+            ));
+        }
+        Ok(())
+    }
+
+    /// Phase 6: the note on how the names were read, when any is not
+    /// canonical or a column is left out (never for `--columns`).
+    fn note(&self, used: &[usize], values: &[ValueCol]) -> Option<String> {
+        let names = self.names;
+        let canonical = self
+            .read
+            .iter()
+            .all(|(i, _)| KNOWN.contains(&names[*i].trim().to_lowercase().as_str()));
+        if self.explicit || (canonical && self.left_out.is_empty()) {
+            return None;
+        }
+        let mut shown: Vec<String> = Vec::new();
+        let many = values.len() > 3;
+        for (i, r) in &self.read {
+            if !used.contains(i) {
+                continue;
             }
-        };
-        let cyl_of = |r: Role| match r {
-            Role::Pressure { cylinder, .. } | Role::Volts { cylinder, .. } => cylinder,
-            _ => None,
-        };
+            if many && values.iter().skip(1).any(|v| v.col == *i) {
+                continue;
+            }
+            shown.push(format!(
+                "`{}` as {}",
+                enginedyn_numerics::format::quote(&names[*i]),
+                r.describe()
+            ));
+        }
+        if many {
+            shown.push(format!(
+                "and {} more pressure columns like it",
+                values.len() - 1
+            ));
+        }
+        let mut n = format!("columns read: {}", shown.join(", "));
+        if !self.left_out.is_empty() {
+            n.push_str(&format!("; left out: {}", self.left_out.join("; ")));
+        }
+        Some(n)
+    }
+}
+
+impl Roles {
+    /// Resolves `names` (header cells, or `--columns` when `explicit`).
+    /// From a header, names that cannot be read are left out with a note;
+    /// from `--columns` they are errors. `line` is where the names are.
+    pub(crate) fn resolve(
+        names: &[String],
+        explicit: bool,
+        line: usize,
+        want_torque: bool,
+    ) -> Result<Roles, IngestError> {
+        Self::resolve_with(names, explicit, line, want_torque, false)
+    }
+
+    /// [`Self::resolve`]; `stepped` (`--angle-step`): the record has no x
+    /// column, its rows lie a step apart on the crank angle ([`STEPPED_X`]).
+    pub(crate) fn resolve_with(
+        names: &[String],
+        explicit: bool,
+        line: usize,
+        want_torque: bool,
+        stepped: bool,
+    ) -> Result<Roles, IngestError> {
+        let mut n = Names::read(names, explicit, line, want_torque)?;
+        let (x, axis) = n.axis(stepped)?;
+        let cycle = n.one(|r| matches!(r, Role::Cycle), "cycle")?;
+        let cylinder = n.one(|r| matches!(r, Role::Cylinder), "cylinder")?;
+        let tdc = n.one(|r| matches!(r, Role::Tdc), "TDC pulse")?;
+        let encoder = n.one(|r| matches!(r, Role::Encoder), "encoder")?;
+        let wheel = n.one(|r| matches!(r, Role::Wheel), "tooth wheel")?;
+        let cam = n.one(|r| matches!(r, Role::Cam), "cam")?;
+        if x == STEPPED_X
+            && let Some(c) = cycle
+        {
+            return Err(at(
+                line,
+                Some(c + 1),
+                "--angle-step and a cycle column: a record sampled on the crank angle is one run of rows, cut at each firing TDC",
+            ));
+        }
+        let (values, quantity, is_volts) = n.values()?;
         let labels: Vec<String> = values
             .iter()
             .map(|&(col, r)| {
@@ -850,13 +1046,21 @@ impl Roles {
             .collect();
         let values: Vec<ValueCol> = values
             .iter()
-            .map(|&(col, r)| ValueCol {
-                col,
-                scale: match r {
-                    Role::Pressure { scale, .. } | Role::Volts { scale, .. } => scale,
-                    _ => 1.0,
-                },
-                cylinder: cyl_of(r).map_or(0, i64::from),
+            .map(|&(col, r)| {
+                let (scale, cyl) = match r {
+                    Role::Pressure {
+                        scale, cylinder, ..
+                    }
+                    | Role::Volts {
+                        scale, cylinder, ..
+                    } => (scale, cylinder),
+                    _ => (1.0, None),
+                };
+                ValueCol {
+                    col,
+                    scale,
+                    cylinder: cyl.map_or(0, i64::from),
+                }
             })
             .collect();
         // Several columns naming distinct cylinders are one trace per
@@ -866,24 +1070,9 @@ impl Roles {
             c.sort_unstable();
             c[0] > 0 && c.windows(2).all(|w| w[0] != w[1])
         };
-        if values.len() > 1 {
-            if let Some(c) = cycle.or(cylinder) {
-                return Err(at(
-                    line,
-                    Some(c + 1),
-                    "several pressure columns and a cycle or cylinder column: give one pressure column per row (long layout), or one cycle per column without cycle and cylinder columns",
-                ));
-            }
-            if matches!(axis, Axis::Time(_) | Axis::Volume(_)) {
-                return Err(at(
-                    line,
-                    Some(values[1].col + 1),
-                    "several pressure columns: one cycle per column is read against crank angle, not time or volume; skip the others with `_` in --columns",
-                ));
-            }
-        }
-        for (i, why) in &unread {
-            left_out.push(match why {
+        n.layout(&values, axis, x, cycle.or(cylinder))?;
+        for (i, why) in &n.unread {
+            n.left_out.push(match why {
                 Unread::Unknown => format!(
                     "`{}` (not a name enginedyn reads)",
                     enginedyn_numerics::format::quote(&names[*i])
@@ -899,56 +1088,24 @@ impl Roles {
             (cam, "a cam pulse"),
         ] {
             if let Some(i) = col.filter(|_| !time) {
-                left_out.push(format!(
+                n.left_out.push(format!(
                     "`{}` ({what} is used with a time column only)",
                     enginedyn_numerics::format::quote(&names[i])
                 ));
             }
         }
-        // Say how the names were read when any is not canonical.
-        let canonical = read
-            .iter()
-            .all(|(i, _)| KNOWN.contains(&names[*i].trim().to_lowercase().as_str()));
-        let mut note = None;
-        if !explicit && (!canonical || !left_out.is_empty()) {
-            let used: Vec<usize> = std::iter::once(x)
-                .chain(values.iter().map(|v| v.col))
-                .chain(cycle)
-                .chain(cylinder)
-                .chain(
-                    [tdc, encoder, wheel, cam]
-                        .into_iter()
-                        .flatten()
-                        .filter(|_| matches!(axis, Axis::Time(_))),
-                )
-                .collect();
-            let mut shown: Vec<String> = Vec::new();
-            let many = values.len() > 3;
-            for (i, r) in &read {
-                if !used.contains(i) {
-                    continue;
-                }
-                if many && values.iter().skip(1).any(|v| v.col == *i) {
-                    continue;
-                }
-                shown.push(format!(
-                    "`{}` as {}",
-                    enginedyn_numerics::format::quote(&names[*i]),
-                    r.describe()
-                ));
-            }
-            if many {
-                shown.push(format!(
-                    "and {} more pressure columns like it",
-                    values.len() - 1
-                ));
-            }
-            let mut n = format!("columns read: {}", shown.join(", "));
-            if !left_out.is_empty() {
-                n.push_str(&format!("; left out: {}", left_out.join("; ")));
-            }
-            note = Some(n);
-        }
+        let used: Vec<usize> = std::iter::once(x)
+            .chain(values.iter().map(|v| v.col))
+            .chain(cycle)
+            .chain(cylinder)
+            .chain(
+                [tdc, encoder, wheel, cam]
+                    .into_iter()
+                    .flatten()
+                    .filter(|_| time),
+            )
+            .collect();
+        let note = n.note(&used, &values);
         Ok(Roles {
             x,
             axis,

@@ -117,7 +117,12 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             gain: opts.gain_bar_per_v.filter(|_| self.volts),
             absolute: self.absolute,
             gauge: opts.gauge,
-            compression_ratio: opts.cylinder.as_ref().map(|c| c.compression_ratio()),
+            compression_ratio: opts
+                .cylinder
+                .as_ref()
+                .filter(|_| opts.compression_check)
+                .map(|c| c.compression_ratio()),
+            coverage_first: self.probe.is_none(),
         };
         if let Some(p) = self.probe.as_mut() {
             let prefix = format!("{}: ", trace::describe(tr.cycle, tr.cylinder));
@@ -198,7 +203,13 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
     /// `--max-gap` that bridges it, when the flag's bound allows one.
     /// `share`: how far the linear and cubic interpolants' `∫ p dV` over
     /// it differ, as a share of the cycle's work, when measured.
-    fn gap_error(&self, tr: &Trace, g: trace::Gap, line: usize, share: Option<f64>) -> IngestError {
+    fn gap_error(
+        &self,
+        tr: &Trace,
+        g: trace::Gap,
+        line: usize,
+        share: Option<(f64, Option<String>)>,
+    ) -> IngestError {
         let cycle = self.opts.cycle_deg;
         let max_gap = self.opts.max_gap_deg;
         let needed = g.width.ceil();
@@ -212,12 +223,22 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                 fmt(crate::MAX_GAP_DEG)
             )
         };
-        let settle = share.map_or(String::new(), |s| {
-            format!(
-                "; the linear and the cubic interpolants' ∫ p dV over it differ by {} % of the cycle's work, more than the {} % that would let the data settle it",
+        let settle = share.map_or(String::new(), |(s, over)| {
+            let differ = format!(
+                "; the linear and the cubic interpolants' ∫ p dV over it differ by {} % of the cycle's work",
                 enginedyn_numerics::format::sig(100.0 * s, 2),
-                enginedyn_numerics::format::human(100.0 * trace::SETTLED_SHARE)
-            )
+            );
+            match (s >= trace::SETTLED_SHARE, over) {
+                (true, over) => format!(
+                    "{differ}, more than the {} % that would let the data settle it{}",
+                    enginedyn_numerics::format::human(100.0 * trace::SETTLED_SHARE),
+                    over.map_or(String::new(), |why| format!(
+                        ", nor do they settle a gap that {why}"
+                    ))
+                ),
+                (false, Some(why)) => format!("{differ}, but the data settle no gap that {why}"),
+                (false, None) => differ,
+            }
         });
         let hint = if needed <= crate::MAX_GAP_BOUND_DEG {
             format!(
@@ -237,7 +258,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             gap_line,
             None,
             format!(
-                "{} has a gap of {}° from {}° to {}° (its steps are {}°): the data covers {}° of the {}° cycle; {hint}",
+                "{} has a gap of {}° from {}° to {}° (its steps are {}°): the data cover {}° of the {}° cycle; {hint}",
                 trace::describe(tr.cycle, tr.cylinder),
                 fmt(g.width),
                 fmt(g.from),
@@ -274,14 +295,15 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                     .as_ref()
                     .filter(|_| q == Quantity::Pressure && g.width <= crate::MAX_GAP_BOUND_DEG)
                     .and_then(|cyl| trace::gap_work_share(&tr, cyl, self.opts.cycle_deg));
+                let over = trace::unsettled(g, self.opts.cycle_deg);
                 match share {
-                    Some(s) if s < trace::SETTLED_SHARE => {
+                    Some(s) if s < trace::SETTLED_SHARE && over.is_none() => {
                         self.settled
                             .push((trace::describe(tr.cycle, tr.cylinder), g, s));
                         self.send(tr, c, q)?;
                         continue;
                     }
-                    _ => return Err(self.gap_error(&tr, g, line, share)),
+                    _ => return Err(self.gap_error(&tr, g, line, share.map(|s| (s, over)))),
                 }
             }
             self.bridged

@@ -61,8 +61,33 @@ impl Layout {
                 // one column, the angle starting again.
                 let stacked = (l.cycle_col.is_none() && l.cyl_col.is_none() && l.stacked > 0)
                     .then_some(l.stacked + 1);
-                l.end(out)?;
-                if let Some(n) = stacked {
+                let (ran_on, tdc) = (l.ran_on, l.tdc);
+                let (partial, whole) = l.end(out)?;
+                if ran_on {
+                    let mut n = format!(
+                        "the angle runs on over {whole} whole cycle{}: cut at each firing TDC (the file's angle {} plus a multiple of the cycle), numbered 1 to {whole}",
+                        if whole == 1 { "" } else { "s" },
+                        enginedyn_numerics::format::trimmed(tdc, 3)
+                    );
+                    if !partial.is_empty() {
+                        let said: Vec<String> = partial
+                            .iter()
+                            .map(|(at, deg)| {
+                                format!(
+                                    "{} ({}° of the cycle)",
+                                    at,
+                                    enginedyn_numerics::format::trimmed(*deg, 1)
+                                )
+                            })
+                            .collect();
+                        n.push_str(&format!(
+                            "; the partial cycle{} at {} left out",
+                            if partial.len() > 1 { "s" } else { "" },
+                            said.join(" and ")
+                        ));
+                    }
+                    head.notes.push(n);
+                } else if let Some(n) = stacked {
                     head.notes.push(format!(
                         "{n} cycles one after another in one column (each where the angle starts again), numbered 1 to {n}"
                     ));
@@ -159,9 +184,24 @@ pub(crate) struct Long {
     auto_cycle: i64,
     /// Cycles started by the angle starting again (no `cycle` column).
     stacked: usize,
+    /// The angle runs on past the cycle (no `cycle` column): cycles are
+    /// cut at each firing TDC, and the partial ones at the ends left out.
+    ran_on: bool,
+    /// The partial cycles left out: which end, and the degrees they cover.
+    partial: Vec<(&'static str, f64)>,
+    /// Cycles handed on (whole ones, in a record whose angle runs on).
+    whole: usize,
+    /// The cycle before a closing point (its first angle a cycle on), held
+    /// until the next row says whether the point closes it (a digitised
+    /// cycle) or begins the next cycle of a record whose angle runs on.
+    held: Option<Box<Current>>,
     last_len: usize,
     max_cyl: usize,
     explicit: bool,
+    /// `--angle-step` (deg): no x column, row k lies at k times it.
+    step: Option<f64>,
+    /// Data rows read (the next row's k).
+    rows: u64,
 }
 
 impl Long {
@@ -189,15 +229,37 @@ impl Long {
             cur: None,
             auto_cycle: 1,
             stacked: 0,
+            ran_on: false,
+            partial: Vec::new(),
+            whole: 0,
+            held: None,
             last_len: 16,
             max_cyl: opts.max_cylinder.clamp(1, MAX_CYLINDERS),
             explicit: opts.columns.is_some(),
+            step: opts
+                .angle_step_deg
+                .filter(|_| roles.x == crate::columns::STEPPED_X),
+            rows: 0,
         })
+    }
+
+    /// The x column as messages name it (1-based); with `--angle-step`
+    /// the value column, as there is none.
+    fn x_col(&self) -> usize {
+        if self.step.is_some() {
+            self.value + 1
+        } else {
+            self.x + 1
+        }
     }
 
     /// True when the fast path may continue this layout's traces.
     pub(crate) fn fast(&self) -> bool {
-        !self.pv && same(self.x_scale, 1.0) && self.cur.is_some()
+        !self.pv
+            && same(self.x_scale, 1.0)
+            && self.cur.is_some()
+            && self.step.is_none()
+            && self.held.is_none()
     }
 
     fn row<F: FnMut(Streamed) -> Result<(), IngestError>>(
@@ -207,7 +269,14 @@ impl Long {
         out: &mut Emitter<'_, F>,
     ) -> Result<(), IngestError> {
         width(cells, self.ncols, self.explicit, line)?;
-        let x_raw = cells.number(self.x, line)?;
+        let x_raw = match self.step {
+            // Row k of a record sampled on the crank angle: k times the step.
+            Some(step) => {
+                self.rows += 1;
+                (self.rows - 1) as f64 * step
+            }
+            None => cells.number(self.x, line)?,
+        };
         let p_raw = cells.number(self.value, line)?;
         let cyc = match self.cycle_col {
             Some(i) => Some(whole_cycle(cells.number(i, line)?, line, i)?),
@@ -231,6 +300,28 @@ impl Long {
             }
         } else {
             let a = x_raw * self.x_scale - self.tdc;
+            let x_col = self.x_col();
+            if let Some(prev) = self.held.take() {
+                let runs = cyc.is_none()
+                    && self
+                        .cur
+                        .as_ref()
+                        .is_some_and(|c| c.trace.cylinder == cyl && c.track.continues(a).is_some());
+                if runs {
+                    // The angle runs on: the closing point was the next
+                    // cycle's first sample.
+                    let mut prev = *prev;
+                    if let Some(lone) = self.cur.take() {
+                        prev.trace.angle_deg.extend(lone.trace.angle_deg);
+                        prev.trace.values.extend(lone.trace.values);
+                    }
+                    self.cur = Some(prev);
+                    self.auto_cycle -= 1;
+                    self.stacked -= 1;
+                    return self.run_on(line, cyl, a, p, out);
+                }
+                self.send(*prev, out)?;
+            }
             let Some(c) = self.cur.as_mut() else {
                 let cyc = cyc.unwrap_or(self.auto_cycle);
                 return self.start(line, cyc, cyl, a, p, false, out);
@@ -256,12 +347,24 @@ impl Long {
                 }
                 return Err(not_rising(
                     line,
-                    self.x + 1,
+                    x_col,
                     x_raw,
                     &c.track,
                     self.tdc,
                     self.cycle_deg,
                 ));
+            }
+            let runs_on = c.track.runs_on(a);
+            if closes && !self.ran_on && !c.track.wrapped() {
+                // A closing point, or the next cycle's first sample: the
+                // next row tells.
+                self.held = self.cur.take().map(Box::new);
+                self.auto_cycle += 1;
+                self.stacked += 1;
+                return self.start(line, self.auto_cycle, cyl, a, p, true, out);
+            }
+            if runs_on {
+                return self.run_on(line, cyl, a, p, out);
             }
             if closes || c.track.starts_next(a) {
                 self.auto_cycle += 1;
@@ -270,7 +373,7 @@ impl Long {
             }
             Err(not_rising(
                 line,
-                self.x + 1,
+                x_col,
                 x_raw,
                 &c.track,
                 self.tdc,
@@ -310,6 +413,86 @@ impl Long {
         Ok(())
     }
 
+    /// Angle `a` runs on past the cycle being read (INTERFACE.md, "Cycles
+    /// run from firing TDC to firing TDC"). The first time, the cycle read
+    /// so far, which began at the record's first sample, is cut at the
+    /// firing TDC it holds: what lies before is a cycle of its own when it
+    /// reaches back to the TDC before (within a step and a half), else a
+    /// partial one, left out; what follows begins the next cycle. From
+    /// then on every cycle begins at a firing TDC, and the next one where
+    /// the angle reaches a cycle past it.
+    fn run_on<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        line: usize,
+        cyl: i64,
+        a: f64,
+        p: f64,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        if !self.ran_on
+            && let Some(c) = self.cur.as_mut()
+        {
+            self.ran_on = true;
+            let first = c.track.first();
+            let cycle = self.cycle_deg;
+            // The firing TDC after the first sample.
+            let b = (first / cycle).floor() * cycle + cycle;
+            let angles = &c.trace.angle_deg;
+            let k = angles.partition_point(|&x| x < b - 1e-9);
+            if k < angles.len() {
+                let tail_a = c.trace.angle_deg.split_off(k);
+                let tail_v = c.trace.values.split_off(k);
+                let head_n = c.trace.angle_deg.len();
+                let step = if head_n >= 2 {
+                    (c.trace.angle_deg[head_n - 1] - first) / (head_n - 1) as f64
+                } else {
+                    f64::INFINITY
+                };
+                let whole_head = head_n >= 4 && first - (b - cycle) <= 1.5 * step;
+                let head_line = c.line;
+                let tail_line = head_line + k;
+                let cycle_no = c.trace.cycle;
+                let head = self.cur.take();
+                if whole_head {
+                    if let Some(h) = head {
+                        self.whole += 1;
+                        self.last_len = h.trace.angle_deg.len();
+                        out.trace(h.trace, head_line, self.quantity, self.pv, 0)?;
+                    }
+                    self.auto_cycle += 1;
+                } else {
+                    self.partial.push(("the start", b - first));
+                }
+                let mut track = Track::new(tail_a[0], cycle);
+                for &x in &tail_a[1..] {
+                    track.accept(x);
+                }
+                self.cur = Some(Current {
+                    trace: Trace {
+                        cycle: if whole_head { cycle_no + 1 } else { cycle_no },
+                        cylinder: cyl,
+                        angle_deg: tail_a,
+                        values: tail_v,
+                        rpm: None,
+                    },
+                    line: tail_line,
+                    track,
+                    closing: false,
+                });
+                // `a` continues the new cycle, or begins the one after.
+                if let Some(c) = self.cur.as_mut()
+                    && let Some(w) = c.track.accept(a)
+                {
+                    c.trace.angle_deg.push(w);
+                    c.trace.values.push(p);
+                    return Ok(());
+                }
+            }
+        }
+        self.auto_cycle += 1;
+        self.start(line, self.auto_cycle, cyl, a, p, false, out)
+    }
+
     fn flush<F: FnMut(Streamed) -> Result<(), IngestError>>(
         &mut self,
         out: &mut Emitter<'_, F>,
@@ -319,17 +502,56 @@ impl Long {
             if c.closing && c.trace.angle_deg.len() == 1 {
                 return Ok(());
             }
-            self.last_len = c.trace.angle_deg.len();
-            out.trace(c.trace, c.line, self.quantity, self.pv, 0)?;
+            self.send(c, out)?;
         }
         Ok(())
     }
 
+    /// Hands a cycle on.
+    fn send<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        c: Current,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        self.last_len = c.trace.angle_deg.len();
+        self.whole += 1;
+        out.trace(c.trace, c.line, self.quantity, self.pv, 0)
+    }
+
+    /// The end of the file: the last cycle handed on, unless the angle
+    /// ran on and it stops short of the next firing TDC (by more than a
+    /// step and a half): a partial cycle, left out. Returns the partial
+    /// cycles left out and the whole ones handed on.
+    #[allow(clippy::type_complexity)]
     fn end<F: FnMut(Streamed) -> Result<(), IngestError>>(
         mut self,
         out: &mut Emitter<'_, F>,
-    ) -> Result<(), IngestError> {
-        self.flush(out)
+    ) -> Result<(Vec<(&'static str, f64)>, usize), IngestError> {
+        if let Some(prev) = self.held.take() {
+            self.send(*prev, out)?;
+        }
+        if self.ran_on
+            && let Some(c) = self.cur.as_ref()
+        {
+            let a = &c.trace.angle_deg;
+            let n = a.len();
+            let (first, last) = (a[0], a[n - 1]);
+            let step = if n >= 2 {
+                (last - first) / (n - 1) as f64
+            } else {
+                f64::INFINITY
+            };
+            if n == 1 {
+                // The first angle of a cycle after the last: the record's
+                // closing point.
+                self.cur = None;
+            } else if n < 4 || first + self.cycle_deg - last > 1.5 * step {
+                self.partial.push(("the end", last - first));
+                self.cur = None;
+            }
+        }
+        self.flush(out)?;
+        Ok((self.partial, self.whole))
     }
 }
 

@@ -93,6 +93,10 @@ pub(crate) struct Context<'a> {
     /// The engine's compression ratio, when the engine is known: the
     /// compression bound is checked only then.
     pub compression_ratio: Option<f64>,
+    /// A trace covering less than half its cycle is judged on its
+    /// coverage, not its values (`false` while probing a headerless file,
+    /// whose columns are judged on their values whatever they cover).
+    pub coverage_first: bool,
 }
 
 impl Context<'_> {
@@ -168,16 +172,18 @@ pub(crate) fn check(
             let level = intake_levels(tr, cycle).fold(f64::INFINITY, f64::min);
             let need = LOW_INTAKE_PA * (compression_pressure(eps, cycle, 1.0) - 1.0);
             if vhi - level < need {
-                return Err(IngestError::Data(format!(
-                    "{}: {} is not a cylinder pressure: it rises by {} bar from its level at BDC, less than the {} bar that compression at ε = {} adds even to the lowest intake pressure ({} bar absolute); it looks like {}",
-                    name(),
-                    ctx.source(),
-                    bar(vhi - level),
-                    bar(need),
-                    enginedyn_numerics::format::human(eps),
-                    enginedyn_numerics::format::human(LOW_INTAKE_PA / 1e5),
-                    looks_like(tr, level, vhi, cycle, ctx)
-                )));
+                return Err(IngestError::Data(
+                    format!(
+                        "{}: {} is not a cylinder pressure: it rises by {} bar from its level at BDC, less than the {} bar that compression at ε = {} adds even to the lowest intake pressure ({} bar absolute); it looks like {}",
+                        name(),
+                        ctx.source(),
+                        bar(vhi - level),
+                        bar(need),
+                        enginedyn_numerics::format::human(eps),
+                        enginedyn_numerics::format::human(LOW_INTAKE_PA / 1e5),
+                        looks_like(tr, level, vhi, cycle, ctx)
+                    ) + NO_COMPRESSION,
+                ));
             }
         }
         return Ok((0, 0.0));
@@ -302,16 +308,21 @@ fn compression(
     } else {
         format!("its own {} bar at BDC", bar(p_in))
     };
-    Err(IngestError::Data(format!(
-        "{}: {} is not a cylinder pressure: its peak {} bar is below {} bar, half of what compression alone gives at ε = {} from {from}; it looks like {}",
-        name(),
-        ctx.source(),
-        bar(peak),
-        bar(need),
-        enginedyn_numerics::format::human(eps),
-        looks_like(tr, level, peak, cycle, ctx)
-    )))
+    Err(IngestError::Data(
+        format!(
+            "{}: {} is not a cylinder pressure: its peak {} bar is below {} bar, half of what compression alone gives at ε = {} from {from}; it looks like {}",
+            name(),
+            ctx.source(),
+            bar(peak),
+            bar(need),
+            enginedyn_numerics::format::human(eps),
+            looks_like(tr, level, peak, cycle, ctx)
+        ) + NO_COMPRESSION,
+    ))
 }
+
+/// What the compression bound's refusal says last: the flag that lifts it.
+const NO_COMPRESSION: &str = "; a cylinder pressure of no compressing engine (a steam engine, a compressor, a textbook problem with a constant pressure) reads with --no-compression-check";
 
 /// The trace's candidate levels at intake BDC (Pa), from the likeliest:
 /// 540° (four-stroke) and 180°, in the file's angles from firing TDC,
@@ -412,6 +423,261 @@ fn looks_like(tr: &Trace, level: f64, peak: f64, cycle: f64, ctx: &Context<'_>) 
     }
 }
 
+/// Where the mean fired trace's pressure peak may lie (deg from firing
+/// TDC): a fired cylinder's peak lies some 5° to 25° after it, a motored
+/// one's within ±5° (INTERFACE.md, "Plausibility").
+pub(crate) const PEAK_WINDOW_DEG: (f64, f64) = (-15.0, 60.0);
+
+/// Where a suggested crank reference puts the peak (deg after firing TDC).
+const PEAK_AIM_DEG: f64 = 10.0;
+
+/// How far (relative) the pressure peaks of a time record may recur from
+/// once a cycle of the signal's angle (INTERFACE.md: 2 %).
+pub(crate) const RECUR_OFF: f64 = 0.02;
+
+/// What placed firing TDC on the angle, as the peak-angle rule's error
+/// names it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TdcPlacement {
+    /// `--tdc-deg X` (given or not: the file's angle X is firing TDC).
+    TdcDeg {
+        /// The file's angle taken as firing TDC.
+        deg: f64,
+        /// `--tdc-deg` was given.
+        given: bool,
+    },
+    /// `--tdc-time T` (s) at this speed (rpm).
+    TdcTime {
+        /// The time given (s).
+        t: f64,
+        /// The speed (rpm) that turns a shift in degrees into seconds.
+        rpm: f64,
+    },
+    /// `--wheel-tdc-deg A` within the revolution; the firing revolution
+    /// from a `cam` column when `cam`, else the pressure-peak rule.
+    WheelTdcDeg {
+        /// The angle given.
+        deg: f64,
+        /// A `cam` column chose the firing revolution.
+        cam: bool,
+    },
+    /// A `tdc` column's pulse; the firing revolution from a `cam` column
+    /// when `cam`, else the pressure-peak rule.
+    TdcColumn {
+        /// A `cam` column chose the firing revolution.
+        cam: bool,
+    },
+}
+
+/// The peak-angle rule (INTERFACE.md, "Plausibility"): the mean trace's
+/// pressure peak (`mean`, on the grid `k step` deg from firing TDC over
+/// one cycle) lies within [`PEAK_WINDOW_DEG`] of firing TDC; otherwise an
+/// error naming what placed TDC and the shift that puts the peak at +10°.
+/// `whose`: "" or " of cylinder 2".
+pub(crate) fn peak_angle(
+    mean: &[f64],
+    step: f64,
+    cycle: f64,
+    placed: &TdcPlacement,
+    whose: &str,
+) -> Result<(), IngestError> {
+    if mean.is_empty() || !(step > 0.0) {
+        return Ok(());
+    }
+    let peak = (0..mean.len()).fold(0, |b, j| if mean[j] > mean[b] { j } else { b });
+    let raw = peak as f64 * step;
+    // From firing TDC, either way: −10°, not 710°.
+    let at = if raw > cycle / 2.0 { raw - cycle } else { raw };
+    if (PEAK_WINDOW_DEG.0..=PEAK_WINDOW_DEG.1).contains(&at) {
+        return Ok(());
+    }
+    let fmt = |x: f64| enginedyn_numerics::format::trimmed(x, 1);
+    // Firing TDC this many degrees later puts the peak at +10°.
+    let shift = at - PEAK_AIM_DEG;
+    let signed = |x: f64| {
+        if x >= 0.0 {
+            format!("+{}", fmt(x))
+        } else {
+            fmt(x)
+        }
+    };
+    let how = match placed {
+        TdcPlacement::TdcDeg { deg, given } => format!(
+            "firing TDC is the file's angle {}{}; --tdc-deg {} puts the peak at +10°",
+            fmt(*deg),
+            if *given {
+                " (--tdc-deg)"
+            } else {
+                " (--tdc-deg not given)"
+            },
+            fmt(deg + shift)
+        ),
+        TdcPlacement::TdcTime { t, rpm } if *rpm > 0.0 => format!(
+            "firing TDC is at --tdc-time {} s; --tdc-time {} s ({}° at {} rpm) puts the peak at +10°",
+            enginedyn_numerics::format::sig(*t, 6),
+            enginedyn_numerics::format::sig(t + shift / (6.0 * rpm), 6),
+            signed(shift),
+            enginedyn_numerics::format::sig(*rpm, 5)
+        ),
+        TdcPlacement::TdcTime { t, .. } => format!(
+            "firing TDC is at --tdc-time {} s; a --tdc-time {}° later puts the peak at +10°",
+            enginedyn_numerics::format::sig(*t, 6),
+            signed(shift)
+        ),
+        TdcPlacement::WheelTdcDeg { deg, cam } => {
+            // The wheel gives TDC within a revolution; a shift beyond half
+            // of one is the other revolution as well.
+            let within = shift - 360.0 * (shift / 360.0).round();
+            let other = (shift - within).abs() > 1.0;
+            format!(
+                "cylinder 1's TDC is --wheel-tdc-deg {} after the first tooth after the gap{}; {} puts the peak at +10°",
+                fmt(*deg),
+                if *cam {
+                    ", the firing revolution the one after each `cam` pulse"
+                } else {
+                    ""
+                },
+                match (other, *cam) {
+                    (false, _) => format!("--wheel-tdc-deg {}", fmt(deg + within)),
+                    (true, true) => format!(
+                        "--wheel-tdc-deg {} with the `cam` pulse on the other revolution (is it?)",
+                        fmt(deg + within)
+                    ),
+                    (true, false) => format!(
+                        "--wheel-tdc-deg {} with firing TDC on the other revolution (--tdc-deg 360)",
+                        fmt(deg + within)
+                    ),
+                }
+            )
+        }
+        TdcPlacement::TdcColumn { cam } => {
+            let within = shift - 360.0 * (shift / 360.0).round();
+            let other = (shift - within).abs() > 1.0;
+            format!(
+                "firing TDC is at the `tdc` column's pulse{}; --tdc-deg {} puts the peak at +10°",
+                match (other, *cam) {
+                    (true, true) =>
+                        ", on the revolution after each `cam` pulse: a cam pulse on the other revolution?",
+                    (_, true) => ", on the revolution after each `cam` pulse",
+                    _ => "",
+                },
+                fmt(shift.rem_euclid(cycle))
+            )
+        }
+    };
+    // A peak a revolution from TDC on a four-stroke: the phasing, the
+    // gas-exchange TDC taken for firing TDC.
+    let phasing = if cycle > 400.0 && (at.abs() - 360.0).abs() <= 30.0 {
+        " The peak lies a revolution from firing TDC: the phasing is wrong (the gas-exchange TDC was taken for firing TDC), not the pegging or the compression ratio."
+    } else {
+        ""
+    };
+    Err(IngestError::Data(format!(
+        "the mean trace{whose} peaks {}° from firing TDC, outside the {}° to +{}° where a cylinder's pressure peaks (a fired one 5° to 25° after TDC, a motored one within ±5°): the crank reference is wrong, a shift of {}°; {how}.{phasing} (--no-compression-check lifts this rule for a trace of no compressing engine)",
+        signed(at),
+        fmt(PEAK_WINDOW_DEG.0),
+        fmt(PEAK_WINDOW_DEG.1),
+        signed(shift),
+    )))
+}
+
+/// The pressure peaks of a time record on its signal's angle: each peak
+/// is the highest sample of a stretch above two thirds of the range seen,
+/// entered from below one third (so noise makes no peak). At most
+/// [`Recurrence::MAX`] peaks are kept: memory stays bounded.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Recurrence {
+    lo: f64,
+    hi: f64,
+    armed: bool,
+    /// The stretch above two thirds: its highest sample (angle, value).
+    inside: Option<(f64, f64)>,
+    /// Each stretch's highest sample (angle, value).
+    peaks: Vec<(f64, f64)>,
+    seen: bool,
+}
+
+impl Recurrence {
+    const MAX: usize = 4096;
+
+    /// A sample of pressure `p` at signal angle `a` (deg, rising).
+    #[inline]
+    pub(crate) fn sample(&mut self, a: f64, p: f64) {
+        if !self.seen {
+            (self.lo, self.hi, self.seen) = (p, p, true);
+        }
+        self.lo = self.lo.min(p);
+        self.hi = self.hi.max(p);
+        let range = self.hi - self.lo;
+        if let Some((_, v)) = self.inside.as_mut() {
+            if p > *v {
+                self.inside = Some((a, p));
+            } else if p < self.lo + range / 3.0 {
+                if self.peaks.len() < Self::MAX
+                    && let Some(x) = self.inside
+                {
+                    self.peaks.push(x);
+                }
+                self.inside = None;
+                self.armed = true;
+            }
+            return;
+        }
+        if p < self.lo + range / 3.0 {
+            self.armed = true;
+        } else if self.armed && range > 0.0 && p >= self.lo + 2.0 * range / 3.0 {
+            self.inside = Some((a, p));
+            self.armed = false;
+        }
+    }
+
+    /// The check (INTERFACE.md, "Plausibility"): the peaks (those reaching
+    /// half the record's range) recur once a `cycle` of the signal's angle
+    /// within [`RECUR_OFF`]; otherwise an error naming `flag` and the count
+    /// (`count` `what` a revolution × the recurrence over the cycle) the
+    /// peaks suggest.
+    pub(crate) fn check(
+        &self,
+        cycle: f64,
+        flag: &str,
+        count: f64,
+        what: &str,
+    ) -> Result<(), IngestError> {
+        let level = self.lo + 0.5 * (self.hi - self.lo);
+        let kept: Vec<f64> = self
+            .peaks
+            .iter()
+            .chain(self.inside.as_ref())
+            .filter(|x| x.1 >= level)
+            .map(|x| x.0)
+            .collect();
+        if kept.len() < 2 {
+            return Ok(());
+        }
+        let mut d: Vec<f64> = kept.windows(2).map(|w| w[1] - w[0]).collect();
+        d.sort_by(f64::total_cmp);
+        let m = d.len() / 2;
+        let median = if d.len() % 2 == 1 {
+            d[m]
+        } else {
+            0.5 * (d[m - 1] + d[m])
+        };
+        if (median / cycle - 1.0).abs() <= RECUR_OFF {
+            return Ok(());
+        }
+        let suggest = count * median / cycle;
+        let fmt = |x: f64, n: usize| enginedyn_numerics::format::trimmed(x, n);
+        Err(IngestError::Data(format!(
+            "the pressure peaks recur every {}° of the crank signal's angle, not once a {}° cycle (within {} %): {flag} is wrong; it says {} {what} a revolution, the peaks suggest {}",
+            fmt(median, 1),
+            fmt(cycle, 0),
+            fmt(100.0 * RECUR_OFF, 0),
+            fmt(count, 3),
+            fmt(suggest, if suggest >= 100.0 { 0 } else { 1 }),
+        )))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -430,6 +696,7 @@ mod tests {
             absolute,
             gauge: false,
             compression_ratio: Some(eps),
+            coverage_first: true,
         }
     }
 

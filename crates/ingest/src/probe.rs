@@ -17,7 +17,9 @@ pub(crate) fn no_header(
         return at(
             line,
             None,
-            if k > 2 {
+            if k == 1 {
+                "no header row, one column of numbers: a pressure-only record sampled on the crank angle (a DAQ clocked by the encoder) reads with --angle-step DEG (the angle between rows) and --columns pressure_bar (its unit); --tdc-deg X places firing TDC on that axis".to_string()
+            } else if k > 2 {
                 format!(
                     "no header row: name the columns with --columns (here {k} of them: crank_deg,pressure_bar... reads the angle and one cycle per column; `_` skips a column), or add a header"
                 )

@@ -202,13 +202,23 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                         ),
                     ));
                 }
-                let roles = Roles::resolve(&names, true, line, self.opts.torque)?;
+                let roles = Roles::resolve_with(
+                    &names,
+                    true,
+                    line,
+                    self.opts.torque,
+                    self.opts.angle_step_deg.is_some(),
+                )?;
                 (roles, text.len().checked_sub(1))
             }
             // No header: the columns read as `crank_deg,pressure_bar...`
             // until each has a verdict, for a hint that offers only the
             // readings that fit (INTERFACE.md, "Plausibility").
-            None if text.is_empty() && !self.opts.torque && k >= 2 => {
+            None if text.is_empty()
+                && !self.opts.torque
+                && k >= 2
+                && self.opts.angle_step_deg.is_none() =>
+            {
                 let names = expand(&["crank_deg".into(), "pressure_bar...".into()], k);
                 let roles = Roles::resolve(&names, true, line, false)
                     .map_err(|_| no_header(k, line, None))?;
@@ -221,7 +231,13 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                 });
                 (roles, None)
             }
-            None => header(&text, k, line, self.opts.torque)?,
+            None => header(
+                &text,
+                k,
+                line,
+                self.opts.torque,
+                self.opts.angle_step_deg.is_some(),
+            )?,
         };
         // Lines above the header: titles and banners.
         let banner = header_at.map_or(0, |h| h);
@@ -312,7 +328,9 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
         self.head.quantity = roles.quantity;
         self.head.pv = matches!(roles.axis, Axis::Volume(_));
         self.measured = roles.values.iter().map(|v| v.col).collect();
-        if matches!(roles.axis, Axis::Angle(_) | Axis::Volume(_)) {
+        if matches!(roles.axis, Axis::Angle(_) | Axis::Volume(_))
+            && roles.x != crate::columns::STEPPED_X
+        {
             self.measured.push(roles.x);
         }
         // Volts are relative, so `value_scale` refuses them unless pegged:
@@ -357,9 +375,13 @@ fn header(
     k: usize,
     line: usize,
     torque: bool,
+    stepped: bool,
 ) -> Result<(Roles, Option<usize>), IngestError> {
     let Some(last) = text.len().checked_sub(1) else {
         return Err(no_header(k, line, None));
+    };
+    let resolve = |names: &[String], explicit: bool, line: usize, torque: bool| {
+        Roles::resolve_with(names, explicit, line, torque, stepped)
     };
     let fit = |t: &TextLine| -> Vec<String> {
         let mut n = match &t.wide {
@@ -398,7 +420,7 @@ fn header(
     if last > 0 && crate::columns::units_row(&names) {
         let above = fit(&text[last - 1]);
         if above.len() == names.len()
-            && let Ok(r) = Roles::resolve(
+            && let Ok(r) = resolve(
                 &join_units(&above, &names),
                 false,
                 text[last - 1].line,
@@ -409,7 +431,7 @@ fn header(
             return Ok((r, Some(last - 1)));
         }
     }
-    let first_try = Roles::resolve(&names, false, text[last].line, torque);
+    let first_try = resolve(&names, false, text[last].line, torque);
     if let Ok(r) = first_try {
         check(&names, text[last].line)?;
         return Ok((r, Some(last)));
@@ -419,12 +441,12 @@ fn header(
         let (a, b) = (fit(&text[last - 1]), fit(&text[last]));
         if a.len() == b.len() {
             let joined = join_units(&a, &b);
-            if let Ok(r) = Roles::resolve(&joined, false, text[last - 1].line, torque) {
+            if let Ok(r) = resolve(&joined, false, text[last - 1].line, torque) {
                 check(&joined, text[last - 1].line)?;
                 return Ok((r, Some(last - 1)));
             }
         }
-        if let Ok(r) = Roles::resolve(&a, false, text[last - 1].line, torque) {
+        if let Ok(r) = resolve(&a, false, text[last - 1].line, torque) {
             check(&a, text[last - 1].line)?;
             return Ok((r, Some(last - 1)));
         }

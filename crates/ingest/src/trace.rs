@@ -80,6 +80,18 @@ impl Track {
         w - self.first >= self.limit || self.last - w > self.cycle / 2.0
     }
 
+    /// True when `a` (not continuing) runs on past the cycle: it rises,
+    /// a cycle or more after the first angle, and the angles never wrapped
+    /// (a record whose angle runs on: 0 … 36,000°).
+    pub(crate) fn runs_on(&self, a: f64) -> bool {
+        self.wrap == 0.0 && a > self.last && a - self.first >= self.limit
+    }
+
+    /// True once the angles wrapped past the cycle's end.
+    pub(crate) fn wrapped(&self) -> bool {
+        self.wrap != 0.0
+    }
+
     /// The last angle taken, as the file wrote it.
     pub(crate) fn last_raw(&self) -> f64 {
         self.last - self.wrap
@@ -176,7 +188,15 @@ pub(crate) fn finish(
             note_gap(i, w[0], w[1] - w[0]);
         }
     }
-    let below_zero = crate::plausible::check(&tr, wrap_step, cycle, quantity, ctx, &name)?;
+    // Coverage is judged before the values (INTERFACE.md): a trace that
+    // covers less than half its cycle is left out or refused by the gap
+    // rule as a file cut short, never judged on the shape of what is left.
+    let below_zero =
+        if ctx.coverage_first && gap.is_some_and(|g| g.width > crate::MAX_GAP_BOUND_DEG) {
+            (0, 0.0)
+        } else {
+            crate::plausible::check(&tr, wrap_step, cycle, quantity, ctx, &name)?
+        };
     let checked = |steps| Checked {
         steps,
         gap,
@@ -215,6 +235,39 @@ pub(crate) fn finish(
 /// The share of the cycle's work under which the data settle a gap wider
 /// than `--max-gap` (INTERFACE.md, "Gaps"): 0.1 %.
 pub(crate) const SETTLED_SHARE: f64 = 1e-3;
+
+/// The widest gap the data may settle (deg): INTERFACE.md, "Gaps".
+pub(crate) const SETTLED_MAX_DEG: f64 = 90.0;
+
+/// Why the data cannot settle gap `g` whatever the interpolants say
+/// (INTERFACE.md, "Gaps"): wider than [`SETTLED_MAX_DEG`], or over a TDC
+/// (firing, or the gas exchange's on a four-stroke), where the pressure
+/// turns and two interpolants that agree can both miss it. `None` when it
+/// may be settled.
+pub(crate) fn unsettled(g: Gap, cycle: f64) -> Option<String> {
+    if g.width > SETTLED_MAX_DEG + 1e-9 {
+        return Some(format!(
+            "is wider than {}°",
+            enginedyn_numerics::format::human(SETTLED_MAX_DEG)
+        ));
+    }
+    let tdcs: &[(f64, &str)] = if cycle > 400.0 {
+        &[(0.0, "firing"), (360.0, "gas-exchange")]
+    } else {
+        &[(0.0, "firing")]
+    };
+    // A TDC strictly inside the gap (from `from` to `from + width`, any turn).
+    for &(t, which) in tdcs {
+        let d = (t - g.from).rem_euclid(cycle);
+        if d > 1e-9 && d < g.width - 1e-9 {
+            return Some(format!(
+                "holds a TDC (the {which} TDC at {}°)",
+                enginedyn_numerics::format::human(t)
+            ));
+        }
+    }
+    None
+}
 
 /// How far the data settle a single cycle's widest gap (INTERFACE.md,
 /// "Gaps"): the linear and the periodic cubic spline interpolants
@@ -303,6 +356,7 @@ mod tests {
             absolute,
             gauge: false,
             compression_ratio: None,
+            coverage_first: true,
         }
     }
 

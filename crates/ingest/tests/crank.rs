@@ -107,6 +107,10 @@ fn record(
     let revs = first..first + 20;
     let mut tdc = Train::new(revs.clone().map(|k| 360.0 * k as f64), 3.0);
     let mut enc = Train::new((360 * first..360 * (first + 20)).map(|j| j as f64), 0.5);
+    let mut enc720 = Train::new(
+        (720 * first..720 * (first + 20)).map(|j| j as f64 * 0.5),
+        0.25,
+    );
     let gap_at = -WHEEL_TDC_DEG;
     let mut wheel = Train::new(
         revs.flat_map(|k| (0..58).map(move |j| gap_at + 360.0 * k as f64 + 6.0 * j as f64)),
@@ -127,6 +131,7 @@ fn record(
                 * match *c {
                     "tdc" => tdc.value(t),
                     "encoder" => enc.value(t),
+                    "encoder720" => enc720.value(t),
                     "wheel" => wheel.value(t),
                     "cam" => cam.value(t),
                     _ => 0.0,
@@ -363,18 +368,120 @@ fn a_cam_pulse_tells_the_firing_revolution() {
         };
     });
     // (IMEP cannot tell: the volume repeats every revolution, so ∮ p dV of
-    // a cycle read 360° late is the same; the pressure peak moves.)
-    let peak = |r: &enginedyn_ingest::Resampled| {
-        let i = (0..r.pressure.len())
-            .max_by(|&a, &b| r.pressure[a].total_cmp(&r.pressure[b]))
-            .unwrap();
-        i as f64 * STEP
-    };
-    let other = read(&moved, &opts).unwrap();
-    let (right, late) = (peak(&got), peak(&other));
+    // a cycle read 360° late is the same; the pressure peak moves, 360°
+    // late: the peak-angle rule refuses it, naming the `cam` column and
+    // the shift (issue 36, item 3).
+    let e = read(&moved, &opts).unwrap_err();
     assert!(
-        right < 60.0 && (late - right - 360.0).abs() < 0.5,
-        "{right} {late}"
+        e.contains("after each `cam` pulse")
+            && e.contains("`cam` pulse on the other revolution")
+            && e.contains("the phasing is wrong"),
+        "{e}"
     );
-    assert_eq!(other.cycles, got.cycles - 1, "{:?}", other.notes);
+}
+
+/// The peak of `r`'s mean trace (deg from firing TDC, on the grid).
+fn peak_deg(r: &enginedyn_ingest::Resampled) -> f64 {
+    let i = (0..r.pressure.len())
+        .max_by(|&a, &b| r.pressure[a].total_cmp(&r.pressure[b]))
+        .unwrap();
+    i as f64 * STEP
+}
+
+/// Issue 36, item 3: a wrong count of the crank signal is refused, naming
+/// the flag and the count the pressure peaks suggest: `--encoder-ppr 720`
+/// on a 360-pulse encoder (the peaks every 360° of its angle), 360 on a
+/// 720-pulse one (every 1440°).
+#[test]
+fn the_pressure_peaks_recur_once_a_cycle_of_the_signal() {
+    let cyl = cylinder();
+    let sol = solution(&cyl);
+    let mut opts = ParseOptions::new(720.0);
+    opts.cylinder = Some(cyl);
+    opts.tdc_time = Some(time_of(720.0));
+    let enc = record(&["encoder"], &sol, |_, _| {});
+    opts.encoder_ppr = Some(360);
+    let right = read(&enc, &opts).unwrap();
+    assert!(peak_deg(&right) < 40.0, "{}", peak_deg(&right));
+    opts.encoder_ppr = Some(720);
+    let e = read(&enc, &opts).unwrap_err();
+    assert!(
+        e.contains("--encoder-ppr") && e.contains("says 720 pulses") && e.contains("suggest 360"),
+        "{e}"
+    );
+    let enc720 = record(&["encoder720"], &sol, |_, _| {});
+    opts.encoder_ppr = Some(720);
+    let right = read(&enc720, &opts).unwrap();
+    assert!(peak_deg(&right) < 40.0, "{}", peak_deg(&right));
+    opts.encoder_ppr = Some(360);
+    let e = read(&enc720, &opts).unwrap_err();
+    assert!(
+        e.contains("--encoder-ppr") && e.contains("says 360 pulses") && e.contains("suggest 720"),
+        "{e}"
+    );
+}
+
+/// Issue 36, item 3: the mean trace's peak lies between −15° and +60° of
+/// firing TDC: `--wheel-tdc-deg 0` for 84 is refused, naming the flag and
+/// the angle that puts the peak at +10°; so is a wheel record played
+/// backwards.
+#[test]
+fn the_peak_lies_near_firing_tdc() {
+    let cyl = cylinder();
+    let sol = solution(&cyl);
+    let whl = record(&["wheel"], &sol, |_, _| {});
+    let mut opts = ParseOptions::new(720.0);
+    opts.cylinder = Some(cyl);
+    opts.wheel = Some(Wheel::parse("60-2").unwrap());
+    opts.wheel_tdc_deg = Some(WHEEL_TDC_DEG);
+    let right = read(&whl, &opts).unwrap();
+    let at = peak_deg(&right);
+    assert!((0.0..40.0).contains(&at), "{at}");
+    opts.wheel_tdc_deg = Some(0.0);
+    let e = read(&whl, &opts).unwrap_err();
+    let want = format!(
+        "--wheel-tdc-deg {} puts the peak at +10°",
+        enginedyn_numerics::format::trimmed(at + WHEEL_TDC_DEG - 10.0, 1)
+    );
+    assert!(
+        e.contains("--wheel-tdc-deg 0 after the first tooth") && e.contains(&want),
+        "{want}: {e}"
+    );
+    // Played backwards: the rows in reverse order, the time still rising.
+    let mut lines: Vec<&str> = whl.lines().collect();
+    let header = lines.remove(0);
+    let times: Vec<&str> = lines.iter().map(|l| l.split(',').next().unwrap()).collect();
+    let mut back = format!("{header}\n");
+    for (t, l) in times.iter().zip(lines.iter().rev()) {
+        let rest = l.split_once(',').unwrap().1;
+        back.push_str(&format!("{t},{rest}\n"));
+    }
+    opts.wheel_tdc_deg = Some(WHEEL_TDC_DEG);
+    let e = read(&back, &opts).unwrap_err();
+    assert!(
+        e.contains("--wheel-tdc-deg") || e.contains("--wheel"),
+        "{e}"
+    );
+}
+
+/// Issue 36, item 7: edges have hysteresis. One encoder sample halfway in
+/// the low half of a pulse (a sample caught mid-transition) makes no
+/// edge: the record reads, to the IMEP of the clean edges.
+#[test]
+fn a_lone_sample_halfway_makes_no_edge() {
+    let cyl = cylinder();
+    let sol = solution(&cyl);
+    let mut opts = ParseOptions::new(720.0);
+    opts.encoder_ppr = Some(360);
+    let clean = read(&record(&["tdc", "encoder"], &sol, |_, _| {}), &opts).unwrap();
+    let odd = (time_of(1500.75) * FS).round() as usize;
+    let csv = record(&["tdc", "encoder"], &sol, |i, v| {
+        if i == odd {
+            v[1] = 2.6;
+        }
+    });
+    let got = read(&csv, &opts).unwrap();
+    let (a, b) = (imep(&cyl, &clean.pressure), imep(&cyl, &got.pressure));
+    assert!((a - b).abs() <= 1e-12 * a.abs(), "{a} {b}");
+    assert_eq!(got.cycles, clean.cycles);
 }

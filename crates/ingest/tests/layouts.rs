@@ -205,3 +205,265 @@ fn a_time_record_with_the_pulse_off_tdc() {
     let got = load(record(0.0, -20.0, -400.0).as_bytes(), &o, &g).unwrap();
     same_cycles(&got);
 }
+
+/// Issue 36, item 5: a long record whose angle runs on, starting 132.5°
+/// after firing TDC, is cut at each firing TDC: its whole cycles are the
+/// cycles as measured, to the bit; the partial ones at the two ends are
+/// left out with a note calling them partial, never a dropout, and no
+/// note says the angle starts again.
+#[test]
+fn a_record_whose_angle_runs_on_is_cut_at_firing_tdc() {
+    let (o, _) = options();
+    let start = 132.5;
+    let mut text = String::from("crank_deg,pressure_bar\n");
+    let rows = (8.0 * 720.0 / 0.5) as usize;
+    for i in 0..rows {
+        let a = start + i as f64 * 0.5;
+        let k = (a / 720.0).floor() as usize;
+        text.push_str(&format!("{a},{}\n", cell(a - 720.0 * k as f64, k)));
+    }
+    let got = read(&text, &o);
+    // The whole cycles are k = 1 … 7.
+    let mut long = String::from("cycle,crank_deg,pressure_bar\n");
+    for k in 1..8 {
+        for i in 0..1440 {
+            let a = i as f64 * 0.5;
+            long.push_str(&format!("{k},{a},{}\n", cell(a, k)));
+        }
+    }
+    let want = read(&long, &o);
+    assert_eq!(got.cycles, 7, "{:?}", got.notes);
+    assert_eq!(got.cycles_skipped, 0, "{:?}", got.notes);
+    let (g, w) = (imeps(&got), imeps(&want));
+    for (a, b) in g.iter().zip(&w) {
+        assert!((a - b).abs() <= 1e-9 * b.abs(), "{g:?} {w:?}");
+    }
+    let notes = got.notes.join("\n");
+    assert!(notes.contains("partial cycles at the start"), "{notes}");
+    assert!(
+        !notes.contains("dropout") && !notes.contains("starts again"),
+        "{notes}"
+    );
+    // Cycles that do start again keep that note.
+    assert!(
+        want.notes.iter().all(|n| !n.contains("starts again")),
+        "{:?}",
+        want.notes
+    );
+}
+
+/// Issue 36, item 4: a names row over a units row is one header whatever
+/// a column the reader does not know holds (`Q_1` over `J/°CA`): four
+/// cylinders, not four cycles, and `Q_1` left out with a note.
+#[test]
+fn names_over_units_with_an_unknown_column() {
+    let (o, _) = options();
+    let mut text = String::from("CA,PCYL1,PCYL2,PCYL3,PCYL4,Q_1\ndeg,bar,bar,bar,bar,J/°CA\n");
+    for i in 0..1440 {
+        let a = i as f64 * 0.5;
+        text.push_str(&format!(
+            "{a},{},{},{},{},{:.3}\n",
+            cell(a, 0),
+            cell(a, 1),
+            cell(a, 2),
+            cell(a, 3),
+            (a / 100.0).sin()
+        ));
+    }
+    let got = read(&text, &o);
+    assert_eq!(got.cylinders.len(), 4, "{:?}", got.notes);
+    assert_eq!(got.cycles, 1, "{:?}", got.notes);
+    assert!(
+        got.notes
+            .iter()
+            .any(|n| n.contains("left out") && n.contains("Q_1")),
+        "{:?}",
+        got.notes
+    );
+}
+
+/// Issue 36, item 8: the data settle a gap of at most 90° that holds no
+/// TDC. A 200° gap over the gas-exchange TDC, where two interpolants agree,
+/// is refused, saying why; a 60° one on the exhaust stroke is bridged.
+#[test]
+fn the_data_settle_no_wide_gap_and_none_over_a_tdc() {
+    let (o, _) = options();
+    let with_gap = |from: f64, to: f64| {
+        let mut t = String::from("crank_deg,pressure_bar\n");
+        for i in 0..1440 {
+            let a = i as f64 * 0.5;
+            if a > from && a < to {
+                continue;
+            }
+            t.push_str(&format!("{a},{}\n", cell(a, 0)));
+        }
+        t
+    };
+    let (_, g) = options();
+    let e = load(with_gap(250.0, 450.0).as_bytes(), &o, &g)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("wider than 90°"), "{e}");
+    let e = load(with_gap(330.0, 400.0).as_bytes(), &o, &g)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("holds a TDC (the gas-exchange TDC at 360°)"),
+        "{e}"
+    );
+    let r = read(&with_gap(200.0, 260.0), &o);
+    assert!(
+        r.notes.iter().any(|n| n.contains("the data settle it")),
+        "{:?}",
+        r.notes
+    );
+}
+
+/// Issue 36, item 12: a file cut short is judged on its coverage before
+/// the plausibility pass: "the data cover 148° of the 720° cycle", never
+/// "not a cylinder pressure".
+#[test]
+fn a_file_cut_short_is_judged_on_coverage() {
+    let (o, g) = options();
+    let mut t = String::from("crank_deg,pressure_bar\n");
+    for i in 0..=148 {
+        let a = -360.0 + i as f64;
+        t.push_str(&format!("{a},{}\n", cell(a, 0)));
+    }
+    let e = load(t.as_bytes(), &o, &g).unwrap_err().to_string();
+    assert!(
+        e.contains("the data cover 148° of the 720° cycle") && !e.contains("not a cylinder"),
+        "{e}"
+    );
+}
+
+/// Issue 36, item 6: a pressure-only record sampled on the crank angle
+/// (no angle column: the DAQ was clocked by the encoder) reads with
+/// `--angle-step`, `--tdc-deg` placing firing TDC on that axis: the whole
+/// cycles of the record of item 5, to the bit. A one-column file without
+/// a header gets a hint that proposes it.
+#[test]
+fn a_record_sampled_on_the_crank_angle_reads_with_angle_step() {
+    let (mut o, g) = options();
+    let start = 132.5;
+    let mut text = String::from("pressure_bar\n");
+    let rows = (8.0 * 720.0 / 0.5) as usize;
+    for i in 0..rows {
+        let a = start + i as f64 * 0.5;
+        let k = (a / 720.0).floor() as usize;
+        text.push_str(&format!("{}\n", cell(a - 720.0 * k as f64, k)));
+    }
+    let e = load(text.as_bytes(), &o, &g).unwrap_err().to_string();
+    assert!(e.contains("--angle-step"), "{e}");
+    o.angle_step_deg = Some(0.5);
+    o.tdc_deg = 720.0 - start;
+    o.tdc_given = true;
+    let got = read(&text, &o);
+    let mut long = String::from("cycle,crank_deg,pressure_bar\n");
+    for k in 1..8 {
+        for i in 0..1440 {
+            let a = i as f64 * 0.5;
+            long.push_str(&format!("{k},{a},{}\n", cell(a, k)));
+        }
+    }
+    let (o2, _) = options();
+    let want = read(&long, &o2);
+    assert_eq!(got.cycles, 7, "{:?}", got.notes);
+    let (a, b) = (imeps(&got), imeps(&want));
+    for (x, y) in a.iter().zip(&b) {
+        assert!((x - y).abs() <= 1e-9 * y.abs(), "{a:?} {b:?}");
+    }
+    // Without a header: the hint proposes --angle-step.
+    let bare = text.replacen("pressure_bar\n", "", 1);
+    let (o3, _) = options();
+    let e = load(bare.as_bytes(), &o3, &g).unwrap_err().to_string();
+    assert!(
+        e.contains("--angle-step DEG") && e.contains("--columns pressure_bar"),
+        "{e}"
+    );
+    // A file with an angle column refuses it.
+    let e = load(long.as_bytes(), &o, &g).unwrap_err().to_string();
+    assert!(e.contains("--angle-step"), "{e}");
+}
+
+/// Issue 36, item 9: a constant-pressure steam engine's diagram (a
+/// textbook problem) is refused by the compression bound, naming
+/// `--no-compression-check`; with it, it reads; the 1000 bar bound stays.
+#[test]
+fn no_compression_check_reads_a_steam_engine() {
+    let (mut o, g) = options();
+    let steam = |peak: f64| {
+        let mut t = String::from("crank_deg,pressure_bar\n");
+        for i in 0..720 {
+            let a = i as f64;
+            // Admission at 8 bar from TDC to 100°, exhaust at 1.2 bar.
+            let p = if a < 100.0 { peak } else { 1.2 };
+            t.push_str(&format!("{a},{p}\n"));
+        }
+        t
+    };
+    let e = load(steam(8.0).as_bytes(), &o, &g).unwrap_err().to_string();
+    assert!(
+        e.contains("not a cylinder pressure") && e.contains("--no-compression-check"),
+        "{e}"
+    );
+    o.compression_check = false;
+    let r = load(steam(8.0).as_bytes(), &o, &g).unwrap();
+    let imep = imeps(&r)[0];
+    assert!(imep > 0.0, "{imep}");
+    let e = load(steam(1500.0).as_bytes(), &o, &g)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("above the 1000 bar"), "{e}");
+}
+
+/// Issue 36, items 3 and 12: the mean trace's peak lies between −15° and
+/// +60° of firing TDC. A motored trace read with `--tdc-deg` 360° off is
+/// refused naming the phasing (not the pegging or the compression
+/// ratio), `--tdc-deg` and the angle that puts the peak at +10°; a fired
+/// one 96° off names the shift.
+#[test]
+fn a_tdc_a_revolution_off_names_the_phasing() {
+    let (mut o, g) = options();
+    let motored = |a: f64| {
+        let d = (a + 360.0).rem_euclid(720.0) - 360.0;
+        1.0 + 14.0 * (-(d / 70.0).powi(2)).exp()
+    };
+    let mut t = String::from("crank_deg,pressure_bar\n");
+    for i in 0..1440 {
+        let a = i as f64 * 0.5;
+        t.push_str(&format!("{a},{:.6}\n", motored(a)));
+    }
+    read(&t, &o);
+    o.tdc_deg = 360.0;
+    o.tdc_given = true;
+    let e = load(t.as_bytes(), &o, &g).unwrap_err().to_string();
+    assert!(
+        e.contains("the phasing is wrong")
+            && e.contains("the file's angle 360 (--tdc-deg)")
+            && e.contains("--tdc-deg 710 puts the peak at +10°"),
+        "{e}"
+    );
+    // Fired, TDC placed 96° early: the peak 96° late.
+    let mut f = String::from("crank_deg,pressure_bar\n");
+    for i in 0..1440 {
+        let a = i as f64 * 0.5;
+        f.push_str(&format!("{a},{}\n", cell(a, 0)));
+    }
+    let right = read(&f, &options().0);
+    let at = right
+        .pressure
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .unwrap()
+        .0 as f64
+        * right.step_deg;
+    o.tdc_deg = -96.0;
+    let e = load(f.as_bytes(), &o, &g).unwrap_err().to_string();
+    let want = format!(
+        "--tdc-deg {} puts the peak at +10°",
+        enginedyn_numerics::format::trimmed(-96.0 + at + 96.0 - 10.0, 1)
+    );
+    assert!(e.contains(&want) && !e.contains("phasing"), "{want}: {e}");
+}

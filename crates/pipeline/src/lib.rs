@@ -203,12 +203,20 @@ fn cycle_summary(r: &Resampled) -> Option<CycleSummary> {
 /// (INTERFACE.md, "Plausibility").
 const OUTLIER_MADS: f64 = 5.0;
 
+/// The fewest cycles whose outliers a note names (INTERFACE.md).
+const OUTLIER_MIN_CYCLES: usize = 8;
+
+/// The least deviation from the median (a share of it) a note names.
+const OUTLIER_MIN_SHARE: f64 = 0.02;
+
 /// A CoV of IMEP above this gets a note.
 const HIGH_COV: f64 = 0.10;
 
 /// Notes on the measured cycles (INTERFACE.md, "Plausibility"): cycles
-/// whose IMEP lies more than [`OUTLIER_MADS`] scaled MADs from the median
-/// (kept, and named: a misfire?), and a CoV of IMEP above [`HIGH_COV`].
+/// whose IMEP lies more than [`OUTLIER_MADS`] scaled MADs and more than
+/// [`OUTLIER_MIN_SHARE`] of the median from the median, among at least
+/// [`OUTLIER_MIN_CYCLES`] (kept, and named: a misfire?), and a CoV of IMEP
+/// above [`HIGH_COV`].
 /// Per cylinder when the traces name cylinders.
 fn cycle_notes(r: &Resampled) -> Vec<String> {
     let mut notes = Vec::new();
@@ -244,10 +252,16 @@ fn cycle_notes(r: &Resampled) -> Vec<String> {
         // The scaled MAD estimates the standard deviation of normal data.
         let mad = 1.4826 * median(v.iter().map(|p| (p.1 - med).abs()).collect());
         let floor = 1e-9 * med.abs().max(1.0);
-        let out: Vec<&(i64, f64)> = v
-            .iter()
-            .filter(|p| (p.1 - med).abs() > OUTLIER_MADS * mad.max(floor))
-            .collect();
+        let out: Vec<&(i64, f64)> = if v.len() < OUTLIER_MIN_CYCLES {
+            Vec::new()
+        } else {
+            v.iter()
+                .filter(|p| {
+                    let d = (p.1 - med).abs();
+                    d > OUTLIER_MADS * mad.max(floor) && d >= OUTLIER_MIN_SHARE * med.abs()
+                })
+                .collect()
+        };
         if let Some(first) = out.first() {
             let others: Vec<f64> = v
                 .iter()
@@ -256,7 +270,7 @@ fn cycle_notes(r: &Resampled) -> Vec<String> {
                 .collect();
             let (m, sd) = enginedyn_ingest::mean_std(others.iter().copied());
             notes.push(format!(
-                "cycle {}{of}: IMEP {} bar, the others {} ± {}: a misfire?{} (kept in the averages; more than {} scaled median absolute deviations from the median)",
+                "cycle {}{of}: IMEP {} bar, the others {} ± {}: a misfire?{} (kept in the averages; more than {} scaled median absolute deviations and more than 2 % from the median)",
                 first.0,
                 bar(first.1),
                 bar(m),
@@ -932,4 +946,59 @@ fn motion_extremes(engine: &Engine, model: Model) -> Result<Extremes, PipelineEr
         accel_max: refine(&|x| st(x).d2x, best[1]),
         accel_min: -refine(&|x| -st(x).d2x, best[2]),
     })
+}
+
+#[cfg(test)]
+mod outlier_tests {
+    use super::*;
+
+    fn with_imeps(imeps: &[f64]) -> Resampled {
+        let mut r = Resampled::from_grid(1.0, vec![1e5; 720]);
+        r.stats = imeps
+            .iter()
+            .enumerate()
+            .map(|(i, &p)| enginedyn_ingest::CycleStats {
+                cylinder: 0,
+                cycle: i as i64 + 1,
+                imep_pa: Some(p * 1e5),
+                p_max: 40e5,
+                p_max_angle_deg: 12.0,
+                peg_offset: 0.0,
+                rpm: None,
+            })
+            .collect();
+        r
+    }
+
+    fn misfire(imeps: &[f64]) -> Option<String> {
+        cycle_notes(&with_imeps(imeps))
+            .into_iter()
+            .find(|n| n.contains("a misfire?"))
+    }
+
+    /// INTERFACE.md, "Plausibility": the outlier note needs at least 8
+    /// cycles and a deviation of at least 2 % of the median.
+    #[test]
+    fn outliers_need_cycles_and_a_spread() {
+        // 1 ppm off among identical cycles: no misfire.
+        let mut ppm = vec![9.9; 10];
+        ppm[2] = 9.9 * (1.0 - 1e-6);
+        assert_eq!(misfire(&ppm), None);
+        // Three cycles, one 1.6 % low: too few, and too small.
+        assert_eq!(misfire(&[9.9, 9.9 * 0.984, 9.91]), None);
+        // Seven cycles, one at 0.4 bar: too few.
+        assert_eq!(misfire(&[8.9, 9.0, 8.8, 0.4, 8.9, 9.1, 8.95]), None);
+        // Eight: named.
+        let n = misfire(&[8.9, 9.0, 8.8, 0.4, 8.9, 9.1, 8.95, 8.85]).unwrap();
+        assert!(n.starts_with("cycle 4: IMEP 0.4 bar"), "{n}");
+        // 1.5 % off a tight spread among 10 cycles: more than 5 MADs, less
+        // than 2 %: no note; 2.5 % off: named.
+        let mut tight = vec![
+            9.0, 9.001, 8.999, 9.0005, 8.9995, 9.0, 9.001, 8.999, 9.0, 9.0,
+        ];
+        tight[5] = 9.0 * 0.985;
+        assert_eq!(misfire(&tight), None);
+        tight[5] = 9.0 * 0.975;
+        assert!(misfire(&tight).unwrap().starts_with("cycle 6:"));
+    }
 }

@@ -42,6 +42,7 @@ pub const DECIDED: &[&str] = &[
     "read group ",
     "speed ",
     "time record: the angle from",
+    "the angle runs on over ",
     "firing TDC at the file's 360°",
     "cylinder traces ",
     "one trace per cylinder",

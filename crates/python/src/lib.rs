@@ -247,6 +247,8 @@ fn reader(d: &Bound<'_, PyDict>) -> PyResult<Reader> {
             None => None,
         },
         wheel_tdc_deg: get(d, "wheel_tdc_deg")?,
+        no_compression_check: !get::<bool>(d, "compression_check")?.unwrap_or(true),
+        angle_step_deg: get(d, "angle_step")?,
     };
     r.check(kw).py()?;
     Ok(r)

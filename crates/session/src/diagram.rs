@@ -84,6 +84,8 @@ pub fn diagram_options(
         encoder_ppr: d.encoder_ppr,
         wheel: d.wheel,
         wheel_tdc_deg: d.wheel_tdc_deg,
+        compression_check: !d.no_compression_check,
+        angle_step_deg: d.angle_step_deg,
     };
     let mut grid = GridOptions {
         step_deg: step,

@@ -104,6 +104,9 @@ pub const WHEEL_TDC_DEG: Bound = Bound::closed(
     enginedyn_ingest::MAX_WHEEL_TDC_DEG,
     "°",
 );
+/// `angle_step`: the crank angle between rows of a record sampled on the
+/// crank angle (deg): an encoder's step, from 0.001° to 10°.
+pub const ANGLE_STEP: Bound = Bound::closed(0.001, 10.0, "°");
 /// `encoder_ppr`: pulses a revolution, 1 to this.
 pub const MAX_ENCODER_PPR: u32 = enginedyn_ingest::MAX_ENCODER_PPR;
 /// `group`: an MDF4 channel group, 1 to this.
@@ -210,6 +213,13 @@ pub struct Reader {
     /// The angle (deg) from the wheel's first tooth after the gap to
     /// cylinder 1's TDC.
     pub wheel_tdc_deg: Option<f64>,
+    /// `--no-compression-check`: the trace is read as the cylinder's
+    /// pressure without the checks that assume a compressing engine (the
+    /// compression bound, the peak-angle rule).
+    pub no_compression_check: bool,
+    /// A pressure-only record sampled on the crank angle: row k is at the
+    /// angle k times this (deg).
+    pub angle_step_deg: Option<f64>,
 }
 
 /// The name `table` gives `value`.
@@ -261,6 +271,10 @@ impl Reader {
         put("encoder_ppr", self.encoder_ppr.into());
         put("wheel", self.wheel.map(|w| w.to_string()).into());
         put("wheel_tdc_deg", self.wheel_tdc_deg.into());
+        if self.no_compression_check {
+            put("compression_check", false.into());
+        }
+        put("angle_step", self.angle_step_deg.into());
         serde_json::Value::Object(o)
     }
 
@@ -268,7 +282,8 @@ impl Reader {
     /// (the CLI's flags are checked by their parsers before this).
     pub fn check(&self, name: impl Fn(&str) -> String) -> Result<()> {
         let bad = |field: &str, why: String| Error::usage(format!("{}: {why}", name(field)));
-        let each: [(&str, Option<f64>, &Bound); 6] = [
+        let each: [(&str, Option<f64>, &Bound); 7] = [
+            ("angle_step", self.angle_step_deg, &ANGLE_STEP),
             ("tdc_deg", self.tdc_deg, &TDC_DEG),
             ("wheel_tdc_deg", self.wheel_tdc_deg, &WHEEL_TDC_DEG),
             ("peg_bar", self.peg_bar, &PEG_BAR),
@@ -443,6 +458,8 @@ pub const READER_KEYS: &[&str] = &[
     "encoder_ppr",
     "wheel",
     "wheel_tdc_deg",
+    "compression_check",
+    "angle_step",
 ];
 
 /// The method options by name.

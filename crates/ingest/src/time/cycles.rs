@@ -8,6 +8,7 @@
 
 use crate::emit::Emitter;
 use crate::error::{IngestError, at};
+use crate::plausible::Recurrence;
 use crate::{Quantity, Streamed, Trace};
 
 /// Revolutions held until the pressure-peak rule decides the firing TDC.
@@ -86,6 +87,13 @@ pub(super) struct Cycles {
     reach: Option<(i64, f64)>,
     /// Samples in the last whole cycle: the next one's capacity.
     last_len: usize,
+    /// A crank signal's angle: its pressure peaks must recur once a cycle
+    /// (the plausibility pass), with the flag, the count and what it
+    /// counts that the error names.
+    pub recur: Option<(Recurrence, &'static str, f64, &'static str)>,
+    /// A cycle's error held while the recurrence is unknown: a wrong count
+    /// makes a cycle of no cylinder's pressure, and the count is the cause.
+    deferred: Option<IngestError>,
 }
 
 impl Cycles {
@@ -102,6 +110,8 @@ impl Cycles {
             partial: 0,
             reach: None,
             last_len: 1024,
+            recur: None,
+            deferred: None,
         }
     }
 
@@ -243,6 +253,9 @@ impl Cycles {
         // apart; --tdc-deg may put firing TDC anywhere between them.
         let start = self.start(k, parity);
         let a = start + within;
+        if let Some(r) = self.recur.as_mut() {
+            r.0.sample(a, p);
+        }
         let c = (a / self.cycle_deg + 1e-12).floor() as i64;
         if self.cur.as_ref().is_none_or(|b| b.index != c) {
             // A cycle is whole from its start when an earlier sample was
@@ -267,11 +280,19 @@ impl Cycles {
         reached: bool,
     ) -> Result<(), IngestError> {
         if let Some(mut b) = self.cur.take() {
+            if self.deferred.is_some() {
+                return Ok(());
+            }
             if b.from_start && reached {
                 self.complete += 1;
                 self.last_len = b.trace.angle_deg.len();
                 b.trace.rpm = b.rpm();
-                out.trace(b.trace, b.line, Quantity::Pressure, false, 0)?;
+                if let Err(e) = out.trace(b.trace, b.line, Quantity::Pressure, false, 0) {
+                    if self.recur.is_none() {
+                        return Err(e);
+                    }
+                    self.deferred = Some(e);
+                }
             } else {
                 self.partial += 1;
             }
@@ -297,6 +318,13 @@ impl Cycles {
             .cur
             .as_ref()
             .map_or(f64::INFINITY, |b| (b.index + 1) as f64 * self.cycle_deg);
-        self.close(out, reach >= end - 1e-6)
+        self.close(out, reach >= end - 1e-6)?;
+        if let Some((r, flag, count, what)) = &self.recur {
+            r.check(self.cycle_deg, flag, *count, what)?;
+        }
+        match self.deferred.take() {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
     }
 }

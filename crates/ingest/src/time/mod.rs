@@ -10,7 +10,8 @@
 //!   or a tooth wheel's teeth ([`teeth`]: edges checked period by period,
 //!   the angle interpolated in time between them).
 //!
-//! Every edge is where its signal rises through half its range ([`edges`]).
+//! Every edge is where its signal rises through half its range, counted
+//! once it reaches two thirds from below one third ([`edges`]).
 //! The sources hand their samples to [`cycles`], which decides the firing
 //! TDC on a four-stroke and hands whole cycles to the emitter.
 //!
@@ -31,6 +32,7 @@ pub use wheel::Wheel;
 use crate::columns::{Axis, Roles};
 use crate::emit::Emitter;
 use crate::error::{IngestError, at, shown_number};
+use crate::plausible::{Recurrence, TdcPlacement};
 use crate::row::Cells;
 use crate::values::value_scale;
 use crate::{Header, ParseOptions, Quantity, Streamed};
@@ -282,6 +284,23 @@ impl TimeRecord {
             }
         };
         let probe = (!matches!(source, Source::Clock(_))).then(Vec::new);
+        let mut cycles = Cycles::new(opts.cycle_deg, tdc_deg, firing);
+        if let Source::Crank(c) = &source {
+            cycles.recur = Some(match &c.kind {
+                teeth::Kind::Encoder(e) => (
+                    Recurrence::default(),
+                    "--encoder-ppr",
+                    f64::from(e.ppr),
+                    "pulses",
+                ),
+                teeth::Kind::Wheel { gaps, .. } => (
+                    Recurrence::default(),
+                    "--wheel",
+                    f64::from(gaps.wheel.positions()),
+                    "tooth positions",
+                ),
+            });
+        }
         Ok(Self {
             t_col: roles.x,
             t_scale,
@@ -291,7 +310,7 @@ impl TimeRecord {
             cycle_deg: opts.cycle_deg,
             tdc_deg,
             source,
-            cycles: Cycles::new(opts.cycle_deg, tdc_deg, firing),
+            cycles,
             sig,
             probe,
             last_t: None,
@@ -381,7 +400,7 @@ impl TimeRecord {
         }
     }
 
-    /// Finds each signal's half-way level from the held samples, then reads
+    /// Finds each signal's range from the held samples, then reads
     /// them.
     fn settle<F: FnMut(Streamed) -> Result<(), IngestError>>(
         &mut self,
@@ -421,11 +440,11 @@ impl TimeRecord {
                     message: what.replace("{}", &held.len().to_string()),
                 });
             }
-            levels[slot] = Some(0.5 * (lo + hi));
+            levels[slot] = Some((lo, hi));
         }
         match &mut self.source {
-            Source::Pulse(s) => s.level(levels[0].unwrap_or(0.0)),
-            Source::Crank(s) => s.levels(levels[0].unwrap_or(0.0), levels[1], levels[2]),
+            Source::Pulse(s) => s.level(levels[0].unwrap_or((0.0, 0.0))),
+            Source::Crank(s) => s.levels(levels[0].unwrap_or((0.0, 0.0)), levels[1], levels[2]),
             Source::Clock(_) => {}
         }
         for (t, p, line, v) in held {
@@ -610,6 +629,7 @@ impl TimeRecord {
                 fmt(self.cycle_deg, 0)
             )));
         }
+        head.tdc_placement = Some(self.placement());
         said.push_str(&format!("; {complete} whole cycles"));
         if partial > 0 {
             said.push_str(&format!(", {partial} partial ones at the ends left out"));
@@ -656,6 +676,36 @@ impl TimeRecord {
             }
         }
         Ok(())
+    }
+}
+
+impl TimeRecord {
+    /// What placed firing TDC (the peak-angle rule's error names it).
+    fn placement(&self) -> TdcPlacement {
+        if let Some(x) = self.tdc_deg {
+            return TdcPlacement::TdcDeg {
+                deg: x,
+                given: true,
+            };
+        }
+        let cam = self.cycles.firing == Firing::Cam;
+        match &self.source {
+            Source::Clock(c) => TdcPlacement::TdcTime {
+                t: c.t0,
+                rpm: c.deg_per_s / 6.0,
+            },
+            Source::Pulse(_) => TdcPlacement::TdcColumn { cam: false },
+            Source::Crank(s) => match (&s.kind, self.tdc_time) {
+                (teeth::Kind::Wheel { tdc_deg, .. }, _) => {
+                    TdcPlacement::WheelTdcDeg { deg: *tdc_deg, cam }
+                }
+                (teeth::Kind::Encoder(_), Some(t)) => TdcPlacement::TdcTime {
+                    t,
+                    rpm: s.mean_rpm().unwrap_or(0.0),
+                },
+                (teeth::Kind::Encoder(_), None) => TdcPlacement::TdcColumn { cam },
+            },
+        }
     }
 }
 

@@ -26,23 +26,26 @@ pub(super) struct Pulse {
     pub speeds: (f64, f64, f64, usize),
     /// Samples before the first pulse.
     pub before_first: usize,
+    /// The last sample before the first pulse.
+    prev: Option<(f64, f64, usize)>,
 }
 
 impl Pulse {
     pub(super) fn new(col: usize) -> Self {
         Self {
             col,
-            rise: Rise::new(0.0),
+            rise: Rise::new(0.0, 0.0),
             last_edge: None,
             rev: Vec::new(),
             speeds: (f64::INFINITY, 0.0, 0.0, 0),
             before_first: 0,
+            prev: None,
         }
     }
 
-    /// The pulse's half-way level, once known.
-    pub(super) fn level(&mut self, level: f64) {
-        self.rise = Rise::new(level);
+    /// The pulse's range, once known.
+    pub(super) fn level(&mut self, (lo, hi): (f64, f64)) {
+        self.rise = Rise::new(lo, hi);
     }
 
     /// A sample: time, pressure, the pulse's value.
@@ -57,7 +60,7 @@ impl Pulse {
     ) -> Result<(), IngestError> {
         let mut finished = None;
         // The pulse rises through half its range between the samples.
-        if let Some(te) = self.rise.sample(t, pulse) {
+        if let Some((te, _)) = self.rise.sample(t, pulse, line) {
             match self.last_edge {
                 Some((t0, k)) => {
                     let d = te - t0;
@@ -94,16 +97,31 @@ impl Pulse {
                     speeds.1 = speeds.1.max(rpm);
                     speeds.2 += 1.0 / d;
                     speeds.3 += 1;
-                    finished = Some((k, t0, te, std::mem::take(&mut self.rev)));
+                    // The edge is counted once the pulse reaches two
+                    // thirds of its range (edges.rs), perhaps a sample
+                    // after the one past its time: that sample is the next
+                    // revolution's.
+                    let mut samples = std::mem::take(&mut self.rev);
+                    let after = samples.partition_point(|s| s.0 < te);
+                    self.rev = samples.split_off(after);
+                    finished = Some((k, t0, te, samples));
                     self.last_edge = Some((te, k + 1));
                 }
-                None => self.last_edge = Some((te, 0)),
+                None => {
+                    self.last_edge = Some((te, 0));
+                    // The sample past the edge before the one that counted it.
+                    if let Some(s) = self.prev.filter(|s| s.0 >= te) {
+                        self.rev.push(s);
+                        self.before_first -= 1;
+                    }
+                }
             }
         }
         if self.last_edge.is_some() {
             self.rev.push((t, p, line));
         } else {
             self.before_first += 1;
+            self.prev = Some((t, p, line));
         }
         if let Some((k, t0, t1, samples)) = finished {
             // A whole revolution: its samples linear in time between pulses.

@@ -103,7 +103,7 @@ impl Crank {
             cam_col,
             step_deg,
             gap_steps,
-            rise: Rise::new(0.0),
+            rise: Rise::new(0.0, 0.0),
             tdc_rise: None,
             cam_rise: None,
             before: VecDeque::with_capacity(NEIGHBOURS + 1),
@@ -121,11 +121,16 @@ impl Crank {
         }
     }
 
-    /// The half-way levels of the signal, the `tdc` pulse and the `cam`.
-    pub(super) fn levels(&mut self, signal: f64, tdc: Option<f64>, cam: Option<f64>) {
-        self.rise = Rise::new(signal);
-        self.tdc_rise = tdc.map(Rise::new);
-        self.cam_rise = cam.map(Rise::new);
+    /// The ranges of the signal, the `tdc` pulse and the `cam`.
+    pub(super) fn levels(
+        &mut self,
+        signal: (f64, f64),
+        tdc: Option<(f64, f64)>,
+        cam: Option<(f64, f64)>,
+    ) {
+        self.rise = Rise::new(signal.0, signal.1);
+        self.tdc_rise = tdc.map(|(lo, hi)| Rise::new(lo, hi));
+        self.cam_rise = cam.map(|(lo, hi)| Rise::new(lo, hi));
     }
 
     /// The mean speed (rpm) from the first to the last numbered edge.
@@ -149,16 +154,24 @@ impl Crank {
         cycles: &mut Cycles,
         out: &mut Emitter<'_, F>,
     ) -> Result<(), IngestError> {
-        if let Some(te) = self.tdc_rise.as_mut().and_then(|r| r.sample(t, sig[1])) {
-            self.mark(te, line, Mark::Tdc);
+        if let Some((te, l)) = self
+            .tdc_rise
+            .as_mut()
+            .and_then(|r| r.sample(t, sig[1], line))
+        {
+            self.mark(te, l, Mark::Tdc);
         }
-        if let Some(tc) = self.cam_rise.as_mut().and_then(|r| r.sample(t, sig[2])) {
-            self.mark(tc, line, Mark::Cam);
+        if let Some((tc, l)) = self
+            .cam_rise
+            .as_mut()
+            .and_then(|r| r.sample(t, sig[2], line))
+        {
+            self.mark(tc, l, Mark::Cam);
         }
-        let edge = self.rise.sample(t, sig[0]);
-        if let Some(te) = edge {
+        let edge = self.rise.sample(t, sig[0], line);
+        if let Some((te, l)) = edge {
             self.edge_count += 1;
-            self.edges.push_back((te, line));
+            self.edges.push_back((te, l));
         }
         if self.edges.is_empty() && self.last.is_none() {
             // Before the first edge: no angle, ever.

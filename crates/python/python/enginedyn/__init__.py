@@ -188,7 +188,10 @@ class Reader(_Options):
     """How a diagram is read: the CLI's reader flags by name (``tdc_deg``,
     ``columns``, ``skip_lines``, ``sheet``, ``max_gap_deg``, ``gauge``,
     ``peg_bar``, ``peg``, ``gain_bar_per_v``, ``tdc_time``, ``rpm``,
-    ``cylinder_axis``, ``pv_start``), with their bounds."""
+    ``cylinder_axis``, ``pv_start``, ``encoder_ppr``, ``wheel``,
+    ``wheel_tdc_deg``, ``compression_check`` (``False`` for
+    ``--no-compression-check``), ``angle_step`` (``--angle-step``)), with
+    their bounds."""
 
     __slots__ = ()
 
