@@ -301,8 +301,8 @@ fn the_curves_end_where_the_burn_does() {
     let c = curves(&g, &opts, &r).unwrap();
     let mfb = c.mfb.unwrap();
     let at = |deg: f64| ((deg / step).round() as i64).rem_euclid(p.len() as i64) as usize;
-    assert_eq!(mfb[at(-100.0)], 0.0);
-    assert_eq!(mfb[at(150.0)], 1.0);
+    assert!(mfb[at(-100.0)].abs() < 1e-15);
+    assert!((mfb[at(150.0)] - 1.0).abs() < 1e-15);
     assert!((mfb[at(8.0)] - 0.5).abs() < 0.01, "{}", mfb[at(8.0)]);
     // The rate integrates to the heat released (trapezoid on the grid).
     let total: f64 = (at(-90.0)..p.len())
