@@ -69,6 +69,20 @@ pub fn data(name: &str) -> String {
     format!("{}/../data/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
+/// A bundled diagram's data rows as (angle as written, pressure in bar):
+/// the material tests build multi-cycle and damaged files from.
+pub fn data_rows(name: &str) -> Vec<(String, f64)> {
+    std::fs::read_to_string(data(name))
+        .expect("a bundled diagram")
+        .lines()
+        .filter(|l| l.starts_with(|c: char| c.is_ascii_digit()))
+        .filter_map(|l| {
+            let (a, p) = l.split_once(',')?;
+            Some((a.to_string(), p.trim().parse().ok()?))
+        })
+        .collect()
+}
+
 /// Runs the binary, asserts it succeeded and returns the JSON it printed.
 pub fn ok_json(args: &[&str]) -> serde_json::Value {
     let out = run(args);

@@ -2,23 +2,14 @@
 //! burn points reach `summary.json`, `curves.csv`, the charts and the
 //! report; a motored cycle gets none, with a note; the flags are bounded.
 
-use enginedyn_tests::{data, run};
+use enginedyn_tests::{data, data_rows, run};
 
 fn stderr(o: &std::process::Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
-/// `data/single.csv`'s rows as (angle text, pressure bar).
 fn single_rows() -> Vec<(String, f64)> {
-    std::fs::read_to_string(data("single.csv"))
-        .unwrap()
-        .lines()
-        .filter(|l| l.starts_with(|c: char| c.is_ascii_digit()))
-        .map(|l| {
-            let (a, p) = l.split_once(',').unwrap();
-            (a.to_string(), p.parse().unwrap())
-        })
-        .collect()
+    data_rows("single.csv")
 }
 
 /// The bundled single's engine: its motored trace, a closed charge from 1

@@ -258,7 +258,26 @@ fn firing_tdc_at_360_in_a_0_720_file() {
         }
     }
     assert!((0.0..60.0).contains(&at), "the peak at {at}°");
-    // --tdc-deg 0 keeps the file's angles.
+    // --tdc-deg 0 keeps the file's angles: its peak then lies a
+    // revolution from firing TDC, which the peak-angle rule refuses, naming
+    // the flag and the phasing (issue 36, item 3) unless
+    // --no-compression-check lifts it.
+    let o = run(&[
+        "run",
+        "--engine",
+        &engine,
+        "--diagram",
+        f.to_str().unwrap(),
+        "--tdc-deg",
+        "0",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--tdc-deg") && stderr(&o).contains("phasing"),
+        "{}",
+        stderr(&o)
+    );
     let j = json(&run(&[
         "run",
         "--engine",
@@ -267,6 +286,7 @@ fn firing_tdc_at_360_in_a_0_720_file() {
         f.to_str().unwrap(),
         "--tdc-deg",
         "0",
+        "--no-compression-check",
         "--json",
     ]));
     assert!(!j["notes"].to_string().contains("360°: the pressure peak"));

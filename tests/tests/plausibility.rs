@@ -4,7 +4,7 @@
 //! `kW` is never a crank angle, a side table is left out, and cycles
 //! stacked in one column are counted in a note.
 
-use enginedyn_tests::{data, run};
+use enginedyn_tests::{data, data_rows, run};
 
 fn stderr(o: &std::process::Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
@@ -16,15 +16,7 @@ fn stderr(o: &std::process::Output) -> String {
 #[test]
 fn a_misfire_is_named_and_a_high_cov_noted() {
     let t = tempfile::tempdir().unwrap();
-    let rows: Vec<(String, f64)> = std::fs::read_to_string(data("single.csv"))
-        .unwrap()
-        .lines()
-        .filter(|l| l.starts_with(|c: char| c.is_ascii_digit()))
-        .map(|l| {
-            let (a, p) = l.split_once(',').unwrap();
-            (a.to_string(), p.parse().unwrap())
-        })
-        .collect();
+    let rows = data_rows("single.csv");
     let mut s = String::from("cycle,crank_deg,pressure_bar\n");
     for c in 1..=20 {
         let k = if c == 7 {

@@ -240,7 +240,10 @@ mod tests {
     fn end_of_duration_is_99_9_percent() {
         let w = Wiebe::new(-10.0, 40.0, DEFAULT_A, 2.0).unwrap();
         assert!((w.fraction(30.0) - 0.999).abs() < 1e-4);
-        assert!(w.fraction(-10.0).abs() < f64::MIN_POSITIVE, "nothing burnt before the start");
+        assert!(
+            w.fraction(-10.0).abs() < f64::MIN_POSITIVE,
+            "nothing burnt before the start"
+        );
     }
 
     #[test]

@@ -239,7 +239,7 @@ impl Aligner {
         let mut notes = Vec::new();
         if let Some((true, p)) = self.tdc360 {
             notes.push(format!(
-                "firing TDC at the file's 360°: the pressure peak at {}° follows 360°, not 0° (a 0–720° export from the intake TDC); the angles are moved by 360° (--tdc-deg 0 keeps them)",
+                "firing TDC at the file's 360°: the pressure peak at {}° follows 360°, not 0° (a 0–720° export from the intake TDC); the angles are moved by 360° (--tdc-deg 0 --no-compression-check keeps them)",
                 fmt(p)
             ));
         }

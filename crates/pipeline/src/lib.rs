@@ -965,6 +965,7 @@ mod outlier_tests {
                 p_max_angle_deg: 12.0,
                 peg_offset: 0.0,
                 rpm: None,
+                combustion: None,
             })
             .collect();
         r
