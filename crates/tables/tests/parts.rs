@@ -250,9 +250,27 @@ fn cycles_part_keeps_skipped_cycles() {
             "p_max_bar",
             "p_max_angle_deg",
             "peg_offset_bar",
-            "rpm"
+            "rpm",
+            "imep_gross_bar",
+            "pmep_bar",
+            "ca5_deg",
+            "ca10_deg",
+            "ca50_deg",
+            "ca90_deg",
+            "burn_10_90_deg",
+            "soc_deg",
+            "eoc_deg",
+            "heat_released_j",
+            "dp_dphi_max_bar_deg",
+            "dp_dphi_max_angle_deg",
+            "combustion"
         ]
     );
+    // This helper grids without the combustion analysis: its columns are
+    // there, and null (never false: nothing was analysed).
+    let burns = col::<BooleanArray>(&b, "combustion");
+    assert_eq!(burns.null_count(), 20);
+    assert_eq!(col::<Float64Array>(&b, "imep_gross_bar").null_count(), 20);
     assert_eq!(b.num_rows(), 20);
     let cycle = col::<Int64Array>(&b, "cycle");
     assert_eq!(cycle.values().to_vec(), (1..=20).collect::<Vec<i64>>());
