@@ -57,14 +57,14 @@ pub fn combustion_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
     let w = window(a);
     let name = engine.name();
     let rpm = a.summary.rpm;
-    let caption = format!("γ {}, {}", c.gamma, c.smoothing);
+    let caption = format!("{}, {}", c.gamma, c.smoothing);
     let rate = Chart {
         x_label: "crank angle from firing TDC of cylinder 1 (deg)".into(),
         ..Chart::angle(
-            format!("{name} — heat release rate, cylinder 1, {rpm:.0} rpm ({caption})"),
+            format!("{name} — heat release rate, {rpm:.0} rpm"),
             "dQ/dφ (J/deg), net apparent",
             vec![Series::from_points(
-                "dQ/dφ",
+                format!("dQ/dφ, cylinder 1 (γ {caption})"),
                 over_window(&curves.rate_j_deg, step, w).into_iter(),
             )],
         )
@@ -95,10 +95,7 @@ pub fn combustion_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
         }
     }
     let mfb = Chart::angle(
-        format!(
-            "{name} — mass fraction burned (min–max rule, window {}…{}°)",
-            w.0, w.1
-        ),
+        format!("mass fraction burned (min–max rule, {}…{}°)", w.0, w.1),
         if curves.mfb.is_some() {
             "mass fraction burned"
         } else {
