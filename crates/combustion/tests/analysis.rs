@@ -104,7 +104,8 @@ fn a_single_wiebe_comes_back_within_a_hundredth_of_a_degree() {
     let b = r.burn.expect("a fired cycle burns");
     for (pct, got) in opts.levels_pct.iter().zip(&b.levels_deg) {
         let want = law.angle_of(pct / 100.0);
-        assert!((got - want).abs() < 0.01, "CA{pct}: {got} against {want}");
+        // Measured: 2.9e-4° at worst (CA5); docs/combustion.md quotes it.
+        assert!((got - want).abs() < 1e-3, "CA{pct}: {got} against {want}");
     }
     // The heat released: 99.9 % of the law's within the window's end.
     let want = heat * (law.fraction(b.eoc_deg) - law.fraction(b.soc_deg));

@@ -49,6 +49,8 @@ pub struct CombustionSummary {
     pub smoothing: String,
     /// `models.burn_window`.
     pub burn_window: String,
+    /// The burn window as numbers (deg), for the charts.
+    pub window_deg: (f64, f64),
 }
 
 impl CombustionSummary {
@@ -139,6 +141,7 @@ pub(crate) fn analyse(
         gamma: opts.gamma.describe(),
         smoothing: opts.smoothing.describe(step),
         burn_window: format!("{}:{}", opts.window_deg.0, opts.window_deg.1),
+        window_deg: opts.window_deg,
         ..CombustionSummary::default()
     };
     spread(pressure, opts, &mut s);

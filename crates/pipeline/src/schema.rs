@@ -686,6 +686,7 @@ mod tests {
             gamma: "1.32".into(),
             smoothing: "Savitzky-Golay cubic, 2° (21 points), zero-phase".into(),
             burn_window: "-90:120".into(),
+            window_deg: (-90.0, 120.0),
         });
         s.notes = vec!["a".into(), "b".into()];
         s

@@ -35,18 +35,6 @@ fn over_window(y: &[f64], step_deg: f64, (a, b): (f64, f64)) -> Vec<(f64, f64)> 
     pts
 }
 
-/// The window the curves were analysed over, from `models.burn_window`.
-fn window(a: &Analysis) -> (f64, f64) {
-    a.summary
-        .combustion
-        .as_ref()
-        .and_then(|c| {
-            let (x, y) = c.burn_window.split_once(':')?;
-            Some((x.parse().ok()?, y.parse().ok()?))
-        })
-        .unwrap_or(enginedyn_combustion::DEFAULT_WINDOW)
-}
-
 /// `heat_release.svg` and, with more than one burning cycle,
 /// `ca50_imep.svg`.
 pub fn combustion_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
@@ -54,7 +42,7 @@ pub fn combustion_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
         return Vec::new();
     };
     let step = a.step.to_degrees();
-    let w = window(a);
+    let w = c.window_deg;
     let name = engine.name();
     let rpm = a.summary.rpm;
     let caption = format!("{}, {}", c.gamma, c.smoothing);
