@@ -33,7 +33,7 @@ pub enum Command {
     Torsion(TorsionArgs),
     /// Print a commented engine file (every key: unit, default, meaning) that runs as it is.
     Template(TemplateArgs),
-    /// Write the diagram of the engine file's [combustion] burn law (a synthesised, not measured, CSV).
+    /// Write the diagram of the engine file's `[combustion]` burn law (a synthesised, not measured, CSV).
     Synth(SynthArgs),
     /// Check a campaign's Parquet parts (`batch --parquet DIR`) and write DIR/_manifest.json.
     Merge(MergeArgs),
@@ -669,7 +669,7 @@ pub struct SynthArgs {
     /// Engine speed (rpm) for the `# rpm` line [default: the engine file's operating.rpm].
     #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_rpm)]
     pub rpm: Option<f64>,
-    /// Net IMEP to meet (bar); stands for [combustion]'s imep_bar or heat_released_j.
+    /// Net IMEP to meet (bar); stands for `[combustion]`'s imep_bar or heat_released_j.
     #[arg(long, value_name = "X", allow_hyphen_values = true, value_parser = parse_imep)]
     pub imep: Option<f64>,
     /// Step of the rows (deg), dividing the cycle [default: 0.1].
@@ -683,7 +683,7 @@ pub struct SynthArgs {
 /// `sweep --imep`: a speed × load map from the engine file's `[combustion]`.
 #[derive(Debug, Clone, Args)]
 pub struct SweepMapArgs {
-    /// Loads FROM:TO:STEP (net IMEP, bar): a speed × load map synthesised from [combustion].
+    /// Loads FROM:TO:STEP (net IMEP, bar): a speed × load map synthesised from `[combustion]`.
     #[arg(long, value_name = "FROM:TO:STEP", conflicts_with = "diagram")]
     pub imep: Option<String>,
 }
