@@ -474,14 +474,24 @@ fn placement(placed: Option<TdcPlacement>, opts: &ParseOptions) -> TdcPlacement 
     })
 }
 
-/// The peak-angle rule on each cylinder's mean, or the one mean.
+/// The peak-angle rule on each cylinder's mean, or the one mean. Each
+/// cylinder's mean lies on its own firing TDC (a shared axis was moved
+/// there, [`axis`]), so a crank reference that is wrong for all of them is
+/// named on cylinder 1's.
 fn peak_rule(r: &Resampled, cycle: f64, placed: &TdcPlacement) -> Result<(), IngestError> {
-    // Per-cylinder means may lie on cylinder 1's shared axis: not checked
-    // here yet (issue 36, item 3: follow-up).
-    if !r.cylinders.is_empty() {
-        return Ok(());
+    if r.cylinders.is_empty() {
+        return plausible::peak_angle(&r.pressure, r.step_deg, cycle, placed, "");
     }
-    plausible::peak_angle(&r.pressure, r.step_deg, cycle, placed, "")
+    for (i, mean) in r.cylinders.iter().enumerate() {
+        plausible::peak_angle(
+            mean,
+            r.step_deg,
+            cycle,
+            placed,
+            &format!(" of cylinder {}", i + 1),
+        )?;
+    }
+    Ok(())
 }
 
 /// Puts an in-memory diagram on the grid (the same path as [`load`]).

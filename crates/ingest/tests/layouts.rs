@@ -467,3 +467,29 @@ fn a_tdc_a_revolution_off_names_the_phasing() {
     );
     assert!(e.contains(&want) && !e.contains("phasing"), "{want}: {e}");
 }
+
+/// Issue 36, item 3: the peak-angle rule holds for each cylinder's mean
+/// too. Four cylinders, each on its own firing TDC (`--cylinder-axis
+/// own`), all read with TDC placed 96° early: refused on cylinder 1,
+/// naming the shift; read right, they pass.
+#[test]
+fn each_cylinders_mean_peaks_near_its_tdc() {
+    let (mut o, g) = options();
+    o.cylinder_axis = Some(enginedyn_ingest::CylinderAxis::Own);
+    let mut t = String::from("cylinder,crank_deg,pressure_bar\n");
+    for c in 1..=4 {
+        for i in 0..1440 {
+            let a = i as f64 * 0.5;
+            t.push_str(&format!("{c},{a},{}\n", cell(a, c)));
+        }
+    }
+    let right = read(&t, &o);
+    assert_eq!(right.cylinders.len(), 4);
+    o.tdc_deg = -96.0;
+    o.tdc_given = true;
+    let e = load(t.as_bytes(), &o, &g).unwrap_err().to_string();
+    assert!(
+        e.contains("the mean trace of cylinder 1 peaks +") && e.contains("--tdc-deg"),
+        "{e}"
+    );
+}
