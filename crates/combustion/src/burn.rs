@@ -156,6 +156,87 @@ struct Window<'a> {
     q: Vec<f64>,
     /// The largest pressure in the window and its index.
     peak: (f64, usize),
+    /// The index of the largest cumulative (the first, if tied): EOC as read.
+    eoc0: usize,
+    /// The index of the smallest cumulative up to [`Self::eoc0`]: SOC as read.
+    soc0: usize,
+}
+
+/// The one pass over the window: the trapezoidal work `∫ p dV`, the energy
+/// term, the cumulative, the pressure peak, and the cumulative's extremes
+/// (its largest value, and the smallest before that).
+struct Pass {
+    q: Vec<f64>,
+    half_h: f64,
+    work: f64,
+    /// `p dV/dφ` at the previous point.
+    prev: f64,
+    peak: (f64, usize),
+    min: (f64, usize),
+    max: (f64, usize),
+    /// The index of the smallest cumulative before [`Self::max`].
+    soc: usize,
+}
+
+impl Pass {
+    fn new(len: usize, half_h: f64) -> Self {
+        Self {
+            q: Vec::with_capacity(len),
+            half_h,
+            work: 0.0,
+            prev: 0.0,
+            peak: (f64::NEG_INFINITY, 0),
+            min: (f64::INFINITY, 0),
+            max: (f64::NEG_INFINITY, 0),
+            soc: 0,
+        }
+    }
+
+    /// Runs over grid indices `i0..=i1` (in at most two contiguous pieces
+    /// of the periodic grid), `energy` the term `E(pV)`.
+    #[inline]
+    fn run(&mut self, g: &CycleGrid, (i0, i1): (i64, i64), energy: impl Fn(f64) -> f64) {
+        let n = g.n();
+        // The cumulative starts at 0: the energy term from its value at the
+        // start, and the first trapezoid adds nothing.
+        let e0 = energy(g.at(g.pressure, i0) * g.at(g.volume, i0));
+        self.prev = -g.at(g.pressure, i0) * g.at(g.dvolume, i0);
+        let mut k = i0;
+        while k <= i1 {
+            let start = wrap(k, n);
+            let end = (start + (i1 - k + 1) as usize).min(n as usize);
+            let p = &g.pressure[start..end];
+            let v = &g.volume[start..end];
+            let dv = &g.dvolume[start..end];
+            // The state in locals (registers), not behind `self`, which the
+            // stores into `q` could alias.
+            let (half_h, mut work, mut prev) = (self.half_h, self.work, self.prev);
+            let (mut peak, mut min, mut max, mut soc) = (self.peak, self.min, self.max, self.soc);
+            let mut j = self.q.len();
+            self.q
+                .extend(p.iter().zip(v).zip(dv).map(|((&p, &v), &dv)| {
+                    let pdv = p * dv;
+                    work += half_h * (prev + pdv);
+                    prev = pdv;
+                    let q = work + energy(p * v) - e0;
+                    if p > peak.0 {
+                        peak = (p, j);
+                    }
+                    if q < min.0 {
+                        min = (q, j);
+                    }
+                    if q > max.0 {
+                        max = (q, j);
+                        soc = min.1;
+                    }
+                    j += 1;
+                    q
+                }));
+            (self.work, self.prev) = (work, prev);
+            (self.peak, self.min, self.max, self.soc) = (peak, min, max, soc);
+            k += (end - start) as i64;
+        }
+    }
 }
 
 impl Window<'_> {
@@ -225,44 +306,16 @@ fn cumulative<'a>(
         )));
     }
     let ivc = pv_ivc(g, opts, f);
-    let half_h = 0.5 * g.step_deg.to_radians();
-    let len = (i1 - i0 + 1) as usize;
-    let mut q = Vec::with_capacity(len);
     let gamma = opts.gamma;
-    let e0 = gamma.energy(g.at(g.pressure, i0) * g.at(g.volume, i0), ivc);
-    let mut work = 0.0;
-    let mut prev = g.at(g.pressure, i0) * g.at(g.dvolume, i0);
-    let mut peak = (f64::NEG_INFINITY, 0);
-    // The window in at most two contiguous pieces of the periodic grid; a
-    // constant γ takes the product form (no call, no division).
-    let n = g.n();
-    let inv = match gamma {
-        GammaModel::Constant(c) => Some(1.0 / (c - 1.0)),
-        GammaModel::Brunt { .. } => None,
-    };
-    let mut k = i0;
-    while k <= i1 {
-        let start = wrap(k, n);
-        let end = (start + (i1 - k + 1) as usize).min(n as usize);
-        let (p, v, dv) = (
-            &g.pressure[start..end],
-            &g.volume[start..end],
-            &g.dvolume[start..end],
-        );
-        for t in 0..p.len() {
-            let pdv = p[t] * dv[t];
-            work += half_h * (prev + pdv);
-            prev = pdv;
-            if p[t] > peak.0 {
-                peak = (p[t], q.len());
-            }
-            let e = match inv {
-                Some(c) => p[t] * v[t] * c,
-                None => gamma.energy(p[t] * v[t], ivc),
-            };
-            q.push(work + e - e0);
+    let mut pass = Pass::new((i1 - i0 + 1) as usize, 0.5 * g.step_deg.to_radians());
+    // A constant γ takes the product form (no call, no division); each
+    // form is its own loop.
+    match gamma {
+        GammaModel::Constant(c) => {
+            let inv = 1.0 / (c - 1.0);
+            pass.run(g, (i0, i1), |pv| pv * inv);
         }
-        k += (end - start) as i64;
+        GammaModel::Brunt { .. } => pass.run(g, (i0, i1), |pv| gamma.energy(pv, ivc)),
     }
     Ok(Window {
         g,
@@ -270,8 +323,10 @@ fn cumulative<'a>(
         gamma,
         i0,
         ivc,
-        q,
-        peak,
+        q: pass.q,
+        peak: pass.peak,
+        eoc0: pass.max.1,
+        soc0: pass.soc,
     })
 }
 
@@ -313,8 +368,7 @@ pub fn analyse_with(
     let deg = |j: f64| (win.i0 as f64 + j) * g.step_deg;
     // SOC and EOC on the cumulative as read, then taken where the smoothed
     // cumulative has its extreme within a filter's width of them.
-    let eoc0 = arg_max(&win.q);
-    let soc0 = arg_min(&win.q[..=eoc0]);
+    let (eoc0, soc0) = (win.eoc0, win.soc0);
     let r = f.half_points().max(1);
     let (eoc, q_eoc) = win.extreme(eoc0.saturating_sub(r), (eoc0 + r).min(last), true);
     let (soc, q_soc) = win.extreme(soc0.saturating_sub(r), (soc0 + r).min(eoc), false);
@@ -410,26 +464,6 @@ pub fn gross_work(g: &CycleGrid) -> f64 {
     let (p, d) = (g.pressure, g.dvolume);
     let ends = 0.5 * (p[n - half] * d[n - half] + p[half] * d[half]);
     (dot(&p[n - half..], &d[n - half..]) + dot(&p[..=half], &d[..=half]) - ends) * h
-}
-
-fn arg_max(v: &[f64]) -> usize {
-    let mut at = 0;
-    for (j, x) in v.iter().enumerate() {
-        if *x > v[at] {
-            at = j;
-        }
-    }
-    at
-}
-
-fn arg_min(v: &[f64]) -> usize {
-    let mut at = 0;
-    for (j, x) in v.iter().enumerate() {
-        if *x < v[at] {
-            at = j;
-        }
-    }
-    at
 }
 
 /// The heat release over the whole cycle, for `curves.csv` and the chart.

@@ -151,15 +151,66 @@ fn a_diesel_double_wiebe_on_a_half_degree_grid() {
     }
 }
 
+/// The closed-charge trace of a γ(T) gas (Brunt's γ, T scaled from the
+/// state at IVC): `d(pV)/dφ = (γ − 1)(Q dxb/dφ − p dV/dφ)`, integrated by
+/// RK4 at 0.005° from 1 bar at IVC, forwards to +180° and backwards to
+/// −180° (independent of the analysis' closed-form energy).
+fn brunt_trace(cyl: &Cylinder, law: &BurnLaw, heat_j: f64, gm: GammaModel, step: f64) -> Vec<f64> {
+    let GammaModel::Brunt { ivc_deg, .. } = gm else {
+        panic!("a Brunt model")
+    };
+    let vol = |deg: f64| cyl.volume(deg.to_radians());
+    let u_ivc = 1e5 * vol(ivc_deg);
+    let du = |deg: f64, u: f64| {
+        let h = 1e-4;
+        let dv = (vol(deg + h) - vol(deg - h)) / (2.0 * h);
+        (gm.gamma(u, u_ivc) - 1.0) * (heat_j * law.rate(deg) - u / vol(deg) * dv)
+    };
+    // pV on the fine grid from −180° to +180°, index (deg + 180) / fine.
+    let fine: f64 = 0.005;
+    let m = (360.0 / fine).round() as usize;
+    let at_ivc = ((ivc_deg + 180.0) / fine).round() as usize;
+    let mut u = vec![0.0; m + 1];
+    u[at_ivc] = u_ivc;
+    let rk4 = |deg: f64, u: f64, h: f64| {
+        let k1 = du(deg, u);
+        let k2 = du(deg + h / 2.0, u + h / 2.0 * k1);
+        let k3 = du(deg + h / 2.0, u + h / 2.0 * k2);
+        let k4 = du(deg + h, u + h * k3);
+        u + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+    };
+    for j in at_ivc..m {
+        u[j + 1] = rk4(j as f64 * fine - 180.0, u[j], fine);
+    }
+    for j in (1..=at_ivc).rev() {
+        u[j - 1] = rk4(j as f64 * fine - 180.0, u[j], -fine);
+    }
+    let n = (720.0 / step).round() as usize;
+    (0..n)
+        .map(|k| {
+            let mut deg = k as f64 * step;
+            if deg >= 360.0 {
+                deg -= 720.0;
+            }
+            if !(-180.0..=180.0).contains(&deg) {
+                return 1e5;
+            }
+            u[((deg + 180.0) / fine).round() as usize] / vol(deg)
+        })
+        .collect()
+}
+
+/// A γ(T) trace analysed with γ(T) gives back its burn angles within
+/// 0.01° (1e-4° measured; the issue asks 0.2°, 0.4° for CA90); analysed
+/// with a constant 1.32 the CA90 moves by more than a degree (6.4°
+/// measured): the model matters.
 #[test]
-fn brunt_gamma_round_trip_on_its_own_charge() {
-    // Analysed with constant γ, a constant-γ trace comes back; analysed
-    // with γ(T), the CA50 moves late (γ falls as T rises): the model
-    // matters, and the shift is of the size PHYSICS.md's sensitivities say.
+fn a_brunt_trace_round_trips_with_brunt() {
     let cyl = cylinder();
     let step = 0.1;
     let law = petrol();
-    let p = trace(&cyl, &law, 600.0, 1.32, step, 0.0);
+    let gm = GammaModel::brunt_default();
+    let p = brunt_trace(&cyl, &law, 600.0, gm, step);
     let (v, dv) = grid_of(&cyl, step);
     let g = CycleGrid {
         pressure: &p,
@@ -168,15 +219,23 @@ fn brunt_gamma_round_trip_on_its_own_charge() {
         step_deg: step,
     };
     let opts = Options {
-        gamma: GammaModel::brunt_default(),
+        gamma: gm,
         ..Options::default()
     };
     let b = analyse(&g, &opts).unwrap().burn.unwrap();
-    let ca50 = b.level(&opts, 50.0).unwrap();
-    assert!(
-        (ca50 - 8.0).abs() < 3.0 && (ca50 - 8.0).abs() > 0.01,
-        "{ca50}"
-    );
+    let mut worst: f64 = 0.0;
+    for pct in [10.0, 50.0, 90.0] {
+        let got = b.level(&opts, pct).unwrap();
+        let want = law.angle_of(pct / 100.0);
+        assert!((got - want).abs() < 0.01, "CA{pct}: {got} vs {want}");
+        worst = worst.max((got - want).abs());
+    }
+    println!("brunt round trip: worst CA10/50/90 error {worst:.4}°");
+    let constant = Options::default();
+    let c = analyse(&g, &constant).unwrap().burn.unwrap();
+    let off = c.level(&constant, 90.0).unwrap() - law.angle_of(0.9);
+    println!("brunt trace read with γ 1.32: CA90 off by {off:.3}°");
+    assert!(off.abs() > 1.0, "{off}");
 }
 
 #[test]
@@ -415,4 +474,36 @@ fn sensitivities() {
         assert!(dp.abs() < 0.02 && d50.abs() < 0.01);
     }
     assert!(bb.dp_max_pa_deg > 0.0);
+}
+
+/// A motored trace that loses heat to the walls (40 J around TDC, the
+/// loss a small engine's charge gives up at 2000 rpm), read with a γ 0.02
+/// off either way (so the apparent release swings both ways): no burn
+/// points, whatever the γ.
+#[test]
+fn a_motored_cycle_losing_heat_has_no_burn_points() {
+    let cyl = cylinder();
+    let step = 0.1;
+    let loss = BurnLaw::single(Wiebe::from_ca50(5.0, 60.0, 1.0, DEFAULT_A).unwrap());
+    let p = trace(&cyl, &loss, -40.0, 1.32, step, 0.0);
+    let (v, dv) = grid_of(&cyl, step);
+    let g = CycleGrid {
+        pressure: &p,
+        volume: &v,
+        dvolume: &dv,
+        step_deg: step,
+    };
+    for gamma in [1.30, 1.32, 1.34] {
+        let opts = Options {
+            gamma: GammaModel::Constant(gamma),
+            ..Options::default()
+        };
+        let r = analyse(&g, &opts).unwrap();
+        assert!(
+            r.burn.is_none(),
+            "γ {gamma}: {} J against {} J",
+            r.heat_released_j,
+            r.bound_j
+        );
+    }
 }

@@ -80,22 +80,25 @@ pub(crate) fn duration_10_90_of(
 /// The mean trace's analysis with its curves, the summary, and the notes.
 pub(crate) struct Found {
     pub summary: CombustionSummary,
-    pub curves: Curves,
+    /// The mean trace's curves, when they are shown ([`crate::Scope::Full`]).
+    pub curves: Option<Curves>,
     pub notes: Vec<String>,
     /// `(cylinder, cycle, IMEP bar, CA50 deg)` of each used cycle that burns.
     pub scatter: Vec<(i64, i64, f64, f64)>,
 }
 
-/// Analyses the mean trace `trace` (cylinder 1's) and gathers the cycles'
-/// figures. `traces` are every cylinder's means (the gross IMEP is their
-/// mean, as `imep_bar` is), `imep_pa` the run's net IMEP.
+/// Analyses the mean trace `traces[0]` (cylinder 1's) and gathers the
+/// cycles' figures. `traces` are every cylinder's means (the gross IMEP is
+/// their mean, as `imep_bar` is), `imep_pa` the run's net IMEP; the curves
+/// are made only when `with_curves` (they are a sixth of the analysis'
+/// cost in a batch, which shows none).
 pub(crate) fn analyse(
     pressure: &Resampled,
     traces: &[&[f64]],
-    volume: &[f64],
-    dvolume: &[f64],
+    (volume, dvolume): (&[f64], &[f64]),
     swept: f64,
     imep_pa: Option<f64>,
+    with_curves: bool,
 ) -> Option<Found> {
     let opts = pressure.combustion.as_deref()?;
     let grid = |p| CycleGrid {
@@ -105,7 +108,11 @@ pub(crate) fn analyse(
         step_deg: pressure.step_deg,
     };
     let mean = enginedyn_combustion::analyse(&grid(traces[0]), opts).ok()?;
-    let curves = enginedyn_combustion::curves(&grid(traces[0]), opts, &mean).ok()?;
+    let curves = if with_curves {
+        Some(enginedyn_combustion::curves(&grid(traces[0]), opts, &mean).ok()?)
+    } else {
+        None
+    };
     let gross = traces
         .iter()
         .map(|p| enginedyn_combustion::gross_work(&grid(p)))

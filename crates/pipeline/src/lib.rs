@@ -125,7 +125,7 @@ pub struct Analysis {
     /// The summary figures.
     pub summary: Summary,
     /// Cylinder 1's mean trace's heat release on the grid, when the
-    /// combustion analysis ran.
+    /// combustion analysis ran and the scope is [`Scope::Full`].
     pub heat_release: Option<enginedyn_combustion::Curves>,
     /// Each used cycle that burns: `(cylinder, cycle, IMEP bar, CA50 deg)`
     /// (the CA50–IMEP scatter).
@@ -618,11 +618,18 @@ pub fn analyse_with(
     if pressure.quantity == Quantity::Pressure {
         let imep_pa = analysis.summary.imep_bar.map(|i| i * 1e5);
         let swept = engine.cylinder().swept_volume();
-        if let Some(found) = combustion::analyse(pressure, &traces, volume, dvolume, swept, imep_pa)
-        {
+        let with_curves = opts.scope == Scope::Full;
+        if let Some(found) = combustion::analyse(
+            pressure,
+            &traces,
+            (volume, dvolume),
+            swept,
+            imep_pa,
+            with_curves,
+        ) {
             analysis.summary.notes.extend(found.notes);
             analysis.summary.combustion = Some(found.summary);
-            analysis.heat_release = Some(found.curves);
+            analysis.heat_release = found.curves;
             analysis.burn_cycles = found.scatter;
         }
     }
