@@ -76,7 +76,66 @@ pub fn crank_train(
     let t = engine.throws();
     let mut notes = Vec::new();
     let warnings = spec.plausibility_notes(engine, rod_model);
-    let throws = match &spec.throw_inertia {
+    let throws = throw_inertias(engine, spec, rod_model, &mut notes)?;
+    notes.push(
+        "each throw carries the reciprocating mass's mean inertia m_j R² (1/2 + λ²/8): its variation over the cycle (secondary resonances) is neglected".into(),
+    );
+    let journal_all = journal_stiffnesses(spec, t, &mut notes)?;
+    let journals = if t > 1 {
+        journal_all.clone()
+    } else {
+        Vec::new()
+    };
+    let last_journal = *journal_all.last().unwrap_or(&0.0);
+    let flywheel = flywheel_mass(engine, spec, sized_flywheel, last_journal, &mut notes)?;
+    let (front, load) = end_masses(spec)?;
+    if spec.damping_ratio == 0.0 {
+        notes.push(match spec.damper {
+            Some(d) if d.damping > 0.0 => "torsion.damping_ratio = 0: only the damper's damping_nm_s_rad damps the chain; a mode that barely moves the damper ring has almost no damping, and the response near its resonances is not trustworthy".into(),
+            _ => "torsion.damping_ratio = 0: undamped resonances have no finite amplitude; the response near them is not trustworthy".into(),
+        });
+    }
+    let train = CrankTrain {
+        front,
+        throws,
+        journals,
+        flywheel,
+        load,
+        damper: spec.damper.map(|d| Damper {
+            inertia: d.inertia,
+            stiffness: d.stiffness,
+            damping: d.damping,
+        }),
+        damping_ratio: spec.damping_ratio,
+    };
+    let diameters = section_diameters(spec, t, front.is_some(), load.is_some(), &mut notes)?;
+    let (mass_keys, spring_keys) = chain_keys(spec, &train);
+    Ok(Train {
+        train,
+        diameters,
+        notes,
+        warnings,
+        mass_keys,
+        spring_keys,
+    })
+}
+
+/// How many journals `torsion`'s per-journal lists hold for `t` throws:
+/// one between each two throws, and one for a single throw.
+fn journals_needed(t: usize) -> usize {
+    t.saturating_sub(1).max(1)
+}
+
+/// Each throw's inertia (kg m²): `torsion.throw_inertia_kg_m2`, else
+/// estimated from the engine's masses (noted).
+fn throw_inertias(
+    engine: &Engine,
+    spec: &TorsionSpec,
+    rod_model: enginedyn_engine::RodModel,
+    notes: &mut Vec<String>,
+) -> Result<Vec<f64>, EngineError> {
+    let t = engine.throws();
+    Ok(match &spec.throw_inertia {
         Some(v) => v.expand(t).ok_or_else(|| {
             count_error(
                 "torsion.throw_inertia_kg_m2",
@@ -93,66 +152,20 @@ pub fn crank_train(
             ));
             est
         }
-    };
-    notes.push(
-        "each throw carries the reciprocating mass's mean inertia m_j R² (1/2 + λ²/8): its variation over the cycle (secondary resonances) is neglected".into(),
-    );
+    })
+}
+
+/// Each journal's stiffness (N m/rad), one per journal between `t` throws
+/// (one for a single throw): `torsion.journal_stiffness_nm_rad`, else from
+/// the journals' diameters and lengths (noted).
+fn journal_stiffnesses(
+    spec: &TorsionSpec,
+    t: usize,
+    notes: &mut Vec<String>,
+) -> Result<Vec<f64>, EngineError> {
     let journal_key = "torsion.journal_stiffness_nm_rad";
-    let journals_needed = t.saturating_sub(1).max(1);
-    let from_geometry = |d: &PerItem, l: &PerItem| -> Result<Vec<f64>, EngineError> {
-        let n = t.saturating_sub(1).max(1);
-        let d = d.expand(n).ok_or_else(|| {
-            count_error(
-                "torsion.journal_diameter_mm",
-                d.values().len(),
-                n,
-                "one per journal between throws",
-            )
-        })?;
-        let l = l.expand(n).ok_or_else(|| {
-            count_error(
-                "torsion.journal_length_mm",
-                l.values().len(),
-                n,
-                "one per journal between throws",
-            )
-        })?;
-        // Each diameter and length is within its bounds, but d⁴ / l need
-        // not be: the stiffness itself against the journal's bounds.
-        d.iter()
-            .zip(&l)
-            .enumerate()
-            .map(|(i, (d, l))| {
-                let k = shaft_stiffness(*d, *l);
-                Key::JournalStiffness.check(None, k).map_err(|_| {
-                    let item = |key: Key, v: &PerItem| {
-                        key.item(matches!(v, PerItem::Each(_)).then_some(i))
-                    };
-                    let (lo, hi) = Key::JournalStiffness.bound().hard;
-                    EngineError::InvalidItem {
-                        key: format!(
-                            "{}` and `{}",
-                            item(Key::JournalDiameter, spec.journal_diameter.as_ref().unwrap_or(&PerItem::One(0.0))),
-                            item(Key::JournalLength, spec.journal_length.as_ref().unwrap_or(&PerItem::One(0.0)))
-                        ),
-                        value: format!(
-                            "{} mm and {} mm, a stiffness G π d⁴ / (32 l) of {} N m/rad",
-                            human(d * 1e3),
-                            human(l * 1e3),
-                            human(k)
-                        ),
-                        expected: format!(
-                            "a stiffness from {} to {} N m/rad, {}'s bounds: beyond, the chain's frequencies overflow or lose all precision",
-                            human(lo),
-                            human(hi),
-                            Key::JournalStiffness.name()
-                        ),
-                    }
-                })
-            })
-            .collect()
-    };
-    let journal_all: Vec<f64> = match (
+    let journals_needed = journals_needed(t);
+    match (
         &spec.journal_stiffness,
         &spec.journal_diameter,
         &spec.journal_length,
@@ -164,29 +177,94 @@ pub fn crank_train(
                 journals_needed,
                 "one per journal between throws",
             )
-        })?,
+        }),
         (None, Some(d), Some(l)) => {
-            let k = from_geometry(d, l)?;
+            let k = journal_stiffness_from_geometry(spec, t, d, l)?;
             notes.push(format!(
                 "journal stiffness from journal_diameter_mm and journal_length_mm as a plain steel shaft G π d⁴ / (32 l), G = 80.8 GPa: {} N m/rad (webs and pins make a real throw softer)",
                 human(k[0])
             ));
-            k
+            Ok(k)
         }
-        _ => {
-            return Err(missing(
-                journal_key,
-                "the stiffness between throws, or journal_diameter_mm and journal_length_mm",
-            )
-            .into());
-        }
-    };
-    let journals = if t > 1 {
-        journal_all.clone()
-    } else {
-        Vec::new()
-    };
-    let last_journal = *journal_all.last().unwrap_or(&0.0);
+        _ => Err(missing(
+            journal_key,
+            "the stiffness between throws, or journal_diameter_mm and journal_length_mm",
+        )),
+    }
+}
+
+/// Each journal's stiffness as a plain steel shaft of diameter `d` and
+/// length `l` ([`shaft_stiffness`]), held to the journal stiffness's
+/// bounds.
+fn journal_stiffness_from_geometry(
+    spec: &TorsionSpec,
+    t: usize,
+    d: &PerItem,
+    l: &PerItem,
+) -> Result<Vec<f64>, EngineError> {
+    let n = journals_needed(t);
+    let d = d.expand(n).ok_or_else(|| {
+        count_error(
+            "torsion.journal_diameter_mm",
+            d.values().len(),
+            n,
+            "one per journal between throws",
+        )
+    })?;
+    let l = l.expand(n).ok_or_else(|| {
+        count_error(
+            "torsion.journal_length_mm",
+            l.values().len(),
+            n,
+            "one per journal between throws",
+        )
+    })?;
+    // Each diameter and length is within its bounds, but d⁴ / l need
+    // not be: the stiffness itself against the journal's bounds.
+    d.iter()
+        .zip(&l)
+        .enumerate()
+        .map(|(i, (d, l))| {
+            let k = shaft_stiffness(*d, *l);
+            Key::JournalStiffness.check(None, k).map_err(|_| {
+                let item = |key: Key, v: &PerItem| {
+                    key.item(matches!(v, PerItem::Each(_)).then_some(i))
+                };
+                let (lo, hi) = Key::JournalStiffness.bound().hard;
+                EngineError::InvalidItem {
+                    key: format!(
+                        "{}` and `{}",
+                        item(Key::JournalDiameter, spec.journal_diameter.as_ref().unwrap_or(&PerItem::One(0.0))),
+                        item(Key::JournalLength, spec.journal_length.as_ref().unwrap_or(&PerItem::One(0.0)))
+                    ),
+                    value: format!(
+                        "{} mm and {} mm, a stiffness G π d⁴ / (32 l) of {} N m/rad",
+                        human(d * 1e3),
+                        human(l * 1e3),
+                        human(k)
+                    ),
+                    expected: format!(
+                        "a stiffness from {} to {} N m/rad, {}'s bounds: beyond, the chain's frequencies overflow or lose all precision",
+                        human(lo),
+                        human(hi),
+                        Key::JournalStiffness.name()
+                    ),
+                }
+            })
+        })
+        .collect()
+}
+
+/// The flywheel's (inertia kg m², stiffness N m/rad): each from
+/// `[torsion]`, else the sized flywheel plus the other rotating inertia,
+/// and the last journal's stiffness (noted).
+fn flywheel_mass(
+    engine: &Engine,
+    spec: &TorsionSpec,
+    sized_flywheel: Option<f64>,
+    last_journal: f64,
+    notes: &mut Vec<String>,
+) -> Result<(f64, f64), EngineError> {
     let flywheel_k = match spec.flywheel_stiffness {
         Some(k) => k,
         None => {
@@ -211,17 +289,24 @@ pub fn crank_train(
             return Err(missing(
                 "torsion.flywheel_inertia_kg_m2",
                 "no flywheel was sized (the engine delivers no work): give the flywheel's inertia",
-            )
-            .into());
+            ));
         }
     };
     if !(flywheel_j > 0.0) {
         return Err(missing(
             "torsion.flywheel_inertia_kg_m2",
             "the sized flywheel is 0 (none needed): give the flywheel's inertia",
-        )
-        .into());
+        ));
     }
+    Ok((flywheel_j, flywheel_k))
+}
+
+/// A (inertia, stiffness) at an end of the chain.
+type EndMass = Option<(f64, f64)>;
+
+/// The front mass (before throw 1) and the driven load (after the
+/// flywheel), each with its spring, where `[torsion]` gives them.
+fn end_masses(spec: &TorsionSpec) -> Result<(EndMass, EndMass), EngineError> {
     let front = if spec.front_inertia > 0.0 {
         let k = spec.front_stiffness.ok_or_else(|| {
             missing(
@@ -240,43 +325,37 @@ pub fn crank_train(
             return Err(missing(
                 "torsion.load_stiffness_nm_rad",
                 "the coupling's stiffness to the load",
-            )
-            .into());
+            ));
         }
         (None, Some(_)) => {
-            return Err(missing("torsion.load_inertia_kg_m2", "the driven load's inertia").into());
+            return Err(missing(
+                "torsion.load_inertia_kg_m2",
+                "the driven load's inertia",
+            ));
         }
     };
-    if spec.damping_ratio == 0.0 {
-        notes.push(match spec.damper {
-            Some(d) if d.damping > 0.0 => "torsion.damping_ratio = 0: only the damper's damping_nm_s_rad damps the chain; a mode that barely moves the damper ring has almost no damping, and the response near its resonances is not trustworthy".into(),
-            _ => "torsion.damping_ratio = 0: undamped resonances have no finite amplitude; the response near them is not trustworthy".into(),
-        });
-    }
-    let train = CrankTrain {
-        front,
-        throws,
-        journals,
-        flywheel: (flywheel_j, flywheel_k),
-        load,
-        damper: spec.damper.map(|d| Damper {
-            inertia: d.inertia,
-            stiffness: d.stiffness,
-            damping: d.damping,
-        }),
-        damping_ratio: spec.damping_ratio,
-    };
-    // Section diameters: the crankshaft's sections (front, journals,
-    // flywheel) from shaft_diameter_mm, else the journal diameter; none for
-    // a load coupling.
-    let crank_sections = usize::from(front.is_some()) + t;
+    Ok((front, load))
+}
+
+/// Section diameters for the shear stress: the crankshaft's sections
+/// (front, journals, flywheel) from shaft_diameter_mm, else the journal
+/// diameter; none for a load coupling (all noted).
+fn section_diameters(
+    spec: &TorsionSpec,
+    t: usize,
+    has_front: bool,
+    has_load: bool,
+    notes: &mut Vec<String>,
+) -> Result<Vec<Option<f64>>, EngineError> {
+    let journals_needed = journals_needed(t);
+    let crank_sections = usize::from(has_front) + t;
     let per_journal = |v: &PerItem, key: &'static str| -> Result<Vec<f64>, EngineError> {
         match v {
             PerItem::One(d) => Ok(vec![*d; crank_sections]),
             PerItem::Each(list) if list.len() == crank_sections => Ok(list.clone()),
             PerItem::Each(list) if list.len() == journals_needed => {
                 let mut out = Vec::with_capacity(crank_sections);
-                if front.is_some() {
+                if has_front {
                     out.push(list[0]);
                 }
                 out.extend(list.iter().take(t - 1));
@@ -308,21 +387,13 @@ pub fn crank_train(
             vec![None; crank_sections]
         }
     };
-    if load.is_some() {
+    if has_load {
         diameters.push(None);
         notes.push(
             "the load coupling's stress is not computed (null): it is no crankshaft section".into(),
         );
     }
-    let (mass_keys, spring_keys) = chain_keys(spec, &train);
-    Ok(Train {
-        train,
-        diameters,
-        notes,
-        warnings,
-        mass_keys,
-        spring_keys,
-    })
+    Ok(diameters)
 }
 
 /// The key of each mass and spring of `train`'s chain, in the chain's
