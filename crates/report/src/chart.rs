@@ -978,7 +978,6 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
 /// accordingly (`--angles centered`).
 pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Figure> {
     let n = a.torque.total.len();
-    let has_pressure = !a.pressure.is_empty();
     let step_deg = a.step.to_degrees();
     let cycle = n as f64 * step_deg;
     // Reference lines span the axis: [0, cycle), or centred.
@@ -988,91 +987,135 @@ pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Fi
     } else {
         (0.0, cycle)
     };
-    let curve = |name: &str, y: &[f64]| periodic(name, y, step_deg, centered);
+    let axis = RunAxis {
+        step_deg,
+        centered,
+        lo,
+        hi,
+    };
     let name = engine.name();
-    let rpm = a.summary.rpm;
-    let kn = |v: &[f64]| v.iter().map(|x| x / 1e3).collect::<Vec<_>>();
+    let has_pressure = !a.pressure.is_empty();
     let mut figs = Vec::new();
-
-    // Pressure: p–φ, and p–V on log-log axes.
     if has_pressure {
-        let bar: Vec<f64> = a.pressure.iter().map(|p| p / 1e5).collect();
-        let litre: Vec<f64> = a.volume.iter().map(|v| v * 1e3).collect();
-        let mut pv = Chart {
-            title: "p–V (log-log)".into(),
-            x_label: "cylinder volume (l)".into(),
-            y_label: "pressure (bar, absolute)".into(),
-            series: vec![Series::from_points(
-                "cylinder 1",
-                litre
-                    .iter()
-                    .copied()
-                    .zip(bar.iter().copied())
-                    .collect::<Vec<_>>()
-                    .into_iter(),
-            )],
-            log: true,
-            equal: false,
-            angle_ticks: None,
-        };
-        let first = pv.series[0].points[0];
-        pv.series[0].points.push(first); // close the loop
-        figs.push(Figure {
-            file: "pressure.svg".into(),
-            panels: vec![
-                Chart::angle(
-                    format!("{name} — cylinder pressure, {rpm:.0} rpm"),
-                    "pressure (bar, absolute)",
-                    vec![curve("p(φ)", &bar)],
-                ),
-                pv,
-            ],
-        });
+        figs.push(pressure_figure(name, a, &axis));
     }
-
     // Kinematics over the cycle of cylinder 1.
-    let r = engine.mechanism().r();
     figs.push(Figure::single(
         "kinematics.svg",
         kinematics_chart_with(
             format!("{name} — piston motion ({})", a.summary.kinematics),
             &a.kinematics,
-            r,
+            engine.mechanism().r(),
             step_deg,
             centered,
         ),
     ));
-
-    // Forces on cylinder 1.
-    let f = &a.forces;
     if has_pressure {
-        figs.push(Figure::single(
-            "forces.svg",
-            Chart::angle(
-                format!(
-                    "{name} — forces on cylinder 1 ({} rod), {rpm:.0} rpm",
-                    a.summary.rod_model
-                ),
-                "force (kN), positive toward the crank / driving",
-                vec![
-                    curve("gas P_g", &kn(&f.gas)),
-                    curve("inertia P_j", &kn(&f.inertia)),
-                    curve("total P", &kn(&f.total)),
-                    curve("side thrust N", &kn(&f.side)),
-                    curve("radial K", &kn(&f.radial)),
-                    curve("tangential T", &kn(&f.tangential)),
-                ],
-            ),
-        ));
+        figs.push(forces_figure(name, a, &axis));
     }
+    figs.push(torque_figure(engine, a, &axis));
+    figs.push(journal_torques_figure(name, a, &axis));
+    if has_pressure {
+        figs.push(crankpin_figure(name, a));
+    }
+    figs.push(flywheel_figure(name, a, &axis));
+    figs.push(harmonics_figure(name, a));
+    figs
+}
 
-    // Torque: indicated curves; the effective mean beside the indicated one
-    // when a mechanical efficiency below 1 sets them apart.
+/// The crank-angle axis of [`run_figures_with`]'s charts: the curves'
+/// step (deg) and whether they are centred on TDC, and the span (`lo`,
+/// `hi`, deg) of reference lines.
+struct RunAxis {
+    step_deg: f64,
+    centered: bool,
+    lo: f64,
+    hi: f64,
+}
+
+impl RunAxis {
+    /// A curve over the cycle on this axis ([`periodic`]).
+    fn curve(&self, name: &str, y: &[f64]) -> Series {
+        periodic(name, y, self.step_deg, self.centered)
+    }
+}
+
+/// Values in N as kN.
+fn kilo(v: &[f64]) -> Vec<f64> {
+    v.iter().map(|x| x / 1e3).collect()
+}
+
+/// Pressure: p–φ, and p–V on log-log axes.
+fn pressure_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
+    let rpm = a.summary.rpm;
+    let bar: Vec<f64> = a.pressure.iter().map(|p| p / 1e5).collect();
+    let litre: Vec<f64> = a.volume.iter().map(|v| v * 1e3).collect();
+    let mut pv = Chart {
+        title: "p–V (log-log)".into(),
+        x_label: "cylinder volume (l)".into(),
+        y_label: "pressure (bar, absolute)".into(),
+        series: vec![Series::from_points(
+            "cylinder 1",
+            litre
+                .iter()
+                .copied()
+                .zip(bar.iter().copied())
+                .collect::<Vec<_>>()
+                .into_iter(),
+        )],
+        log: true,
+        equal: false,
+        angle_ticks: None,
+    };
+    let first = pv.series[0].points[0];
+    pv.series[0].points.push(first); // close the loop
+    Figure {
+        file: "pressure.svg".into(),
+        panels: vec![
+            Chart::angle(
+                format!("{name} — cylinder pressure, {rpm:.0} rpm"),
+                "pressure (bar, absolute)",
+                vec![axis.curve("p(φ)", &bar)],
+            ),
+            pv,
+        ],
+    }
+}
+
+/// Forces on cylinder 1.
+fn forces_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
+    let rpm = a.summary.rpm;
+    let f = &a.forces;
+    Figure::single(
+        "forces.svg",
+        Chart::angle(
+            format!(
+                "{name} — forces on cylinder 1 ({} rod), {rpm:.0} rpm",
+                a.summary.rod_model
+            ),
+            "force (kN), positive toward the crank / driving",
+            vec![
+                axis.curve("gas P_g", &kilo(&f.gas)),
+                axis.curve("inertia P_j", &kilo(&f.inertia)),
+                axis.curve("total P", &kilo(&f.total)),
+                axis.curve("side thrust N", &kilo(&f.side)),
+                axis.curve("radial K", &kilo(&f.radial)),
+                axis.curve("tangential T", &kilo(&f.tangential)),
+            ],
+        ),
+    )
+}
+
+/// Torque: indicated curves; the effective mean beside the indicated one
+/// when a mechanical efficiency below 1 sets them apart.
+fn torque_figure(engine: &Engine, a: &Analysis, axis: &RunAxis) -> Figure {
+    let (name, rpm) = (engine.name(), a.summary.rpm);
+    let (lo, hi) = (axis.lo, axis.hi);
     let mean = a.uniformity.mean;
     let eta = a.summary.mechanical_efficiency;
     let mut torque = vec![
-        curve("cylinder 1, indicated", &f.torque),
-        curve(
+        axis.curve("cylinder 1, indicated", &a.forces.torque),
+        axis.curve(
             &format!("engine ({} cylinders), indicated", engine.cylinders()),
             &a.torque.total,
         ),
@@ -1094,64 +1137,70 @@ pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Fi
             hi,
         ));
     }
-    figs.push(Figure::single(
+    Figure::single(
         "torque.svg",
         Chart::angle(
             format!("{name} — torque, {rpm:.0} rpm"),
             "torque (N m)",
             torque,
         ),
-    ));
+    )
+}
 
-    // Journal torques, counted from the free end.
+/// Journal torques, counted from the free end.
+fn journal_torques_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
     let journals = a
         .torque
         .journals
         .iter()
         .enumerate()
-        .map(|(k, j)| curve(&format!("journal after throw {}", k + 1), j))
+        .map(|(k, j)| axis.curve(&format!("journal after throw {}", k + 1), j))
         .collect();
-    figs.push(Figure::single(
+    Figure::single(
         "journal_torques.svg",
         Chart::angle(
             format!("{name} — main-journal torques (from the free end)"),
             "torque (N m)",
             journals,
         ),
-    ));
+    )
+}
 
-    // Crank-pin load, crank-fixed axes.
-    if has_pressure {
-        let pin: Vec<(f64, f64)> = (0..n)
-            .map(|k| (f.tangential[k] / 1e3, f.pin_radial[k] / 1e3))
-            .collect();
-        let mut polar_pts = pin.clone();
-        polar_pts.push(pin[0]);
-        figs.push(Figure::single(
-            "crankpin_polar.svg",
-            Chart {
-                title: format!(
-                    "{name} — crank-pin load in crank axes, max {:.1} kN",
-                    a.summary.crankpin_load_max_n.unwrap_or(0.0) / 1e3
-                ),
-                x_label: "tangential T (kN), + direction of rotation".into(),
-                y_label: "radial K − K_rB (kN), + toward the axis".into(),
-                series: vec![Series::from_points("pin load", polar_pts.into_iter())],
-                log: false,
-                equal: true,
-                angle_ticks: None,
-            },
-        ));
-    }
+/// Crank-pin load, crank-fixed axes.
+fn crankpin_figure(name: &str, a: &Analysis) -> Figure {
+    let f = &a.forces;
+    let pin: Vec<(f64, f64)> = (0..a.torque.total.len())
+        .map(|k| (f.tangential[k] / 1e3, f.pin_radial[k] / 1e3))
+        .collect();
+    let mut polar_pts = pin.clone();
+    polar_pts.push(pin[0]);
+    Figure::single(
+        "crankpin_polar.svg",
+        Chart {
+            title: format!(
+                "{name} — crank-pin load in crank axes, max {:.1} kN",
+                a.summary.crankpin_load_max_n.unwrap_or(0.0) / 1e3
+            ),
+            x_label: "tangential T (kN), + direction of rotation".into(),
+            y_label: "radial K − K_rB (kN), + toward the axis".into(),
+            series: vec![Series::from_points("pin load", polar_pts.into_iter())],
+            log: false,
+            equal: true,
+            angle_ticks: None,
+        },
+    )
+}
 
-    // Flywheel: excess energy and the speed trace with I_0.
+/// Flywheel: excess energy and the speed trace with I_0.
+fn flywheel_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
+    let (lo, hi) = (axis.lo, axis.hi);
     let mut panels = vec![Chart::angle(
         format!(
             "{name} — excess energy E(φ), ΔE = {:.1} J",
             a.uniformity.excess_work
         ),
         "E (J)",
-        vec![curve("E(φ)", &a.uniformity.excess_energy)],
+        vec![axis.curve("E(φ)", &a.uniformity.excess_energy)],
     )];
     if let Some(fw) = &a.flywheel {
         let rpm_trace: Vec<f64> = fw
@@ -1171,7 +1220,7 @@ pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Fi
             ),
             "speed (rpm)",
             vec![
-                curve("n(φ)", &rpm_trace),
+                axis.curve("n(φ)", &rpm_trace),
                 // The two limits in one style: one series, the pen lifted
                 // between them.
                 Series {
@@ -1188,12 +1237,15 @@ pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Fi
             ],
         ));
     }
-    figs.push(Figure {
+    Figure {
         file: "flywheel.svg".into(),
         panels,
-    });
+    }
+}
 
-    // Harmonics as stems by engine order.
+/// Harmonics as stems by engine order.
+fn harmonics_figure(name: &str, a: &Analysis) -> Figure {
+    let rpm = a.summary.rpm;
     let stems = |h: &[enginedyn_torque::Harmonic], offset: f64| -> Vec<(f64, f64)> {
         h.iter()
             .filter(|x| x.order > 0.0)
@@ -1208,7 +1260,7 @@ pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Fi
     };
     let cyl = stems(&a.cylinder_harmonics, -0.08);
     let eng = stems(&a.engine_harmonics, 0.08);
-    figs.push(Figure::single(
+    Figure::single(
         "harmonics.svg",
         Chart {
             title: format!("{name} — torque harmonics by engine order, {rpm:.0} rpm"),
@@ -1230,8 +1282,7 @@ pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Fi
             equal: false,
             angle_ticks: None,
         },
-    ));
-    figs
+    )
 }
 
 /// One labelled point of a [`ScatterChart`].
