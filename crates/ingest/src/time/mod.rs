@@ -97,6 +97,204 @@ pub(crate) struct TimeRecord {
     unused: Vec<String>,
 }
 
+/// The angle source that a time record's columns and flags choose, with
+/// what goes with it.
+struct Chosen {
+    source: Source,
+    /// How the firing TDC is told on a four-stroke.
+    firing: Firing,
+    sig: Signals,
+    /// `--tdc-time` (s), when it gives the firing TDC.
+    tdc_time: Option<f64>,
+}
+
+/// The 1-based column of 0-based `c`, for an error.
+fn col_of(c: usize) -> Option<usize> {
+    Some(c + 1)
+}
+
+/// An encoder of `ppr` pulses a revolution (`--encoder-ppr`), with a `tdc`
+/// column or `--tdc-time` for 0°; a wheel column beside it is `unused`.
+fn encoder_source(
+    roles: &Roles,
+    opts: &ParseOptions,
+    ppr: u32,
+    line: usize,
+    unused: &mut Vec<String>,
+) -> Result<Chosen, IngestError> {
+    let Some(col) = roles.encoder else {
+        return Err(at(
+            line,
+            None,
+            "--encoder-ppr is given, but the record has no `encoder` column",
+        ));
+    };
+    if !(1..=MAX_ENCODER_PPR).contains(&ppr) {
+        return Err(at(
+            line,
+            col_of(col),
+            format!(
+                "--encoder-ppr {ppr}: an encoder gives 1 to {MAX_ENCODER_PPR} pulses a revolution"
+            ),
+        ));
+    }
+    if let Some(w) = roles.wheel {
+        unused.push(format!(
+            "column {} (a tooth wheel; the encoder gives the angle)",
+            w + 1
+        ));
+    }
+    let (tdc_col, time) = match (roles.tdc, opts.tdc_time) {
+        (Some(c), _) => (Some(c), None),
+        (None, Some(t)) => (None, Some(t)),
+        (None, None) => {
+            return Err(at(
+                line,
+                col_of(col),
+                "an encoder gives the angle's steps, not where 0° is: give a `tdc` column (a pulse per revolution) or --tdc-time T (the time of a firing TDC, in seconds)",
+            ));
+        }
+    };
+    let firing = match (time, roles.cam) {
+        (Some(_), _) => Firing::Given,
+        (None, Some(_)) => Firing::Cam,
+        (None, None) => Firing::Pressure,
+    };
+    let kind = teeth::Kind::Encoder(encoder::Encoder {
+        ppr,
+        tdc_col,
+        tdc_time: time,
+        pulses: 0,
+    });
+    Ok(Chosen {
+        source: Source::Crank(Box::new(teeth::Crank::new(kind, col, roles.cam))),
+        firing,
+        sig: [Some(col), tdc_col, roles.cam],
+        tdc_time: time,
+    })
+}
+
+/// A tooth wheel `w` (`--wheel`) with `--wheel-tdc-deg`; a `tdc` or
+/// encoder column beside it is `unused`.
+fn wheel_source(
+    roles: &Roles,
+    opts: &ParseOptions,
+    w: Wheel,
+    line: usize,
+    unused: &mut Vec<String>,
+) -> Result<Chosen, IngestError> {
+    let Some(col) = roles.wheel else {
+        return Err(at(
+            line,
+            None,
+            "--wheel is given, but the record has no `wheel` column",
+        ));
+    };
+    let Some(a) = opts.wheel_tdc_deg else {
+        return Err(at(
+            line,
+            col_of(col),
+            format!(
+                "a `wheel` column needs --wheel-tdc-deg A: the angle from the {w} wheel's first tooth after the gap to cylinder 1's TDC"
+            ),
+        ));
+    };
+    if !(a.is_finite() && a.abs() <= MAX_WHEEL_TDC_DEG) {
+        return Err(at(
+            line,
+            col_of(col),
+            format!(
+                "--wheel-tdc-deg {}: from -{MAX_WHEEL_TDC_DEG} to {MAX_WHEEL_TDC_DEG}°",
+                shown_number(a)
+            ),
+        ));
+    }
+    if let Some(c) = roles.tdc {
+        unused.push(format!(
+            "column {} (a TDC pulse; the wheel's gap and --wheel-tdc-deg give TDC)",
+            c + 1
+        ));
+    }
+    if let Some(c) = roles.encoder {
+        unused.push(format!(
+            "column {} (an encoder; the wheel gives the angle)",
+            c + 1
+        ));
+    }
+    let kind = teeth::Kind::Wheel {
+        gaps: wheel::Gaps::new(w),
+        tdc_deg: a,
+    };
+    let firing = if roles.cam.is_some() {
+        Firing::Cam
+    } else {
+        Firing::Pressure
+    };
+    Ok(Chosen {
+        source: Source::Crank(Box::new(teeth::Crank::new(kind, col, roles.cam))),
+        firing,
+        sig: [Some(col), None, roles.cam],
+        tdc_time: None,
+    })
+}
+
+/// No crank signal: a `tdc` pulse per revolution, else a constant speed
+/// (`--rpm`, or the file's `rpm`) from `--tdc-time`; a cam column is then
+/// `unused`, an encoder or wheel column without its flag an error.
+fn pulse_or_clock_source(
+    roles: &Roles,
+    opts: &ParseOptions,
+    rpm: Option<(f64, &'static str)>,
+    line: usize,
+    unused: &mut Vec<String>,
+) -> Result<Chosen, IngestError> {
+    if let Some(c) = roles.encoder {
+        return Err(at(
+            line,
+            col_of(c),
+            "an `encoder` column needs --encoder-ppr N, its pulses a revolution",
+        ));
+    }
+    if let Some(c) = roles.wheel {
+        return Err(at(
+            line,
+            col_of(c),
+            "a `wheel` column needs --wheel T-M (60-2, 36-1, 36-2 or 58x) and --wheel-tdc-deg A",
+        ));
+    }
+    if let Some(c) = roles.cam {
+        unused.push(format!("column {} (a cam pulse tells the firing revolution of an encoder's or a tooth wheel's angle)", c + 1));
+    }
+    match (roles.tdc, opts.tdc_time) {
+        (Some(col), _) => Ok(Chosen {
+            source: Source::Pulse(pulse::Pulse::new(col)),
+            firing: Firing::Pressure,
+            sig: [Some(col), None, None],
+            tdc_time: None,
+        }),
+        (None, Some(t)) => {
+            let Some(rpm) = opts.rpm.or(rpm.map(|r| r.0)) else {
+                return Err(at(
+                    line,
+                    Some(roles.x + 1),
+                    "a time record with --tdc-time needs the speed: --rpm N (or a `# rpm = N` line)",
+                ));
+            };
+            Ok(Chosen {
+                source: Source::Clock(clock::Clock::new(t, rpm, opts.cycle_deg)),
+                firing: Firing::Given,
+                sig: [None; 3],
+                tdc_time: Some(t),
+            })
+        }
+        (None, None) => Err(at(
+            line,
+            Some(roles.x + 1),
+            "a time record needs the crank angle: a `tdc` column (a pulse per revolution), an `encoder` column with --encoder-ppr N, a `wheel` column with --wheel T-M, or --rpm N and --tdc-time T (the time of a firing TDC, in seconds)",
+        )),
+    }
+}
+
 impl TimeRecord {
     pub(crate) fn new(
         roles: &Roles,
@@ -116,10 +314,12 @@ impl TimeRecord {
         let (p_scale, offset) = value_scale(roles, v.scale, opts, line)?;
         let tdc_deg = opts.tdc_given.then_some(opts.tdc_deg);
         let mut unused = Vec::new();
-        let mut sig: Signals = [None; 3];
-        let mut tdc_time = None;
-        let col_of = |c: usize| Some(c + 1);
-        let (source, firing) = match (opts.encoder_ppr, opts.wheel) {
+        let Chosen {
+            source,
+            firing,
+            sig,
+            tdc_time,
+        } = match (opts.encoder_ppr, opts.wheel) {
             (Some(_), Some(_)) => {
                 return Err(at(
                     line,
@@ -127,161 +327,9 @@ impl TimeRecord {
                     "--encoder-ppr and --wheel both given: a time record's angle comes from one crank signal",
                 ));
             }
-            (Some(ppr), None) => {
-                let Some(col) = roles.encoder else {
-                    return Err(at(
-                        line,
-                        None,
-                        "--encoder-ppr is given, but the record has no `encoder` column",
-                    ));
-                };
-                if !(1..=MAX_ENCODER_PPR).contains(&ppr) {
-                    return Err(at(
-                        line,
-                        col_of(col),
-                        format!(
-                            "--encoder-ppr {ppr}: an encoder gives 1 to {MAX_ENCODER_PPR} pulses a revolution"
-                        ),
-                    ));
-                }
-                if let Some(w) = roles.wheel {
-                    unused.push(format!(
-                        "column {} (a tooth wheel; the encoder gives the angle)",
-                        w + 1
-                    ));
-                }
-                let (tdc_col, time) = match (roles.tdc, opts.tdc_time) {
-                    (Some(c), _) => (Some(c), None),
-                    (None, Some(t)) => (None, Some(t)),
-                    (None, None) => {
-                        return Err(at(
-                            line,
-                            col_of(col),
-                            "an encoder gives the angle's steps, not where 0° is: give a `tdc` column (a pulse per revolution) or --tdc-time T (the time of a firing TDC, in seconds)",
-                        ));
-                    }
-                };
-                sig[0] = Some(col);
-                sig[1] = tdc_col;
-                sig[2] = roles.cam;
-                tdc_time = time;
-                let firing = match (time, roles.cam) {
-                    (Some(_), _) => Firing::Given,
-                    (None, Some(_)) => Firing::Cam,
-                    (None, None) => Firing::Pressure,
-                };
-                let kind = teeth::Kind::Encoder(encoder::Encoder {
-                    ppr,
-                    tdc_col,
-                    tdc_time: time,
-                    pulses: 0,
-                });
-                (
-                    Source::Crank(Box::new(teeth::Crank::new(kind, col, roles.cam))),
-                    firing,
-                )
-            }
-            (None, Some(w)) => {
-                let Some(col) = roles.wheel else {
-                    return Err(at(
-                        line,
-                        None,
-                        "--wheel is given, but the record has no `wheel` column",
-                    ));
-                };
-                let Some(a) = opts.wheel_tdc_deg else {
-                    return Err(at(
-                        line,
-                        col_of(col),
-                        format!(
-                            "a `wheel` column needs --wheel-tdc-deg A: the angle from the {w} wheel's first tooth after the gap to cylinder 1's TDC"
-                        ),
-                    ));
-                };
-                if !(a.is_finite() && a.abs() <= MAX_WHEEL_TDC_DEG) {
-                    return Err(at(
-                        line,
-                        col_of(col),
-                        format!(
-                            "--wheel-tdc-deg {}: from -{MAX_WHEEL_TDC_DEG} to {MAX_WHEEL_TDC_DEG}°",
-                            shown_number(a)
-                        ),
-                    ));
-                }
-                if let Some(c) = roles.tdc {
-                    unused.push(format!(
-                        "column {} (a TDC pulse; the wheel's gap and --wheel-tdc-deg give TDC)",
-                        c + 1
-                    ));
-                }
-                if let Some(c) = roles.encoder {
-                    unused.push(format!(
-                        "column {} (an encoder; the wheel gives the angle)",
-                        c + 1
-                    ));
-                }
-                sig[0] = Some(col);
-                sig[2] = roles.cam;
-                let kind = teeth::Kind::Wheel {
-                    gaps: wheel::Gaps::new(w),
-                    tdc_deg: a,
-                };
-                let firing = if roles.cam.is_some() {
-                    Firing::Cam
-                } else {
-                    Firing::Pressure
-                };
-                (
-                    Source::Crank(Box::new(teeth::Crank::new(kind, col, roles.cam))),
-                    firing,
-                )
-            }
-            (None, None) => {
-                if let Some(c) = roles.encoder {
-                    return Err(at(
-                        line,
-                        col_of(c),
-                        "an `encoder` column needs --encoder-ppr N, its pulses a revolution",
-                    ));
-                }
-                if let Some(c) = roles.wheel {
-                    return Err(at(
-                        line,
-                        col_of(c),
-                        "a `wheel` column needs --wheel T-M (60-2, 36-1, 36-2 or 58x) and --wheel-tdc-deg A",
-                    ));
-                }
-                if let Some(c) = roles.cam {
-                    unused.push(format!("column {} (a cam pulse tells the firing revolution of an encoder's or a tooth wheel's angle)", c + 1));
-                }
-                match (roles.tdc, opts.tdc_time) {
-                    (Some(col), _) => {
-                        sig[0] = Some(col);
-                        (Source::Pulse(pulse::Pulse::new(col)), Firing::Pressure)
-                    }
-                    (None, Some(t)) => {
-                        let Some(rpm) = opts.rpm.or(rpm.map(|r| r.0)) else {
-                            return Err(at(
-                                line,
-                                Some(roles.x + 1),
-                                "a time record with --tdc-time needs the speed: --rpm N (or a `# rpm = N` line)",
-                            ));
-                        };
-                        tdc_time = Some(t);
-                        (
-                            Source::Clock(clock::Clock::new(t, rpm, opts.cycle_deg)),
-                            Firing::Given,
-                        )
-                    }
-                    (None, None) => {
-                        return Err(at(
-                            line,
-                            Some(roles.x + 1),
-                            "a time record needs the crank angle: a `tdc` column (a pulse per revolution), an `encoder` column with --encoder-ppr N, a `wheel` column with --wheel T-M, or --rpm N and --tdc-time T (the time of a firing TDC, in seconds)",
-                        ));
-                    }
-                }
-            }
+            (Some(ppr), None) => encoder_source(roles, opts, ppr, line, &mut unused)?,
+            (None, Some(w)) => wheel_source(roles, opts, w, line, &mut unused)?,
+            (None, None) => pulse_or_clock_source(roles, opts, rpm, line, &mut unused)?,
         };
         let probe = (!matches!(source, Source::Clock(_))).then(Vec::new);
         let mut cycles = Cycles::new(opts.cycle_deg, tdc_deg, firing);
