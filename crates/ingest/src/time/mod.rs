@@ -517,146 +517,22 @@ impl TimeRecord {
                 enginedyn_numerics::format::human(last)
             )));
         }
-        let fmt = |x: f64, d: usize| enginedyn_numerics::format::trimmed(x, d);
         let line = self.last_line;
         let (mut said, speed, complete, partial) = match &mut self.source {
-            Source::Pulse(s) => {
-                let speeds = s.speeds;
-                if speeds.3 == 0 {
-                    return Err(IngestError::Data(
-                        "time record: fewer than two TDC pulses, so no revolution to take the speed from".into(),
-                    ));
-                }
-                self.cycles.finish(line, out)?;
-                let mean = speeds.2 / speeds.3 as f64 * 60.0;
-                let mut said = format!(
-                    "time record: the angle from {} TDC pulses, the speed revolution by revolution ({} to {} rpm, mean {}); firing TDC {}",
-                    speeds.3 + 1,
-                    fmt(speeds.0, 1),
-                    fmt(speeds.1, 1),
-                    fmt(mean, 1),
-                    match (self.tdc_deg, self.cycle_deg < 400.0) {
-                        (Some(x), _) => format!("{}° after the first pulse (--tdc-deg)", fmt(x, 3)),
-                        (None, true) => "at every pulse (two-stroke)".to_string(),
-                        (None, false) => format!(
-                            "at every second pulse from pulse {}, the one the pressure peak follows",
-                            self.cycles.parity.unwrap_or(0) + 1
-                        ),
-                    }
-                );
-                if s.before_first > 0 {
-                    said.push_str("; samples before the first pulse left out");
-                }
-                let tdc = format!("the `tdc` column (column {})", s.col + 1);
-                (
-                    said,
-                    Some((
-                        mean,
-                        tdc,
-                        "a pulse every",
-                        "the pulse column",
-                        "the `tdc` column's pulses".to_string(),
-                    )),
-                    self.cycles.complete,
-                    self.cycles.partial,
-                )
-            }
-            Source::Crank(s) => {
-                s.end(&mut self.cycles, out)?;
-                let Some(mean) = s.mean_rpm() else {
-                    return Err(IngestError::Data(format!(
-                        "time record: {} edges in the `{}` column, too few to take the angle from",
-                        s.edge_count,
-                        name(&s.kind)
-                    )));
-                };
-                if s.reference.is_none() {
-                    return Err(IngestError::Data(match &s.kind {
-                        teeth::Kind::Wheel { gaps, .. } => format!(
-                            "time record: no gap among the `wheel` column's {} teeth: not a {} wheel (--wheel), or fewer than a revolution of it",
-                            s.edge_count, gaps.wheel
-                        ),
-                        teeth::Kind::Encoder(e) => match e.tdc_time {
-                            Some(t0) => format!(
-                                "time record: --tdc-time {} s comes before the `encoder` column's first edge: 0° must lie between its edges",
-                                enginedyn_numerics::format::human(t0)
-                            ),
-                            None => "time record: no `tdc` pulse after the `encoder` column's first edge, so no 0°".into(),
-                        },
-                    }));
-                }
-                if !(enginedyn_kinematics::MIN_RPM..=enginedyn_kinematics::MAX_RPM).contains(&mean)
-                {
-                    return Err(IngestError::Data(format!(
-                        "the `{}` column's edges give {} rpm, outside the engine speed bound (0.001 to 100000 rpm): is --{} right?",
-                        name(&s.kind),
-                        enginedyn_numerics::format::sig(mean, 4),
-                        match s.kind {
-                            teeth::Kind::Encoder(_) => "encoder-ppr",
-                            teeth::Kind::Wheel { .. } => "wheel",
-                        }
-                    )));
-                }
-                self.cycles.finish(line, out)?;
-                let source = match &s.kind {
-                    teeth::Kind::Encoder(e) => format!(
-                        "the angle from the `encoder` column's {} edges ({} a revolution), interpolated in time between edges (the cubic through the edges around); 0° {}",
-                        s.edge_count,
-                        e.ppr,
-                        match e.tdc_time {
-                            Some(t0) => format!(
-                                "at t = {} s (--tdc-time)",
-                                enginedyn_numerics::format::sig(t0, 6)
-                            ),
-                            None => format!("at the rise of the `tdc` pulse ({} pulses)", e.pulses),
-                        }
-                    ),
-                    teeth::Kind::Wheel { gaps, tdc_deg } => format!(
-                        "the angle from the {} tooth wheel in the `wheel` column ({} teeth, the gap found {} times from the tooth periods), interpolated in time between teeth (the cubic through the teeth around); cylinder 1's TDC {}° after the first tooth after the gap (--wheel-tdc-deg)",
-                        gaps.wheel,
-                        s.edge_count,
-                        gaps.count,
-                        fmt(*tdc_deg, 3)
-                    ),
-                };
-                let firing = match (self.tdc_deg, self.cycle_deg < 400.0, self.cycles.firing) {
-                    (Some(x), _, _) => format!("{}° after the first TDC (--tdc-deg)", fmt(x, 3)),
-                    (None, true, _) => "at every TDC (two-stroke)".to_string(),
-                    (None, false, Firing::Given) => {
-                        "at --tdc-time and every 720° from it".to_string()
-                    }
-                    (None, false, Firing::Cam) => "at the TDC after each `cam` pulse".to_string(),
-                    (None, false, Firing::Pressure) => {
-                        "at every second TDC, the one the pressure peak follows".to_string()
-                    }
-                };
-                let mut said = format!(
-                    "time record: {source}; the speed within the revolutions read {} to {} rpm (mean {}); firing TDC {firing}",
-                    fmt(s.speeds.0, 1),
-                    fmt(s.speeds.1, 1),
-                    fmt(mean, 1),
-                );
-                if s.before_first > 0 {
-                    said.push_str("; samples before the first TDC left out");
-                }
-                let what = format!("the `{}` column (column {})", name(&s.kind), s.col + 1);
-                let flag = match s.kind {
-                    teeth::Kind::Encoder(_) => "--encoder-ppr",
-                    teeth::Kind::Wheel { .. } => "--wheel",
-                };
-                (
-                    said,
-                    Some((
-                        mean,
-                        what,
-                        "",
-                        flag,
-                        format!("the `{}` column's edges", name(&s.kind)),
-                    )),
-                    self.cycles.complete,
-                    self.cycles.partial,
-                )
-            }
+            Source::Pulse(s) => end_pulse(
+                s,
+                &mut self.cycles,
+                (self.tdc_deg, self.cycle_deg),
+                line,
+                out,
+            )?,
+            Source::Crank(s) => end_crank(
+                s,
+                &mut self.cycles,
+                (self.tdc_deg, self.cycle_deg),
+                line,
+                out,
+            )?,
             Source::Clock(c) => {
                 c.close(out)?;
                 (
@@ -687,41 +563,56 @@ impl TimeRecord {
             head.notes
                 .push(format!("time record: not used: {}", self.unused.join("; ")));
         }
-        if let Some((mean, what, every, wrong, whose)) = speed {
-            let given = self
-                .flag_rpm
-                .map(|r| (r, "--rpm"))
-                .into_iter()
-                .chain(self.file_rpm);
-            for (r, source) in given {
-                let off = (r - mean).abs() / mean;
-                if off > SPEED_DISAGREES {
-                    let between = if every.is_empty() {
-                        String::new()
-                    } else {
-                        format!(
-                            " ({every} {} s on average)",
-                            enginedyn_numerics::format::sig(60.0 / mean, 4)
-                        )
-                    };
-                    return Err(IngestError::Data(format!(
-                        "{what} gives {} rpm{between}, {source} {} rpm: {:.0} % apart; is the speed or {wrong} wrong?",
-                        fmt(mean, 1),
-                        fmt(r, 1),
-                        100.0 * off
-                    )));
-                }
-                if off > SAME_SPEED {
-                    head.notes.push(format!(
-                        "{source} says {} rpm, {whose} {} rpm",
-                        fmt(r, 1),
-                        fmt(mean, 1)
-                    ));
-                }
+        if let Some(measured) = speed {
+            self.check_speed(measured, head)?;
+        }
+        Ok(())
+    }
+
+    /// The speed the signal `measured` against `--rpm` and the file's:
+    /// an error when they disagree by more than [`SPEED_DISAGREES`], a note
+    /// where they differ at all; the header's speed when it has none.
+    fn check_speed(&self, measured: Measured, head: &mut Header) -> Result<(), IngestError> {
+        let Measured {
+            mean,
+            what,
+            every,
+            wrong,
+            whose,
+        } = measured;
+        let given = self
+            .flag_rpm
+            .map(|r| (r, "--rpm"))
+            .into_iter()
+            .chain(self.file_rpm);
+        for (r, source) in given {
+            let off = (r - mean).abs() / mean;
+            if off > SPEED_DISAGREES {
+                let between = if every.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        " ({every} {} s on average)",
+                        enginedyn_numerics::format::sig(60.0 / mean, 4)
+                    )
+                };
+                return Err(IngestError::Data(format!(
+                    "{what} gives {} rpm{between}, {source} {} rpm: {:.0} % apart; is the speed or {wrong} wrong?",
+                    fmt(mean, 1),
+                    fmt(r, 1),
+                    100.0 * off
+                )));
             }
-            if head.rpm.is_none() {
-                head.rpm = Some(mean);
+            if off > SAME_SPEED {
+                head.notes.push(format!(
+                    "{source} says {} rpm, {whose} {} rpm",
+                    fmt(r, 1),
+                    fmt(mean, 1)
+                ));
             }
+        }
+        if head.rpm.is_none() {
+            head.rpm = Some(mean);
         }
         Ok(())
     }
@@ -754,6 +645,193 @@ impl TimeRecord {
                 (teeth::Kind::Encoder(_), None) => TdcPlacement::TdcColumn { cam },
             },
         }
+    }
+}
+
+/// `x` with `d` decimals, trailing zeros trimmed.
+fn fmt(x: f64, d: usize) -> String {
+    enginedyn_numerics::format::trimmed(x, d)
+}
+
+/// The speed a crank signal measured, and how to name it in a message.
+struct Measured {
+    /// Mean speed (rpm).
+    mean: f64,
+    /// The column it is taken from.
+    what: String,
+    /// How often the signal comes ("a pulse every"), or empty.
+    every: &'static str,
+    /// What may be wrong when it disagrees with a given speed.
+    wrong: &'static str,
+    /// Whose speed it is, in a note.
+    whose: String,
+}
+
+/// What a source's end says: the note, the speed measured, and the whole
+/// and partial cycles.
+type Ended = (String, Option<Measured>, usize, usize);
+
+/// The end of a record whose angle comes from `tdc` pulses: the speed
+/// revolution by revolution. `tdc` is `--tdc-deg` (when given) and the
+/// cycle (deg).
+fn end_pulse<F: FnMut(Streamed) -> Result<(), IngestError>>(
+    s: &pulse::Pulse,
+    cycles: &mut Cycles,
+    (tdc_deg, cycle_deg): (Option<f64>, f64),
+    line: usize,
+    out: &mut Emitter<'_, F>,
+) -> Result<Ended, IngestError> {
+    let speeds = s.speeds;
+    if speeds.3 == 0 {
+        return Err(IngestError::Data(
+            "time record: fewer than two TDC pulses, so no revolution to take the speed from"
+                .into(),
+        ));
+    }
+    cycles.finish(line, out)?;
+    let mean = speeds.2 / speeds.3 as f64 * 60.0;
+    let mut said = format!(
+        "time record: the angle from {} TDC pulses, the speed revolution by revolution ({} to {} rpm, mean {}); firing TDC {}",
+        speeds.3 + 1,
+        fmt(speeds.0, 1),
+        fmt(speeds.1, 1),
+        fmt(mean, 1),
+        match (tdc_deg, cycle_deg < 400.0) {
+            (Some(x), _) => format!("{}° after the first pulse (--tdc-deg)", fmt(x, 3)),
+            (None, true) => "at every pulse (two-stroke)".to_string(),
+            (None, false) => format!(
+                "at every second pulse from pulse {}, the one the pressure peak follows",
+                cycles.parity.unwrap_or(0) + 1
+            ),
+        }
+    );
+    if s.before_first > 0 {
+        said.push_str("; samples before the first pulse left out");
+    }
+    let tdc = format!("the `tdc` column (column {})", s.col + 1);
+    Ok((
+        said,
+        Some(Measured {
+            mean,
+            what: tdc,
+            every: "a pulse every",
+            wrong: "the pulse column",
+            whose: "the `tdc` column's pulses".to_string(),
+        }),
+        cycles.complete,
+        cycles.partial,
+    ))
+}
+
+/// The end of a record whose angle comes from a crank signal (an encoder
+/// or a tooth wheel): its edges checked for a reference and a speed within
+/// the engine's bounds. `tdc` is `--tdc-deg` (when given) and the cycle
+/// (deg).
+fn end_crank<F: FnMut(Streamed) -> Result<(), IngestError>>(
+    s: &mut teeth::Crank,
+    cycles: &mut Cycles,
+    (tdc_deg, cycle_deg): (Option<f64>, f64),
+    line: usize,
+    out: &mut Emitter<'_, F>,
+) -> Result<Ended, IngestError> {
+    s.end(cycles, out)?;
+    let Some(mean) = s.mean_rpm() else {
+        return Err(IngestError::Data(format!(
+            "time record: {} edges in the `{}` column, too few to take the angle from",
+            s.edge_count,
+            name(&s.kind)
+        )));
+    };
+    if s.reference.is_none() {
+        return Err(IngestError::Data(match &s.kind {
+            teeth::Kind::Wheel { gaps, .. } => format!(
+                "time record: no gap among the `wheel` column's {} teeth: not a {} wheel (--wheel), or fewer than a revolution of it",
+                s.edge_count, gaps.wheel
+            ),
+            teeth::Kind::Encoder(e) => match e.tdc_time {
+                Some(t0) => format!(
+                    "time record: --tdc-time {} s comes before the `encoder` column's first edge: 0° must lie between its edges",
+                    enginedyn_numerics::format::human(t0)
+                ),
+                None => {
+                    "time record: no `tdc` pulse after the `encoder` column's first edge, so no 0°"
+                        .into()
+                }
+            },
+        }));
+    }
+    if !(enginedyn_kinematics::MIN_RPM..=enginedyn_kinematics::MAX_RPM).contains(&mean) {
+        return Err(IngestError::Data(format!(
+            "the `{}` column's edges give {} rpm, outside the engine speed bound (0.001 to 100000 rpm): is --{} right?",
+            name(&s.kind),
+            enginedyn_numerics::format::sig(mean, 4),
+            match s.kind {
+                teeth::Kind::Encoder(_) => "encoder-ppr",
+                teeth::Kind::Wheel { .. } => "wheel",
+            }
+        )));
+    }
+    cycles.finish(line, out)?;
+    let source = crank_said(s);
+    let firing = match (tdc_deg, cycle_deg < 400.0, cycles.firing) {
+        (Some(x), _, _) => format!("{}° after the first TDC (--tdc-deg)", fmt(x, 3)),
+        (None, true, _) => "at every TDC (two-stroke)".to_string(),
+        (None, false, Firing::Given) => "at --tdc-time and every 720° from it".to_string(),
+        (None, false, Firing::Cam) => "at the TDC after each `cam` pulse".to_string(),
+        (None, false, Firing::Pressure) => {
+            "at every second TDC, the one the pressure peak follows".to_string()
+        }
+    };
+    let mut said = format!(
+        "time record: {source}; the speed within the revolutions read {} to {} rpm (mean {}); firing TDC {firing}",
+        fmt(s.speeds.0, 1),
+        fmt(s.speeds.1, 1),
+        fmt(mean, 1),
+    );
+    if s.before_first > 0 {
+        said.push_str("; samples before the first TDC left out");
+    }
+    let what = format!("the `{}` column (column {})", name(&s.kind), s.col + 1);
+    let flag = match s.kind {
+        teeth::Kind::Encoder(_) => "--encoder-ppr",
+        teeth::Kind::Wheel { .. } => "--wheel",
+    };
+    Ok((
+        said,
+        Some(Measured {
+            mean,
+            what,
+            every: "",
+            wrong: flag,
+            whose: format!("the `{}` column's edges", name(&s.kind)),
+        }),
+        cycles.complete,
+        cycles.partial,
+    ))
+}
+
+/// Where a crank signal's angle came from, for the record's note.
+fn crank_said(s: &teeth::Crank) -> String {
+    match &s.kind {
+        teeth::Kind::Encoder(e) => format!(
+            "the angle from the `encoder` column's {} edges ({} a revolution), interpolated in time between edges (the cubic through the edges around); 0° {}",
+            s.edge_count,
+            e.ppr,
+            match e.tdc_time {
+                Some(t0) => format!(
+                    "at t = {} s (--tdc-time)",
+                    enginedyn_numerics::format::sig(t0, 6)
+                ),
+                None => format!("at the rise of the `tdc` pulse ({} pulses)", e.pulses),
+            }
+        ),
+        teeth::Kind::Wheel { gaps, tdc_deg } => format!(
+            "the angle from the {} tooth wheel in the `wheel` column ({} teeth, the gap found {} times from the tooth periods), interpolated in time between teeth (the cubic through the teeth around); cylinder 1's TDC {}° after the first tooth after the gap (--wheel-tdc-deg)",
+            gaps.wheel,
+            s.edge_count,
+            gaps.count,
+            fmt(*tdc_deg, 3)
+        ),
     }
 }
 
