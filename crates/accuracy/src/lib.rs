@@ -387,7 +387,6 @@ fn data_step(d: &Diagram) -> Option<f64> {
 pub fn study(input: &Input) -> Result<Accuracy, AccuracyError> {
     let engine = input.engine;
     let reference = reference(engine);
-    let cycle = engine.cycle().to_degrees();
     let mut notes = Vec::new();
     if best_rod(engine) != RodModel::Rigid {
         notes.push(
@@ -480,10 +479,29 @@ pub fn study(input: &Input) -> Result<Accuracy, AccuracyError> {
             o,
         )?;
     }
+    rows.extend(against_generated(input, &reference, &mut notes)?);
+    Ok(Accuracy {
+        rows,
+        reference_time_s,
+        notes,
+    })
+}
+
+/// The studies against the generated diagram, known at every angle (true
+/// errors): interpolation from samples at this diagram's spacing, and the
+/// grid step; their note goes to `notes`.
+fn against_generated(
+    input: &Input,
+    reference: &Options,
+    notes: &mut Vec<String>,
+) -> Result<Vec<Row>, AccuracyError> {
+    let engine = input.engine;
+    let cycle = engine.cycle().to_degrees();
+    let mut rows = Vec::new();
     // The generated diagram, known at every angle: true errors.
     let (sol, model) = generated(engine)?;
     let truth = on_grid(&sol, cycle, reference.step_deg);
-    let truth_summary = run_grid(engine, &truth, input.rpm, &reference)?;
+    let truth_summary = run_grid(engine, &truth, input.rpm, reference)?;
     let sampling = data_step(input.diagram)
         .filter(|&s| s > 0.11)
         .unwrap_or(1.0);
@@ -515,7 +533,7 @@ pub fn study(input: &Input) -> Result<Accuracy, AccuracyError> {
     for interp in [Interp::Linear, Interp::Spline, Interp::Pchip] {
         let opts = Options {
             interp,
-            ..reference
+            ..*reference
         };
         let grid = GridOptions {
             step_deg: reference.step_deg,
@@ -537,7 +555,7 @@ pub fn study(input: &Input) -> Result<Accuracy, AccuracyError> {
         let p = on_grid(&sol, cycle, step);
         let opts = Options {
             step_deg: step,
-            ..reference
+            ..*reference
         };
         let (s, t) = timed(|| run_grid(engine, &p, input.rpm, &opts))?;
         rows.push(Row {
@@ -547,11 +565,7 @@ pub fn study(input: &Input) -> Result<Accuracy, AccuracyError> {
             errors: relative_errors(&s, &truth_summary),
         });
     }
-    Ok(Accuracy {
-        rows,
-        reference_time_s,
-        notes,
-    })
+    Ok(rows)
 }
 
 /// Indices of the rows on the Pareto front: no other row is both faster
