@@ -103,14 +103,14 @@ def tokens(text):
             i += 1
 
 
-def matching(toks, k):
-    """Index of the `}` closing the `{` at toks[k]."""
+def matching(toks, k, pair="{}"):
+    """Index of the token closing the `pair[0]` at toks[k]."""
     depth = 0
     for m in range(k, len(toks)):
         t = toks[m][0]
-        if t == "{":
+        if t == pair[0]:
             depth += 1
-        elif t == "}":
+        elif t == pair[1]:
             depth -= 1
             if depth == 0:
                 return m
@@ -127,7 +127,7 @@ def functions(path):
         if t == "#" and [x[0] for x in toks[k + 1 : k + 7]] == ["[", "cfg", "(", "test", ")", "]"]:
             m = k + 7
             while m < len(toks) and toks[m][0] == "#":  # further attributes
-                m = matching_bracket(toks, m + 1) + 1
+                m = matching(toks, m + 1, "[]") + 1
             if m < len(toks) and toks[m][0] in ("mod", "pub"):
                 while m < len(toks) and toks[m][0] not in ("{", ";"):
                     m += 1
@@ -156,20 +156,6 @@ def functions(path):
             k += 2  # nested fns are found on the way
             continue
         k += 1
-
-
-def matching_bracket(toks, k):
-    """Index of the `]` closing the `[` at toks[k]."""
-    depth = 0
-    for m in range(k, len(toks)):
-        t = toks[m][0]
-        if t == "[":
-            depth += 1
-        elif t == "]":
-            depth -= 1
-            if depth == 0:
-                return m
-    return len(toks) - 1
 
 
 def main():
