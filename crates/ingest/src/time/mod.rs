@@ -108,6 +108,25 @@ struct Chosen {
     tdc_time: Option<f64>,
 }
 
+impl Chosen {
+    /// A crank signal of `kind` in column `col`, with the `cam` column and
+    /// the `tdc` column or `--tdc-time` beside it.
+    fn crank(
+        kind: teeth::Kind,
+        col: usize,
+        cam: Option<usize>,
+        firing: Firing,
+        (tdc_col, tdc_time): (Option<usize>, Option<f64>),
+    ) -> Self {
+        Chosen {
+            source: Source::Crank(Box::new(teeth::Crank::new(kind, col, cam))),
+            firing,
+            sig: [Some(col), tdc_col, cam],
+            tdc_time,
+        }
+    }
+}
+
 /// The 1-based column of 0-based `c`, for an error.
 fn col_of(c: usize) -> Option<usize> {
     Some(c + 1)
@@ -166,12 +185,7 @@ fn encoder_source(
         tdc_time: time,
         pulses: 0,
     });
-    Ok(Chosen {
-        source: Source::Crank(Box::new(teeth::Crank::new(kind, col, roles.cam))),
-        firing,
-        sig: [Some(col), tdc_col, roles.cam],
-        tdc_time: time,
-    })
+    Ok(Chosen::crank(kind, col, roles.cam, firing, (tdc_col, time)))
 }
 
 /// A tooth wheel `w` (`--wheel`) with `--wheel-tdc-deg`; a `tdc` or
@@ -230,12 +244,7 @@ fn wheel_source(
     } else {
         Firing::Pressure
     };
-    Ok(Chosen {
-        source: Source::Crank(Box::new(teeth::Crank::new(kind, col, roles.cam))),
-        firing,
-        sig: [Some(col), None, roles.cam],
-        tdc_time: None,
-    })
+    Ok(Chosen::crank(kind, col, roles.cam, firing, (None, None)))
 }
 
 /// No crank signal: a `tdc` pulse per revolution, else a constant speed
