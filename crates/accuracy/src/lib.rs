@@ -387,7 +387,6 @@ fn data_step(d: &Diagram) -> Option<f64> {
 pub fn study(input: &Input) -> Result<Accuracy, AccuracyError> {
     let engine = input.engine;
     let reference = reference(engine);
-    let cycle = engine.cycle().to_degrees();
     let mut notes = Vec::new();
     if best_rod(engine) != RodModel::Rigid {
         notes.push(
@@ -480,10 +479,29 @@ pub fn study(input: &Input) -> Result<Accuracy, AccuracyError> {
             o,
         )?;
     }
+    rows.extend(against_generated(input, &reference, &mut notes)?);
+    Ok(Accuracy {
+        rows,
+        reference_time_s,
+        notes,
+    })
+}
+
+/// The studies against the generated diagram, known at every angle (true
+/// errors): interpolation from samples at this diagram's spacing, and the
+/// grid step; their note goes to `notes`.
+fn against_generated(
+    input: &Input,
+    reference: &Options,
+    notes: &mut Vec<String>,
+) -> Result<Vec<Row>, AccuracyError> {
+    let engine = input.engine;
+    let cycle = engine.cycle().to_degrees();
+    let mut rows = Vec::new();
     // The generated diagram, known at every angle: true errors.
     let (sol, model) = generated(engine)?;
     let truth = on_grid(&sol, cycle, reference.step_deg);
-    let truth_summary = run_grid(engine, &truth, input.rpm, &reference)?;
+    let truth_summary = run_grid(engine, &truth, input.rpm, reference)?;
     let sampling = data_step(input.diagram)
         .filter(|&s| s > 0.11)
         .unwrap_or(1.0);
@@ -515,7 +533,7 @@ pub fn study(input: &Input) -> Result<Accuracy, AccuracyError> {
     for interp in [Interp::Linear, Interp::Spline, Interp::Pchip] {
         let opts = Options {
             interp,
-            ..reference
+            ..*reference
         };
         let grid = GridOptions {
             step_deg: reference.step_deg,
@@ -537,7 +555,7 @@ pub fn study(input: &Input) -> Result<Accuracy, AccuracyError> {
         let p = on_grid(&sol, cycle, step);
         let opts = Options {
             step_deg: step,
-            ..reference
+            ..*reference
         };
         let (s, t) = timed(|| run_grid(engine, &p, input.rpm, &opts))?;
         rows.push(Row {
@@ -547,11 +565,7 @@ pub fn study(input: &Input) -> Result<Accuracy, AccuracyError> {
             errors: relative_errors(&s, &truth_summary),
         });
     }
-    Ok(Accuracy {
-        rows,
-        reference_time_s,
-        notes,
-    })
+    Ok(rows)
 }
 
 /// Indices of the rows on the Pareto front: no other row is both faster
@@ -833,89 +847,16 @@ pub fn choose(
         integration: kept.integration.unwrap_or(Rule::Simpson),
         scope: Scope::Keys,
     };
-    let at = |step: f64| Options {
-        step_deg: step,
-        ..base
+    let run_at = |step: f64| {
+        run(&Options {
+            step_deg: step,
+            ..base
+        })
     };
-    let diff = |a: &Summary, b: &Summary| max_error(&relative_errors(a, b)).unwrap_or(0.0);
     let mut ladder: Vec<(f64, Summary)> = Vec::new();
     let (step, grid_est) = match kept.step_deg {
-        Some(h) => {
-            // From the two steps above it when they fit, else from the step
-            // half as large.
-            let est = if step_fits(engine, 2.0 * h) && step_fits(engine, 4.0 * h) {
-                let (s4, s2, s1) = (run(&at(4.0 * h))?, run(&at(2.0 * h))?, run(&at(h))?);
-                let est = diff(&s1, &s2).max(diff(&s2, &s4) / 4.0);
-                ladder.extend([(4.0 * h, s4), (2.0 * h, s2), (h, s1)]);
-                est
-            } else if step_fits(engine, 0.5 * h) {
-                let (s1, s_half) = (run(&at(h))?, run(&at(0.5 * h))?);
-                let est = 2.0 * diff(&s1, &s_half);
-                ladder.extend([(h, s1), (0.5 * h, s_half)]);
-                est
-            } else {
-                return Err(AccuracyError::KeptUnreachable {
-                    tolerance,
-                    option: format!("--step {h}"),
-                    estimated: f64::INFINITY,
-                });
-            };
-            if est > tolerance {
-                return Err(AccuracyError::KeptUnreachable {
-                    tolerance,
-                    option: format!("--step {h}"),
-                    estimated: est,
-                });
-            }
-            (h, est)
-        }
-        None => {
-            // A halving ladder, so that each estimate compares h with 2h.
-            let steps = ladder_steps(engine);
-            let mut found = None;
-            let mut last = (f64::INFINITY, 0.0);
-            // The previous difference, once there is one: a single
-            // difference (two grids) cannot show that the grids converge,
-            // so a step is taken only from the third grid on.
-            let mut before: Option<f64> = None;
-            for &step in &steps {
-                let s = run(&at(step))?;
-                if let Some((h2, p)) = ladder.last()
-                    && (h2 / step - 2.0).abs() < 1e-9
-                {
-                    // The difference from 2h, and the difference before it
-                    // over 4 (what second-order convergence leaves of it):
-                    // nested grids can sample an extreme equally badly at h
-                    // and 2h, and then the last difference alone says too
-                    // little.
-                    let d = diff(p, &s);
-                    if let Some(b) = before {
-                        let est = d.max(b / 4.0);
-                        last = (est, step);
-                        // Within half the tolerance; or within it when the
-                        // last difference alone is within a quarter
-                        // (converged, and only the conservative second term
-                        // is large).
-                        if est <= 0.5 * tolerance || est <= tolerance && d <= 0.25 * tolerance {
-                            found = Some((step, est));
-                            ladder.push((step, s));
-                            break;
-                        }
-                    } else {
-                        last = (d, step);
-                    }
-                    before = Some(d);
-                } else {
-                    before = None;
-                }
-                ladder.push((step, s));
-            }
-            found.ok_or(AccuracyError::Unreachable {
-                tolerance,
-                best: last.0,
-                step: last.1,
-            })?
-        }
+        Some(h) => (h, kept_grid(engine, h, tolerance, &run_at, &mut ladder)?),
+        None => halving_ladder(engine, tolerance, &run_at, &mut ladder)?,
     };
     // Model differences hardly depend on the grid: measured on the ladder's
     // grid nearest 1° no finer than the chosen one (cheaper than the chosen
@@ -941,7 +882,7 @@ pub fn choose(
         if m == Model::Exact && r == best {
             return Ok(0.0);
         }
-        Ok(diff(&model_run(m, r)?, &reference_summary))
+        Ok(summary_difference(&model_run(m, r)?, &reference_summary))
     };
     let mut notes = vec![match kept.step_deg {
         Some(h) => format!(
@@ -957,19 +898,7 @@ pub fn choose(
     // with that rod; each pair's difference is measured as a whole.
     let rod = match kept.rod_model {
         Some(r) => r,
-        None => {
-            let mut rod = best;
-            for r in [RodModel::TwoMass, RodModel::ThreeMass] {
-                if r == best || best != RodModel::Rigid && r == RodModel::ThreeMass {
-                    continue;
-                }
-                if grid_est + model_error(Model::Exact, r)? <= tolerance {
-                    rod = r;
-                    break;
-                }
-            }
-            rod
-        }
+        None => simplest_rod(best, grid_est, tolerance, &model_error)?,
     };
     let offset = engine.mechanism().phi_tdc() != 0.0;
     let candidates: Vec<Model> = match kept.kinematics {
@@ -1015,6 +944,124 @@ pub fn choose(
         option,
         estimated,
     })
+}
+
+/// The largest relative difference between two runs' results.
+fn summary_difference(a: &Summary, b: &Summary) -> f64 {
+    max_error(&relative_errors(a, b)).unwrap_or(0.0)
+}
+
+/// The grid error of the kept step `h` (deg): from the two steps above it
+/// when they fit, else from the step half as large; the runs go to
+/// `ladder`. An error when it exceeds `tolerance`.
+fn kept_grid(
+    engine: &Engine,
+    h: f64,
+    tolerance: f64,
+    run_at: &dyn Fn(f64) -> Result<Summary, AccuracyError>,
+    ladder: &mut Vec<(f64, Summary)>,
+) -> Result<f64, AccuracyError> {
+    let diff = summary_difference;
+    let est = if step_fits(engine, 2.0 * h) && step_fits(engine, 4.0 * h) {
+        let (s4, s2, s1) = (run_at(4.0 * h)?, run_at(2.0 * h)?, run_at(h)?);
+        let est = diff(&s1, &s2).max(diff(&s2, &s4) / 4.0);
+        ladder.extend([(4.0 * h, s4), (2.0 * h, s2), (h, s1)]);
+        est
+    } else if step_fits(engine, 0.5 * h) {
+        let (s1, s_half) = (run_at(h)?, run_at(0.5 * h)?);
+        let est = 2.0 * diff(&s1, &s_half);
+        ladder.extend([(h, s1), (0.5 * h, s_half)]);
+        est
+    } else {
+        return Err(AccuracyError::KeptUnreachable {
+            tolerance,
+            option: format!("--step {h}"),
+            estimated: f64::INFINITY,
+        });
+    };
+    if est > tolerance {
+        return Err(AccuracyError::KeptUnreachable {
+            tolerance,
+            option: format!("--step {h}"),
+            estimated: est,
+        });
+    }
+    Ok(est)
+}
+
+/// The step (deg) a halving ladder ([`ladder_steps`]) reaches within
+/// `tolerance`, and its estimated grid error; the runs go to `ladder`.
+fn halving_ladder(
+    engine: &Engine,
+    tolerance: f64,
+    run_at: &dyn Fn(f64) -> Result<Summary, AccuracyError>,
+    ladder: &mut Vec<(f64, Summary)>,
+) -> Result<(f64, f64), AccuracyError> {
+    // A halving ladder, so that each estimate compares h with 2h.
+    let steps = ladder_steps(engine);
+    let mut found = None;
+    let mut last = (f64::INFINITY, 0.0);
+    // The previous difference, once there is one: a single
+    // difference (two grids) cannot show that the grids converge,
+    // so a step is taken only from the third grid on.
+    let mut before: Option<f64> = None;
+    for &step in &steps {
+        let s = run_at(step)?;
+        if let Some((h2, p)) = ladder.last()
+            && (h2 / step - 2.0).abs() < 1e-9
+        {
+            // The difference from 2h, and the difference before it
+            // over 4 (what second-order convergence leaves of it):
+            // nested grids can sample an extreme equally badly at h
+            // and 2h, and then the last difference alone says too
+            // little.
+            let d = summary_difference(p, &s);
+            if let Some(b) = before {
+                let est = d.max(b / 4.0);
+                last = (est, step);
+                // Within half the tolerance; or within it when the
+                // last difference alone is within a quarter
+                // (converged, and only the conservative second term
+                // is large).
+                if est <= 0.5 * tolerance || est <= tolerance && d <= 0.25 * tolerance {
+                    found = Some((step, est));
+                    ladder.push((step, s));
+                    break;
+                }
+            } else {
+                last = (d, step);
+            }
+            before = Some(d);
+        } else {
+            before = None;
+        }
+        ladder.push((step, s));
+    }
+    found.ok_or(AccuracyError::Unreachable {
+        tolerance,
+        best: last.0,
+        step: last.1,
+    })
+}
+
+/// The simplest rod model whose `model_error` with exact kinematics, added
+/// to the grid estimate `grid_est`, stays within `tolerance`: two-mass,
+/// then three-mass where `best` is rigid; else `best`.
+fn simplest_rod(
+    best: RodModel,
+    grid_est: f64,
+    tolerance: f64,
+    model_error: &dyn Fn(Model, RodModel) -> Result<f64, AccuracyError>,
+) -> Result<RodModel, AccuracyError> {
+    for r in [RodModel::TwoMass, RodModel::ThreeMass] {
+        if r == best || best != RodModel::Rigid && r == RodModel::ThreeMass {
+            continue;
+        }
+        if grid_est + model_error(Model::Exact, r)? <= tolerance {
+            return Ok(r);
+        }
+    }
+    Ok(best)
 }
 
 /// The notes of a choice: each model that differs from the engine file's

@@ -415,7 +415,11 @@ fn bad(key: &'static str, value: impl ToString, expected: &str) -> EngineError {
 }
 
 fn builder(raw: Raw, stem: &str) -> Result<EngineBuilder, EngineError> {
-    let stroke = match need(raw.cycle, "cycle", "\"four-stroke\" or \"two-stroke\"")?.as_str() {
+    let stroke = match need(
+        raw.cycle.as_deref(),
+        "cycle",
+        "\"four-stroke\" or \"two-stroke\"",
+    )? {
         "four-stroke" => Stroke::Four,
         "two-stroke" => Stroke::Two,
         other => {
@@ -434,28 +438,7 @@ fn builder(raw: Raw, stem: &str) -> Result<EngineBuilder, EngineError> {
     if !(1..=24).contains(&cylinders) {
         return Err(bad("cylinders", cylinders, "1 to 24"));
     }
-    let layout = match raw.layout.as_deref().unwrap_or("inline") {
-        "inline" => Layout::Inline,
-        "vee" => Layout::Vee {
-            bank_angle: need(raw.bank_angle_deg, "bank_angle_deg", "required for a vee")?
-                .to_radians(),
-        },
-        "boxer" => Layout::Boxer,
-        other => {
-            return Err(bad(
-                "layout",
-                format!("\"{other}\""),
-                "\"inline\", \"vee\" or \"boxer\"",
-            ));
-        }
-    };
-    if raw.bank_angle_deg.is_some() && !matches!(layout, Layout::Vee { .. }) {
-        return Err(bad(
-            "bank_angle_deg",
-            raw.bank_angle_deg.unwrap_or_default(),
-            "only with layout = \"vee\"",
-        ));
-    }
+    let layout = read_layout(&raw)?;
     let bore = need(raw.bore_mm, "bore_mm", "the cylinder bore")? * 1e-3;
     let r = need(raw.stroke_mm, "stroke_mm", "twice the crank radius")? * 0.5e-3;
     let compression_ratio = need(
@@ -464,80 +447,7 @@ fn builder(raw: Raw, stem: &str) -> Result<EngineBuilder, EngineError> {
         "the geometric compression ratio",
     )?;
     let m = &raw.masses;
-    let yoke = match raw.mechanism.as_deref().unwrap_or("crank-slider") {
-        "crank-slider" => false,
-        "scotch-yoke" => true,
-        other => {
-            return Err(bad(
-                "mechanism",
-                format!("\"{other}\""),
-                "\"crank-slider\" or \"scotch-yoke\"",
-            ));
-        }
-    };
-    let mechanism = if yoke {
-        let rod_keys = [
-            ("rod_length_mm", raw.rod_length_mm.is_some()),
-            ("lambda", raw.lambda.is_some()),
-            ("pin_offset_mm", raw.pin_offset_mm.is_some()),
-            ("masses.rod_kg", m.rod_kg.is_some()),
-            (
-                "masses.rod_cg_from_small_end_mm",
-                m.rod_cg_from_small_end_mm.is_some(),
-            ),
-            ("masses.rod_inertia_kg_m2", m.rod_inertia_kg_m2.is_some()),
-        ];
-        if let Some((k, _)) = rod_keys.iter().find(|(_, set)| *set) {
-            return Err(EngineError::Invalid {
-                key: k,
-                value: "given".into(),
-                expected: "nothing: a Scotch yoke has no connecting rod or pin offset".into(),
-            });
-        }
-        Mechanism::ScotchYoke(
-            ScotchYoke::new(r, 0.0).map_err(|source| EngineError::Mechanism {
-                keys: "stroke_mm",
-                source,
-            })?,
-        )
-    } else {
-        if m.yoke_kg.is_some() || m.slider_block_kg.is_some() {
-            return Err(bad(
-                "masses.yoke_kg",
-                "given",
-                "only with mechanism = \"scotch-yoke\"",
-            ));
-        }
-        let l = match (raw.rod_length_mm, raw.lambda) {
-            (Some(l), None) => l * 1e-3,
-            (None, Some(lambda)) => {
-                if !(lambda > 0.0 && lambda < 1.0) {
-                    return Err(bad("lambda", lambda, "R/L between 0 and 1"));
-                }
-                r / lambda
-            }
-            (Some(_), Some(_)) => {
-                return Err(bad(
-                    "lambda",
-                    "given with rod_length_mm",
-                    "exactly one of `rod_length_mm` and `lambda`",
-                ));
-            }
-            (None, None) => {
-                return Err(EngineError::Missing {
-                    key: "rod_length_mm",
-                    why: "give `rod_length_mm` or `lambda` (exactly one)",
-                });
-            }
-        };
-        let e = raw.pin_offset_mm.unwrap_or(0.0) * 1e-3;
-        Mechanism::CrankSlider(CrankSlider::new(r, l, e).map_err(|source| {
-            EngineError::Mechanism {
-                keys: "stroke_mm, rod_length_mm (or lambda), pin_offset_mm",
-                source,
-            }
-        })?)
-    };
+    let (mechanism, yoke) = read_mechanism(&raw, r)?;
     let rod_model = match raw.rod_model.as_deref() {
         None => RodModel::TwoMass,
         Some(s) => RodModel::from_name(s).ok_or_else(|| {
@@ -548,68 +458,15 @@ fn builder(raw: Raw, stem: &str) -> Result<EngineBuilder, EngineError> {
             )
         })?,
     };
-    let masses = Masses {
-        piston_group: need(
-            m.piston_group_kg,
-            "masses.piston_group_kg",
-            "piston, rings and pin",
-        )? + m.yoke_kg.unwrap_or(0.0),
-        rod: if yoke {
-            0.0
-        } else {
-            need(m.rod_kg, "masses.rod_kg", "required for a crank-slider")?
-        },
-        rod_cg_from_small_end: 0.0,
-        rod_inertia: m.rod_inertia_kg_m2,
-        crank_unbalanced: m.crank_unbalanced_kg.unwrap_or(0.0) + m.slider_block_kg.unwrap_or(0.0),
-    };
+    let masses = read_masses(m, yoke)?;
     let op = &raw.operating;
     let operating = Operating {
         rpm: op.rpm,
         crankcase_pressure: op.crankcase_pressure_bar.unwrap_or(1.01325) * 1e5,
         mechanical_efficiency: op.mechanical_efficiency.unwrap_or(1.0),
     };
-    let fw = raw.flywheel.unwrap_or_default();
-    let d = FlywheelSpec::default();
-    let flywheel = FlywheelSpec {
-        speed_fluctuation: fw.speed_fluctuation.unwrap_or(d.speed_fluctuation),
-        other_rotating_inertia: fw
-            .other_rotating_inertia_kg_m2
-            .unwrap_or(d.other_rotating_inertia),
-        include_crank_train: fw.include_crank_train.unwrap_or(d.include_crank_train),
-        max_rim_speed: fw.max_rim_speed_m_s.unwrap_or(d.max_rim_speed),
-        outer_diameter: fw.outer_diameter_mm.map(|v| v * 1e-3),
-        density: fw.density_kg_m3.unwrap_or(d.density),
-        shape: match fw.shape.as_deref() {
-            None | Some("rim") => FlywheelShape::Rim,
-            Some("disc") => FlywheelShape::Disc,
-            Some(other) => {
-                return Err(bad(
-                    "flywheel.shape",
-                    format!("\"{other}\""),
-                    "\"rim\" or \"disc\"",
-                ));
-            }
-        },
-        rim_inner_ratio: fw.rim_inner_ratio.unwrap_or(d.rim_inner_ratio),
-    };
-    // Cylinder numbers as written: a negative or huge one is refused here,
-    // quoting the list as the file gives it.
-    let firing_order = match raw.firing_order {
-        Some(v) => {
-            let z = cylinders.max(1);
-            if v.iter().any(|&c| !(1..=z).contains(&c)) {
-                let list: Vec<String> = v.iter().map(i64::to_string).collect();
-                return Err(EngineError::Invalid {
-                    key: "firing_order",
-                    value: enginedyn_numerics::format::quote(&format!("[{}]", list.join(", "))),
-                    expected: format!("each cylinder 1..{z} exactly once"),
-                });
-            }
-            Some(v.into_iter().map(|c| c as usize).collect())
-        }
-        None => None,
-    };
+    let flywheel = read_flywheel(raw.flywheel.unwrap_or_default())?;
+    let firing_order = read_firing_order(raw.firing_order, cylinders)?;
     // A name is a label: bounded, so that it cannot blow up every output.
     if let Some(n) = &raw.name
         && n.chars().count() > MAX_NAME
@@ -651,6 +508,189 @@ fn builder(raw: Raw, stem: &str) -> Result<EngineBuilder, EngineError> {
         operating,
         flywheel,
     })
+}
+
+/// The cylinders' `layout` (inline when not given), and `bank_angle_deg`
+/// for a vee only.
+fn read_layout(raw: &Raw) -> Result<Layout, EngineError> {
+    let layout = match raw.layout.as_deref().unwrap_or("inline") {
+        "inline" => Layout::Inline,
+        "vee" => Layout::Vee {
+            bank_angle: need(raw.bank_angle_deg, "bank_angle_deg", "required for a vee")?
+                .to_radians(),
+        },
+        "boxer" => Layout::Boxer,
+        other => {
+            return Err(bad(
+                "layout",
+                format!("\"{other}\""),
+                "\"inline\", \"vee\" or \"boxer\"",
+            ));
+        }
+    };
+    if raw.bank_angle_deg.is_some() && !matches!(layout, Layout::Vee { .. }) {
+        return Err(bad(
+            "bank_angle_deg",
+            raw.bank_angle_deg.unwrap_or_default(),
+            "only with layout = \"vee\"",
+        ));
+    }
+    Ok(layout)
+}
+
+/// The `mechanism` of crank radius `r` (m), and whether it is a Scotch
+/// yoke: a yoke takes none of the rod's keys, a crank-slider none of the
+/// yoke's masses.
+fn read_mechanism(raw: &Raw, r: f64) -> Result<(Mechanism, bool), EngineError> {
+    let m = &raw.masses;
+    let yoke = match raw.mechanism.as_deref().unwrap_or("crank-slider") {
+        "crank-slider" => false,
+        "scotch-yoke" => true,
+        other => {
+            return Err(bad(
+                "mechanism",
+                format!("\"{other}\""),
+                "\"crank-slider\" or \"scotch-yoke\"",
+            ));
+        }
+    };
+    if !yoke {
+        return Ok((read_crank_slider(raw, r)?, false));
+    }
+    let rod_keys = [
+        ("rod_length_mm", raw.rod_length_mm.is_some()),
+        ("lambda", raw.lambda.is_some()),
+        ("pin_offset_mm", raw.pin_offset_mm.is_some()),
+        ("masses.rod_kg", m.rod_kg.is_some()),
+        (
+            "masses.rod_cg_from_small_end_mm",
+            m.rod_cg_from_small_end_mm.is_some(),
+        ),
+        ("masses.rod_inertia_kg_m2", m.rod_inertia_kg_m2.is_some()),
+    ];
+    if let Some((k, _)) = rod_keys.iter().find(|(_, set)| *set) {
+        return Err(EngineError::Invalid {
+            key: k,
+            value: "given".into(),
+            expected: "nothing: a Scotch yoke has no connecting rod or pin offset".into(),
+        });
+    }
+    let yoke = ScotchYoke::new(r, 0.0).map_err(|source| EngineError::Mechanism {
+        keys: "stroke_mm",
+        source,
+    })?;
+    Ok((Mechanism::ScotchYoke(yoke), true))
+}
+
+/// A crank-slider of crank radius `r` (m): the rod from `rod_length_mm`
+/// or `lambda` (exactly one), the pin offset from `pin_offset_mm`.
+fn read_crank_slider(raw: &Raw, r: f64) -> Result<Mechanism, EngineError> {
+    let m = &raw.masses;
+    if m.yoke_kg.is_some() || m.slider_block_kg.is_some() {
+        return Err(bad(
+            "masses.yoke_kg",
+            "given",
+            "only with mechanism = \"scotch-yoke\"",
+        ));
+    }
+    let l = match (raw.rod_length_mm, raw.lambda) {
+        (Some(l), None) => l * 1e-3,
+        (None, Some(lambda)) => {
+            if !(lambda > 0.0 && lambda < 1.0) {
+                return Err(bad("lambda", lambda, "R/L between 0 and 1"));
+            }
+            r / lambda
+        }
+        (Some(_), Some(_)) => {
+            return Err(bad(
+                "lambda",
+                "given with rod_length_mm",
+                "exactly one of `rod_length_mm` and `lambda`",
+            ));
+        }
+        (None, None) => {
+            return Err(EngineError::Missing {
+                key: "rod_length_mm",
+                why: "give `rod_length_mm` or `lambda` (exactly one)",
+            });
+        }
+    };
+    let e = raw.pin_offset_mm.unwrap_or(0.0) * 1e-3;
+    Ok(Mechanism::CrankSlider(CrankSlider::new(r, l, e).map_err(
+        |source| EngineError::Mechanism {
+            keys: "stroke_mm, rod_length_mm (or lambda), pin_offset_mm",
+            source,
+        },
+    )?))
+}
+
+/// The `[masses]` (kg): a yoke's mass with the piston group's, a slider
+/// block's with the crank's unbalanced mass; a rod for a crank-slider only.
+fn read_masses(m: &RawMasses, yoke: bool) -> Result<Masses, EngineError> {
+    Ok(Masses {
+        piston_group: need(
+            m.piston_group_kg,
+            "masses.piston_group_kg",
+            "piston, rings and pin",
+        )? + m.yoke_kg.unwrap_or(0.0),
+        rod: if yoke {
+            0.0
+        } else {
+            need(m.rod_kg, "masses.rod_kg", "required for a crank-slider")?
+        },
+        rod_cg_from_small_end: 0.0,
+        rod_inertia: m.rod_inertia_kg_m2,
+        crank_unbalanced: m.crank_unbalanced_kg.unwrap_or(0.0) + m.slider_block_kg.unwrap_or(0.0),
+    })
+}
+
+/// The `[flywheel]` in SI units, each key not given at its default.
+fn read_flywheel(fw: RawFlywheel) -> Result<FlywheelSpec, EngineError> {
+    let d = FlywheelSpec::default();
+    Ok(FlywheelSpec {
+        speed_fluctuation: fw.speed_fluctuation.unwrap_or(d.speed_fluctuation),
+        other_rotating_inertia: fw
+            .other_rotating_inertia_kg_m2
+            .unwrap_or(d.other_rotating_inertia),
+        include_crank_train: fw.include_crank_train.unwrap_or(d.include_crank_train),
+        max_rim_speed: fw.max_rim_speed_m_s.unwrap_or(d.max_rim_speed),
+        outer_diameter: fw.outer_diameter_mm.map(|v| v * 1e-3),
+        density: fw.density_kg_m3.unwrap_or(d.density),
+        shape: match fw.shape.as_deref() {
+            None | Some("rim") => FlywheelShape::Rim,
+            Some("disc") => FlywheelShape::Disc,
+            Some(other) => {
+                return Err(bad(
+                    "flywheel.shape",
+                    format!("\"{other}\""),
+                    "\"rim\" or \"disc\"",
+                ));
+            }
+        },
+        rim_inner_ratio: fw.rim_inner_ratio.unwrap_or(d.rim_inner_ratio),
+    })
+}
+
+/// The `firing_order` as 1-based cylinder numbers. Cylinder numbers as
+/// written: a negative or huge one is refused here, quoting the list as
+/// the file gives it.
+fn read_firing_order(
+    order: Option<Vec<i64>>,
+    cylinders: i64,
+) -> Result<Option<Vec<usize>>, EngineError> {
+    let Some(v) = order else {
+        return Ok(None);
+    };
+    let z = cylinders.max(1);
+    if v.iter().any(|&c| !(1..=z).contains(&c)) {
+        let list: Vec<String> = v.iter().map(i64::to_string).collect();
+        return Err(EngineError::Invalid {
+            key: "firing_order",
+            value: enginedyn_numerics::format::quote(&format!("[{}]", list.join(", "))),
+            expected: format!("each cylinder 1..{z} exactly once"),
+        });
+    }
+    Ok(Some(v.into_iter().map(|c| c as usize).collect()))
 }
 
 #[cfg(test)]

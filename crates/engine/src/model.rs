@@ -570,24 +570,7 @@ impl EngineBuilder {
         if !(1..=24).contains(&z) {
             return Err(invalid("cylinders", z, "1 to 24"));
         }
-        match self.layout {
-            Layout::Vee { bank_angle } => {
-                if !z.is_multiple_of(2) {
-                    return Err(invalid("cylinders", z, "an even number for a vee"));
-                }
-                if !(bank_angle > 0.0 && bank_angle < PI) {
-                    return Err(invalid(
-                        "bank_angle_deg",
-                        bank_angle.to_degrees(),
-                        "between 0 and 180°",
-                    ));
-                }
-            }
-            Layout::Boxer if !z.is_multiple_of(2) => {
-                return Err(invalid("cylinders", z, "an even number for a boxer"));
-            }
-            _ => {}
-        }
+        check_layout(self.layout, z)?;
         let cylinder =
             Cylinder::new(self.mechanism, self.bore, self.compression_ratio).map_err(|source| {
                 EngineError::Mechanism {
@@ -595,78 +578,9 @@ impl EngineBuilder {
                     source,
                 }
             })?;
-        let is_yoke = matches!(self.mechanism, Mechanism::ScotchYoke(_));
-        let mut masses = self.masses;
-        if !(masses.piston_group.is_finite() && masses.piston_group > 0.0) {
-            return Err(invalid(
-                "masses.piston_group_kg",
-                masses.piston_group,
-                "a positive mass (kg)",
-            ));
-        }
-        if !(masses.crank_unbalanced.is_finite() && masses.crank_unbalanced >= 0.0) {
-            return Err(invalid(
-                "masses.crank_unbalanced_kg",
-                masses.crank_unbalanced,
-                "a mass of 0 or more (kg)",
-            ));
-        }
-        let rod_len = match self.mechanism {
-            Mechanism::CrankSlider(cs) => cs.l(),
-            Mechanism::ScotchYoke(_) => 0.0,
-        };
-        if !is_yoke {
-            if !(masses.rod.is_finite() && masses.rod > 0.0) {
-                return Err(invalid("masses.rod_kg", masses.rod, "a positive mass (kg)"));
-            }
-            masses.rod_cg_from_small_end = self.rod_cg_from_small_end.unwrap_or(0.725 * rod_len);
-            let la = masses.rod_cg_from_small_end;
-            if !(la > 0.0 && la < rod_len) {
-                return Err(invalid(
-                    "masses.rod_cg_from_small_end_mm",
-                    la * 1e3,
-                    format!(
-                        "inside the rod: between 0 and the rod length {:.3} mm",
-                        rod_len * 1e3
-                    ),
-                ));
-            }
-            if let Some(i) = masses.rod_inertia
-                && !(i.is_finite() && i > 0.0)
-            {
-                return Err(invalid(
-                    "masses.rod_inertia_kg_m2",
-                    i,
-                    "a positive moment of inertia (kg m²)",
-                ));
-            }
-            if self.rod_model != RodModel::TwoMass && masses.rod_inertia.is_none() {
-                return Err(EngineError::Missing {
-                    key: "masses.rod_inertia_kg_m2",
-                    why: "required for rod_model = \"three-mass\" and \"rigid\"",
-                });
-            }
-        }
+        let masses = self.checked_masses()?;
         let op = self.operating;
-        if let Some(rpm) = op.rpm
-            && !(rpm.is_finite() && rpm > 0.0)
-        {
-            return Err(invalid("operating.rpm", rpm, "a positive speed (rpm)"));
-        }
-        if !(op.crankcase_pressure.is_finite() && op.crankcase_pressure >= 0.0) {
-            return Err(invalid(
-                "operating.crankcase_pressure_bar",
-                op.crankcase_pressure / 1e5,
-                "an absolute pressure of 0 or more (bar)",
-            ));
-        }
-        if !(op.mechanical_efficiency > 0.0 && op.mechanical_efficiency <= 1.0) {
-            return Err(invalid(
-                "operating.mechanical_efficiency",
-                op.mechanical_efficiency,
-                "in (0, 1]",
-            ));
-        }
+        check_operating(&op)?;
         check_flywheel(&self.flywheel)?;
         let cylinder_spacing = match self.cylinder_spacing {
             Some(s) if s.is_finite() && s > 0.0 => s,
@@ -699,49 +613,16 @@ impl EngineBuilder {
                 ),
             ));
         }
-        let (firing_order, firing_order_given, split_pins) = match self.firing_order {
-            Some(f) => (f, true, self.split_pins),
-            None if z == 1 => (vec![1], true, self.split_pins),
-            None if search && self.firing_angles.is_none() && self.crank_angles.is_none() => {
-                // Any crank will be searched: fire evenly in numbering order,
-                // on split pins in a vee so that any order fits.
-                (
-                    (1..=z).collect(),
-                    false,
-                    matches!(layout, Layout::Vee { .. }),
-                )
-            }
-            None if search => {
-                return Err(EngineError::Missing {
-                    key: "firing_order",
-                    why: "required with `firing_angles_deg` or `crank_angles_deg`; leave those out too to search every crank",
-                });
-            }
-            None => {
-                return Err(EngineError::Missing {
-                    key: "firing_order",
-                    why: "required for more than one cylinder; `enginedyn firing-orders --all-cranks --engine FILE` runs without it and ranks the cranks and firing orders this layout allows",
-                });
-            }
-        };
-        let mut seen = vec![false; z];
-        if firing_order.len() != z {
-            return Err(invalid(
-                "firing_order",
-                format!("{firing_order:?}"),
-                format!("each of the {z} cylinders once"),
-            ));
-        }
-        for &c in &firing_order {
-            if c == 0 || c > z || seen[c - 1] {
-                return Err(invalid(
-                    "firing_order",
-                    format!("{firing_order:?}"),
-                    format!("each cylinder 1..{z} exactly once"),
-                ));
-            }
-            seen[c - 1] = true;
-        }
+        let has_angles = self.firing_angles.is_some() || self.crank_angles.is_some();
+        let (firing_order, firing_order_given, split_pins) = firing_order_or_default(
+            self.firing_order,
+            z,
+            layout,
+            search,
+            self.split_pins,
+            has_angles,
+        )?;
+        check_firing_order(&firing_order, z)?;
         let pins = Pins::new(layout, z, split_pins);
         let (firing_angles, crank_angles) = firing(
             self.stroke,
@@ -775,6 +656,169 @@ impl EngineBuilder {
             combustion: None,
         })
     }
+
+    /// The masses checked, with the rod's centre of gravity (0.725 of the
+    /// rod from its small end when not given) for a crank-slider.
+    fn checked_masses(&self) -> Result<Masses, EngineError> {
+        let is_yoke = matches!(self.mechanism, Mechanism::ScotchYoke(_));
+        let mut masses = self.masses;
+        if !(masses.piston_group.is_finite() && masses.piston_group > 0.0) {
+            return Err(invalid(
+                "masses.piston_group_kg",
+                masses.piston_group,
+                "a positive mass (kg)",
+            ));
+        }
+        if !(masses.crank_unbalanced.is_finite() && masses.crank_unbalanced >= 0.0) {
+            return Err(invalid(
+                "masses.crank_unbalanced_kg",
+                masses.crank_unbalanced,
+                "a mass of 0 or more (kg)",
+            ));
+        }
+        let rod_len = match self.mechanism {
+            Mechanism::CrankSlider(cs) => cs.l(),
+            Mechanism::ScotchYoke(_) => 0.0,
+        };
+        if is_yoke {
+            return Ok(masses);
+        }
+        if !(masses.rod.is_finite() && masses.rod > 0.0) {
+            return Err(invalid("masses.rod_kg", masses.rod, "a positive mass (kg)"));
+        }
+        masses.rod_cg_from_small_end = self.rod_cg_from_small_end.unwrap_or(0.725 * rod_len);
+        let la = masses.rod_cg_from_small_end;
+        if !(la > 0.0 && la < rod_len) {
+            return Err(invalid(
+                "masses.rod_cg_from_small_end_mm",
+                la * 1e3,
+                format!(
+                    "inside the rod: between 0 and the rod length {:.3} mm",
+                    rod_len * 1e3
+                ),
+            ));
+        }
+        if let Some(i) = masses.rod_inertia
+            && !(i.is_finite() && i > 0.0)
+        {
+            return Err(invalid(
+                "masses.rod_inertia_kg_m2",
+                i,
+                "a positive moment of inertia (kg m²)",
+            ));
+        }
+        if self.rod_model != RodModel::TwoMass && masses.rod_inertia.is_none() {
+            return Err(EngineError::Missing {
+                key: "masses.rod_inertia_kg_m2",
+                why: "required for rod_model = \"three-mass\" and \"rigid\"",
+            });
+        }
+        Ok(masses)
+    }
+}
+
+/// `z` cylinders fit the `layout`: a vee or a boxer has an even number, a
+/// vee's bank angle lies between 0 and 180°.
+fn check_layout(layout: Layout, z: usize) -> Result<(), EngineError> {
+    match layout {
+        Layout::Vee { bank_angle } => {
+            if !z.is_multiple_of(2) {
+                return Err(invalid("cylinders", z, "an even number for a vee"));
+            }
+            if !(bank_angle > 0.0 && bank_angle < PI) {
+                return Err(invalid(
+                    "bank_angle_deg",
+                    bank_angle.to_degrees(),
+                    "between 0 and 180°",
+                ));
+            }
+        }
+        Layout::Boxer if !z.is_multiple_of(2) => {
+            return Err(invalid("cylinders", z, "an even number for a boxer"));
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
+/// The operating point's speed, crankcase pressure and mechanical
+/// efficiency within their bounds.
+fn check_operating(op: &Operating) -> Result<(), EngineError> {
+    if let Some(rpm) = op.rpm
+        && !(rpm.is_finite() && rpm > 0.0)
+    {
+        return Err(invalid("operating.rpm", rpm, "a positive speed (rpm)"));
+    }
+    if !(op.crankcase_pressure.is_finite() && op.crankcase_pressure >= 0.0) {
+        return Err(invalid(
+            "operating.crankcase_pressure_bar",
+            op.crankcase_pressure / 1e5,
+            "an absolute pressure of 0 or more (bar)",
+        ));
+    }
+    if !(op.mechanical_efficiency > 0.0 && op.mechanical_efficiency <= 1.0) {
+        return Err(invalid(
+            "operating.mechanical_efficiency",
+            op.mechanical_efficiency,
+            "in (0, 1]",
+        ));
+    }
+    Ok(())
+}
+
+/// The firing order (given, or for one cylinder `[1]`), whether it was
+/// given, and whether the pins are split. With `search` and no angles
+/// given (`has_angles`), any crank will be searched: the cylinders fire
+/// evenly in numbering order, on split pins in a vee so that any order
+/// fits. Otherwise a firing order is required for more than one cylinder.
+fn firing_order_or_default(
+    given: Option<Vec<usize>>,
+    z: usize,
+    layout: Layout,
+    search: bool,
+    split_pins: bool,
+    has_angles: bool,
+) -> Result<(Vec<usize>, bool, bool), EngineError> {
+    match given {
+        Some(f) => Ok((f, true, split_pins)),
+        None if z == 1 => Ok((vec![1], true, split_pins)),
+        None if search && !has_angles => Ok((
+            (1..=z).collect(),
+            false,
+            matches!(layout, Layout::Vee { .. }),
+        )),
+        None if search => Err(EngineError::Missing {
+            key: "firing_order",
+            why: "required with `firing_angles_deg` or `crank_angles_deg`; leave those out too to search every crank",
+        }),
+        None => Err(EngineError::Missing {
+            key: "firing_order",
+            why: "required for more than one cylinder; `enginedyn firing-orders --all-cranks --engine FILE` runs without it and ranks the cranks and firing orders this layout allows",
+        }),
+    }
+}
+
+/// Each of the `z` cylinders exactly once in `firing_order`.
+fn check_firing_order(firing_order: &[usize], z: usize) -> Result<(), EngineError> {
+    let mut seen = vec![false; z];
+    if firing_order.len() != z {
+        return Err(invalid(
+            "firing_order",
+            format!("{firing_order:?}"),
+            format!("each of the {z} cylinders once"),
+        ));
+    }
+    for &c in firing_order {
+        if c == 0 || c > z || seen[c - 1] {
+            return Err(invalid(
+                "firing_order",
+                format!("{firing_order:?}"),
+                format!("each cylinder 1..{z} exactly once"),
+            ));
+        }
+        seen[c - 1] = true;
+    }
+    Ok(())
 }
 
 fn check_flywheel(f: &FlywheelSpec) -> Result<(), EngineError> {

@@ -12,7 +12,8 @@ use enginedyn_forces::{Setup, cylinder_forces};
 use enginedyn_ingest::Resampled;
 use enginedyn_numerics::format::{fixed, human, sig};
 use enginedyn_torsion::{
-    Complex64, CrankTrain, Damper, Layout, Modes, Solver, Synthesis, critical_speed_rpm, crossings,
+    Complex64, CrankTrain, Crossing, Damper, Layout, Modes, Solver, Synthesis, critical_speed_rpm,
+    crossings,
 };
 use std::f64::consts::PI;
 
@@ -76,7 +77,66 @@ pub fn crank_train(
     let t = engine.throws();
     let mut notes = Vec::new();
     let warnings = spec.plausibility_notes(engine, rod_model);
-    let throws = match &spec.throw_inertia {
+    let throws = throw_inertias(engine, spec, rod_model, &mut notes)?;
+    notes.push(
+        "each throw carries the reciprocating mass's mean inertia m_j R² (1/2 + λ²/8): its variation over the cycle (secondary resonances) is neglected".into(),
+    );
+    let journal_all = journal_stiffnesses(spec, t, &mut notes)?;
+    let journals = if t > 1 {
+        journal_all.clone()
+    } else {
+        Vec::new()
+    };
+    let last_journal = *journal_all.last().unwrap_or(&0.0);
+    let flywheel = flywheel_mass(engine, spec, sized_flywheel, last_journal, &mut notes)?;
+    let (front, load) = end_masses(spec)?;
+    if spec.damping_ratio == 0.0 {
+        notes.push(match spec.damper {
+            Some(d) if d.damping > 0.0 => "torsion.damping_ratio = 0: only the damper's damping_nm_s_rad damps the chain; a mode that barely moves the damper ring has almost no damping, and the response near its resonances is not trustworthy".into(),
+            _ => "torsion.damping_ratio = 0: undamped resonances have no finite amplitude; the response near them is not trustworthy".into(),
+        });
+    }
+    let train = CrankTrain {
+        front,
+        throws,
+        journals,
+        flywheel,
+        load,
+        damper: spec.damper.map(|d| Damper {
+            inertia: d.inertia,
+            stiffness: d.stiffness,
+            damping: d.damping,
+        }),
+        damping_ratio: spec.damping_ratio,
+    };
+    let diameters = section_diameters(spec, t, front.is_some(), load.is_some(), &mut notes)?;
+    let (mass_keys, spring_keys) = chain_keys(spec, &train);
+    Ok(Train {
+        train,
+        diameters,
+        notes,
+        warnings,
+        mass_keys,
+        spring_keys,
+    })
+}
+
+/// How many journals `torsion`'s per-journal lists hold for `t` throws:
+/// one between each two throws, and one for a single throw.
+fn journals_needed(t: usize) -> usize {
+    t.saturating_sub(1).max(1)
+}
+
+/// Each throw's inertia (kg m²): `torsion.throw_inertia_kg_m2`, else
+/// estimated from the engine's masses (noted).
+fn throw_inertias(
+    engine: &Engine,
+    spec: &TorsionSpec,
+    rod_model: enginedyn_engine::RodModel,
+    notes: &mut Vec<String>,
+) -> Result<Vec<f64>, EngineError> {
+    let t = engine.throws();
+    Ok(match &spec.throw_inertia {
         Some(v) => v.expand(t).ok_or_else(|| {
             count_error(
                 "torsion.throw_inertia_kg_m2",
@@ -93,66 +153,20 @@ pub fn crank_train(
             ));
             est
         }
-    };
-    notes.push(
-        "each throw carries the reciprocating mass's mean inertia m_j R² (1/2 + λ²/8): its variation over the cycle (secondary resonances) is neglected".into(),
-    );
+    })
+}
+
+/// Each journal's stiffness (N m/rad), one per journal between `t` throws
+/// (one for a single throw): `torsion.journal_stiffness_nm_rad`, else from
+/// the journals' diameters and lengths (noted).
+fn journal_stiffnesses(
+    spec: &TorsionSpec,
+    t: usize,
+    notes: &mut Vec<String>,
+) -> Result<Vec<f64>, EngineError> {
     let journal_key = "torsion.journal_stiffness_nm_rad";
-    let journals_needed = t.saturating_sub(1).max(1);
-    let from_geometry = |d: &PerItem, l: &PerItem| -> Result<Vec<f64>, EngineError> {
-        let n = t.saturating_sub(1).max(1);
-        let d = d.expand(n).ok_or_else(|| {
-            count_error(
-                "torsion.journal_diameter_mm",
-                d.values().len(),
-                n,
-                "one per journal between throws",
-            )
-        })?;
-        let l = l.expand(n).ok_or_else(|| {
-            count_error(
-                "torsion.journal_length_mm",
-                l.values().len(),
-                n,
-                "one per journal between throws",
-            )
-        })?;
-        // Each diameter and length is within its bounds, but d⁴ / l need
-        // not be: the stiffness itself against the journal's bounds.
-        d.iter()
-            .zip(&l)
-            .enumerate()
-            .map(|(i, (d, l))| {
-                let k = shaft_stiffness(*d, *l);
-                Key::JournalStiffness.check(None, k).map_err(|_| {
-                    let item = |key: Key, v: &PerItem| {
-                        key.item(matches!(v, PerItem::Each(_)).then_some(i))
-                    };
-                    let (lo, hi) = Key::JournalStiffness.bound().hard;
-                    EngineError::InvalidItem {
-                        key: format!(
-                            "{}` and `{}",
-                            item(Key::JournalDiameter, spec.journal_diameter.as_ref().unwrap_or(&PerItem::One(0.0))),
-                            item(Key::JournalLength, spec.journal_length.as_ref().unwrap_or(&PerItem::One(0.0)))
-                        ),
-                        value: format!(
-                            "{} mm and {} mm, a stiffness G π d⁴ / (32 l) of {} N m/rad",
-                            human(d * 1e3),
-                            human(l * 1e3),
-                            human(k)
-                        ),
-                        expected: format!(
-                            "a stiffness from {} to {} N m/rad, {}'s bounds: beyond, the chain's frequencies overflow or lose all precision",
-                            human(lo),
-                            human(hi),
-                            Key::JournalStiffness.name()
-                        ),
-                    }
-                })
-            })
-            .collect()
-    };
-    let journal_all: Vec<f64> = match (
+    let journals_needed = journals_needed(t);
+    match (
         &spec.journal_stiffness,
         &spec.journal_diameter,
         &spec.journal_length,
@@ -164,29 +178,94 @@ pub fn crank_train(
                 journals_needed,
                 "one per journal between throws",
             )
-        })?,
+        }),
         (None, Some(d), Some(l)) => {
-            let k = from_geometry(d, l)?;
+            let k = journal_stiffness_from_geometry(spec, t, d, l)?;
             notes.push(format!(
                 "journal stiffness from journal_diameter_mm and journal_length_mm as a plain steel shaft G π d⁴ / (32 l), G = 80.8 GPa: {} N m/rad (webs and pins make a real throw softer)",
                 human(k[0])
             ));
-            k
+            Ok(k)
         }
-        _ => {
-            return Err(missing(
-                journal_key,
-                "the stiffness between throws, or journal_diameter_mm and journal_length_mm",
-            )
-            .into());
-        }
-    };
-    let journals = if t > 1 {
-        journal_all.clone()
-    } else {
-        Vec::new()
-    };
-    let last_journal = *journal_all.last().unwrap_or(&0.0);
+        _ => Err(missing(
+            journal_key,
+            "the stiffness between throws, or journal_diameter_mm and journal_length_mm",
+        )),
+    }
+}
+
+/// Each journal's stiffness as a plain steel shaft of diameter `d` and
+/// length `l` ([`shaft_stiffness`]), held to the journal stiffness's
+/// bounds.
+fn journal_stiffness_from_geometry(
+    spec: &TorsionSpec,
+    t: usize,
+    d: &PerItem,
+    l: &PerItem,
+) -> Result<Vec<f64>, EngineError> {
+    let n = journals_needed(t);
+    let d = d.expand(n).ok_or_else(|| {
+        count_error(
+            "torsion.journal_diameter_mm",
+            d.values().len(),
+            n,
+            "one per journal between throws",
+        )
+    })?;
+    let l = l.expand(n).ok_or_else(|| {
+        count_error(
+            "torsion.journal_length_mm",
+            l.values().len(),
+            n,
+            "one per journal between throws",
+        )
+    })?;
+    // Each diameter and length is within its bounds, but d⁴ / l need
+    // not be: the stiffness itself against the journal's bounds.
+    d.iter()
+        .zip(&l)
+        .enumerate()
+        .map(|(i, (d, l))| {
+            let k = shaft_stiffness(*d, *l);
+            Key::JournalStiffness.check(None, k).map_err(|_| {
+                let item = |key: Key, v: &PerItem| {
+                    key.item(matches!(v, PerItem::Each(_)).then_some(i))
+                };
+                let (lo, hi) = Key::JournalStiffness.bound().hard;
+                EngineError::InvalidItem {
+                    key: format!(
+                        "{}` and `{}",
+                        item(Key::JournalDiameter, spec.journal_diameter.as_ref().unwrap_or(&PerItem::One(0.0))),
+                        item(Key::JournalLength, spec.journal_length.as_ref().unwrap_or(&PerItem::One(0.0)))
+                    ),
+                    value: format!(
+                        "{} mm and {} mm, a stiffness G π d⁴ / (32 l) of {} N m/rad",
+                        human(d * 1e3),
+                        human(l * 1e3),
+                        human(k)
+                    ),
+                    expected: format!(
+                        "a stiffness from {} to {} N m/rad, {}'s bounds: beyond, the chain's frequencies overflow or lose all precision",
+                        human(lo),
+                        human(hi),
+                        Key::JournalStiffness.name()
+                    ),
+                }
+            })
+        })
+        .collect()
+}
+
+/// The flywheel's (inertia kg m², stiffness N m/rad): each from
+/// `[torsion]`, else the sized flywheel plus the other rotating inertia,
+/// and the last journal's stiffness (noted).
+fn flywheel_mass(
+    engine: &Engine,
+    spec: &TorsionSpec,
+    sized_flywheel: Option<f64>,
+    last_journal: f64,
+    notes: &mut Vec<String>,
+) -> Result<(f64, f64), EngineError> {
     let flywheel_k = match spec.flywheel_stiffness {
         Some(k) => k,
         None => {
@@ -211,17 +290,24 @@ pub fn crank_train(
             return Err(missing(
                 "torsion.flywheel_inertia_kg_m2",
                 "no flywheel was sized (the engine delivers no work): give the flywheel's inertia",
-            )
-            .into());
+            ));
         }
     };
     if !(flywheel_j > 0.0) {
         return Err(missing(
             "torsion.flywheel_inertia_kg_m2",
             "the sized flywheel is 0 (none needed): give the flywheel's inertia",
-        )
-        .into());
+        ));
     }
+    Ok((flywheel_j, flywheel_k))
+}
+
+/// A (inertia, stiffness) at an end of the chain.
+type EndMass = Option<(f64, f64)>;
+
+/// The front mass (before throw 1) and the driven load (after the
+/// flywheel), each with its spring, where `[torsion]` gives them.
+fn end_masses(spec: &TorsionSpec) -> Result<(EndMass, EndMass), EngineError> {
     let front = if spec.front_inertia > 0.0 {
         let k = spec.front_stiffness.ok_or_else(|| {
             missing(
@@ -240,43 +326,37 @@ pub fn crank_train(
             return Err(missing(
                 "torsion.load_stiffness_nm_rad",
                 "the coupling's stiffness to the load",
-            )
-            .into());
+            ));
         }
         (None, Some(_)) => {
-            return Err(missing("torsion.load_inertia_kg_m2", "the driven load's inertia").into());
+            return Err(missing(
+                "torsion.load_inertia_kg_m2",
+                "the driven load's inertia",
+            ));
         }
     };
-    if spec.damping_ratio == 0.0 {
-        notes.push(match spec.damper {
-            Some(d) if d.damping > 0.0 => "torsion.damping_ratio = 0: only the damper's damping_nm_s_rad damps the chain; a mode that barely moves the damper ring has almost no damping, and the response near its resonances is not trustworthy".into(),
-            _ => "torsion.damping_ratio = 0: undamped resonances have no finite amplitude; the response near them is not trustworthy".into(),
-        });
-    }
-    let train = CrankTrain {
-        front,
-        throws,
-        journals,
-        flywheel: (flywheel_j, flywheel_k),
-        load,
-        damper: spec.damper.map(|d| Damper {
-            inertia: d.inertia,
-            stiffness: d.stiffness,
-            damping: d.damping,
-        }),
-        damping_ratio: spec.damping_ratio,
-    };
-    // Section diameters: the crankshaft's sections (front, journals,
-    // flywheel) from shaft_diameter_mm, else the journal diameter; none for
-    // a load coupling.
-    let crank_sections = usize::from(front.is_some()) + t;
+    Ok((front, load))
+}
+
+/// Section diameters for the shear stress: the crankshaft's sections
+/// (front, journals, flywheel) from shaft_diameter_mm, else the journal
+/// diameter; none for a load coupling (all noted).
+fn section_diameters(
+    spec: &TorsionSpec,
+    t: usize,
+    has_front: bool,
+    has_load: bool,
+    notes: &mut Vec<String>,
+) -> Result<Vec<Option<f64>>, EngineError> {
+    let journals_needed = journals_needed(t);
+    let crank_sections = usize::from(has_front) + t;
     let per_journal = |v: &PerItem, key: &'static str| -> Result<Vec<f64>, EngineError> {
         match v {
             PerItem::One(d) => Ok(vec![*d; crank_sections]),
             PerItem::Each(list) if list.len() == crank_sections => Ok(list.clone()),
             PerItem::Each(list) if list.len() == journals_needed => {
                 let mut out = Vec::with_capacity(crank_sections);
-                if front.is_some() {
+                if has_front {
                     out.push(list[0]);
                 }
                 out.extend(list.iter().take(t - 1));
@@ -308,21 +388,13 @@ pub fn crank_train(
             vec![None; crank_sections]
         }
     };
-    if load.is_some() {
+    if has_load {
         diameters.push(None);
         notes.push(
             "the load coupling's stress is not computed (null): it is no crankshaft section".into(),
         );
     }
-    let (mass_keys, spring_keys) = chain_keys(spec, &train);
-    Ok(Train {
-        train,
-        diameters,
-        notes,
-        warnings,
-        mass_keys,
-        spring_keys,
-    })
+    Ok(diameters)
 }
 
 /// The key of each mass and spring of `train`'s chain, in the chain's
@@ -839,7 +911,7 @@ pub fn study(
     for &rpm in rpms {
         rows.push(response.row(rpm)?);
     }
-    let (lo, hi) = rpms
+    let range = rpms
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &r| {
             (a.min(r), b.max(r))
@@ -848,90 +920,15 @@ pub fn study(
     let top = excitation.orders.last().copied().unwrap_or(0.0);
     // Mode 0 (the rigid rotation, 0 Hz) meets no order.
     let freqs: Vec<f64> = (0..modes.len()).map(|m| modes.frequency_hz(m)).collect();
-    let found = crossings(&freqs, &excitation.orders, lo, hi);
-    // Each crossing's own amplitude: a sample of its order's curve beside
-    // the grid speeds (a sharp peak near it is then never missed).
-    let mut at_crossing = Vec::with_capacity(found.len());
-    for c in &found {
-        at_crossing.push(response.order_deg(c.order, c.rpm)?);
-    }
-    let damped = chain.is_damped();
-    let mut resonances = Vec::with_capacity(found.len());
-    for (i, c) in found.iter().enumerate() {
-        let o = c.order;
-        let k = excitation.orders[o];
-        // The mode's band: up to the geometric means with its neighbours'
-        // frequencies, as speeds of this order, inside the speed range.
-        let m = c.mode;
-        let below = if m > 1 {
-            (freqs[m - 1] * freqs[m]).sqrt()
-        } else {
-            0.0
-        };
-        let above = freqs
-            .get(m + 1)
-            .map_or(f64::INFINITY, |f| (freqs[m] * f).sqrt());
-        let band = (
-            critical_speed_rpm(below, k).max(lo),
-            critical_speed_rpm(above, k).min(hi),
-        );
-        let (rpm, amplitude_deg, edge) = if damped {
-            let inside = |x: f64| x >= band.0 && x <= band.1;
-            let mut samples: Vec<(f64, f64)> = vec![(c.rpm, at_crossing[i])];
-            for e in [band.0, band.1] {
-                if e > lo && e < hi {
-                    samples.push((e, response.order_deg(o, e)?));
-                }
-            }
-            samples.extend(
-                found
-                    .iter()
-                    .zip(&at_crossing)
-                    .filter(|(d, _)| d.order == o && inside(d.rpm))
-                    .map(|(d, &a)| (d.rpm, a)),
-            );
-            samples.extend(
-                rows.iter()
-                    .filter(|r| inside(r.rpm))
-                    .map(|r| (r.rpm, r.order_deg[o])),
-            );
-            let (xs, ys) = sorted(samples);
-            let start = xs.partition_point(|&x| x < c.rpm);
-            let p = enginedyn_torsion::climb(
-                &xs,
-                &ys,
-                start,
-                |rpm| response.order_deg(o, rpm),
-                PEAK_TOLERANCE_RPM,
-            )?;
-            let near = |e: f64| (p.x - e).abs() <= 2.0 * PEAK_TOLERANCE_RPM + 1e-9 * e.abs();
-            let edge = if !p.at_end {
-                None
-            } else if near(lo) || near(hi) {
-                Some(PeakEdge::RangeEnd)
-            } else {
-                Some(PeakEdge::ModeBand)
-            };
-            (p.x, p.y, edge)
-        } else {
-            // No damping: no finite peak; the crossing, as the note says.
-            (c.rpm, at_crossing[i], None)
-        };
-        resonances.push(Resonance {
-            order: k,
-            mode: m,
-            crossing_rpm: c.rpm,
-            rpm,
-            amplitude_deg,
-            crossing_amplitude_deg: at_crossing[i],
-            edge,
-        });
-    }
-    resonances.sort_by(|a, b| {
-        b.amplitude_deg
-            .total_cmp(&a.amplitude_deg)
-            .then(a.crossing_rpm.total_cmp(&b.crossing_rpm))
-    });
+    let found = crossings(&freqs, &excitation.orders, range.0, range.1);
+    let resonances = resonances(
+        &mut response,
+        &found,
+        &rows,
+        &freqs,
+        range,
+        chain.is_damped(),
+    )?;
     // The largest free-end angle and section torque: on the grid, at every
     // resonance's peak, and refined between.
     let mut peaks: Vec<f64> = resonances.iter().map(|r| r.rpm).collect();
@@ -949,20 +946,181 @@ pub fn study(
             at_range_end,
         },
     );
-    let max_section_torque = match largest(&mut response, &rows, &extra, |r| {
-        r.largest_section().map(|s| s.1)
-    })? {
-        Some((rpm, _, at_range_end)) => {
-            let row = response.row(rpm)?;
-            row.largest_section().map(|(s, value)| Largest {
-                rpm,
-                value,
-                section: Some(s),
-                at_range_end,
-            })
-        }
-        None => None,
+    let max_section_torque = largest_section_torque(&mut response, &rows, &extra)?;
+    notes.extend(peak_edge_notes(&resonances));
+    notes.extend(orders_beyond_note(&freqs, range.0, top));
+    drop(response);
+    Ok(Study {
+        layout,
+        inertia,
+        stiffness,
+        modes,
+        orders: excitation.orders.clone(),
+        firings_per_revolution: excitation.firings_per_revolution,
+        rows,
+        resonances,
+        max_free_end,
+        max_section_torque,
+        notes,
+    })
+}
+
+/// Each crossing in `found` as a [`Resonance`], largest amplitude first:
+/// with `damped`, its peak climbed to within the mode's band of the speed
+/// `range` (lo, hi rpm); undamped, the crossing itself (no finite peak).
+/// `rows` are the grid's rows, `freqs` the modes' frequencies (Hz).
+fn resonances(
+    response: &mut Response<'_>,
+    found: &[Crossing],
+    rows: &[Row],
+    freqs: &[f64],
+    range: (f64, f64),
+    damped: bool,
+) -> Result<Vec<Resonance>, enginedyn_torsion::TorsionError> {
+    // Each crossing's own amplitude: a sample of its order's curve beside
+    // the grid speeds (a sharp peak near it is then never missed).
+    let mut at_crossing = Vec::with_capacity(found.len());
+    for c in found {
+        at_crossing.push(response.order_deg(c.order, c.rpm)?);
+    }
+    let mut resonances = Vec::with_capacity(found.len());
+    for (i, c) in found.iter().enumerate() {
+        let k = response.excitation.orders[c.order];
+        let band = mode_band(freqs, c.mode, k, range);
+        let (rpm, amplitude_deg, edge) = if damped {
+            let samples = band_samples(response, i, band, found, &at_crossing, rows, range)?;
+            climb_in_band(response, c, samples, range)?
+        } else {
+            // No damping: no finite peak; the crossing, as the note says.
+            (c.rpm, at_crossing[i], None)
+        };
+        resonances.push(Resonance {
+            order: k,
+            mode: c.mode,
+            crossing_rpm: c.rpm,
+            rpm,
+            amplitude_deg,
+            crossing_amplitude_deg: at_crossing[i],
+            edge,
+        });
+    }
+    resonances.sort_by(|a, b| {
+        b.amplitude_deg
+            .total_cmp(&a.amplitude_deg)
+            .then(a.crossing_rpm.total_cmp(&b.crossing_rpm))
+    });
+    Ok(resonances)
+}
+
+/// Mode `m`'s band as speeds (rpm) of order `k`: up to the geometric means
+/// with its neighbours' frequencies `freqs`, inside the speed `range`.
+fn mode_band(freqs: &[f64], m: usize, k: f64, (lo, hi): (f64, f64)) -> (f64, f64) {
+    let below = if m > 1 {
+        (freqs[m - 1] * freqs[m]).sqrt()
+    } else {
+        0.0
     };
+    let above = freqs
+        .get(m + 1)
+        .map_or(f64::INFINITY, |f| (freqs[m] * f).sqrt());
+    (
+        critical_speed_rpm(below, k).max(lo),
+        critical_speed_rpm(above, k).min(hi),
+    )
+}
+
+/// What is known of crossing `i`'s order curve in its mode's `band`,
+/// `(rpm, deg)` sorted by speed: the crossing, the band's ends inside the
+/// speed `range`, the other crossings of the order and the grid's rows.
+fn band_samples(
+    response: &mut Response<'_>,
+    i: usize,
+    band: (f64, f64),
+    found: &[Crossing],
+    at_crossing: &[f64],
+    rows: &[Row],
+    (lo, hi): (f64, f64),
+) -> Result<(Vec<f64>, Vec<f64>), enginedyn_torsion::TorsionError> {
+    let c = &found[i];
+    let o = c.order;
+    let inside = |x: f64| x >= band.0 && x <= band.1;
+    let mut samples: Vec<(f64, f64)> = vec![(c.rpm, at_crossing[i])];
+    for e in [band.0, band.1] {
+        if e > lo && e < hi {
+            samples.push((e, response.order_deg(o, e)?));
+        }
+    }
+    samples.extend(
+        found
+            .iter()
+            .zip(at_crossing)
+            .filter(|(d, _)| d.order == o && inside(d.rpm))
+            .map(|(d, &a)| (d.rpm, a)),
+    );
+    samples.extend(
+        rows.iter()
+            .filter(|r| inside(r.rpm))
+            .map(|r| (r.rpm, r.order_deg[o])),
+    );
+    Ok(sorted(samples))
+}
+
+/// The peak of crossing `c`'s order curve climbed from the crossing over
+/// `samples` (speeds, values): its speed, amplitude and, where it is at an
+/// end, which end (of the speed `range`, or of the mode's band).
+fn climb_in_band(
+    response: &mut Response<'_>,
+    c: &Crossing,
+    (xs, ys): (Vec<f64>, Vec<f64>),
+    (lo, hi): (f64, f64),
+) -> Result<(f64, f64, Option<PeakEdge>), enginedyn_torsion::TorsionError> {
+    let o = c.order;
+    let start = xs.partition_point(|&x| x < c.rpm);
+    let p = enginedyn_torsion::climb(
+        &xs,
+        &ys,
+        start,
+        |rpm| response.order_deg(o, rpm),
+        PEAK_TOLERANCE_RPM,
+    )?;
+    let near = |e: f64| (p.x - e).abs() <= 2.0 * PEAK_TOLERANCE_RPM + 1e-9 * e.abs();
+    let edge = if !p.at_end {
+        None
+    } else if near(lo) || near(hi) {
+        Some(PeakEdge::RangeEnd)
+    } else {
+        Some(PeakEdge::ModeBand)
+    };
+    Ok((p.x, p.y, edge))
+}
+
+/// The largest section torque over `rows` and `extra`, refined between
+/// ([`largest`]), with the section it is in.
+fn largest_section_torque(
+    response: &mut Response<'_>,
+    rows: &[Row],
+    extra: &[Row],
+) -> Result<Option<Largest>, enginedyn_torsion::TorsionError> {
+    Ok(
+        match largest(response, rows, extra, |r| r.largest_section().map(|s| s.1))? {
+            Some((rpm, _, at_range_end)) => {
+                let row = response.row(rpm)?;
+                row.largest_section().map(|(s, value)| Largest {
+                    rpm,
+                    value,
+                    section: Some(s),
+                    at_range_end,
+                })
+            }
+            None => None,
+        },
+    )
+}
+
+/// One note for each kind of [`PeakEdge`] among `resonances`: which have
+/// no peak near their crossing, and why.
+fn peak_edge_notes(resonances: &[Resonance]) -> Vec<String> {
+    let mut notes = Vec::new();
     for edge in [PeakEdge::RangeEnd, PeakEdge::ModeBand] {
         let ends: Vec<&Resonance> = resonances.iter().filter(|r| r.edge == Some(edge)).collect();
         if ends.is_empty() {
@@ -1001,40 +1159,32 @@ pub fn study(
             list.join(", ")
         ));
     }
-    // Modes that orders above the highest computed meet in the range.
-    let beyond: Vec<(usize, f64)> = (1..modes.len())
+    notes
+}
+
+/// The note on modes (frequencies `freqs`, Hz) that orders above the
+/// highest computed, `top`, meet in the speed range from `lo` rpm; said
+/// once, with the modes it concerns.
+fn orders_beyond_note(freqs: &[f64], lo: f64, top: f64) -> Option<String> {
+    let beyond: Vec<(usize, f64)> = (1..freqs.len())
         .map(|m| (m, freqs[m]))
         .filter(|&(_, f)| lo > 0.0 && critical_speed_rpm(f, top) > lo)
         .collect();
-    // Said once, with the modes it concerns.
-    if let (Some(&(m0, f0)), Some(&(m1, f1))) = (beyond.first(), beyond.last()) {
-        let which = if m0 == m1 {
-            format!("mode {m0} ({} Hz) meets", human(f0))
-        } else {
-            format!(
-                "{} modes, {m0} to {m1} ({} to {} Hz), meet",
-                beyond.len(),
-                human(f0),
-                human(f1)
-            )
-        };
-        notes.push(format!(
-            "{which} orders above {} in the speed range: those orders are not computed, so their resonances there are missing",
-            human(top)
-        ));
-    }
-    drop(response);
-    Ok(Study {
-        layout,
-        inertia,
-        stiffness,
-        modes,
-        orders: excitation.orders.clone(),
-        firings_per_revolution: excitation.firings_per_revolution,
-        rows,
-        resonances,
-        max_free_end,
-        max_section_torque,
-        notes,
-    })
+    let (Some(&(m0, f0)), Some(&(m1, f1))) = (beyond.first(), beyond.last()) else {
+        return None;
+    };
+    let which = if m0 == m1 {
+        format!("mode {m0} ({} Hz) meets", human(f0))
+    } else {
+        format!(
+            "{} modes, {m0} to {m1} ({} to {} Hz), meet",
+            beyond.len(),
+            human(f0),
+            human(f1)
+        )
+    };
+    Some(format!(
+        "{which} orders above {} in the speed range: those orders are not computed, so their resonances there are missing",
+        human(top)
+    ))
 }

@@ -978,7 +978,6 @@ pub fn run_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
 /// accordingly (`--angles centered`).
 pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Figure> {
     let n = a.torque.total.len();
-    let has_pressure = !a.pressure.is_empty();
     let step_deg = a.step.to_degrees();
     let cycle = n as f64 * step_deg;
     // Reference lines span the axis: [0, cycle), or centred.
@@ -988,91 +987,135 @@ pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Fi
     } else {
         (0.0, cycle)
     };
-    let curve = |name: &str, y: &[f64]| periodic(name, y, step_deg, centered);
+    let axis = RunAxis {
+        step_deg,
+        centered,
+        lo,
+        hi,
+    };
     let name = engine.name();
-    let rpm = a.summary.rpm;
-    let kn = |v: &[f64]| v.iter().map(|x| x / 1e3).collect::<Vec<_>>();
+    let has_pressure = !a.pressure.is_empty();
     let mut figs = Vec::new();
-
-    // Pressure: p–φ, and p–V on log-log axes.
     if has_pressure {
-        let bar: Vec<f64> = a.pressure.iter().map(|p| p / 1e5).collect();
-        let litre: Vec<f64> = a.volume.iter().map(|v| v * 1e3).collect();
-        let mut pv = Chart {
-            title: "p–V (log-log)".into(),
-            x_label: "cylinder volume (l)".into(),
-            y_label: "pressure (bar, absolute)".into(),
-            series: vec![Series::from_points(
-                "cylinder 1",
-                litre
-                    .iter()
-                    .copied()
-                    .zip(bar.iter().copied())
-                    .collect::<Vec<_>>()
-                    .into_iter(),
-            )],
-            log: true,
-            equal: false,
-            angle_ticks: None,
-        };
-        let first = pv.series[0].points[0];
-        pv.series[0].points.push(first); // close the loop
-        figs.push(Figure {
-            file: "pressure.svg".into(),
-            panels: vec![
-                Chart::angle(
-                    format!("{name} — cylinder pressure, {rpm:.0} rpm"),
-                    "pressure (bar, absolute)",
-                    vec![curve("p(φ)", &bar)],
-                ),
-                pv,
-            ],
-        });
+        figs.push(pressure_figure(name, a, &axis));
     }
-
     // Kinematics over the cycle of cylinder 1.
-    let r = engine.mechanism().r();
     figs.push(Figure::single(
         "kinematics.svg",
         kinematics_chart_with(
             format!("{name} — piston motion ({})", a.summary.kinematics),
             &a.kinematics,
-            r,
+            engine.mechanism().r(),
             step_deg,
             centered,
         ),
     ));
-
-    // Forces on cylinder 1.
-    let f = &a.forces;
     if has_pressure {
-        figs.push(Figure::single(
-            "forces.svg",
-            Chart::angle(
-                format!(
-                    "{name} — forces on cylinder 1 ({} rod), {rpm:.0} rpm",
-                    a.summary.rod_model
-                ),
-                "force (kN), positive toward the crank / driving",
-                vec![
-                    curve("gas P_g", &kn(&f.gas)),
-                    curve("inertia P_j", &kn(&f.inertia)),
-                    curve("total P", &kn(&f.total)),
-                    curve("side thrust N", &kn(&f.side)),
-                    curve("radial K", &kn(&f.radial)),
-                    curve("tangential T", &kn(&f.tangential)),
-                ],
-            ),
-        ));
+        figs.push(forces_figure(name, a, &axis));
     }
+    figs.push(torque_figure(engine, a, &axis));
+    figs.push(journal_torques_figure(name, a, &axis));
+    if has_pressure {
+        figs.push(crankpin_figure(name, a));
+    }
+    figs.push(flywheel_figure(name, a, &axis));
+    figs.push(harmonics_figure(name, a));
+    figs
+}
 
-    // Torque: indicated curves; the effective mean beside the indicated one
-    // when a mechanical efficiency below 1 sets them apart.
+/// The crank-angle axis of [`run_figures_with`]'s charts: the curves'
+/// step (deg) and whether they are centred on TDC, and the span (`lo`,
+/// `hi`, deg) of reference lines.
+struct RunAxis {
+    step_deg: f64,
+    centered: bool,
+    lo: f64,
+    hi: f64,
+}
+
+impl RunAxis {
+    /// A curve over the cycle on this axis ([`periodic`]).
+    fn curve(&self, name: &str, y: &[f64]) -> Series {
+        periodic(name, y, self.step_deg, self.centered)
+    }
+}
+
+/// Values in N as kN.
+fn kilo(v: &[f64]) -> Vec<f64> {
+    v.iter().map(|x| x / 1e3).collect()
+}
+
+/// Pressure: p–φ, and p–V on log-log axes.
+fn pressure_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
+    let rpm = a.summary.rpm;
+    let bar: Vec<f64> = a.pressure.iter().map(|p| p / 1e5).collect();
+    let litre: Vec<f64> = a.volume.iter().map(|v| v * 1e3).collect();
+    let mut pv = Chart {
+        title: "p–V (log-log)".into(),
+        x_label: "cylinder volume (l)".into(),
+        y_label: "pressure (bar, absolute)".into(),
+        series: vec![Series::from_points(
+            "cylinder 1",
+            litre
+                .iter()
+                .copied()
+                .zip(bar.iter().copied())
+                .collect::<Vec<_>>()
+                .into_iter(),
+        )],
+        log: true,
+        equal: false,
+        angle_ticks: None,
+    };
+    let first = pv.series[0].points[0];
+    pv.series[0].points.push(first); // close the loop
+    Figure {
+        file: "pressure.svg".into(),
+        panels: vec![
+            Chart::angle(
+                format!("{name} — cylinder pressure, {rpm:.0} rpm"),
+                "pressure (bar, absolute)",
+                vec![axis.curve("p(φ)", &bar)],
+            ),
+            pv,
+        ],
+    }
+}
+
+/// Forces on cylinder 1.
+fn forces_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
+    let rpm = a.summary.rpm;
+    let f = &a.forces;
+    Figure::single(
+        "forces.svg",
+        Chart::angle(
+            format!(
+                "{name} — forces on cylinder 1 ({} rod), {rpm:.0} rpm",
+                a.summary.rod_model
+            ),
+            "force (kN), positive toward the crank / driving",
+            vec![
+                axis.curve("gas P_g", &kilo(&f.gas)),
+                axis.curve("inertia P_j", &kilo(&f.inertia)),
+                axis.curve("total P", &kilo(&f.total)),
+                axis.curve("side thrust N", &kilo(&f.side)),
+                axis.curve("radial K", &kilo(&f.radial)),
+                axis.curve("tangential T", &kilo(&f.tangential)),
+            ],
+        ),
+    )
+}
+
+/// Torque: indicated curves; the effective mean beside the indicated one
+/// when a mechanical efficiency below 1 sets them apart.
+fn torque_figure(engine: &Engine, a: &Analysis, axis: &RunAxis) -> Figure {
+    let (name, rpm) = (engine.name(), a.summary.rpm);
+    let (lo, hi) = (axis.lo, axis.hi);
     let mean = a.uniformity.mean;
     let eta = a.summary.mechanical_efficiency;
     let mut torque = vec![
-        curve("cylinder 1, indicated", &f.torque),
-        curve(
+        axis.curve("cylinder 1, indicated", &a.forces.torque),
+        axis.curve(
             &format!("engine ({} cylinders), indicated", engine.cylinders()),
             &a.torque.total,
         ),
@@ -1094,64 +1137,70 @@ pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Fi
             hi,
         ));
     }
-    figs.push(Figure::single(
+    Figure::single(
         "torque.svg",
         Chart::angle(
             format!("{name} — torque, {rpm:.0} rpm"),
             "torque (N m)",
             torque,
         ),
-    ));
+    )
+}
 
-    // Journal torques, counted from the free end.
+/// Journal torques, counted from the free end.
+fn journal_torques_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
     let journals = a
         .torque
         .journals
         .iter()
         .enumerate()
-        .map(|(k, j)| curve(&format!("journal after throw {}", k + 1), j))
+        .map(|(k, j)| axis.curve(&format!("journal after throw {}", k + 1), j))
         .collect();
-    figs.push(Figure::single(
+    Figure::single(
         "journal_torques.svg",
         Chart::angle(
             format!("{name} — main-journal torques (from the free end)"),
             "torque (N m)",
             journals,
         ),
-    ));
+    )
+}
 
-    // Crank-pin load, crank-fixed axes.
-    if has_pressure {
-        let pin: Vec<(f64, f64)> = (0..n)
-            .map(|k| (f.tangential[k] / 1e3, f.pin_radial[k] / 1e3))
-            .collect();
-        let mut polar_pts = pin.clone();
-        polar_pts.push(pin[0]);
-        figs.push(Figure::single(
-            "crankpin_polar.svg",
-            Chart {
-                title: format!(
-                    "{name} — crank-pin load in crank axes, max {:.1} kN",
-                    a.summary.crankpin_load_max_n.unwrap_or(0.0) / 1e3
-                ),
-                x_label: "tangential T (kN), + direction of rotation".into(),
-                y_label: "radial K − K_rB (kN), + toward the axis".into(),
-                series: vec![Series::from_points("pin load", polar_pts.into_iter())],
-                log: false,
-                equal: true,
-                angle_ticks: None,
-            },
-        ));
-    }
+/// Crank-pin load, crank-fixed axes.
+fn crankpin_figure(name: &str, a: &Analysis) -> Figure {
+    let f = &a.forces;
+    let pin: Vec<(f64, f64)> = (0..a.torque.total.len())
+        .map(|k| (f.tangential[k] / 1e3, f.pin_radial[k] / 1e3))
+        .collect();
+    let mut polar_pts = pin.clone();
+    polar_pts.push(pin[0]);
+    Figure::single(
+        "crankpin_polar.svg",
+        Chart {
+            title: format!(
+                "{name} — crank-pin load in crank axes, max {:.1} kN",
+                a.summary.crankpin_load_max_n.unwrap_or(0.0) / 1e3
+            ),
+            x_label: "tangential T (kN), + direction of rotation".into(),
+            y_label: "radial K − K_rB (kN), + toward the axis".into(),
+            series: vec![Series::from_points("pin load", polar_pts.into_iter())],
+            log: false,
+            equal: true,
+            angle_ticks: None,
+        },
+    )
+}
 
-    // Flywheel: excess energy and the speed trace with I_0.
+/// Flywheel: excess energy and the speed trace with I_0.
+fn flywheel_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
+    let (lo, hi) = (axis.lo, axis.hi);
     let mut panels = vec![Chart::angle(
         format!(
             "{name} — excess energy E(φ), ΔE = {:.1} J",
             a.uniformity.excess_work
         ),
         "E (J)",
-        vec![curve("E(φ)", &a.uniformity.excess_energy)],
+        vec![axis.curve("E(φ)", &a.uniformity.excess_energy)],
     )];
     if let Some(fw) = &a.flywheel {
         let rpm_trace: Vec<f64> = fw
@@ -1171,7 +1220,7 @@ pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Fi
             ),
             "speed (rpm)",
             vec![
-                curve("n(φ)", &rpm_trace),
+                axis.curve("n(φ)", &rpm_trace),
                 // The two limits in one style: one series, the pen lifted
                 // between them.
                 Series {
@@ -1188,12 +1237,15 @@ pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Fi
             ],
         ));
     }
-    figs.push(Figure {
+    Figure {
         file: "flywheel.svg".into(),
         panels,
-    });
+    }
+}
 
-    // Harmonics as stems by engine order.
+/// Harmonics as stems by engine order.
+fn harmonics_figure(name: &str, a: &Analysis) -> Figure {
+    let rpm = a.summary.rpm;
     let stems = |h: &[enginedyn_torque::Harmonic], offset: f64| -> Vec<(f64, f64)> {
         h.iter()
             .filter(|x| x.order > 0.0)
@@ -1208,7 +1260,7 @@ pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Fi
     };
     let cyl = stems(&a.cylinder_harmonics, -0.08);
     let eng = stems(&a.engine_harmonics, 0.08);
-    figs.push(Figure::single(
+    Figure::single(
         "harmonics.svg",
         Chart {
             title: format!("{name} — torque harmonics by engine order, {rpm:.0} rpm"),
@@ -1230,8 +1282,7 @@ pub fn run_figures_with(engine: &Engine, a: &Analysis, centered: bool) -> Vec<Fi
             equal: false,
             angle_ticks: None,
         },
-    ));
-    figs
+    )
 }
 
 /// One labelled point of a [`ScatterChart`].
@@ -1335,23 +1386,109 @@ impl ScatterChart {
         use plotters::style::text_anchor::{HPos, Pos, VPos};
         let root = SVGBackend::with_string(svg, SCATTER).into_drawing_area();
         root.fill(&WHITE)?;
-        let pts = || {
-            self.groups
-                .iter()
-                .flat_map(|g| g.points.iter().map(|p| (p.x, p.y)))
-                .chain(self.steps.iter().flat_map(|s| s.1.iter().copied()))
-                .filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0)
+        let (x0, x1, y0, y1) = self.range();
+        let keys = self.legend(y0, y1);
+        let (head, body) = root.split_vertically(head_height(&keys, SCATTER.0 as i32));
+        draw_head(&head, &self.title, &keys)?;
+        let (xt, yt) = (Ticks::log(x0, x1), Ticks::log(y0, y1));
+        let (lx, ly) = ((x0.log10(), x1.log10()), (y0.log10(), y1.log10()));
+        let chart = axes(&body, (lx, &xt), (ly, &yt), (&self.x_label, &self.y_label))?;
+        let plot = chart.plotting_area().strip_coord_spec();
+        let base = plot.get_base_pixel();
+        let (pw, ph) = plot.dim_in_pixel();
+        let px = |x: f64, y: f64| {
+            let (a, b) = chart.backend_coord(&(x.log10(), y.log10()));
+            (a - base.0, b - base.1)
         };
+        let th = (POINT_FONT as f64 / 1.24).ceil() as i32 + 2;
+        // Boxes no label may touch: markers and placed labels.
+        let mut hard: Vec<(i32, i32, i32, i32)> = Vec::new();
+        let mut layout = ScatterLayout {
+            plot: (base.0, base.1, base.0 + pw as i32, base.1 + ph as i32),
+            markers: Vec::new(),
+            labels: Vec::new(),
+        };
+        let whole =
+            |b: (i32, i32, i32, i32)| (b.0 + base.0, b.1 + base.1, b.2 + base.0, b.3 + base.1);
+        self.draw_guides(&plot, &px, (x0, y0, y1))?;
+        let steps = self.draw_steps(&plot, &px, x1)?;
+        // Markers, then labels placed greedily: never on a marker or
+        // another label, as near their point as that allows, off the step
+        // line where they can be.
+        let mut marks = Vec::new();
+        for g in &self.groups {
+            let color = PALETTE[g.style % PALETTE.len()];
+            for p in &g.points {
+                if !(p.x > 0.0 && p.y > 0.0 && p.x.is_finite() && p.y.is_finite()) {
+                    continue;
+                }
+                let at = px(p.x, p.y);
+                draw_marker(&plot, at, g.style, color, g.filled, 6)?;
+                marks.push((at, p.label.clone(), color));
+                let b = (
+                    at.0 - MARK_HALF,
+                    at.1 - MARK_HALF,
+                    at.0 + MARK_HALF,
+                    at.1 + MARK_HALF,
+                );
+                hard.push(b);
+                layout.markers.push(whole(b));
+            }
+        }
+        for (at, label, color) in &marks {
+            if label.is_empty() {
+                continue;
+            }
+            let w = text_width(label, POINT_FONT);
+            let area = (pw as i32, ph as i32);
+            let Some(b) = place_point_label(*at, (w, th), area, &hard, &steps) else {
+                continue;
+            };
+            draw_point_leader(&plot, *at, b, (w, th), *color)?;
+            plot.draw(&Text::new(
+                label.clone(),
+                (b.0, b.1 + 1),
+                ("sans-serif", POINT_FONT)
+                    .into_font()
+                    .color(&BLACK)
+                    .pos(Pos::new(HPos::Left, VPos::Top)),
+            ))?;
+            hard.push(b);
+            layout.labels.push(crate::PlacedLabel {
+                text: label.clone(),
+                major: false,
+                bounds: whole(b),
+            });
+        }
+        root.present()?;
+        Ok(layout)
+    }
+
+    /// The axes' ranges (x0, x1, y0, y1): the finite positive points and
+    /// step corners, with room for the labels to the right (a decade
+    /// each way when there is none).
+    fn range(&self) -> (f64, f64, f64, f64) {
+        let pts = self
+            .groups
+            .iter()
+            .flat_map(|g| g.points.iter().map(|p| (p.x, p.y)))
+            .chain(self.steps.iter().flat_map(|s| s.1.iter().copied()))
+            .filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0);
         let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-        for (x, y) in pts() {
+        for (x, y) in pts {
             (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
         }
         if x0 > x1 {
             (x0, x1, y0, y1) = (0.1, 10.0, 1e-6, 1e-2);
         }
         // Room for the labels to the right.
-        let (x0, x1) = (x0 / 1.3, x1 * 2.5);
-        let (y0, y1) = (y0 / 2.0, y1 * 2.0);
+        (x0 / 1.3, x1 * 2.5, y0 / 2.0, y1 * 2.0)
+    }
+
+    /// The legend: each group's marker, the step line, and the guides
+    /// within `y0..=y1`. The guides are named in the legend: a text on its
+    /// line would cover the markers that crowd near it.
+    fn legend(&self, y0: f64, y1: f64) -> Vec<(String, Key)> {
         let mut keys: Vec<(String, Key)> = self
             .groups
             .iter()
@@ -1376,50 +1513,30 @@ impl ScatterChart {
                 },
             ));
         }
-        // The guides are named in the legend: a text on its line would
-        // cover the markers that crowd near it.
-        let guide = RGBColor(150, 150, 150);
         for (y, text) in &self.guides {
             if (y0..=y1).contains(y) {
                 keys.push((
                     text.clone(),
                     Key::Line {
-                        color: guide,
+                        color: GUIDE,
                         width: 1,
                         dashed: true,
                     },
                 ));
             }
         }
-        let (head, body) = root.split_vertically(head_height(&keys, SCATTER.0 as i32));
-        draw_head(&head, &self.title, &keys)?;
-        let (xt, yt) = (Ticks::log(x0, x1), Ticks::log(y0, y1));
-        let (lx, ly) = ((x0.log10(), x1.log10()), (y0.log10(), y1.log10()));
-        let chart = axes(&body, (lx, &xt), (ly, &yt), (&self.x_label, &self.y_label))?;
-        let plot = chart.plotting_area().strip_coord_spec();
-        let base = plot.get_base_pixel();
-        let (pw, ph) = plot.dim_in_pixel();
-        let px = |x: f64, y: f64| {
-            let (a, b) = chart.backend_coord(&(x.log10(), y.log10()));
-            (a - base.0, b - base.1)
-        };
-        let font = |size: u32, color: RGBColor, h: HPos, v: VPos| {
-            ("sans-serif", size)
-                .into_font()
-                .color(&color)
-                .pos(Pos::new(h, v))
-        };
-        let th = (POINT_FONT as f64 / 1.24).ceil() as i32 + 2;
-        // Boxes no label may touch: markers and placed labels.
-        let mut hard: Vec<(i32, i32, i32, i32)> = Vec::new();
-        let mut layout = ScatterLayout {
-            plot: (base.0, base.1, base.0 + pw as i32, base.1 + ph as i32),
-            markers: Vec::new(),
-            labels: Vec::new(),
-        };
-        let whole =
-            |b: (i32, i32, i32, i32)| (b.0 + base.0, b.1 + base.1, b.2 + base.0, b.3 + base.1);
-        // Guides, faint dashes across the plot (the legend names them).
+        keys
+    }
+
+    /// Guides within `y0..=y1`, faint dashes across the plot from `x0`
+    /// (the legend names them); `px` maps data to the plot's pixels.
+    fn draw_guides(
+        &self,
+        plot: &Area,
+        px: &dyn Fn(f64, f64) -> (i32, i32),
+        (x0, y0, y1): (f64, f64, f64),
+    ) -> Result<(), Box<dyn std::error::Error>> {
+        let pw = plot.dim_in_pixel().0;
         for (y, _) in &self.guides {
             if !(y0..=y1).contains(y) {
                 continue;
@@ -1429,138 +1546,136 @@ impl ScatterChart {
                 let a = k * 12;
                 plot.draw(&PathElement::new(
                     vec![(a, py), ((a + 6).min(pw as i32), py)],
-                    guide.stroke_width(1),
+                    GUIDE.stroke_width(1),
                 ))?;
             }
         }
-        // The step line (labels kept off it where they can be).
-        let mut steps = Vec::new();
-        if let Some((_, corners)) = &self.steps {
-            let mut c: Vec<(f64, f64)> = corners
-                .iter()
-                .copied()
-                .filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0)
-                .collect();
-            c.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let mut line = Vec::with_capacity(2 * c.len() + 1);
-            for (k, &(x, y)) in c.iter().enumerate() {
-                if k > 0 {
-                    line.push(px(x, c[k - 1].1));
-                }
-                line.push(px(x, y));
-            }
-            if let Some(&(_, y)) = c.last() {
-                line.push(px(x1, y));
-            }
-            plot.draw(&PathElement::new(
-                line.clone(),
-                BLACK.mix(0.8).stroke_width(2),
-            ))?;
-            steps = line
-                .windows(2)
-                .map(|w| {
-                    let (a, b) = (w[0], w[1]);
-                    (
-                        a.0.min(b.0) - 2,
-                        a.1.min(b.1) - 2,
-                        a.0.max(b.0) + 2,
-                        a.1.max(b.1) + 2,
-                    )
-                })
-                .collect();
-        }
-        // Markers, then labels placed greedily: never on a marker or
-        // another label, as near their point as that allows, off the step
-        // line where they can be.
-        let mut marks = Vec::new();
-        for g in &self.groups {
-            let color = PALETTE[g.style % PALETTE.len()];
-            for p in &g.points {
-                if !(p.x > 0.0 && p.y > 0.0 && p.x.is_finite() && p.y.is_finite()) {
-                    continue;
-                }
-                let at = px(p.x, p.y);
-                draw_marker(&plot, at, g.style, color, g.filled, 6)?;
-                marks.push((at, p.label.clone(), color));
-                let b = (
-                    at.0 - MARK_HALF,
-                    at.1 - MARK_HALF,
-                    at.0 + MARK_HALF,
-                    at.1 + MARK_HALF,
-                );
-                hard.push(b);
-                layout.markers.push(whole(b));
-            }
-        }
-        for ((x, y), label, color) in &marks {
-            if label.is_empty() {
-                continue;
-            }
-            let w = text_width(label, POINT_FONT);
-            // Candidates ring by ring: right, left, above, below, the
-            // diagonals and between; a leader line joins a label placed away.
-            let mut best: Option<((i32, i32, i32, i32), i64)> = None;
-            'search: for ring in 1..=14 {
-                let d = MARK_HALF + 2 + 9 * (ring - 1);
-                let mut found = false;
-                for (dx, dy) in [
-                    (d, -th / 2),
-                    (-d - w, -th / 2),
-                    (-w / 2, -d - th),
-                    (-w / 2, d),
-                    (d, -d - th / 2),
-                    (d, d - th / 2),
-                    (-d - w, -d - th / 2),
-                    (-d - w, d - th / 2),
-                    (d / 2, -d - th),
-                    (d / 2, d),
-                    (-d / 2 - w, -d - th),
-                    (-d / 2 - w, d),
-                ] {
-                    let b = (x + dx, y + dy, x + dx + w, y + dy + th);
-                    let outside = b.0 < 0 || b.1 < 0 || b.2 > pw as i32 || b.3 > ph as i32;
-                    let blocked = outside || hard.iter().any(|t| overlap(*t, b) > 0);
-                    let soft: i64 = steps.iter().map(|t| overlap(*t, b) as i64).sum();
-                    let cost = if blocked { 1 << 40 } else { 0 } + soft * 4 + ring as i64 * 40;
-                    if best.is_none_or(|(_, c)| cost < c) {
-                        best = Some((b, cost));
-                    }
-                    found |= !blocked && soft == 0;
-                }
-                if found {
-                    break 'search;
-                }
-            }
-            let Some((b, _)) = best else { continue };
-            let (cx, cy) = ((b.0 + b.2) / 2, (b.1 + b.3) / 2);
-            if (cx - x).abs() > w / 2 + 2 * MARK_HALF || (cy - y).abs() > th + 2 * MARK_HALF {
-                // From the marker's edge to the label's nearest side.
-                let ex = cx.clamp(b.0, b.2);
-                let ey = if cy > *y { b.1 } else { b.3 };
-                let (vx, vy) = ((ex - x) as f64, (ey - y) as f64);
-                let len = vx.hypot(vy).max(1.0);
-                let start = (
-                    x + (vx / len * MARK_HALF as f64) as i32,
-                    y + (vy / len * MARK_HALF as f64) as i32,
-                );
-                plot.draw(&PathElement::new(
-                    vec![start, (ex, ey)],
-                    color.mix(0.6).stroke_width(1),
-                ))?;
-            }
-            plot.draw(&Text::new(
-                label.clone(),
-                (b.0, b.1 + 1),
-                font(POINT_FONT, BLACK, HPos::Left, VPos::Top),
-            ))?;
-            hard.push(b);
-            layout.labels.push(crate::PlacedLabel {
-                text: label.clone(),
-                major: false,
-                bounds: whole(b),
-            });
-        }
-        root.present()?;
-        Ok(layout)
+        Ok(())
     }
+
+    /// The step line, on to `x1` after its last corner; the boxes of its
+    /// segments (pixels of the plot), which labels keep off where they can.
+    fn draw_steps(
+        &self,
+        plot: &Area,
+        px: &dyn Fn(f64, f64) -> (i32, i32),
+        x1: f64,
+    ) -> Result<Vec<PixelBox>, Box<dyn std::error::Error>> {
+        let Some((_, corners)) = &self.steps else {
+            return Ok(Vec::new());
+        };
+        let mut c: Vec<(f64, f64)> = corners
+            .iter()
+            .copied()
+            .filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0)
+            .collect();
+        c.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut line = Vec::with_capacity(2 * c.len() + 1);
+        for (k, &(x, y)) in c.iter().enumerate() {
+            if k > 0 {
+                line.push(px(x, c[k - 1].1));
+            }
+            line.push(px(x, y));
+        }
+        if let Some(&(_, y)) = c.last() {
+            line.push(px(x1, y));
+        }
+        plot.draw(&PathElement::new(
+            line.clone(),
+            BLACK.mix(0.8).stroke_width(2),
+        ))?;
+        Ok(line
+            .windows(2)
+            .map(|w| {
+                let (a, b) = (w[0], w[1]);
+                (
+                    a.0.min(b.0) - 2,
+                    a.1.min(b.1) - 2,
+                    a.0.max(b.0) + 2,
+                    a.1.max(b.1) + 2,
+                )
+            })
+            .collect())
+    }
+}
+
+/// The colour of a [`ScatterChart`]'s guides.
+const GUIDE: RGBColor = RGBColor(150, 150, 150);
+
+/// A box in pixels: (left, top, right, bottom).
+type PixelBox = (i32, i32, i32, i32);
+
+/// Where the label of `size` (w, h px) of the marker at `(x, y)` goes in a
+/// plot of `area` (w, h px): candidates ring by ring (right, left, above,
+/// below, the diagonals and between), the first ring with a place on no
+/// `hard` box (markers, labels) and off the `soft` ones (the step line);
+/// else the cheapest place seen.
+fn place_point_label(
+    (x, y): (i32, i32),
+    (w, th): (i32, i32),
+    (pw, ph): (i32, i32),
+    hard: &[PixelBox],
+    soft: &[PixelBox],
+) -> Option<PixelBox> {
+    let mut best: Option<(PixelBox, i64)> = None;
+    for ring in 1..=14 {
+        let d = MARK_HALF + 2 + 9 * (ring - 1);
+        let mut found = false;
+        for (dx, dy) in [
+            (d, -th / 2),
+            (-d - w, -th / 2),
+            (-w / 2, -d - th),
+            (-w / 2, d),
+            (d, -d - th / 2),
+            (d, d - th / 2),
+            (-d - w, -d - th / 2),
+            (-d - w, d - th / 2),
+            (d / 2, -d - th),
+            (d / 2, d),
+            (-d / 2 - w, -d - th),
+            (-d / 2 - w, d),
+        ] {
+            let b = (x + dx, y + dy, x + dx + w, y + dy + th);
+            let outside = b.0 < 0 || b.1 < 0 || b.2 > pw || b.3 > ph;
+            let blocked = outside || hard.iter().any(|t| overlap(*t, b) > 0);
+            let on_soft: i64 = soft.iter().map(|t| overlap(*t, b) as i64).sum();
+            let cost = if blocked { 1 << 40 } else { 0 } + on_soft * 4 + ring as i64 * 40;
+            if best.is_none_or(|(_, c)| cost < c) {
+                best = Some((b, cost));
+            }
+            found |= !blocked && on_soft == 0;
+        }
+        if found {
+            break;
+        }
+    }
+    best.map(|(b, _)| b)
+}
+
+/// A leader from the marker at `(x, y)` to its label `b` of `size` (w, h
+/// px) when the label was placed away from it: from the marker's edge to
+/// the label's nearest side.
+fn draw_point_leader(
+    plot: &Area,
+    (x, y): (i32, i32),
+    b: PixelBox,
+    (w, th): (i32, i32),
+    color: RGBColor,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let (cx, cy) = ((b.0 + b.2) / 2, (b.1 + b.3) / 2);
+    if (cx - x).abs() > w / 2 + 2 * MARK_HALF || (cy - y).abs() > th + 2 * MARK_HALF {
+        let ex = cx.clamp(b.0, b.2);
+        let ey = if cy > y { b.1 } else { b.3 };
+        let (vx, vy) = ((ex - x) as f64, (ey - y) as f64);
+        let len = vx.hypot(vy).max(1.0);
+        let start = (
+            x + (vx / len * MARK_HALF as f64) as i32,
+            y + (vy / len * MARK_HALF as f64) as i32,
+        );
+        plot.draw(&PathElement::new(
+            vec![start, (ex, ey)],
+            color.mix(0.6).stroke_width(1),
+        ))?;
+    }
+    Ok(())
 }

@@ -97,6 +97,213 @@ pub(crate) struct TimeRecord {
     unused: Vec<String>,
 }
 
+/// The angle source that a time record's columns and flags choose, with
+/// what goes with it.
+struct Chosen {
+    source: Source,
+    /// How the firing TDC is told on a four-stroke.
+    firing: Firing,
+    sig: Signals,
+    /// `--tdc-time` (s), when it gives the firing TDC.
+    tdc_time: Option<f64>,
+}
+
+impl Chosen {
+    /// A crank signal of `kind` in column `col`, with the `cam` column and
+    /// the `tdc` column or `--tdc-time` beside it.
+    fn crank(
+        kind: teeth::Kind,
+        col: usize,
+        cam: Option<usize>,
+        firing: Firing,
+        (tdc_col, tdc_time): (Option<usize>, Option<f64>),
+    ) -> Self {
+        Chosen {
+            source: Source::Crank(Box::new(teeth::Crank::new(kind, col, cam))),
+            firing,
+            sig: [Some(col), tdc_col, cam],
+            tdc_time,
+        }
+    }
+}
+
+/// The 1-based column of 0-based `c`, for an error.
+fn col_of(c: usize) -> Option<usize> {
+    Some(c + 1)
+}
+
+/// An encoder of `ppr` pulses a revolution (`--encoder-ppr`), with a `tdc`
+/// column or `--tdc-time` for 0°; a wheel column beside it is `unused`.
+fn encoder_source(
+    roles: &Roles,
+    opts: &ParseOptions,
+    ppr: u32,
+    line: usize,
+    unused: &mut Vec<String>,
+) -> Result<Chosen, IngestError> {
+    let Some(col) = roles.encoder else {
+        return Err(at(
+            line,
+            None,
+            "--encoder-ppr is given, but the record has no `encoder` column",
+        ));
+    };
+    if !(1..=MAX_ENCODER_PPR).contains(&ppr) {
+        return Err(at(
+            line,
+            col_of(col),
+            format!(
+                "--encoder-ppr {ppr}: an encoder gives 1 to {MAX_ENCODER_PPR} pulses a revolution"
+            ),
+        ));
+    }
+    if let Some(w) = roles.wheel {
+        unused.push(format!(
+            "column {} (a tooth wheel; the encoder gives the angle)",
+            w + 1
+        ));
+    }
+    let (tdc_col, time) = match (roles.tdc, opts.tdc_time) {
+        (Some(c), _) => (Some(c), None),
+        (None, Some(t)) => (None, Some(t)),
+        (None, None) => {
+            return Err(at(
+                line,
+                col_of(col),
+                "an encoder gives the angle's steps, not where 0° is: give a `tdc` column (a pulse per revolution) or --tdc-time T (the time of a firing TDC, in seconds)",
+            ));
+        }
+    };
+    let firing = match (time, roles.cam) {
+        (Some(_), _) => Firing::Given,
+        (None, Some(_)) => Firing::Cam,
+        (None, None) => Firing::Pressure,
+    };
+    let kind = teeth::Kind::Encoder(encoder::Encoder {
+        ppr,
+        tdc_col,
+        tdc_time: time,
+        pulses: 0,
+    });
+    Ok(Chosen::crank(kind, col, roles.cam, firing, (tdc_col, time)))
+}
+
+/// A tooth wheel `w` (`--wheel`) with `--wheel-tdc-deg`; a `tdc` or
+/// encoder column beside it is `unused`.
+fn wheel_source(
+    roles: &Roles,
+    opts: &ParseOptions,
+    w: Wheel,
+    line: usize,
+    unused: &mut Vec<String>,
+) -> Result<Chosen, IngestError> {
+    let Some(col) = roles.wheel else {
+        return Err(at(
+            line,
+            None,
+            "--wheel is given, but the record has no `wheel` column",
+        ));
+    };
+    let Some(a) = opts.wheel_tdc_deg else {
+        return Err(at(
+            line,
+            col_of(col),
+            format!(
+                "a `wheel` column needs --wheel-tdc-deg A: the angle from the {w} wheel's first tooth after the gap to cylinder 1's TDC"
+            ),
+        ));
+    };
+    if !(a.is_finite() && a.abs() <= MAX_WHEEL_TDC_DEG) {
+        return Err(at(
+            line,
+            col_of(col),
+            format!(
+                "--wheel-tdc-deg {}: from -{MAX_WHEEL_TDC_DEG} to {MAX_WHEEL_TDC_DEG}°",
+                shown_number(a)
+            ),
+        ));
+    }
+    if let Some(c) = roles.tdc {
+        unused.push(format!(
+            "column {} (a TDC pulse; the wheel's gap and --wheel-tdc-deg give TDC)",
+            c + 1
+        ));
+    }
+    if let Some(c) = roles.encoder {
+        unused.push(format!(
+            "column {} (an encoder; the wheel gives the angle)",
+            c + 1
+        ));
+    }
+    let kind = teeth::Kind::Wheel {
+        gaps: wheel::Gaps::new(w),
+        tdc_deg: a,
+    };
+    let firing = if roles.cam.is_some() {
+        Firing::Cam
+    } else {
+        Firing::Pressure
+    };
+    Ok(Chosen::crank(kind, col, roles.cam, firing, (None, None)))
+}
+
+/// No crank signal: a `tdc` pulse per revolution, else a constant speed
+/// (`--rpm`, or the file's `rpm`) from `--tdc-time`; a cam column is then
+/// `unused`, an encoder or wheel column without its flag an error.
+fn pulse_or_clock_source(
+    roles: &Roles,
+    opts: &ParseOptions,
+    rpm: Option<(f64, &'static str)>,
+    line: usize,
+    unused: &mut Vec<String>,
+) -> Result<Chosen, IngestError> {
+    if let Some(c) = roles.encoder {
+        return Err(at(
+            line,
+            col_of(c),
+            "an `encoder` column needs --encoder-ppr N, its pulses a revolution",
+        ));
+    }
+    if let Some(c) = roles.wheel {
+        return Err(at(
+            line,
+            col_of(c),
+            "a `wheel` column needs --wheel T-M (60-2, 36-1, 36-2 or 58x) and --wheel-tdc-deg A",
+        ));
+    }
+    if let Some(c) = roles.cam {
+        unused.push(format!("column {} (a cam pulse tells the firing revolution of an encoder's or a tooth wheel's angle)", c + 1));
+    }
+    match (roles.tdc, opts.tdc_time) {
+        (Some(col), _) => Ok(Chosen {
+            source: Source::Pulse(pulse::Pulse::new(col)),
+            firing: Firing::Pressure,
+            sig: [Some(col), None, None],
+            tdc_time: None,
+        }),
+        (None, Some(t)) => {
+            let Some(rpm) = opts.rpm.or(rpm.map(|r| r.0)) else {
+                return Err(at(
+                    line,
+                    Some(roles.x + 1),
+                    "a time record with --tdc-time needs the speed: --rpm N (or a `# rpm = N` line)",
+                ));
+            };
+            Ok(Chosen {
+                source: Source::Clock(clock::Clock::new(t, rpm, opts.cycle_deg)),
+                firing: Firing::Given,
+                sig: [None; 3],
+                tdc_time: Some(t),
+            })
+        }
+        (None, None) => Err(at(
+            line,
+            Some(roles.x + 1),
+            "a time record needs the crank angle: a `tdc` column (a pulse per revolution), an `encoder` column with --encoder-ppr N, a `wheel` column with --wheel T-M, or --rpm N and --tdc-time T (the time of a firing TDC, in seconds)",
+        )),
+    }
+}
+
 impl TimeRecord {
     pub(crate) fn new(
         roles: &Roles,
@@ -116,10 +323,12 @@ impl TimeRecord {
         let (p_scale, offset) = value_scale(roles, v.scale, opts, line)?;
         let tdc_deg = opts.tdc_given.then_some(opts.tdc_deg);
         let mut unused = Vec::new();
-        let mut sig: Signals = [None; 3];
-        let mut tdc_time = None;
-        let col_of = |c: usize| Some(c + 1);
-        let (source, firing) = match (opts.encoder_ppr, opts.wheel) {
+        let Chosen {
+            source,
+            firing,
+            sig,
+            tdc_time,
+        } = match (opts.encoder_ppr, opts.wheel) {
             (Some(_), Some(_)) => {
                 return Err(at(
                     line,
@@ -127,161 +336,9 @@ impl TimeRecord {
                     "--encoder-ppr and --wheel both given: a time record's angle comes from one crank signal",
                 ));
             }
-            (Some(ppr), None) => {
-                let Some(col) = roles.encoder else {
-                    return Err(at(
-                        line,
-                        None,
-                        "--encoder-ppr is given, but the record has no `encoder` column",
-                    ));
-                };
-                if !(1..=MAX_ENCODER_PPR).contains(&ppr) {
-                    return Err(at(
-                        line,
-                        col_of(col),
-                        format!(
-                            "--encoder-ppr {ppr}: an encoder gives 1 to {MAX_ENCODER_PPR} pulses a revolution"
-                        ),
-                    ));
-                }
-                if let Some(w) = roles.wheel {
-                    unused.push(format!(
-                        "column {} (a tooth wheel; the encoder gives the angle)",
-                        w + 1
-                    ));
-                }
-                let (tdc_col, time) = match (roles.tdc, opts.tdc_time) {
-                    (Some(c), _) => (Some(c), None),
-                    (None, Some(t)) => (None, Some(t)),
-                    (None, None) => {
-                        return Err(at(
-                            line,
-                            col_of(col),
-                            "an encoder gives the angle's steps, not where 0° is: give a `tdc` column (a pulse per revolution) or --tdc-time T (the time of a firing TDC, in seconds)",
-                        ));
-                    }
-                };
-                sig[0] = Some(col);
-                sig[1] = tdc_col;
-                sig[2] = roles.cam;
-                tdc_time = time;
-                let firing = match (time, roles.cam) {
-                    (Some(_), _) => Firing::Given,
-                    (None, Some(_)) => Firing::Cam,
-                    (None, None) => Firing::Pressure,
-                };
-                let kind = teeth::Kind::Encoder(encoder::Encoder {
-                    ppr,
-                    tdc_col,
-                    tdc_time: time,
-                    pulses: 0,
-                });
-                (
-                    Source::Crank(Box::new(teeth::Crank::new(kind, col, roles.cam))),
-                    firing,
-                )
-            }
-            (None, Some(w)) => {
-                let Some(col) = roles.wheel else {
-                    return Err(at(
-                        line,
-                        None,
-                        "--wheel is given, but the record has no `wheel` column",
-                    ));
-                };
-                let Some(a) = opts.wheel_tdc_deg else {
-                    return Err(at(
-                        line,
-                        col_of(col),
-                        format!(
-                            "a `wheel` column needs --wheel-tdc-deg A: the angle from the {w} wheel's first tooth after the gap to cylinder 1's TDC"
-                        ),
-                    ));
-                };
-                if !(a.is_finite() && a.abs() <= MAX_WHEEL_TDC_DEG) {
-                    return Err(at(
-                        line,
-                        col_of(col),
-                        format!(
-                            "--wheel-tdc-deg {}: from -{MAX_WHEEL_TDC_DEG} to {MAX_WHEEL_TDC_DEG}°",
-                            shown_number(a)
-                        ),
-                    ));
-                }
-                if let Some(c) = roles.tdc {
-                    unused.push(format!(
-                        "column {} (a TDC pulse; the wheel's gap and --wheel-tdc-deg give TDC)",
-                        c + 1
-                    ));
-                }
-                if let Some(c) = roles.encoder {
-                    unused.push(format!(
-                        "column {} (an encoder; the wheel gives the angle)",
-                        c + 1
-                    ));
-                }
-                sig[0] = Some(col);
-                sig[2] = roles.cam;
-                let kind = teeth::Kind::Wheel {
-                    gaps: wheel::Gaps::new(w),
-                    tdc_deg: a,
-                };
-                let firing = if roles.cam.is_some() {
-                    Firing::Cam
-                } else {
-                    Firing::Pressure
-                };
-                (
-                    Source::Crank(Box::new(teeth::Crank::new(kind, col, roles.cam))),
-                    firing,
-                )
-            }
-            (None, None) => {
-                if let Some(c) = roles.encoder {
-                    return Err(at(
-                        line,
-                        col_of(c),
-                        "an `encoder` column needs --encoder-ppr N, its pulses a revolution",
-                    ));
-                }
-                if let Some(c) = roles.wheel {
-                    return Err(at(
-                        line,
-                        col_of(c),
-                        "a `wheel` column needs --wheel T-M (60-2, 36-1, 36-2 or 58x) and --wheel-tdc-deg A",
-                    ));
-                }
-                if let Some(c) = roles.cam {
-                    unused.push(format!("column {} (a cam pulse tells the firing revolution of an encoder's or a tooth wheel's angle)", c + 1));
-                }
-                match (roles.tdc, opts.tdc_time) {
-                    (Some(col), _) => {
-                        sig[0] = Some(col);
-                        (Source::Pulse(pulse::Pulse::new(col)), Firing::Pressure)
-                    }
-                    (None, Some(t)) => {
-                        let Some(rpm) = opts.rpm.or(rpm.map(|r| r.0)) else {
-                            return Err(at(
-                                line,
-                                Some(roles.x + 1),
-                                "a time record with --tdc-time needs the speed: --rpm N (or a `# rpm = N` line)",
-                            ));
-                        };
-                        tdc_time = Some(t);
-                        (
-                            Source::Clock(clock::Clock::new(t, rpm, opts.cycle_deg)),
-                            Firing::Given,
-                        )
-                    }
-                    (None, None) => {
-                        return Err(at(
-                            line,
-                            Some(roles.x + 1),
-                            "a time record needs the crank angle: a `tdc` column (a pulse per revolution), an `encoder` column with --encoder-ppr N, a `wheel` column with --wheel T-M, or --rpm N and --tdc-time T (the time of a firing TDC, in seconds)",
-                        ));
-                    }
-                }
-            }
+            (Some(ppr), None) => encoder_source(roles, opts, ppr, line, &mut unused)?,
+            (None, Some(w)) => wheel_source(roles, opts, w, line, &mut unused)?,
+            (None, None) => pulse_or_clock_source(roles, opts, rpm, line, &mut unused)?,
         };
         let probe = (!matches!(source, Source::Clock(_))).then(Vec::new);
         let mut cycles = Cycles::new(opts.cycle_deg, tdc_deg, firing);
@@ -469,146 +526,22 @@ impl TimeRecord {
                 enginedyn_numerics::format::human(last)
             )));
         }
-        let fmt = |x: f64, d: usize| enginedyn_numerics::format::trimmed(x, d);
         let line = self.last_line;
         let (mut said, speed, complete, partial) = match &mut self.source {
-            Source::Pulse(s) => {
-                let speeds = s.speeds;
-                if speeds.3 == 0 {
-                    return Err(IngestError::Data(
-                        "time record: fewer than two TDC pulses, so no revolution to take the speed from".into(),
-                    ));
-                }
-                self.cycles.finish(line, out)?;
-                let mean = speeds.2 / speeds.3 as f64 * 60.0;
-                let mut said = format!(
-                    "time record: the angle from {} TDC pulses, the speed revolution by revolution ({} to {} rpm, mean {}); firing TDC {}",
-                    speeds.3 + 1,
-                    fmt(speeds.0, 1),
-                    fmt(speeds.1, 1),
-                    fmt(mean, 1),
-                    match (self.tdc_deg, self.cycle_deg < 400.0) {
-                        (Some(x), _) => format!("{}° after the first pulse (--tdc-deg)", fmt(x, 3)),
-                        (None, true) => "at every pulse (two-stroke)".to_string(),
-                        (None, false) => format!(
-                            "at every second pulse from pulse {}, the one the pressure peak follows",
-                            self.cycles.parity.unwrap_or(0) + 1
-                        ),
-                    }
-                );
-                if s.before_first > 0 {
-                    said.push_str("; samples before the first pulse left out");
-                }
-                let tdc = format!("the `tdc` column (column {})", s.col + 1);
-                (
-                    said,
-                    Some((
-                        mean,
-                        tdc,
-                        "a pulse every",
-                        "the pulse column",
-                        "the `tdc` column's pulses".to_string(),
-                    )),
-                    self.cycles.complete,
-                    self.cycles.partial,
-                )
-            }
-            Source::Crank(s) => {
-                s.end(&mut self.cycles, out)?;
-                let Some(mean) = s.mean_rpm() else {
-                    return Err(IngestError::Data(format!(
-                        "time record: {} edges in the `{}` column, too few to take the angle from",
-                        s.edge_count,
-                        name(&s.kind)
-                    )));
-                };
-                if s.reference.is_none() {
-                    return Err(IngestError::Data(match &s.kind {
-                        teeth::Kind::Wheel { gaps, .. } => format!(
-                            "time record: no gap among the `wheel` column's {} teeth: not a {} wheel (--wheel), or fewer than a revolution of it",
-                            s.edge_count, gaps.wheel
-                        ),
-                        teeth::Kind::Encoder(e) => match e.tdc_time {
-                            Some(t0) => format!(
-                                "time record: --tdc-time {} s comes before the `encoder` column's first edge: 0° must lie between its edges",
-                                enginedyn_numerics::format::human(t0)
-                            ),
-                            None => "time record: no `tdc` pulse after the `encoder` column's first edge, so no 0°".into(),
-                        },
-                    }));
-                }
-                if !(enginedyn_kinematics::MIN_RPM..=enginedyn_kinematics::MAX_RPM).contains(&mean)
-                {
-                    return Err(IngestError::Data(format!(
-                        "the `{}` column's edges give {} rpm, outside the engine speed bound (0.001 to 100000 rpm): is --{} right?",
-                        name(&s.kind),
-                        enginedyn_numerics::format::sig(mean, 4),
-                        match s.kind {
-                            teeth::Kind::Encoder(_) => "encoder-ppr",
-                            teeth::Kind::Wheel { .. } => "wheel",
-                        }
-                    )));
-                }
-                self.cycles.finish(line, out)?;
-                let source = match &s.kind {
-                    teeth::Kind::Encoder(e) => format!(
-                        "the angle from the `encoder` column's {} edges ({} a revolution), interpolated in time between edges (the cubic through the edges around); 0° {}",
-                        s.edge_count,
-                        e.ppr,
-                        match e.tdc_time {
-                            Some(t0) => format!(
-                                "at t = {} s (--tdc-time)",
-                                enginedyn_numerics::format::sig(t0, 6)
-                            ),
-                            None => format!("at the rise of the `tdc` pulse ({} pulses)", e.pulses),
-                        }
-                    ),
-                    teeth::Kind::Wheel { gaps, tdc_deg } => format!(
-                        "the angle from the {} tooth wheel in the `wheel` column ({} teeth, the gap found {} times from the tooth periods), interpolated in time between teeth (the cubic through the teeth around); cylinder 1's TDC {}° after the first tooth after the gap (--wheel-tdc-deg)",
-                        gaps.wheel,
-                        s.edge_count,
-                        gaps.count,
-                        fmt(*tdc_deg, 3)
-                    ),
-                };
-                let firing = match (self.tdc_deg, self.cycle_deg < 400.0, self.cycles.firing) {
-                    (Some(x), _, _) => format!("{}° after the first TDC (--tdc-deg)", fmt(x, 3)),
-                    (None, true, _) => "at every TDC (two-stroke)".to_string(),
-                    (None, false, Firing::Given) => {
-                        "at --tdc-time and every 720° from it".to_string()
-                    }
-                    (None, false, Firing::Cam) => "at the TDC after each `cam` pulse".to_string(),
-                    (None, false, Firing::Pressure) => {
-                        "at every second TDC, the one the pressure peak follows".to_string()
-                    }
-                };
-                let mut said = format!(
-                    "time record: {source}; the speed within the revolutions read {} to {} rpm (mean {}); firing TDC {firing}",
-                    fmt(s.speeds.0, 1),
-                    fmt(s.speeds.1, 1),
-                    fmt(mean, 1),
-                );
-                if s.before_first > 0 {
-                    said.push_str("; samples before the first TDC left out");
-                }
-                let what = format!("the `{}` column (column {})", name(&s.kind), s.col + 1);
-                let flag = match s.kind {
-                    teeth::Kind::Encoder(_) => "--encoder-ppr",
-                    teeth::Kind::Wheel { .. } => "--wheel",
-                };
-                (
-                    said,
-                    Some((
-                        mean,
-                        what,
-                        "",
-                        flag,
-                        format!("the `{}` column's edges", name(&s.kind)),
-                    )),
-                    self.cycles.complete,
-                    self.cycles.partial,
-                )
-            }
+            Source::Pulse(s) => end_pulse(
+                s,
+                &mut self.cycles,
+                (self.tdc_deg, self.cycle_deg),
+                line,
+                out,
+            )?,
+            Source::Crank(s) => end_crank(
+                s,
+                &mut self.cycles,
+                (self.tdc_deg, self.cycle_deg),
+                line,
+                out,
+            )?,
             Source::Clock(c) => {
                 c.close(out)?;
                 (
@@ -639,41 +572,56 @@ impl TimeRecord {
             head.notes
                 .push(format!("time record: not used: {}", self.unused.join("; ")));
         }
-        if let Some((mean, what, every, wrong, whose)) = speed {
-            let given = self
-                .flag_rpm
-                .map(|r| (r, "--rpm"))
-                .into_iter()
-                .chain(self.file_rpm);
-            for (r, source) in given {
-                let off = (r - mean).abs() / mean;
-                if off > SPEED_DISAGREES {
-                    let between = if every.is_empty() {
-                        String::new()
-                    } else {
-                        format!(
-                            " ({every} {} s on average)",
-                            enginedyn_numerics::format::sig(60.0 / mean, 4)
-                        )
-                    };
-                    return Err(IngestError::Data(format!(
-                        "{what} gives {} rpm{between}, {source} {} rpm: {:.0} % apart; is the speed or {wrong} wrong?",
-                        fmt(mean, 1),
-                        fmt(r, 1),
-                        100.0 * off
-                    )));
-                }
-                if off > SAME_SPEED {
-                    head.notes.push(format!(
-                        "{source} says {} rpm, {whose} {} rpm",
-                        fmt(r, 1),
-                        fmt(mean, 1)
-                    ));
-                }
+        if let Some(measured) = speed {
+            self.check_speed(measured, head)?;
+        }
+        Ok(())
+    }
+
+    /// The speed the signal `measured` against `--rpm` and the file's:
+    /// an error when they disagree by more than [`SPEED_DISAGREES`], a note
+    /// where they differ at all; the header's speed when it has none.
+    fn check_speed(&self, measured: Measured, head: &mut Header) -> Result<(), IngestError> {
+        let Measured {
+            mean,
+            what,
+            every,
+            wrong,
+            whose,
+        } = measured;
+        let given = self
+            .flag_rpm
+            .map(|r| (r, "--rpm"))
+            .into_iter()
+            .chain(self.file_rpm);
+        for (r, source) in given {
+            let off = (r - mean).abs() / mean;
+            if off > SPEED_DISAGREES {
+                let between = if every.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        " ({every} {} s on average)",
+                        enginedyn_numerics::format::sig(60.0 / mean, 4)
+                    )
+                };
+                return Err(IngestError::Data(format!(
+                    "{what} gives {} rpm{between}, {source} {} rpm: {:.0} % apart; is the speed or {wrong} wrong?",
+                    fmt(mean, 1),
+                    fmt(r, 1),
+                    100.0 * off
+                )));
             }
-            if head.rpm.is_none() {
-                head.rpm = Some(mean);
+            if off > SAME_SPEED {
+                head.notes.push(format!(
+                    "{source} says {} rpm, {whose} {} rpm",
+                    fmt(r, 1),
+                    fmt(mean, 1)
+                ));
             }
+        }
+        if head.rpm.is_none() {
+            head.rpm = Some(mean);
         }
         Ok(())
     }
@@ -706,6 +654,193 @@ impl TimeRecord {
                 (teeth::Kind::Encoder(_), None) => TdcPlacement::TdcColumn { cam },
             },
         }
+    }
+}
+
+/// `x` with `d` decimals, trailing zeros trimmed.
+fn fmt(x: f64, d: usize) -> String {
+    enginedyn_numerics::format::trimmed(x, d)
+}
+
+/// The speed a crank signal measured, and how to name it in a message.
+struct Measured {
+    /// Mean speed (rpm).
+    mean: f64,
+    /// The column it is taken from.
+    what: String,
+    /// How often the signal comes ("a pulse every"), or empty.
+    every: &'static str,
+    /// What may be wrong when it disagrees with a given speed.
+    wrong: &'static str,
+    /// Whose speed it is, in a note.
+    whose: String,
+}
+
+/// What a source's end says: the note, the speed measured, and the whole
+/// and partial cycles.
+type Ended = (String, Option<Measured>, usize, usize);
+
+/// The end of a record whose angle comes from `tdc` pulses: the speed
+/// revolution by revolution. `tdc` is `--tdc-deg` (when given) and the
+/// cycle (deg).
+fn end_pulse<F: FnMut(Streamed) -> Result<(), IngestError>>(
+    s: &pulse::Pulse,
+    cycles: &mut Cycles,
+    (tdc_deg, cycle_deg): (Option<f64>, f64),
+    line: usize,
+    out: &mut Emitter<'_, F>,
+) -> Result<Ended, IngestError> {
+    let speeds = s.speeds;
+    if speeds.3 == 0 {
+        return Err(IngestError::Data(
+            "time record: fewer than two TDC pulses, so no revolution to take the speed from"
+                .into(),
+        ));
+    }
+    cycles.finish(line, out)?;
+    let mean = speeds.2 / speeds.3 as f64 * 60.0;
+    let mut said = format!(
+        "time record: the angle from {} TDC pulses, the speed revolution by revolution ({} to {} rpm, mean {}); firing TDC {}",
+        speeds.3 + 1,
+        fmt(speeds.0, 1),
+        fmt(speeds.1, 1),
+        fmt(mean, 1),
+        match (tdc_deg, cycle_deg < 400.0) {
+            (Some(x), _) => format!("{}° after the first pulse (--tdc-deg)", fmt(x, 3)),
+            (None, true) => "at every pulse (two-stroke)".to_string(),
+            (None, false) => format!(
+                "at every second pulse from pulse {}, the one the pressure peak follows",
+                cycles.parity.unwrap_or(0) + 1
+            ),
+        }
+    );
+    if s.before_first > 0 {
+        said.push_str("; samples before the first pulse left out");
+    }
+    let tdc = format!("the `tdc` column (column {})", s.col + 1);
+    Ok((
+        said,
+        Some(Measured {
+            mean,
+            what: tdc,
+            every: "a pulse every",
+            wrong: "the pulse column",
+            whose: "the `tdc` column's pulses".to_string(),
+        }),
+        cycles.complete,
+        cycles.partial,
+    ))
+}
+
+/// The end of a record whose angle comes from a crank signal (an encoder
+/// or a tooth wheel): its edges checked for a reference and a speed within
+/// the engine's bounds. `tdc` is `--tdc-deg` (when given) and the cycle
+/// (deg).
+fn end_crank<F: FnMut(Streamed) -> Result<(), IngestError>>(
+    s: &mut teeth::Crank,
+    cycles: &mut Cycles,
+    (tdc_deg, cycle_deg): (Option<f64>, f64),
+    line: usize,
+    out: &mut Emitter<'_, F>,
+) -> Result<Ended, IngestError> {
+    s.end(cycles, out)?;
+    let Some(mean) = s.mean_rpm() else {
+        return Err(IngestError::Data(format!(
+            "time record: {} edges in the `{}` column, too few to take the angle from",
+            s.edge_count,
+            name(&s.kind)
+        )));
+    };
+    if s.reference.is_none() {
+        return Err(IngestError::Data(match &s.kind {
+            teeth::Kind::Wheel { gaps, .. } => format!(
+                "time record: no gap among the `wheel` column's {} teeth: not a {} wheel (--wheel), or fewer than a revolution of it",
+                s.edge_count, gaps.wheel
+            ),
+            teeth::Kind::Encoder(e) => match e.tdc_time {
+                Some(t0) => format!(
+                    "time record: --tdc-time {} s comes before the `encoder` column's first edge: 0° must lie between its edges",
+                    enginedyn_numerics::format::human(t0)
+                ),
+                None => {
+                    "time record: no `tdc` pulse after the `encoder` column's first edge, so no 0°"
+                        .into()
+                }
+            },
+        }));
+    }
+    if !(enginedyn_kinematics::MIN_RPM..=enginedyn_kinematics::MAX_RPM).contains(&mean) {
+        return Err(IngestError::Data(format!(
+            "the `{}` column's edges give {} rpm, outside the engine speed bound (0.001 to 100000 rpm): is --{} right?",
+            name(&s.kind),
+            enginedyn_numerics::format::sig(mean, 4),
+            match s.kind {
+                teeth::Kind::Encoder(_) => "encoder-ppr",
+                teeth::Kind::Wheel { .. } => "wheel",
+            }
+        )));
+    }
+    cycles.finish(line, out)?;
+    let source = crank_said(s);
+    let firing = match (tdc_deg, cycle_deg < 400.0, cycles.firing) {
+        (Some(x), _, _) => format!("{}° after the first TDC (--tdc-deg)", fmt(x, 3)),
+        (None, true, _) => "at every TDC (two-stroke)".to_string(),
+        (None, false, Firing::Given) => "at --tdc-time and every 720° from it".to_string(),
+        (None, false, Firing::Cam) => "at the TDC after each `cam` pulse".to_string(),
+        (None, false, Firing::Pressure) => {
+            "at every second TDC, the one the pressure peak follows".to_string()
+        }
+    };
+    let mut said = format!(
+        "time record: {source}; the speed within the revolutions read {} to {} rpm (mean {}); firing TDC {firing}",
+        fmt(s.speeds.0, 1),
+        fmt(s.speeds.1, 1),
+        fmt(mean, 1),
+    );
+    if s.before_first > 0 {
+        said.push_str("; samples before the first TDC left out");
+    }
+    let what = format!("the `{}` column (column {})", name(&s.kind), s.col + 1);
+    let flag = match s.kind {
+        teeth::Kind::Encoder(_) => "--encoder-ppr",
+        teeth::Kind::Wheel { .. } => "--wheel",
+    };
+    Ok((
+        said,
+        Some(Measured {
+            mean,
+            what,
+            every: "",
+            wrong: flag,
+            whose: format!("the `{}` column's edges", name(&s.kind)),
+        }),
+        cycles.complete,
+        cycles.partial,
+    ))
+}
+
+/// Where a crank signal's angle came from, for the record's note.
+fn crank_said(s: &teeth::Crank) -> String {
+    match &s.kind {
+        teeth::Kind::Encoder(e) => format!(
+            "the angle from the `encoder` column's {} edges ({} a revolution), interpolated in time between edges (the cubic through the edges around); 0° {}",
+            s.edge_count,
+            e.ppr,
+            match e.tdc_time {
+                Some(t0) => format!(
+                    "at t = {} s (--tdc-time)",
+                    enginedyn_numerics::format::sig(t0, 6)
+                ),
+                None => format!("at the rise of the `tdc` pulse ({} pulses)", e.pulses),
+            }
+        ),
+        teeth::Kind::Wheel { gaps, tdc_deg } => format!(
+            "the angle from the {} tooth wheel in the `wheel` column ({} teeth, the gap found {} times from the tooth periods), interpolated in time between teeth (the cubic through the teeth around); cylinder 1's TDC {}° after the first tooth after the gap (--wheel-tdc-deg)",
+            gaps.wheel,
+            s.edge_count,
+            gaps.count,
+            fmt(*tdc_deg, 3)
+        ),
     }
 }
 
