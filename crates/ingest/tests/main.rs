@@ -14,4 +14,3 @@ mod no_header;
 mod no_panic;
 mod pv_peg_stats;
 mod rows;
-mod sheet_hostile;
