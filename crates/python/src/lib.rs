@@ -497,11 +497,11 @@ impl NativeSession {
                     let Some(an) = an else {
                         return Err(Error::usage("nothing analysed"));
                     };
-                    let inputs = engine.with_diagrams(&[enginedyn_report::Source::File(f)])?;
+                    let hashed = enginedyn_report::Source::Hashed(f, &an.diagram_blake3);
+                    let inputs = engine.with_diagrams(&[hashed])?;
                     let json = enginedyn_report::summary_json(&an.analysis.summary, &inputs);
                     let text = serde_json::to_string(&json).unwrap_or_default();
-                    let hash = inputs.diagram_sha256.first().cloned();
-                    Ok((text, s.row(f, &an.analysis, an.resampled, hash)))
+                    Ok((text, s.row(f, &an.analysis, an.resampled, an.diagram_blake3)))
                 },
                 |_| {},
             )?;
@@ -567,8 +567,11 @@ impl NativeBatch {
     }
 
     /// Writes part `part` of `parts` into the campaign folder `dir`: the
-    /// same files `batch --shard part/parts --parquet dir` writes.
-    #[pyo3(signature = (dir, part=0, parts=1, traces=false))]
+    /// same files `batch --shard part/parts --parquet dir` writes. `paths`:
+    /// the whole campaign's files (every shard's; default: this batch's);
+    /// `overwrite`: replace another campaign's parts (`--replace`).
+    #[pyo3(signature = (dir, part=0, parts=1, traces=false, paths=None, overwrite=false))]
+    #[allow(clippy::too_many_arguments)]
     fn write_parquet(
         &self,
         py: Python<'_>,
@@ -576,11 +579,17 @@ impl NativeBatch {
         part: usize,
         parts: usize,
         traces: bool,
+        paths: Option<Vec<PathBuf>>,
+        overwrite: bool,
     ) -> PyResult<Vec<PathBuf>> {
         let shard = enginedyn_session::batch::Shard::new(part, parts)
             .map_err(|e| UsageError::new_err(format!("part/parts: {e}")))?;
-        py.detach(|| self.session.write_parts(&dir, shard, &self.rows, traces))
-            .py()
+        py.detach(|| {
+            let list = paths.as_deref();
+            self.session
+                .write_parts(&dir, shard, list, &self.rows, traces, overwrite)
+        })
+        .py()
     }
 }
 
@@ -760,9 +769,10 @@ impl Run {
     fn summary_parquet<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
         let row = enginedyn_session::campaign::Row {
             file: self.inputs.diagram_files.join(" | "),
+            key: self.inputs.diagram_files.join(" | ").into_bytes(),
             error: None,
-            diagram_sha256: (self.inputs.diagram_sha256.len() == 1)
-                .then(|| self.inputs.diagram_sha256[0].clone()),
+            diagram_blake3: (self.inputs.diagram_blake3.len() == 1)
+                .then(|| self.inputs.diagram_blake3[0].clone()),
             summary: Some(self.analysis.summary.clone()),
             resampled: None,
         };

@@ -228,15 +228,15 @@ fn data_and_method(o: &mut String, a: &Analysis, inputs: &crate::Inputs) {
     };
     let _ = writeln!(
         o,
-        "<tr><th>engine file</th><td>{}</td><td>SHA-256 <code>{}</code></td></tr>",
+        "<tr><th>engine file</th><td>{}</td><td>BLAKE3 <code>{}</code></td></tr>",
         shown(&inputs.engine_file),
-        esc(&inputs.engine_sha256)
+        esc(&inputs.engine_blake3)
     );
     let several = inputs.diagram_files.len() > 1;
     for (k, (file, hash)) in inputs
         .diagram_files
         .iter()
-        .zip(&inputs.diagram_sha256)
+        .zip(&inputs.diagram_blake3)
         .enumerate()
     {
         let label = if several {
@@ -246,7 +246,7 @@ fn data_and_method(o: &mut String, a: &Analysis, inputs: &crate::Inputs) {
         };
         let _ = writeln!(
             o,
-            "<tr><th>{label}</th><td>{}</td><td>SHA-256 <code>{}</code></td></tr>",
+            "<tr><th>{label}</th><td>{}</td><td>BLAKE3 <code>{}</code></td></tr>",
             shown(file),
             esc(hash)
         );
