@@ -10,7 +10,7 @@
 //! use enginedyn_pipeline::schema::SummaryRecord;
 //! use enginedyn_tables::{Meta, Table, summary_parquet, write_part};
 //! # fn demo(s: &enginedyn_pipeline::Summary) -> Result<(), enginedyn_tables::TablesError> {
-//! let meta = Meta::new("3f…", serde_json::json!({"step_deg": 0.1}));
+//! let meta = Meta::new("3f…", "9a…", serde_json::json!({"step_deg": 0.1}));
 //! let rows = [SummaryRecord {
 //!     file: "run_2200.csv",
 //!     error: None,
@@ -691,7 +691,7 @@ mod tests {
     /// error naming the column and row, never a wrong number.
     #[test]
     fn values_are_checked() {
-        let meta = Meta::new("x", serde_json::json!({}));
+        let meta = Meta::new("x", "y", serde_json::json!({}));
         let row = |cylinder| CycleRow {
             file: "f",
             cylinder,
