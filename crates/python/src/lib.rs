@@ -476,6 +476,28 @@ impl NativeSession {
         .py()
     }
 
+    /// Before any work on a campaign in `dir` (`map_campaign`): refuses a
+    /// folder holding another campaign's parts, naming both, unless
+    /// `overwrite`, which removes enginedyn's own parts first; refuses
+    /// anything else at a part's path. Returns the parts removed.
+    #[pyo3(signature = (dir, paths, parts, traces=false, overwrite=false))]
+    fn plan_campaign(
+        &self,
+        py: Python<'_>,
+        dir: PathBuf,
+        paths: Vec<PathBuf>,
+        parts: usize,
+        traces: bool,
+        overwrite: bool,
+    ) -> PyResult<Vec<PathBuf>> {
+        let shard = enginedyn_session::batch::Shard::new(0, parts)
+            .map_err(|e| UsageError::new_err(format!("parts: {e}")))?;
+        let s = &self.session;
+        py.detach(|| s.plan_parts(&dir, shard, &paths, traces, overwrite))
+            .map(|p| p.removed)
+            .py()
+    }
+
     /// Many files on `jobs` threads (0: one per core): a row per file;
     /// a failed file is a row with its error, never an exception.
     #[pyo3(signature = (paths, jobs=0))]

@@ -339,10 +339,13 @@ impl Shard {
         self.take_keyed(&keyed)
     }
 
-    /// [`Shard::take`] of files whose identities are known.
+    /// [`Shard::take`] of files whose identities are known; a file named
+    /// twice is taken once (as first named).
     pub fn take_keyed(&self, files: &[(Vec<u8>, PathBuf)]) -> Vec<PathBuf> {
         let mut sorted: Vec<&(Vec<u8>, PathBuf)> = files.iter().collect();
+        // Stable: of one file's names, the first given stays first.
         sorted.sort_by(|a, b| a.0.cmp(&b.0));
+        sorted.dedup_by(|a, b| a.0 == b.0);
         sorted
             .into_iter()
             .enumerate()

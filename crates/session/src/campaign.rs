@@ -24,6 +24,14 @@ pub fn canonical_key(p: &Path) -> Vec<u8> {
     c.into_os_string().into_encoded_bytes()
 }
 
+/// The identities of a list, each once.
+fn unique_keys(keys: &[Vec<u8>]) -> Vec<&[u8]> {
+    let mut k: Vec<&[u8]> = keys.iter().map(Vec::as_slice).collect();
+    k.sort_unstable();
+    k.dedup();
+    k
+}
+
 /// A path as a table's `file` column holds it: the path as given, a name
 /// that is not UTF-8 escaped as `\xNN` without loss.
 pub fn shown(p: &Path) -> String {
@@ -153,7 +161,8 @@ impl Session {
         self.plan_keys(dir, shard, &keys, traces, replace)
     }
 
-    /// [`Session::plan_parts`] of a list given by its files' identities.
+    /// [`Session::plan_parts`] of a list given by its files' identities
+    /// (a file named twice counted once).
     pub fn plan_keys(
         &self,
         dir: &Path,
@@ -168,7 +177,7 @@ impl Session {
             tables.push(Table::Traces);
         }
         meta.campaign = Some(Campaign {
-            list_blake3: enginedyn_tables::list_blake3(keys),
+            list_blake3: enginedyn_tables::list_blake3(&unique_keys(keys)),
             parts: shard.count,
             part: shard.index,
             tables,

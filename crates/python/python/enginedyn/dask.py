@@ -64,12 +64,16 @@ def map_campaign(
     out: Any,
     files_per_task: int = 500,
     traces: bool = False,
+    overwrite: bool = False,
 ) -> Dict[str, Any]:
     """The whole campaign over a Dask ``client``: ceil(len/files_per_task)
     shards, one task each (the session pickled to the workers), then the
-    merge check; returns the manifest (``_manifest.json``)."""
+    merge check; returns the manifest (``_manifest.json``). A folder that
+    holds another campaign's parts is refused before any work, naming
+    both; ``overwrite=True`` removes enginedyn's own parts there first."""
     items = [os.fspath(p) for p in paths]
     parts = max(1, math.ceil(len(items) / max(1, files_per_task)))
+    session._full.plan_campaign(os.fspath(out), items, parts, traces, overwrite)
     futures = [
         client.submit(run_shard, session, items, os.fspath(out), i, parts, traces, pure=False)
         for i in range(parts)
