@@ -194,7 +194,8 @@ fn rows_doubled_fail_the_merge() {
     let props = WriterProperties::builder()
         .set_key_value_metadata(kv)
         .build();
-    let mut w = ArrowWriter::try_new(std::fs::File::create(&p).unwrap(), schema, Some(props)).unwrap();
+    let mut w =
+        ArrowWriter::try_new(std::fs::File::create(&p).unwrap(), schema, Some(props)).unwrap();
     for batch in batches.iter().chain(&batches) {
         w.write(batch).unwrap();
     }
@@ -311,7 +312,10 @@ fn a_folder_of_another_campaign_is_refused_before_any_work() {
     );
     let m = ok(merge(&out));
     let manifest: serde_json::Value = serde_json::from_slice(&m.stdout).unwrap();
-    assert_eq!((manifest["files"].as_u64(), manifest["failed"].as_u64()), (Some(2), Some(1)));
+    assert_eq!(
+        (manifest["files"].as_u64(), manifest["failed"].as_u64()),
+        (Some(2), Some(1))
+    );
 }
 
 #[test]
@@ -346,7 +350,12 @@ fn a_killed_parts_staging_is_removed_by_the_next_run_of_that_part() {
         std::fs::create_dir_all(d).unwrap();
         std::fs::write(d.join("summary"), "half").unwrap();
     }
-    ok(shard(&out, &list(t.path(), "l.txt", &files), Some("1/2"), &[]));
+    ok(shard(
+        &out,
+        &list(t.path(), "l.txt", &files),
+        Some("1/2"),
+        &[],
+    ));
     assert!(!mine.exists());
     // Another part's staging is that part's to remove (it may be running).
     assert!(other.exists());
@@ -415,7 +424,10 @@ fn a_name_that_is_not_utf8_is_kept_escaped_and_never_collides() {
     let mut files: Vec<String> = column(&summary, "file").into_iter().flatten().collect();
     files.sort();
     let d = s(dir);
-    assert_eq!(files, vec![format!("{d}/d\\x5cxff.csv"), format!("{d}/d\\xff.csv")]);
+    assert_eq!(
+        files,
+        vec![format!("{d}/d\\x5cxff.csv"), format!("{d}/d\\xff.csv")]
+    );
     assert_eq!(column(&summary, "error"), vec![None, None]);
     ok(merge(&out));
 }
@@ -429,7 +441,13 @@ fn each_diagram_is_hashed_with_blake3() {
     let o = ok(shard(&out, &list(t.path(), "l.txt", &files), None, &[]));
     let want: Vec<Option<String>> = files
         .iter()
-        .map(|f| Some(blake3::hash(&std::fs::read(f).unwrap()).to_hex().to_string()))
+        .map(|f| {
+            Some(
+                blake3::hash(&std::fs::read(f).unwrap())
+                    .to_hex()
+                    .to_string(),
+            )
+        })
         .collect();
     let summary = part(&out, "summary", 0, 1);
     assert_eq!(column(&summary, "diagram_blake3"), want);
@@ -438,8 +456,13 @@ fn each_diagram_is_hashed_with_blake3() {
     let engine = data("vaz2108.toml");
     let o = ok(run(&["batch", "--engine", &engine, "--json", s(&files[0])]));
     let rows: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert_eq!(rows[0]["inputs"]["diagram_blake3"][0], want[0].clone().unwrap());
-    let engine_hash = blake3::hash(&std::fs::read(&engine).unwrap()).to_hex().to_string();
+    assert_eq!(
+        rows[0]["inputs"]["diagram_blake3"][0],
+        want[0].clone().unwrap()
+    );
+    let engine_hash = blake3::hash(&std::fs::read(&engine).unwrap())
+        .to_hex()
+        .to_string();
     assert_eq!(rows[0]["inputs"]["engine_blake3"], engine_hash);
 }
 

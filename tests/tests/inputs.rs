@@ -11,7 +11,9 @@ use std::process::Output;
 /// The BLAKE3 of a file, as `b3sum` prints it (the reference crate, not
 /// enginedyn's reading pass).
 fn b3sum(path: impl AsRef<Path>) -> String {
-    blake3::hash(&std::fs::read(path).unwrap()).to_hex().to_string()
+    blake3::hash(&std::fs::read(path).unwrap())
+        .to_hex()
+        .to_string()
 }
 
 fn run(args: &[&str]) -> Output {

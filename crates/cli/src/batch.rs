@@ -98,7 +98,11 @@ fn out_dir(
     files: &[std::path::PathBuf],
 ) -> Result<(Option<enginedyn_report::OutDir>, Vec<String>), Failure> {
     let folders: Vec<String> = if a.detail {
-        files.iter().enumerate().map(|(i, f)| run_folder(i, f)).collect()
+        files
+            .iter()
+            .enumerate()
+            .map(|(i, f)| run_folder(i, f))
+            .collect()
     } else {
         Vec::new()
     };
@@ -139,8 +143,7 @@ fn failed_row(a: &BatchArgs, file: &std::path::Path, e: enginedyn_session::Error
 pub fn run(a: &BatchArgs) -> Result<(), Failure> {
     let session = session_of(a)?;
     let engine = session.engine();
-    let listed =
-        enginedyn_session::batch::listed(&a.diagrams, a.files_from.as_deref(), a.shard)?;
+    let listed = enginedyn_session::batch::listed(&a.diagrams, a.files_from.as_deref(), a.shard)?;
     for note in &listed.notes {
         crate::say(None, note);
     }
@@ -154,8 +157,11 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                 .plan_keys(dir, shard, &listed.keys, a.traces, a.replace)
                 .map_err(|e| parquet_failure(dir, e))?;
             if !plan.removed.is_empty() {
-                let removed: Vec<String> =
-                    plan.removed.iter().map(|p| p.display().to_string()).collect();
+                let removed: Vec<String> = plan
+                    .removed
+                    .iter()
+                    .map(|p| p.display().to_string())
+                    .collect();
                 crate::say(
                     None,
                     &format!(

@@ -425,14 +425,11 @@ impl NativeSession {
         let s = self.session.clone();
         py.detach(move || {
             let outcome = s.analyse_columns(&names, &slices, rpm)?;
-            let bytes: Vec<u8> = slices
-                .iter()
-                .flat_map(|c| c.iter().flat_map(|v| v.to_le_bytes()))
-                .collect();
+            // Hashed from the borrowed slices: no copy of the arrays.
+            let hash = enginedyn_session::inputs::arrays_blake3(&slices);
+            let arrays = enginedyn_report::Source::Hashed(std::path::Path::new("arrays"), &hash);
             let engine = enginedyn_session::inputs::of(&s.loaded, &[])?;
-            let inputs = engine
-                .with_diagrams(&[enginedyn_report::Source::Text("arrays", &bytes)])
-                .map_err(Error::from)?;
+            let inputs = engine.with_diagrams(&[arrays]).map_err(Error::from)?;
             Ok(Run::new(&s, outcome, inputs))
         })
         .py()
@@ -523,7 +520,10 @@ impl NativeSession {
                     let inputs = engine.with_diagrams(&[hashed])?;
                     let json = enginedyn_report::summary_json(&an.analysis.summary, &inputs);
                     let text = serde_json::to_string(&json).unwrap_or_default();
-                    Ok((text, s.row(f, &an.analysis, an.resampled, an.diagram_blake3)))
+                    Ok((
+                        text,
+                        s.row(f, &an.analysis, an.resampled, an.diagram_blake3),
+                    ))
                 },
                 |_| {},
             )?;

@@ -86,8 +86,11 @@ pub fn blake3_hex(bytes: &[u8]) -> String {
 pub fn blake3_file(path: &Path) -> Result<String, ReportError> {
     let mut h = blake3::Hasher::new();
     let file = File::open(path).map_err(io(path))?;
-    std::io::copy(&mut std::io::BufReader::with_capacity(1 << 16, file), &mut h)
-        .map_err(io(path))?;
+    std::io::copy(
+        &mut std::io::BufReader::with_capacity(1 << 16, file),
+        &mut h,
+    )
+    .map_err(io(path))?;
     Ok(h.finalize().to_hex().to_string())
 }
 

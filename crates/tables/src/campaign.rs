@@ -112,9 +112,7 @@ pub fn unescape_name(s: &str) -> Vec<u8> {
     while k < b.len() {
         if b[k] == b'\\'
             && b.get(k + 1) == Some(&b'x')
-            && let Some(Ok(v)) = s
-                .get(k + 2..k + 4)
-                .map(|h| u8::from_str_radix(h, 16))
+            && let Some(Ok(v)) = s.get(k + 2..k + 4).map(|h| u8::from_str_radix(h, 16))
         {
             out.push(v);
             k += 4;
@@ -220,10 +218,7 @@ pub struct Prepared {
 /// `.enginedyn-part-IIIII-of-NNNNN-`.
 pub fn staging_prefix(part: usize, parts: usize) -> Result<String, TablesError> {
     let name = part_name(part, parts)?;
-    Ok(format!(
-        ".enginedyn-{}-",
-        name.trim_end_matches(".parquet")
-    ))
+    Ok(format!(".enginedyn-{}-", name.trim_end_matches(".parquet")))
 }
 
 /// Before any work on part `part` of the campaign `me` in `dir`: refuses a
@@ -315,7 +310,10 @@ fn remove_staging(dir: &Path, prefix: &str) {
         return;
     };
     for e in entries.flatten() {
-        let ours = e.file_name().to_str().is_some_and(|n| n.starts_with(prefix));
+        let ours = e
+            .file_name()
+            .to_str()
+            .is_some_and(|n| n.starts_with(prefix));
         if ours && e.file_type().is_ok_and(|t| t.is_dir()) {
             let _ = std::fs::remove_dir_all(e.path());
         }
