@@ -63,8 +63,7 @@ fn shard(out: &Path, list: &Path, shard: Option<&str>, extra: &[&str]) -> Output
         args.extend(["--shard", sh]);
     }
     args.extend(extra);
-    let o = run(&args);
-    o
+    run(&args)
 }
 
 fn ok(o: Output) -> Output {
