@@ -143,7 +143,12 @@ fn failed_row(a: &BatchArgs, file: &std::path::Path, e: enginedyn_session::Error
 pub fn run(a: &BatchArgs) -> Result<(), Failure> {
     let session = session_of(a)?;
     let engine = session.engine();
-    let listed = enginedyn_session::batch::listed(&a.diagrams, a.files_from.as_deref(), a.shard)?;
+    let listed = enginedyn_session::batch::listed(
+        &a.diagrams,
+        a.files_from.as_deref(),
+        a.shard,
+        a.parquet.is_some(),
+    )?;
     for note in &listed.notes {
         crate::say(None, note);
     }

@@ -368,11 +368,15 @@ pub struct Listed {
 }
 
 /// The files of `diagrams` (files, folders, patterns) and of the list
-/// `files_from`, each once by its canonical path, then `shard`'s slice.
+/// `files_from`, then `shard`'s slice. A campaign's list (`campaign`:
+/// `--files-from`, `--shard` or `--parquet`) holds each file once by its
+/// canonical path; a plain batch runs what it is given, a file named
+/// twice twice (each its own run folder).
 pub fn listed(
     diagrams: &[String],
     files_from: Option<&Path>,
     shard: Option<Shard>,
+    campaign: bool,
 ) -> Result<Listed> {
     let (mut files, mut notes) = expand(diagrams)?;
     if let Some(list) = files_from {
@@ -380,6 +384,13 @@ pub fn listed(
     }
     if files.is_empty() {
         return Err(no_files());
+    }
+    if !(campaign || files_from.is_some() || shard.is_some()) {
+        return Ok(Listed {
+            files,
+            keys: Vec::new(),
+            notes,
+        });
     }
     let (keyed, twice) = unique(files);
     notes.extend(twice);
