@@ -62,7 +62,7 @@ def test_every_measured_fixture_agrees_with_the_cli(cli, root):
         if code == 0:
             got = session.analyse(str(root / e["file"])).summary
             # `inputs` names the paths as given: the CLI's are relative.
-            assert got["inputs"]["diagram_sha256"] == want["inputs"]["diagram_sha256"]
+            assert got["inputs"]["diagram_blake3"] == want["inputs"]["diagram_blake3"]
             got.pop("inputs"), want.pop("inputs")
             assert got == want, e["id"]
         else:

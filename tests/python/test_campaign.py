@@ -61,9 +61,15 @@ def test_parts_read_back_with_schema_nulls_and_metadata(cli, tmp_path):
     meta = {k.decode(): v.decode() for k, v in t.schema.metadata.items() if not k.startswith(b"ARROW")}
     assert meta["enginedyn.schema"] == "summary/2"
     assert meta["enginedyn.version"] == ed.__version__
-    assert len(meta["engine.sha256"]) == 64 and json.loads(meta["options"]) == {"method": {}, "reader": {}}
+    options = json.loads(meta["options"])
+    assert len(meta["engine.blake3"]) == 64 and len(meta["engine.parsed_blake3"]) == 64
+    # The options as used, defaults filled in (merge compares by meaning).
+    assert options["reader"] == {} and options["method"]["step_deg"] == 0.1 and options["method"]["interp"] == "auto"
+    campaign = json.loads(meta["enginedyn.campaign"])
+    assert (campaign["parts"], campaign["part"], campaign["tables"]) == (1, 0, ["summary", "cycles", "traces"])
+    assert len(campaign["list_blake3"]) == 64
     names = t.schema.names
-    assert names[:4] == ["file", "error", "engine", "diagram_sha256"]
+    assert names[:4] == ["file", "error", "engine", "diagram_blake3"]
     assert t.schema.field("journal_most_loaded").type == pa.int32()
     assert t.schema.field("cycles").type == pa.int64()
     assert names[-1] == "imep_lnv" and "ca50_deg" in names and "models.grid_step_deg" in names and "pegging.method" in names
@@ -133,11 +139,32 @@ def test_dask_map_campaign_gives_the_batchs_rows(tmp_path):
 
     s = ed.Session(ed.Engine.from_toml("data/single.toml"))
     files = FILES * 3
-    assert sum(len(x) for x in ed_dask.shards(files, 4)) == len(files)
+    # A file named three times is one file of the campaign, analysed once.
+    assert sum(len(x) for x in ed_dask.shards(files, 4)) == len(FILES)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         with distributed.Client(cluster) as client:
             manifest = ed_dask.map_campaign(client, s, files, tmp_path / "dask", files_per_task=10)
-    assert manifest["files"] == len(files) and manifest["parts"] == 3
+    assert manifest["files"] == len(FILES) and manifest["parts"] == 3
     got = read(tmp_path / "dask", "summary").sort_by("file")
-    want = s.batch(files, jobs=1).to_arrow().sort_by("file")
+    want = s.batch(FILES, jobs=1).to_arrow().sort_by("file")
     assert got.replace_schema_metadata(None).to_pylist() == want.replace_schema_metadata(None).to_pylist()
+
+
+def test_map_campaign_refuses_another_campaigns_folder_before_any_work(cli, tmp_path):
+    """Issue 37, item 4: no client is needed to be refused (nothing runs)."""
+    from enginedyn import dask as ed_dask
+
+    out = tmp_path / "c"
+    assert batch(cli, out).returncode == 0
+    s = ed.Session(ed.Engine.from_toml("data/single.toml"))
+    with pytest.raises(OSError) as e:
+        ed_dask.map_campaign(None, s, FILES[:2], out, files_per_task=1)
+    msg = str(e.value)
+    assert "summary/part-00000-of-00001.parquet: holds a campaign of 1 part over the file list " in msg
+    assert ", not this one (a campaign of 2 parts over the file list " in msg and "overwrite=True" in msg
+    # overwrite=True removes enginedyn's parts (a client is needed from there on).
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            manifest = ed_dask.map_campaign(client, s, FILES[:2], out, files_per_task=1, overwrite=True)
+    assert (manifest["files"], manifest["parts"]) == (2, 2)

@@ -1,13 +1,20 @@
 //! Issue 30, items 7 and 12: `summary.json`'s `inputs` (what the figures
-//! came from: the engine and diagram files, their SHA-256, the version;
+//! came from: the engine and diagram files, their BLAKE3 (as `b3sum` prints it), the version;
 //! shown in report.html under "Data and method"; no date, so a rerun is
 //! byte-identical), `batch` on a folder taking every kind the reader reads
 //! with a note on what it passed over, and `batch`/`sweep --json`.
 
-use enginedyn_tests::sha256sum;
 use enginedyn_tests::{binary, data, ok_json};
 use std::path::Path;
 use std::process::Output;
+
+/// The BLAKE3 of a file, as `b3sum` prints it (the reference crate, not
+/// enginedyn's reading pass).
+fn b3sum(path: impl AsRef<Path>) -> String {
+    blake3::hash(&std::fs::read(path).unwrap())
+        .to_hex()
+        .to_string()
+}
 
 fn run(args: &[&str]) -> Output {
     std::process::Command::new(binary())
@@ -18,9 +25,9 @@ fn run(args: &[&str]) -> Output {
 
 const KEYS: [&str; 5] = [
     "engine_file",
-    "engine_sha256",
+    "engine_blake3",
     "diagram_files",
-    "diagram_sha256",
+    "diagram_blake3",
     "enginedyn_version",
 ];
 
@@ -34,11 +41,11 @@ fn check_inputs(summary: &serde_json::Value, engine: (&str, &str), diagrams: &[(
     let got: Vec<&String> = inputs.as_object().unwrap().keys().collect();
     assert_eq!(got, KEYS, "{inputs}");
     assert_eq!(inputs["engine_file"], engine.0);
-    assert_eq!(inputs["engine_sha256"], engine.1);
+    assert_eq!(inputs["engine_blake3"], engine.1);
     let files: Vec<&str> = diagrams.iter().map(|d| d.0).collect();
     let hashes: Vec<&str> = diagrams.iter().map(|d| d.1).collect();
     assert_eq!(inputs["diagram_files"], serde_json::json!(files));
-    assert_eq!(inputs["diagram_sha256"], serde_json::json!(hashes));
+    assert_eq!(inputs["diagram_blake3"], serde_json::json!(hashes));
     assert_eq!(inputs["enginedyn_version"], env!("CARGO_PKG_VERSION"));
 }
 
@@ -49,8 +56,8 @@ fn the_bundled_example_says_so() {
     let j = ok_json(&["run", "--json"]);
     check_inputs(
         &j,
-        ("bundled", &sha256sum(data("vaz2108.toml"))),
-        &[("bundled", &sha256sum(data("vaz2108.csv")))],
+        ("bundled", &b3sum(data("vaz2108.toml"))),
+        &[("bundled", &b3sum(data("vaz2108.csv")))],
     );
 }
 
@@ -78,7 +85,7 @@ fn run_records_its_inputs_and_a_rerun_is_byte_identical() {
     );
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(d.join("summary.json")).unwrap()).unwrap();
-    let (eh, dh) = (sha256sum(&engine), sha256sum(&diagram));
+    let (eh, dh) = (b3sum(&engine), b3sum(&diagram));
     check_inputs(&summary, (&engine, &eh), &[(&diagram, &dh)]);
     let html = std::fs::read_to_string(d.join("report.html")).unwrap();
     let section = html
@@ -150,7 +157,7 @@ fn batch_records_each_files_inputs() {
     let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON alone");
     let rows = rows.as_array().expect("an array");
     assert_eq!(rows.len(), 2);
-    let (eh, gh) = (sha256sum(&engine), sha256sum(&good));
+    let (eh, gh) = (b3sum(&engine), b3sum(&good));
     assert_eq!(rows[0]["file"], good.as_str());
     assert!(rows[0]["error"].is_null());
     let keys: Vec<&String> = rows[0].as_object().unwrap().keys().collect();
@@ -174,7 +181,7 @@ fn batch_records_each_files_inputs() {
     let csv = std::fs::read_to_string(d.join("summary.csv")).unwrap();
     let header = csv.lines().next().unwrap();
     assert!(
-        !header.contains("inputs") && !header.contains("sha256"),
+        !header.contains("inputs") && !header.contains("blake3"),
         "{header}"
     );
 }
@@ -276,7 +283,7 @@ fn sweep_prints_its_summaries_as_json() {
     // The engine file's `diagram` key, resolved beside it.
     let diagram = Path::new(&engine).with_file_name("single.csv");
     let diagram = diagram.to_str().unwrap();
-    let (eh, dh) = (sha256sum(&engine), sha256sum(diagram));
+    let (eh, dh) = (b3sum(&engine), b3sum(diagram));
     for r in rows {
         check_inputs(r, (&engine, &eh), &[(diagram, &dh)]);
     }

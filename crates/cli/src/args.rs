@@ -486,10 +486,10 @@ pub struct BatchArgs {
     /// Diagram files, folders (every .csv, .txt, .dat, .tsv, .xlsx, .xls, .ods, .mf4 inside) or glob patterns.
     #[arg(value_name = "DIAGRAM", required_unless_present = "files_from")]
     pub diagrams: Vec<String>,
-    /// Also the diagram paths listed in LIST, one a line (blank and `#` lines skipped; relative to LIST's folder).
+    /// Also the diagram paths listed in LIST, one a line (a line loses only its line end; blank and `#` lines skipped; relative to LIST's folder; a file named twice is analysed once).
     #[arg(long, value_name = "LIST")]
     pub files_from: Option<PathBuf>,
-    /// Only the I-th of N slices of the files, sorted bytewise (file k goes to slice k mod N; 0 ≤ I < N ≤ 100000).
+    /// Only the I-th of N slices of the files, sorted bytewise by canonical path (file k goes to slice k mod N; 0 ≤ I < N ≤ 100000).
     #[arg(long, value_name = "I/N", value_parser = parse_shard)]
     pub shard: Option<enginedyn_session::batch::Shard>,
     /// Write the summary and cycles tables as Parquet parts: DIR/summary/part-IIIII-of-NNNNN.parquet, DIR/cycles/….
@@ -498,6 +498,12 @@ pub struct BatchArgs {
     /// With --parquet: the traces table too (DIR/traces/…), the cycle-averaged pressure on the grid.
     #[arg(long, requires = "parquet")]
     pub traces: bool,
+    /// With --parquet: replace the parts of another campaign in DIR (enginedyn's own parts only).
+    #[arg(long, requires = "parquet")]
+    pub replace: bool,
+    /// With --parquet: no progress bar and no notes; warnings said once each with a count of files, errors as ever.
+    #[arg(long, requires = "parquet")]
+    pub quiet: bool,
     /// Write summary.csv (and with --detail one run folder per diagram) into DIR.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,

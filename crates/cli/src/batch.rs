@@ -20,6 +20,8 @@ struct Row {
     json: Option<String>,
     /// With `--parquet`: its rows of the campaign's tables.
     campaign: Option<enginedyn_session::campaign::Row>,
+    /// With `--parquet`: its notes, said at the end with the others'.
+    notes: Vec<String>,
 }
 
 /// A batch row as `--json` prints it: `file`, `error` (null when it ran),
@@ -52,13 +54,13 @@ fn json_array<'a>(objects: impl Iterator<Item = &'a str>) -> String {
     s
 }
 
-pub fn run(a: &BatchArgs) -> Result<(), Failure> {
+/// The session a batch's options make.
+fn session_of(a: &BatchArgs) -> Result<Session, Failure> {
     if let Some(t) = a.tolerance {
         enginedyn_session::options::check_tolerance(t, "--tolerance")?;
     }
-    let loaded = Loaded::from_file(&a.engine)?;
     let mut session = Session::new(
-        loaded,
+        Loaded::from_file(&a.engine)?,
         a.diagram_args.reader(None),
         a.method.method(a.tolerance),
         // Without --detail only summary.csv is written: skip the report curves.
@@ -70,32 +72,31 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
     )?;
     // The cycles and traces tables need each file's grid; else it is freed.
     session.keep_grid = a.parquet.is_some();
-    let session = session;
-    let engine = session.engine();
-    let (mut files, notes) = enginedyn_session::batch::expand(&a.diagrams)?;
-    for note in &notes {
-        crate::say(None, note);
+    Ok(session)
+}
+
+/// The progress bar: on a terminal, and not with `--quiet`.
+fn progress(a: &BatchArgs, n: usize) -> indicatif::ProgressBar {
+    if !std::io::stderr().is_terminal() || a.quiet {
+        return indicatif::ProgressBar::hidden();
     }
-    if let Some(list) = &a.files_from {
-        files.extend(enginedyn_session::batch::files_from(list)?);
-    }
-    if files.is_empty() {
-        return Err(enginedyn_session::batch::no_files());
-    }
-    if let Some(shard) = &a.shard {
-        files = shard.take(&files);
-    }
-    // What each summary came from (`inputs`): the engine hashed once, each
-    // diagram as it is analysed; only when a summary.json is written.
-    let engine_inputs = if a.detail || a.json {
-        Some(enginedyn_session::inputs::of(&session.loaded, &[])?)
-    } else {
-        None
-    };
-    // The output folder, locked for the whole batch (a second batch into
-    // it waits or exits 2), cleaned of what a killed run left; every name
-    // the batch will write (summary.csv, index.html, each run folder)
-    // checked before the first is written: something in the way is exit 2.
+    let b = indicatif::ProgressBar::new(n as u64);
+    b.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} diagrams  {elapsed} ({eta} left)",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    b
+}
+
+/// The output folder (`--out`), locked for the whole batch (a second batch
+/// into it waits or exits 2) and cleaned of what a killed run left; every
+/// name the batch will write checked before the first is written.
+fn out_dir(
+    a: &BatchArgs,
+    files: &[std::path::PathBuf],
+) -> Result<(Option<enginedyn_report::OutDir>, Vec<String>), Failure> {
     let folders: Vec<String> = if a.detail {
         files
             .iter()
@@ -110,115 +111,104 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
     } else {
         &["summary.csv"]
     };
-    let out_dir = a
+    let dir = a
         .out
         .as_deref()
         .map(|d| {
             enginedyn_report::OutDir::open_for(d, names, &folders).map(|o| o.for_command("batch"))
         })
         .transpose()?;
-    let jobs = a.jobs.unwrap_or(0) as usize;
-    let bar = if std::io::stderr().is_terminal() {
-        let b = indicatif::ProgressBar::new(files.len() as u64);
-        b.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{bar:40} {pos}/{len} diagrams  {elapsed} ({eta} left)",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        b
-    } else {
-        indicatif::ProgressBar::hidden()
+    Ok((dir, folders))
+}
+
+/// A failed file's row.
+fn failed_row(a: &BatchArgs, file: &std::path::Path, e: enginedyn_session::Error) -> Row {
+    let shown = enginedyn_session::campaign::shown(file);
+    let campaign = a
+        .parquet
+        .is_some()
+        .then(|| enginedyn_session::campaign::Row::failed(file, &e));
+    Row {
+        json: a.json.then(|| json_row(&shown, &e.message, None)),
+        file: shown,
+        error: e.message,
+        cells: Vec::new(),
+        key: None,
+        folder: None,
+        campaign,
+        notes: Vec::new(),
+    }
+}
+
+pub fn run(a: &BatchArgs) -> Result<(), Failure> {
+    let session = session_of(a)?;
+    let engine = session.engine();
+    let listed = enginedyn_session::batch::listed(
+        &a.diagrams,
+        a.files_from.as_deref(),
+        a.shard,
+        a.parquet.is_some(),
+    )?;
+    for note in &listed.notes {
+        crate::say(None, note);
+    }
+    let files = &listed.files;
+    // A campaign's folder checked before any work: another campaign's
+    // parts refused (or replaced), anything else in the way refused.
+    let plan = match &a.parquet {
+        Some(dir) => {
+            let shard = a.shard.unwrap_or(enginedyn_session::batch::Shard::WHOLE);
+            let plan = session
+                .plan_keys(dir, shard, &listed.keys, a.traces, a.replace)
+                .map_err(|e| parquet_failure(dir, e))?;
+            if !plan.removed.is_empty() {
+                let removed: Vec<String> = plan
+                    .removed
+                    .iter()
+                    .map(|p| p.display().to_string())
+                    .collect();
+                crate::say(
+                    None,
+                    &format!(
+                        "parts of another campaign removed (--replace): {}",
+                        removed.join(", ")
+                    ),
+                );
+            }
+            Some(plan)
+        }
+        None => None,
     };
+    // What each summary came from (`inputs`): the engine hashed once, each
+    // diagram as it is read; only when a summary.json is written.
+    let engine_inputs = (a.detail || a.json)
+        .then(|| enginedyn_session::inputs::of(&session.loaded, &[]))
+        .transpose()?;
+    let (out_dir, folders) = out_dir(a, files)?;
+    let bar = progress(a, files.len());
     let started = Instant::now();
     let work = if a.parse_only {
         Work::ParseOnly
     } else {
         Work::Analyse
     };
+    let ctx = RowContext {
+        a,
+        session: &session,
+        engine_inputs: engine_inputs.as_ref(),
+        out_dir: out_dir.as_ref(),
+        folders: &folders,
+        bar: &bar,
+    };
     let items = session.batch(
-        &files,
-        jobs,
+        files,
+        a.jobs.unwrap_or(0) as usize,
         work,
-        |i, f, an, times| {
-            let shown = f.display().to_string();
-            let Some(enginedyn_session::Analysed {
-                analysis: an,
-                resampled,
-            }) = an
-            else {
-                return Ok(Row {
-                    file: shown,
-                    error: String::new(),
-                    cells: Vec::new(),
-                    key: None,
-                    folder: None,
-                    json: None,
-                    campaign: None,
-                });
-            };
-            let s = &an.summary;
-            let inputs = engine_inputs
-                .as_ref()
-                .map(|e| e.with_diagrams(&[enginedyn_report::Source::File(f)]))
-                .transpose()?;
-            let campaign = a.parquet.is_some().then(|| {
-                let hash = inputs
-                    .as_ref()
-                    .and_then(|i| i.diagram_sha256.first().cloned());
-                session.row(f, &an, resampled, hash)
-            });
-            let mut folder = None;
-            if let Some(dir) = &out_dir
-                && let Some(name) = folders.get(i)
-                && let Some(inputs) = &inputs
-            {
-                let name = name.clone();
-                let files = enginedyn_report::run_files(
-                    engine,
-                    &an,
-                    a.angles == crate::args::Angles::Centered,
-                    inputs,
-                )
-                .map_err(|e| Failure::data(e.to_string()))?;
-                dir.write_folder(&name, &files)?;
-                folder = Some(name);
-            }
-            let json = match &inputs {
-                Some(inputs) if a.json => Some(json_row(
-                    &shown,
-                    "",
-                    Some(enginedyn_report::summary_json(s, inputs)),
-                )),
-                _ => None,
-            };
-            if !s.notes.is_empty() {
-                bar.suspend(|| {
-                    for n in &s.notes {
-                        crate::say(Some(&one_line(&shown)), n);
-                    }
-                });
-            }
-            let flattened = Instant::now();
-            let cells = enginedyn_report::flatten(s);
-            times.analysis += flattened.elapsed();
-            Ok(Row {
-                file: shown,
-                error: String::new(),
-                cells,
-                key: Some(enginedyn_report::key_figures(
-                    &enginedyn_report::KEY_FIGURES,
-                    s,
-                )),
-                folder,
-                json,
-                campaign,
-            })
-        },
+        |i, f, an, times| ctx.row(i, f, an, times),
         |item| {
             bar.inc(1);
             if let Err(e) = &item.result {
-                let shown = item.file.display().to_string();
+                let shown = enginedyn_session::campaign::shown(&item.file);
                 bar.suspend(|| eprintln!("error: {}: {}", one_line(&shown), e.message));
             }
         },
@@ -234,37 +224,28 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
     }
     let mut rows: Vec<Row> = items
         .into_iter()
-        .map(|item| {
-            item.result.unwrap_or_else(|e| {
-                // The row names the file: the message alone.
-                let shown = item.file.display().to_string();
-                let campaign = a
-                    .parquet
-                    .is_some()
-                    .then(|| enginedyn_session::campaign::Row::failed(&item.file, &e));
-                let msg = e.message;
-                Row {
-                    json: a.json.then(|| json_row(&shown, &msg, None)),
-                    file: shown,
-                    error: msg,
-                    cells: Vec::new(),
-                    key: None,
-                    folder: None,
-                    campaign,
-                }
-            })
-        })
+        .map(|item| item.result.unwrap_or_else(|e| failed_row(a, &item.file, e)))
         .collect();
     let failed = rows.iter().filter(|r| !r.error.is_empty()).count();
-    // The campaign's parts: whole or not at all; one that cannot be
+    // Notes shared by many files said once, with their count.
+    let grouped = enginedyn_session::batch::grouped_notes(
+        rows.iter().map(|r| (r.file.as_str(), r.notes.as_slice())),
+    );
+    for (about, note) in &grouped {
+        let warning = enginedyn_pipeline::notes::severity(note)
+            == enginedyn_pipeline::notes::Severity::Warning;
+        if !a.quiet || warning {
+            crate::say(Some(about), note);
+        }
+    }
+    // The campaign's part: whole or not at all; one that cannot be
     // written is exit 2 (so a dependent job can trust every part exists).
-    if let Some(dir) = &a.parquet {
+    if let (Some(plan), Some(dir)) = (&plan, &a.parquet) {
         let campaign: Vec<enginedyn_session::campaign::Row> =
             rows.iter_mut().filter_map(|r| r.campaign.take()).collect();
-        let shard = a.shard.unwrap_or(enginedyn_session::batch::Shard::WHOLE);
         let written = session
-            .write_parts(dir, shard, &campaign, a.traces)
-            .map_err(|e| Failure::usage(format!("--parquet {}: {e}", dir.display())))?;
+            .write_plan(plan, &campaign)
+            .map_err(|e| parquet_failure(dir, e))?;
         eprintln!(
             "wrote {} ({} of {} files failed): {}",
             enginedyn_report::count(written.len(), "part"),
@@ -277,6 +258,133 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
                 .join(", ")
         );
     }
+    print_outputs(a, engine, &rows, out_dir.as_ref(), started, failed)?;
+    if failed > 0 && a.parquet.is_none() {
+        return Err(Failure::data(format!(
+            "{failed} of {} diagrams failed (their rows say why)",
+            rows.len()
+        )));
+    }
+    Ok(())
+}
+
+/// A campaign that cannot be written there: exit 2, naming the folder.
+fn parquet_failure(dir: &std::path::Path, e: enginedyn_session::Error) -> Failure {
+    Failure::usage(format!("--parquet {}: {}", dir.display(), e.message))
+}
+
+/// What every file's row needs.
+struct RowContext<'a> {
+    a: &'a BatchArgs,
+    session: &'a Session,
+    engine_inputs: Option<&'a enginedyn_report::Inputs>,
+    out_dir: Option<&'a enginedyn_report::OutDir>,
+    folders: &'a [String],
+    bar: &'a indicatif::ProgressBar,
+}
+
+impl RowContext<'_> {
+    /// One file's row: its summary's cells and key figures, its run
+    /// folder (`--detail`), its JSON (`--json`), its campaign rows.
+    fn row(
+        &self,
+        i: usize,
+        f: &std::path::Path,
+        an: Option<enginedyn_session::Analysed>,
+        times: &mut enginedyn_session::batch::Times,
+    ) -> enginedyn_session::Result<Row> {
+        let a = self.a;
+        let shown = enginedyn_session::campaign::shown(f);
+        let Some(enginedyn_session::Analysed {
+            analysis: an,
+            resampled,
+            diagram_blake3,
+        }) = an
+        else {
+            return Ok(Row {
+                file: shown,
+                error: String::new(),
+                cells: Vec::new(),
+                key: None,
+                folder: None,
+                json: None,
+                campaign: None,
+                notes: Vec::new(),
+            });
+        };
+        let s = &an.summary;
+        let inputs = self
+            .engine_inputs
+            .map(|e| e.with_diagrams(&[enginedyn_report::Source::Hashed(f, &diagram_blake3)]))
+            .transpose()?;
+        let campaign = a
+            .parquet
+            .is_some()
+            .then(|| self.session.row(f, &an, resampled, diagram_blake3));
+        let mut folder = None;
+        if let Some(dir) = self.out_dir
+            && let Some(name) = self.folders.get(i)
+            && let Some(inputs) = &inputs
+        {
+            let files = enginedyn_report::run_files(
+                self.session.engine(),
+                &an,
+                a.angles == crate::args::Angles::Centered,
+                inputs,
+            )
+            .map_err(|e| enginedyn_session::Error::data(e.to_string()))?;
+            dir.write_folder(name, &files)?;
+            folder = Some(name.clone());
+        }
+        let json = match &inputs {
+            Some(inputs) if a.json => Some(json_row(
+                &shown,
+                "",
+                Some(enginedyn_report::summary_json(s, inputs)),
+            )),
+            _ => None,
+        };
+        // A campaign's notes are said at the end, once each with a count.
+        let notes = if a.parquet.is_some() {
+            s.notes.clone()
+        } else {
+            if !s.notes.is_empty() {
+                self.bar.suspend(|| {
+                    for n in &s.notes {
+                        crate::say(Some(&one_line(&shown)), n);
+                    }
+                });
+            }
+            Vec::new()
+        };
+        let flattened = Instant::now();
+        let cells = enginedyn_report::flatten(s);
+        times.analysis += flattened.elapsed();
+        Ok(Row {
+            file: shown,
+            error: String::new(),
+            cells,
+            key: Some(enginedyn_report::key_figures(
+                &enginedyn_report::KEY_FIGURES,
+                s,
+            )),
+            folder,
+            json,
+            campaign,
+            notes,
+        })
+    }
+}
+
+/// summary.csv, index.html and the table or JSON on standard output.
+fn print_outputs(
+    a: &BatchArgs,
+    engine: &enginedyn_engine::Engine,
+    rows: &[Row],
+    out_dir: Option<&enginedyn_report::OutDir>,
+    started: Instant,
+    failed: usize,
+) -> Result<(), Failure> {
     let table: Vec<enginedyn_report::CsvRow> = rows
         .iter()
         .map(|r| (r.file.clone(), r.error.clone(), r.cells.clone()))
@@ -304,7 +412,7 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
             .collect();
         json_array(each.iter().map(String::as_str))
     });
-    match &out_dir {
+    match out_dir {
         Some(dir) => {
             let mut out = vec![("summary.csv".to_string(), csv.into_bytes())];
             if a.detail {
@@ -345,12 +453,6 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
             ));
             crate::emit(&text);
         }
-    }
-    if failed > 0 && a.parquet.is_none() {
-        return Err(Failure::data(format!(
-            "{failed} of {} diagrams failed (their rows say why)",
-            rows.len()
-        )));
     }
     Ok(())
 }

@@ -1185,6 +1185,17 @@ fn from_crank(
 }
 
 impl Engine {
+    /// The engine as it computes, in words (its `Debug` form without the
+    /// notes its file's reading gave, which name lines, nor its `diagram`
+    /// key): what a campaign compares, so that a blank line more in the
+    /// engine file is the same engine.
+    pub fn meaning(&self) -> String {
+        let mut e = self.clone();
+        e.notes.clear();
+        e.diagram = None;
+        format!("{e:?}")
+    }
+
     /// The engine's name.
     pub fn name(&self) -> &str {
         &self.name

@@ -67,6 +67,9 @@ pub const DECIDED: &[&str] = &[
     "no combustion in ",
     // batch over folders (one file, or several).
     "1 file of another kind passed over",
+    // A campaign's list: a file named twice (by any path); --replace.
+    "1 file named more than once",
+    "parts of another campaign removed (--replace)",
     // Synthesis for design: the diagram made from [combustion].
     "diagram synthesised from [combustion]",
 ];
@@ -81,6 +84,7 @@ pub fn severity(note: &str) -> Severity {
                 n.bytes().all(|b| b.is_ascii_digit())
                     && (rest.starts_with("pressure columns")
                         || rest.starts_with("files of other kinds")
+                        || rest.starts_with("files named more than once")
                         || rest.starts_with("cycles one after another"))
             })
         // "the rigid rod, not the engine file's two-mass": a method --tolerance chose.

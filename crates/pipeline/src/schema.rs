@@ -108,7 +108,7 @@ pub enum Group {
     /// The row's own columns (`file`, `error`; every column of `cycles/2`
     /// and `traces/1`).
     Row,
-    /// What the figures came from (`engine`, `diagram_sha256`): Parquet
+    /// What the figures came from (`engine`, `diagram_blake3`): Parquet
     /// only (`summary.json` keeps them in `inputs`).
     Provenance,
     /// The fixed keys of `summary.json` (numbers).
@@ -173,7 +173,7 @@ pub struct SummaryRecord<'a> {
     /// The engine's `name`.
     pub engine: &'a str,
     /// The diagram file's SHA-256 (hex), when it could be read.
-    pub diagram_sha256: Option<&'a str>,
+    pub diagram_blake3: Option<&'a str>,
     /// The summary, when it ran.
     pub summary: Option<&'a Summary>,
 }
@@ -186,7 +186,7 @@ impl<'a> SummaryRecord<'a> {
             file: "",
             error: None,
             engine: "",
-            diagram_sha256: None,
+            diagram_blake3: None,
             summary: Some(summary),
         }
     }
@@ -277,11 +277,11 @@ pub const SUMMARY: &[Column<SummaryGet>] = &[
         get: |r| text(r.engine),
     },
     Column {
-        name: "diagram_sha256",
+        name: "diagram_blake3",
         ty: ColumnType::Utf8,
         nullable: true,
         group: Group::Provenance,
-        get: |r| opt_text(r.diagram_sha256),
+        get: |r| opt_text(r.diagram_blake3),
     },
     key!("rpm", Float64, Fixed),
     key!("omega_rad_s", Float64, Fixed),
@@ -358,7 +358,7 @@ pub const SUMMARY: &[Column<SummaryGet>] = &[
 ];
 
 /// The columns of `summary/2` in the Parquet table's order: `file`,
-/// `error`, `engine`, `diagram_sha256`, the fixed keys, the optional keys,
+/// `error`, `engine`, `diagram_blake3`, the fixed keys, the optional keys,
 /// `pegging.*`, the text of `models.*`, `models.grid_step_deg`, `notes`.
 pub fn summary_columns() -> Vec<&'static Column<SummaryGet>> {
     let mut c: Vec<_> = SUMMARY.iter().collect();
@@ -698,7 +698,7 @@ mod tests {
     #[test]
     fn summary_columns_are_the_keys_in_order() {
         let s = full();
-        let mut expected = vec!["file", "error", "engine", "diagram_sha256"]
+        let mut expected = vec!["file", "error", "engine", "diagram_blake3"]
             .into_iter()
             .map(String::from)
             .collect::<Vec<_>>();
@@ -724,7 +724,7 @@ mod tests {
         assert_eq!(names.len(), SUMMARY.len());
         assert_eq!(
             names[..5],
-            ["file", "error", "engine", "diagram_sha256", "rpm"]
+            ["file", "error", "engine", "diagram_blake3", "rpm"]
         );
         let at = |n: &str| names.iter().position(|x| *x == n).unwrap();
         assert_eq!(at("energy_balance_error") + 1, at("cycles"));
@@ -778,7 +778,7 @@ mod tests {
             file: "x.csv",
             error: Some("line 3: no number"),
             engine: "e",
-            diagram_sha256: None,
+            diagram_blake3: None,
             summary: None,
         };
         assert_eq!(cell(&failed, "rpm"), Cell::Null);

@@ -425,14 +425,11 @@ impl NativeSession {
         let s = self.session.clone();
         py.detach(move || {
             let outcome = s.analyse_columns(&names, &slices, rpm)?;
-            let bytes: Vec<u8> = slices
-                .iter()
-                .flat_map(|c| c.iter().flat_map(|v| v.to_le_bytes()))
-                .collect();
+            // Hashed from the borrowed slices: no copy of the arrays.
+            let hash = enginedyn_session::inputs::arrays_blake3(&slices);
+            let arrays = enginedyn_report::Source::Hashed(std::path::Path::new("arrays"), &hash);
             let engine = enginedyn_session::inputs::of(&s.loaded, &[])?;
-            let inputs = engine
-                .with_diagrams(&[enginedyn_report::Source::Text("arrays", &bytes)])
-                .map_err(Error::from)?;
+            let inputs = engine.with_diagrams(&[arrays]).map_err(Error::from)?;
             Ok(Run::new(&s, outcome, inputs))
         })
         .py()
@@ -476,6 +473,28 @@ impl NativeSession {
         .py()
     }
 
+    /// Before any work on a campaign in `dir` (`map_campaign`): refuses a
+    /// folder holding another campaign's parts, naming both, unless
+    /// `overwrite`, which removes enginedyn's own parts first; refuses
+    /// anything else at a part's path. Returns the parts removed.
+    #[pyo3(signature = (dir, paths, parts, traces=false, overwrite=false))]
+    fn plan_campaign(
+        &self,
+        py: Python<'_>,
+        dir: PathBuf,
+        paths: Vec<PathBuf>,
+        parts: usize,
+        traces: bool,
+        overwrite: bool,
+    ) -> PyResult<Vec<PathBuf>> {
+        let shard = enginedyn_session::batch::Shard::new(0, parts)
+            .map_err(|e| UsageError::new_err(format!("parts: {e}")))?;
+        let s = &self.session;
+        py.detach(|| s.plan_parts(&dir, shard, &paths, traces, overwrite))
+            .map(|p| p.removed)
+            .py()
+    }
+
     /// Many files on `jobs` threads (0: one per core): a row per file;
     /// a failed file is a row with its error, never an exception.
     #[pyo3(signature = (paths, jobs=0))]
@@ -497,11 +516,14 @@ impl NativeSession {
                     let Some(an) = an else {
                         return Err(Error::usage("nothing analysed"));
                     };
-                    let inputs = engine.with_diagrams(&[enginedyn_report::Source::File(f)])?;
+                    let hashed = enginedyn_report::Source::Hashed(f, &an.diagram_blake3);
+                    let inputs = engine.with_diagrams(&[hashed])?;
                     let json = enginedyn_report::summary_json(&an.analysis.summary, &inputs);
                     let text = serde_json::to_string(&json).unwrap_or_default();
-                    let hash = inputs.diagram_sha256.first().cloned();
-                    Ok((text, s.row(f, &an.analysis, an.resampled, hash)))
+                    Ok((
+                        text,
+                        s.row(f, &an.analysis, an.resampled, an.diagram_blake3),
+                    ))
                 },
                 |_| {},
             )?;
@@ -567,8 +589,11 @@ impl NativeBatch {
     }
 
     /// Writes part `part` of `parts` into the campaign folder `dir`: the
-    /// same files `batch --shard part/parts --parquet dir` writes.
-    #[pyo3(signature = (dir, part=0, parts=1, traces=false))]
+    /// same files `batch --shard part/parts --parquet dir` writes. `paths`:
+    /// the whole campaign's files (every shard's; default: this batch's);
+    /// `overwrite`: replace another campaign's parts (`--replace`).
+    #[pyo3(signature = (dir, part=0, parts=1, traces=false, paths=None, overwrite=false))]
+    #[allow(clippy::too_many_arguments)]
     fn write_parquet(
         &self,
         py: Python<'_>,
@@ -576,11 +601,17 @@ impl NativeBatch {
         part: usize,
         parts: usize,
         traces: bool,
+        paths: Option<Vec<PathBuf>>,
+        overwrite: bool,
     ) -> PyResult<Vec<PathBuf>> {
         let shard = enginedyn_session::batch::Shard::new(part, parts)
             .map_err(|e| UsageError::new_err(format!("part/parts: {e}")))?;
-        py.detach(|| self.session.write_parts(&dir, shard, &self.rows, traces))
-            .py()
+        py.detach(|| {
+            let list = paths.as_deref();
+            self.session
+                .write_parts(&dir, shard, list, &self.rows, traces, overwrite)
+        })
+        .py()
     }
 }
 
@@ -760,9 +791,10 @@ impl Run {
     fn summary_parquet<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
         let row = enginedyn_session::campaign::Row {
             file: self.inputs.diagram_files.join(" | "),
+            key: self.inputs.diagram_files.join(" | ").into_bytes(),
             error: None,
-            diagram_sha256: (self.inputs.diagram_sha256.len() == 1)
-                .then(|| self.inputs.diagram_sha256[0].clone()),
+            diagram_blake3: (self.inputs.diagram_blake3.len() == 1)
+                .then(|| self.inputs.diagram_blake3[0].clone()),
             summary: Some(self.analysis.summary.clone()),
             resampled: None,
         };

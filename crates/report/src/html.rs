@@ -1,6 +1,6 @@
 //! `report.html`: one self-contained page (no external files, no scripts)
 //! with the engine, the operating point, the summary, the data and method
-//! (input files with their SHA-256, the version, the models), the notes
+//! (input files with their BLAKE3, the version, the models), the notes
 //! and every chart inlined as SVG.
 
 use enginedyn_engine::Engine;
@@ -213,7 +213,7 @@ code{{font-size:12px;word-break:break-all}}\
 }
 
 /// "Data and method": what the results came from (`summary.json`'s
-/// `inputs`: the files as given with their SHA-256, the version) and the
+/// `inputs`: the files as given with their BLAKE3, the version) and the
 /// models and method options that computed them.
 fn data_and_method(o: &mut String, a: &Analysis, inputs: &crate::Inputs) {
     let s = &a.summary;
@@ -228,15 +228,15 @@ fn data_and_method(o: &mut String, a: &Analysis, inputs: &crate::Inputs) {
     };
     let _ = writeln!(
         o,
-        "<tr><th>engine file</th><td>{}</td><td>SHA-256 <code>{}</code></td></tr>",
+        "<tr><th>engine file</th><td>{}</td><td>BLAKE3 <code>{}</code></td></tr>",
         shown(&inputs.engine_file),
-        esc(&inputs.engine_sha256)
+        esc(&inputs.engine_blake3)
     );
     let several = inputs.diagram_files.len() > 1;
     for (k, (file, hash)) in inputs
         .diagram_files
         .iter()
-        .zip(&inputs.diagram_sha256)
+        .zip(&inputs.diagram_blake3)
         .enumerate()
     {
         let label = if several {
@@ -246,7 +246,7 @@ fn data_and_method(o: &mut String, a: &Analysis, inputs: &crate::Inputs) {
         };
         let _ = writeln!(
             o,
-            "<tr><th>{label}</th><td>{}</td><td>SHA-256 <code>{}</code></td></tr>",
+            "<tr><th>{label}</th><td>{}</td><td>BLAKE3 <code>{}</code></td></tr>",
             shown(file),
             esc(hash)
         );

@@ -41,7 +41,8 @@ pub use firing::{FIRING_FILES, crank_end_view, firing_csv, firing_json, firing_t
 pub use html::{esc, percent_encode, report_html, table as html_table};
 pub use kinematics::{KINEMATICS_FILES, kinematics_csv, kinematics_svg, kinematics_table};
 pub use out::{
-    LOCK_WAIT, MANIFEST, OutDir, STAGING_PREFIX, Staged, replace_file, sha256_file, sha256_hex,
+    LOCK_WAIT, MANIFEST, OutDir, STAGING_PREFIX, Staged, blake3_file, blake3_hex, injected_failure,
+    replace_file, sha256_file, sha256_hex,
 };
 pub use tables::{
     KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_table, sweep_figure,
@@ -119,18 +120,18 @@ pub enum ReportError {
 }
 
 /// What a result came from (`summary.json`'s `inputs`): the engine file
-/// and the diagram (or torque) files as given, their SHA-256 hashes, and
+/// and the diagram (or torque) files as given, their BLAKE3 hashes, and
 /// the version of enginedyn. No date: a rerun is byte-identical.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Inputs {
     /// The engine file's path as given, or `bundled` for the bundled example.
     pub engine_file: String,
-    /// The SHA-256 of the engine file's bytes (of the bundled TOML text).
-    pub engine_sha256: String,
+    /// The BLAKE3 of the engine file's bytes (of the bundled TOML text).
+    pub engine_blake3: String,
     /// The diagram files' paths as given (`bundled` for the bundled one).
     pub diagram_files: Vec<String>,
-    /// Their SHA-256 hashes, in the same order.
-    pub diagram_sha256: Vec<String>,
+    /// Their BLAKE3 hashes, in the same order.
+    pub diagram_blake3: Vec<String>,
     /// The version of enginedyn that computed the result.
     pub enginedyn_version: &'static str,
 }
@@ -145,15 +146,18 @@ pub enum Source<'a> {
     /// Text given in memory (an engine from a string, arrays), under the
     /// name `inputs` gives it.
     Text(&'a str, &'a [u8]),
+    /// A file already hashed as it was read (BLAKE3 in hex): not read again.
+    Hashed(&'a Path, &'a str),
 }
 
 impl Source<'_> {
     /// The name `inputs` gives it and its hash (the file read now).
     fn record(&self) -> Result<(String, String), ReportError> {
         Ok(match self {
-            Source::File(p) => (p.display().to_string(), out::sha256_file(p)?),
-            Source::Bundled(text) => ("bundled".to_string(), out::sha256_hex(text)),
-            Source::Text(name, text) => (name.to_string(), out::sha256_hex(text)),
+            Source::File(p) => (p.display().to_string(), out::blake3_file(p)?),
+            Source::Bundled(text) => ("bundled".to_string(), out::blake3_hex(text)),
+            Source::Text(name, text) => (name.to_string(), out::blake3_hex(text)),
+            Source::Hashed(p, hash) => (p.display().to_string(), hash.to_string()),
         })
     }
 }
@@ -161,12 +165,12 @@ impl Source<'_> {
 impl Inputs {
     /// The record of `engine` and `diagrams` (each file read and hashed).
     pub fn new(engine: Source<'_>, diagrams: &[Source<'_>]) -> Result<Self, ReportError> {
-        let (engine_file, engine_sha256) = engine.record()?;
+        let (engine_file, engine_blake3) = engine.record()?;
         Self {
             engine_file,
-            engine_sha256,
+            engine_blake3,
             diagram_files: Vec::new(),
-            diagram_sha256: Vec::new(),
+            diagram_blake3: Vec::new(),
             enginedyn_version: env!("CARGO_PKG_VERSION"),
         }
         .with_diagrams(diagrams)
@@ -175,7 +179,7 @@ impl Inputs {
     /// The same engine with other diagrams (a batch's files: the engine
     /// hashed once).
     pub fn with_diagrams(&self, diagrams: &[Source<'_>]) -> Result<Self, ReportError> {
-        let (diagram_files, diagram_sha256) = diagrams
+        let (diagram_files, diagram_blake3) = diagrams
             .iter()
             .map(Source::record)
             .collect::<Result<Vec<_>, _>>()?
@@ -183,7 +187,7 @@ impl Inputs {
             .unzip();
         Ok(Self {
             diagram_files,
-            diagram_sha256,
+            diagram_blake3,
             ..self.clone()
         })
     }
@@ -192,9 +196,9 @@ impl Inputs {
     pub fn json(&self) -> serde_json::Value {
         serde_json::json!({
             "engine_file": self.engine_file,
-            "engine_sha256": self.engine_sha256,
+            "engine_blake3": self.engine_blake3,
             "diagram_files": self.diagram_files,
-            "diagram_sha256": self.diagram_sha256,
+            "diagram_blake3": self.diagram_blake3,
             "enginedyn_version": self.enginedyn_version,
         })
     }

@@ -76,6 +76,24 @@ pub struct OutDir {
     written: Mutex<Vec<(String, String)>>,
 }
 
+/// The BLAKE3 of `bytes` in lowercase hex, as `b3sum` prints it.
+pub fn blake3_hex(bytes: &[u8]) -> String {
+    blake3::hash(bytes).to_hex().to_string()
+}
+
+/// The BLAKE3 of a file's bytes, read in blocks (a file an analysis did
+/// not read: a failed one, an engine file).
+pub fn blake3_file(path: &Path) -> Result<String, ReportError> {
+    let mut h = blake3::Hasher::new();
+    let file = File::open(path).map_err(io(path))?;
+    std::io::copy(
+        &mut std::io::BufReader::with_capacity(1 << 16, file),
+        &mut h,
+    )
+    .map_err(io(path))?;
+    Ok(h.finalize().to_hex().to_string())
+}
+
 /// The SHA-256 of `bytes` in lowercase hex, as `sha256sum` prints it.
 pub fn sha256_hex(bytes: &[u8]) -> String {
     hex(&Sha256::digest(bytes))
@@ -719,7 +737,8 @@ fn write_new(path: &Path, bytes: &[u8]) -> Result<(), ReportError> {
 /// Tests only: `ENGINEDYN_TEST_WRITE_FAIL=N` makes the N-th file this
 /// process writes fail as a full disk does (no space left), so that the
 /// end-to-end tests can check that a failed write leaves nothing behind.
-fn injected_failure() -> Option<std::io::Error> {
+#[doc(hidden)]
+pub fn injected_failure() -> Option<std::io::Error> {
     use std::sync::atomic::{AtomicUsize, Ordering};
     static WRITTEN: AtomicUsize = AtomicUsize::new(0);
     let n: usize = std::env::var("ENGINEDYN_TEST_WRITE_FAIL")

@@ -2,7 +2,7 @@
 //! shards) and the per-file loop, in parallel, where one file's failure
 //! or panic is that file's error and never the batch's.
 
-use crate::diagram::{Input, load_diagram_timed, parse_diagram, parse_only};
+use crate::diagram::{load_file_hashed, parse_file_hashed, parse_only};
 use crate::error::{Error, Result};
 use crate::session::{Session, within};
 use crate::speed::resolve_rpm;
@@ -132,6 +132,8 @@ pub struct Analysed {
     pub analysis: Analysis,
     /// The diagram on the grid.
     pub resampled: Option<enginedyn_ingest::Resampled>,
+    /// The BLAKE3 of the diagram file's bytes, hashed as they were read.
+    pub diagram_blake3: String,
 }
 
 /// What a batch does with each file.
@@ -184,7 +186,7 @@ impl Session {
         let engine = self.engine();
         let turning = || Error::data("a turning-moment file, not a pressure diagram");
         if let Some(t) = self.method.tolerance {
-            let d = parse_diagram(Input::File(file), &self.parse)?;
+            let (d, diagram_blake3) = parse_file_hashed(file, &self.parse)?;
             if d.quantity != Quantity::Pressure {
                 return Err(turning());
             }
@@ -203,10 +205,11 @@ impl Session {
             return Ok(Some(Analysed {
                 analysis: an,
                 resampled: None,
+                diagram_blake3,
             }));
         }
-        let resampled =
-            load_diagram_timed(Input::File(file), &self.parse, &self.grid, &mut times.grid)?;
+        let (resampled, diagram_blake3) =
+            load_file_hashed(file, &self.parse, &self.grid, &mut times.grid)?;
         let started = Instant::now();
         if resampled.quantity != Quantity::Pressure {
             return Err(turning());
@@ -225,6 +228,7 @@ impl Session {
             analysis: an,
             // Freed here unless a campaign's tables want it.
             resampled: self.keep_grid.then_some(resampled),
+            diagram_blake3,
         }))
     }
 
@@ -323,30 +327,179 @@ impl Shard {
         Self::new(i, n).map_err(|_| bad())
     }
 
-    /// This shard's files of `files`: the paths sorted bytewise, path k
-    /// going to shard k mod N, so that every shard of one list sees the
-    /// same order and the N shards together hold each file once.
+    /// This shard's files of `files`: the files sorted bytewise by their
+    /// identity ([`crate::campaign::canonical_key`]), file k going to
+    /// shard k mod N, so that every shard of one list sees the same order
+    /// and the N shards together hold each file once.
     pub fn take(&self, files: &[PathBuf]) -> Vec<PathBuf> {
-        let mut sorted: Vec<&PathBuf> = files.iter().collect();
-        sorted.sort_by(|a, b| {
-            a.as_os_str()
-                .as_encoded_bytes()
-                .cmp(b.as_os_str().as_encoded_bytes())
-        });
+        let keyed: Vec<(Vec<u8>, PathBuf)> = files
+            .iter()
+            .map(|p| (crate::campaign::canonical_key(p), p.clone()))
+            .collect();
+        self.take_keyed(&keyed)
+    }
+
+    /// [`Shard::take`] of files whose identities are known; a file named
+    /// twice is taken once (as first named).
+    pub fn take_keyed(&self, files: &[(Vec<u8>, PathBuf)]) -> Vec<PathBuf> {
+        let mut sorted: Vec<&(Vec<u8>, PathBuf)> = files.iter().collect();
+        // Stable: of one file's names, the first given stays first.
+        sorted.sort_by(|a, b| a.0.cmp(&b.0));
+        sorted.dedup_by(|a, b| a.0 == b.0);
         sorted
             .into_iter()
             .enumerate()
             .filter(|(k, _)| k % self.count == self.index)
-            .map(|(_, p)| p.clone())
+            .map(|(_, (_, p))| p.clone())
             .collect()
     }
+}
+
+/// A batch's files: this shard's, and the identity of every file of the
+/// whole list (a campaign's `list_blake3`).
+#[derive(Debug, Clone)]
+pub struct Listed {
+    /// The files this run analyses (this shard's), each once.
+    pub files: Vec<PathBuf>,
+    /// Every file of the list (all shards), by identity.
+    pub keys: Vec<Vec<u8>>,
+    /// What was passed over or named twice.
+    pub notes: Vec<String>,
+}
+
+/// The files of `diagrams` (files, folders, patterns) and of the list
+/// `files_from`, then `shard`'s slice. A campaign's list (`campaign`:
+/// `--files-from`, `--shard` or `--parquet`) holds each file once by its
+/// canonical path; a plain batch runs what it is given, a file named
+/// twice twice (each its own run folder).
+pub fn listed(
+    diagrams: &[String],
+    files_from: Option<&Path>,
+    shard: Option<Shard>,
+    campaign: bool,
+) -> Result<Listed> {
+    let (mut files, mut notes) = expand(diagrams)?;
+    if let Some(list) = files_from {
+        files.extend(self::files_from(list)?);
+    }
+    if files.is_empty() {
+        return Err(no_files());
+    }
+    if !(campaign || files_from.is_some() || shard.is_some()) {
+        return Ok(Listed {
+            files,
+            keys: Vec::new(),
+            notes,
+        });
+    }
+    let (keyed, twice) = unique(files);
+    notes.extend(twice);
+    let files = match shard {
+        Some(s) => s.take_keyed(&keyed),
+        None => keyed.iter().map(|(_, p)| p.clone()).collect(),
+    };
+    Ok(Listed {
+        files,
+        keys: keyed.into_iter().map(|(k, _)| k).collect(),
+        notes,
+    })
+}
+
+/// Each file's notes said once, as (about, note): a note that several
+/// files share, once with their count (`12 files`); one of a single file,
+/// with its name. In the order first met.
+pub fn grouped_notes<'a>(
+    per_file: impl IntoIterator<Item = (&'a str, &'a [String])>,
+) -> Vec<(String, String)> {
+    let mut order: Vec<&str> = Vec::new();
+    let mut by_note: std::collections::HashMap<&str, Vec<&str>> = std::collections::HashMap::new();
+    for (file, notes) in per_file {
+        for n in notes {
+            let files = by_note.entry(n.as_str()).or_insert_with(|| {
+                order.push(n.as_str());
+                Vec::new()
+            });
+            if files.last() != Some(&file) {
+                files.push(file);
+            }
+        }
+    }
+    order
+        .into_iter()
+        .map(|n| match by_note[n].as_slice() {
+            [one] => (one_line(one), n.to_string()),
+            files => (format!("{} files", files.len()), n.to_string()),
+        })
+        .collect()
+}
+
+/// The most groups of one file named twice a note lists.
+const DUPLICATES_SHOWN: usize = 5;
+
+/// A campaign's list: each file once by its identity
+/// ([`crate::campaign::canonical_key`]), in the order first named, with
+/// a note naming the files named more than once.
+pub fn unique(files: Vec<PathBuf>) -> (Vec<(Vec<u8>, PathBuf)>, Option<String>) {
+    let mut seen: std::collections::HashMap<Vec<u8>, usize> = std::collections::HashMap::new();
+    let mut out: Vec<(Vec<u8>, PathBuf)> = Vec::with_capacity(files.len());
+    let mut again: Vec<Vec<PathBuf>> = Vec::new();
+    let mut group_of: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
+    for p in files {
+        let key = crate::campaign::canonical_key(&p);
+        match seen.get(&key) {
+            Some(&k) => {
+                let g = *group_of.entry(k).or_insert_with(|| {
+                    again.push(vec![out[k].1.clone()]);
+                    again.len() - 1
+                });
+                again[g].push(p);
+            }
+            None => {
+                seen.insert(key.clone(), out.len());
+                out.push((key, p));
+            }
+        }
+    }
+    if again.is_empty() {
+        return (out, None);
+    }
+    let shown = |p: &PathBuf| one_line(&crate::campaign::shown(p));
+    let mut groups: Vec<String> = again
+        .iter()
+        .take(DUPLICATES_SHOWN)
+        .map(|g| {
+            format!(
+                "{} as {}",
+                shown(&g[0]),
+                g[1..].iter().map(shown).collect::<Vec<_>>().join(", ")
+            )
+        })
+        .collect();
+    if again.len() > DUPLICATES_SHOWN {
+        groups.push(format!("and {} more", again.len() - DUPLICATES_SHOWN));
+    }
+    let n = again.len();
+    let note = format!(
+        "{} named more than once, analysed once by {} canonical path: {}",
+        if n == 1 {
+            "1 file".to_string()
+        } else {
+            format!("{n} files")
+        },
+        if n == 1 { "its" } else { "their" },
+        groups.join("; ")
+    );
+    (out, Some(note))
 }
 
 /// The most paths a list names (INTERFACE.md, "Limits": a campaign's list).
 pub const MAX_LISTED: usize = 10_000_000;
 
-/// The diagram paths a list file names, one a line: blank lines and `#`
-/// lines skipped, a relative path taken relative to the list's folder.
+/// The diagram paths a list file names, one a line: a line loses only
+/// its line end (`\n` or `\r\n`; a leading space is part of the name),
+/// blank lines and `#` lines are skipped, a relative path is taken
+/// relative to the list's folder, and a name that is not UTF-8 is kept as
+/// its bytes.
 pub fn files_from(list: &Path) -> Result<Vec<PathBuf>> {
     let shown = list.display();
     let file = crate::diagram::open_diagram(list)
@@ -354,12 +507,20 @@ pub fn files_from(list: &Path) -> Result<Vec<PathBuf>> {
     let base = list.parent().unwrap_or(Path::new("."));
     let mut files = Vec::new();
     use std::io::BufRead;
-    for (k, line) in std::io::BufReader::new(file).lines().enumerate() {
-        let line = line.map_err(|e| {
-            Error::usage(format!("--files-from: line {}: cannot read: {e}", k + 1)).in_file(&shown)
+    let mut reader = std::io::BufReader::new(file);
+    let mut line = Vec::new();
+    for k in 1.. {
+        line.clear();
+        let n = reader.read_until(b'\n', &mut line).map_err(|e| {
+            Error::usage(format!("--files-from: line {k}: cannot read: {e}")).in_file(&shown)
         })?;
-        let t = line.trim();
-        if t.is_empty() || t.starts_with('#') {
+        if n == 0 {
+            break;
+        }
+        let mut t: &[u8] = &line;
+        t = t.strip_suffix(b"\n").unwrap_or(t);
+        t = t.strip_suffix(b"\r").unwrap_or(t);
+        if t.iter().all(u8::is_ascii_whitespace) || t.starts_with(b"#") {
             continue;
         }
         if files.len() == MAX_LISTED {
@@ -368,12 +529,21 @@ pub fn files_from(list: &Path) -> Result<Vec<PathBuf>> {
             ))
             .in_file(&shown));
         }
-        let p = Path::new(t);
-        files.push(if p.is_relative() {
-            base.join(p)
-        } else {
-            p.to_path_buf()
-        });
+        let p = path_of(t);
+        files.push(if p.is_relative() { base.join(&p) } else { p });
     }
     Ok(files)
+}
+
+/// A path from a list's bytes, kept as they are.
+#[cfg(unix)]
+fn path_of(bytes: &[u8]) -> PathBuf {
+    use std::os::unix::ffi::OsStrExt;
+    PathBuf::from(std::ffi::OsStr::from_bytes(bytes))
+}
+
+/// A path from a list's bytes (UTF-8 on this system).
+#[cfg(not(unix))]
+fn path_of(bytes: &[u8]) -> PathBuf {
+    PathBuf::from(String::from_utf8_lossy(bytes).into_owned())
 }

@@ -2,7 +2,8 @@
 //! `cycles/2`, `traces/1`), its parts written whole into a folder shared by
 //! every shard, and the merge check. `enginedyn batch --parquet`,
 //! `enginedyn merge` and the Python package's `write_parquet`,
-//! `run_shard` and `check_campaign` all come here.
+//! `run_shard` and `check_campaign` all come here; the campaign's identity
+//! and its checks live in `enginedyn_tables`.
 
 use crate::batch::Shard;
 use crate::error::{Class, Error, Result};
@@ -10,18 +11,44 @@ use crate::session::Session;
 use enginedyn_ingest::Resampled;
 use enginedyn_pipeline::Summary;
 use enginedyn_pipeline::schema::{SummaryRecord, cycle_rows, trace_points};
-use enginedyn_tables::{Meta, Table, TablesError};
+use enginedyn_tables::{Campaign, Meta, PartSet, Table, TablesError};
 use std::path::{Path, PathBuf};
+
+/// A file's identity in a campaign: its canonical path's bytes (links and
+/// `.`/`..` resolved), else, for a file that cannot be resolved (missing),
+/// its absolute path. `a.csv`, `./a.csv` and `/abs/a.csv` are one file.
+pub fn canonical_key(p: &Path) -> Vec<u8> {
+    let c = std::fs::canonicalize(p)
+        .or_else(|_| std::path::absolute(p))
+        .unwrap_or_else(|_| p.to_path_buf());
+    c.into_os_string().into_encoded_bytes()
+}
+
+/// The identities of a list, each once.
+fn unique_keys(keys: &[Vec<u8>]) -> Vec<&[u8]> {
+    let mut k: Vec<&[u8]> = keys.iter().map(Vec::as_slice).collect();
+    k.sort_unstable();
+    k.dedup();
+    k
+}
+
+/// A path as a table's `file` column holds it: the path as given, a name
+/// that is not UTF-8 escaped as `\xNN` without loss.
+pub fn shown(p: &Path) -> String {
+    enginedyn_tables::escape_name(p.as_os_str().as_encoded_bytes())
+}
 
 /// One file of a campaign as its tables hold it.
 #[derive(Debug, Clone)]
 pub struct Row {
-    /// The path as given.
+    /// The path as given (escaped: [`shown`]).
     pub file: String,
+    /// Its identity ([`canonical_key`]).
+    pub key: Vec<u8>,
     /// Why it failed; `None` when it ran.
     pub error: Option<String>,
-    /// Its diagram file's SHA-256, when it could be read.
-    pub diagram_sha256: Option<String>,
+    /// Its diagram file's BLAKE3, when it could be read.
+    pub diagram_blake3: Option<String>,
     /// Its summary, when it ran.
     pub summary: Option<Summary>,
     /// Its traces on the grid with their per-cycle figures (for the
@@ -30,12 +57,13 @@ pub struct Row {
 }
 
 impl Row {
-    /// A failed file's row.
+    /// A failed file's row (the file hashed when it can be read).
     pub fn failed(file: &Path, error: &Error) -> Self {
         Self {
-            file: file.display().to_string(),
+            file: shown(file),
+            key: canonical_key(file),
             error: Some(error.message.clone()),
-            diagram_sha256: enginedyn_report::sha256_file(file).ok(),
+            diagram_blake3: enginedyn_report::blake3_file(file).ok(),
             summary: None,
             resampled: None,
         }
@@ -43,13 +71,15 @@ impl Row {
 }
 
 /// A tables error with its class: a campaign that is incomplete or
-/// inconsistent is the data's; one that cannot be written is I/O.
+/// inconsistent is the data's; one that cannot be written, or a folder in
+/// the way or of another campaign, is I/O (exit 2).
 fn tables_error(e: TablesError) -> Error {
     let class = match &e {
         TablesError::Missing { .. }
         | TablesError::NoParts { .. }
         | TablesError::Counts { .. }
         | TablesError::Differs { .. }
+        | TablesError::NotOfCampaign { .. }
         | TablesError::Read { .. } => Class::Diagram,
         TablesError::PartNumber { .. } => Class::Usage,
         _ => Class::Io,
@@ -62,72 +92,157 @@ fn tables_error(e: TablesError) -> Error {
     }
 }
 
+/// Where and how a part is written, checked before any work
+/// ([`Session::plan_parts`]).
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// The campaign's folder.
+    pub dir: PathBuf,
+    /// The part.
+    pub shard: Shard,
+    /// The parts' metadata (the campaign's identity in it).
+    pub meta: Meta,
+    /// Whether the traces table is written.
+    pub traces: bool,
+    /// Parts of another campaign removed (`--replace`).
+    pub removed: Vec<PathBuf>,
+}
+
 impl Session {
     /// The options a campaign's parts record (`options` metadata): the
-    /// method and reader options as given, by their names.
+    /// method and reader options as used, defaults filled in.
     pub fn options_json(&self) -> serde_json::Value {
         serde_json::json!({
-            "method": self.method.json(),
+            "method": self.method.resolved_json(self.engine().rod_model()),
             "reader": self.reader.json(),
         })
     }
 
-    /// The key-value metadata of this session's parts.
+    /// The key-value metadata of this session's parts (outside a campaign).
     pub fn meta(&self) -> Result<Meta> {
         let engine = crate::inputs::of(&self.loaded, &[])?;
-        Ok(Meta::new(engine.engine_sha256, self.options_json()))
+        let parsed = enginedyn_report::blake3_hex(self.engine().meaning().as_bytes());
+        Ok(Meta::new(engine.engine_blake3, parsed, self.options_json()))
     }
 
     /// A campaign row of a file analysed (`resampled` kept for the cycles
-    /// and traces tables); `sha256`: the file's hash when the caller has it
-    /// already (a `summary.json`'s `inputs`), else it is read and hashed.
+    /// and traces tables), with the BLAKE3 its reading gave.
     pub fn row(
         &self,
         file: &Path,
         analysis: &enginedyn_pipeline::Analysis,
         resampled: Option<Resampled>,
-        sha256: Option<String>,
+        blake3: String,
     ) -> Row {
         Row {
-            file: file.display().to_string(),
+            file: shown(file),
+            key: canonical_key(file),
             error: None,
-            diagram_sha256: sha256.or_else(|| enginedyn_report::sha256_file(file).ok()),
+            diagram_blake3: Some(blake3),
             summary: Some(analysis.summary.clone()),
             resampled,
         }
     }
 
-    /// Writes `rows` as part `shard` of the campaign in `dir`: the
-    /// `summary` and `cycles` parts, and `traces` when asked, each whole
-    /// or not at all. Returns the paths written.
-    pub fn write_parts(
+    /// Before any work: part `shard` of the campaign of `list` (every file
+    /// of the campaign, not only this shard's) in `dir`. Refuses a folder
+    /// holding another campaign's parts (naming both) unless `replace`,
+    /// which removes them; refuses anything at a part's path that is not
+    /// enginedyn's (exit 2); removes what a killed run of this part left.
+    pub fn plan_parts(
         &self,
         dir: &Path,
         shard: Shard,
-        rows: &[Row],
+        list: &[PathBuf],
         traces: bool,
-    ) -> Result<Vec<PathBuf>> {
-        let meta = self.meta()?;
-        let bytes = self.summary_with(rows, &meta)?;
-        let cycle_bytes = self.cycles_with(rows, &meta)?;
-        let (i, n) = (shard.index, shard.count);
-        let mut written = vec![
-            enginedyn_tables::write_part(dir, Table::Summary, i, n, &bytes)
-                .map_err(tables_error)?,
-            enginedyn_tables::write_part(dir, Table::Cycles, i, n, &cycle_bytes)
-                .map_err(tables_error)?,
-        ];
+        replace: bool,
+    ) -> Result<Plan> {
+        let keys: Vec<Vec<u8>> = list.iter().map(|p| canonical_key(p)).collect();
+        self.plan_keys(dir, shard, &keys, traces, replace)
+    }
+
+    /// [`Session::plan_parts`] of a list given by its files' identities
+    /// (a file named twice counted once).
+    pub fn plan_keys(
+        &self,
+        dir: &Path,
+        shard: Shard,
+        keys: &[Vec<u8>],
+        traces: bool,
+        replace: bool,
+    ) -> Result<Plan> {
+        let mut meta = self.meta()?;
+        let mut tables = vec![Table::Summary, Table::Cycles];
         if traces {
-            let mut w = enginedyn_tables::stage_part(dir, Table::Traces, i, n, &meta)
-                .map_err(tables_error)?;
+            tables.push(Table::Traces);
+        }
+        meta.campaign = Some(Campaign {
+            list_blake3: enginedyn_tables::list_blake3(&unique_keys(keys)),
+            parts: shard.count,
+            part: shard.index,
+            tables,
+        });
+        let Some(identity) = meta.identity() else {
+            return Err(Error::io("a campaign without an identity (a bug)"));
+        };
+        let prepared = enginedyn_tables::prepare(dir, &identity, shard.index, replace)
+            .map_err(tables_error)?;
+        Ok(Plan {
+            dir: dir.to_path_buf(),
+            shard,
+            meta,
+            traces,
+            removed: prepared.removed,
+        })
+    }
+
+    /// Writes `rows` as the part `plan` names: its tables staged together,
+    /// then moved into place, the summary part last (the marker that the
+    /// part is whole). Returns the paths written.
+    pub fn write_plan(&self, plan: &Plan, rows: &[Row]) -> Result<Vec<PathBuf>> {
+        let mut meta = plan.meta.clone();
+        meta.files = Some(
+            rows.iter()
+                .map(|r| enginedyn_tables::escape_name(&r.key))
+                .collect(),
+        );
+        let (i, n) = (plan.shard.index, plan.shard.count);
+        let mut set = PartSet::new(&plan.dir, i, n).map_err(tables_error)?;
+        set.bytes(Table::Summary, &self.summary_with(rows, &meta)?)
+            .map_err(tables_error)?;
+        set.bytes(Table::Cycles, &self.cycles_with(rows, &meta)?)
+            .map_err(tables_error)?;
+        if plan.traces {
+            let mut w = set.writer(Table::Traces, &meta).map_err(tables_error)?;
             for r in rows {
                 if let Some(res) = &r.resampled {
                     w.write(&trace_points(&r.file, res)).map_err(tables_error)?;
                 }
             }
-            written.push(enginedyn_tables::commit_part(w).map_err(tables_error)?);
+            set.finish(w).map_err(tables_error)?;
         }
-        Ok(written)
+        set.commit().map_err(tables_error)
+    }
+
+    /// [`Session::plan_parts`] then [`Session::write_plan`], the list being
+    /// `list` when given, else the rows' own files (a campaign of one part).
+    pub fn write_parts(
+        &self,
+        dir: &Path,
+        shard: Shard,
+        list: Option<&[PathBuf]>,
+        rows: &[Row],
+        traces: bool,
+        replace: bool,
+    ) -> Result<Vec<PathBuf>> {
+        let plan = match list {
+            Some(l) => self.plan_parts(dir, shard, l, traces, replace)?,
+            None => {
+                let keys: Vec<Vec<u8>> = rows.iter().map(|r| r.key.clone()).collect();
+                self.plan_keys(dir, shard, &keys, traces, replace)?
+            }
+        };
+        self.write_plan(&plan, rows)
     }
 
     /// The `summary` table of `rows` as Parquet bytes (what a part holds).
@@ -148,7 +263,7 @@ impl Session {
                 file: &r.file,
                 error: r.error.as_deref(),
                 engine,
-                diagram_sha256: r.diagram_sha256.as_deref(),
+                diagram_blake3: r.diagram_blake3.as_deref(),
                 summary: r.summary.as_ref(),
             })
             .collect();
@@ -165,11 +280,22 @@ impl Session {
     }
 }
 
-/// `enginedyn merge DIR [--parts N]`: checks every part of every table is
-/// there with one schema, then writes `DIR/_manifest.json`; returns the
-/// manifest and its path.
+/// `enginedyn merge DIR [--parts N]`: checks the campaign (every part of
+/// every table, one schema, one campaign, every file once in its part),
+/// then writes `DIR/_manifest.json`; returns the manifest and its path. A
+/// campaign that fails the check has no manifest: an earlier one is
+/// removed.
 pub fn merge(dir: &Path, parts: Option<usize>) -> Result<(serde_json::Value, PathBuf)> {
-    let m = enginedyn_tables::check_campaign(dir, parts).map_err(tables_error)?;
+    let m = match enginedyn_tables::check_campaign(dir, parts) {
+        Ok(m) => m,
+        Err(e) => {
+            let err = tables_error(e);
+            return Err(match enginedyn_tables::remove_manifest(dir) {
+                Ok(()) => err,
+                Err(r) => Error::io(format!("{}; and {r}", err.message)),
+            });
+        }
+    };
     let path = enginedyn_tables::write_manifest(dir, &m).map_err(tables_error)?;
     Ok((m.json(), path))
 }

@@ -176,6 +176,79 @@ pub fn load_diagram_timed(
     }
 }
 
+/// A reader that hashes (BLAKE3) every byte it passes on: a diagram's
+/// provenance in the same pass that reads it, no second read.
+pub struct Hashing<R> {
+    inner: R,
+    hasher: blake3::Hasher,
+}
+
+impl<R: std::io::Read> Hashing<R> {
+    /// Hashes what `inner` gives.
+    pub fn new(inner: R) -> Self {
+        Self {
+            inner,
+            hasher: blake3::Hasher::new(),
+        }
+    }
+
+    /// Reads what is left (a reader that stopped before the end), then
+    /// gives the hash of every byte, in hex as `b3sum` prints it.
+    pub fn finish(mut self) -> std::io::Result<String> {
+        let mut rest = [0u8; 1 << 14];
+        loop {
+            match std::io::Read::read(&mut self, &mut rest) {
+                Ok(0) => break,
+                Ok(_) => {}
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                Err(e) => return Err(e),
+            }
+        }
+        Ok(self.hasher.finalize().to_hex().to_string())
+    }
+}
+
+impl<R: std::io::Read> std::io::Read for Hashing<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.hasher.update(&buf[..n]);
+        Ok(n)
+    }
+}
+
+/// [`load_diagram_timed`] of a file, which also gives the BLAKE3 of the
+/// file's bytes, hashed as they are read.
+pub fn load_file_hashed(
+    p: &Path,
+    parse: &ParseOptions,
+    grid: &GridOptions,
+    on_grid: &mut std::time::Duration,
+) -> Result<(Resampled, String)> {
+    let mut reader = std::io::BufReader::with_capacity(1 << 12, Hashing::new(open_diagram(p)?));
+    let r = enginedyn_ingest::load_timed(&mut reader, parse, grid, on_grid)
+        .map_err(|e| Error::from(e).in_file(p.display()))?;
+    Ok((r, finish_hash(reader, p)?))
+}
+
+/// [`parse_diagram`] of a file, with the BLAKE3 of its bytes.
+pub fn parse_file_hashed(
+    p: &Path,
+    parse: &ParseOptions,
+) -> Result<(enginedyn_ingest::Diagram, String)> {
+    let mut reader = std::io::BufReader::with_capacity(1 << 12, Hashing::new(open_diagram(p)?));
+    let d = enginedyn_ingest::parse(&mut reader, parse)
+        .map_err(|e| Error::from(e).in_file(p.display()))?;
+    Ok((d, finish_hash(reader, p)?))
+}
+
+fn finish_hash(reader: std::io::BufReader<Hashing<std::fs::File>>, p: &Path) -> Result<String> {
+    // What the BufReader holds unread was hashed when it was read.
+    reader
+        .into_inner()
+        .finish()
+        .map_err(|e| Error::io(format!("cannot read: {e}")).in_file(p.display()))
+}
+
 /// Reads a whole diagram into memory (every trace), for the commands that
 /// put it on several grids.
 pub fn parse_diagram(input: Input<'_>, parse: &ParseOptions) -> Result<enginedyn_ingest::Diagram> {

@@ -24,3 +24,44 @@ pub fn of(loaded: &Loaded, diagrams: &[Input<'_>]) -> Result<Inputs> {
         .collect();
     Ok(Inputs::new(engine, &diagrams)?)
 }
+
+/// The BLAKE3 of columns of numbers in memory (`analyse_arrays`), as the
+/// hash of their little-endian bytes one column after another, read from
+/// the borrowed slices through an 8 KiB buffer: no copy of the arrays
+/// (at 1e8 points a copy was 0.8 GB a column).
+pub fn arrays_blake3(columns: &[&[f64]]) -> String {
+    const CHUNK: usize = 1024;
+    let mut h = blake3::Hasher::new();
+    let mut buf = [0u8; CHUNK * 8];
+    for c in columns {
+        for part in c.chunks(CHUNK) {
+            for (k, v) in part.iter().enumerate() {
+                buf[8 * k..8 * k + 8].copy_from_slice(&v.to_le_bytes());
+            }
+            h.update(&buf[..8 * part.len()]);
+        }
+    }
+    h.finalize().to_hex().to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The same hash as the bytes copied out (what `inputs` held before),
+    /// across a chunk's edge.
+    #[test]
+    fn arrays_hash_without_a_copy() {
+        let a: Vec<f64> = (0..2500).map(|k| k as f64 * 0.1).collect();
+        let b = [1.5, -2.0, f64::MAX];
+        let copied: Vec<u8> = [&a[..], &b[..]]
+            .iter()
+            .flat_map(|c| c.iter().flat_map(|v| v.to_le_bytes()))
+            .collect();
+        assert_eq!(
+            arrays_blake3(&[&a, &b]),
+            blake3::hash(&copied).to_hex().to_string()
+        );
+        assert_eq!(arrays_blake3(&[]), blake3::hash(b"").to_hex().to_string());
+    }
+}

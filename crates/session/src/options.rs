@@ -385,6 +385,22 @@ impl Method {
         serde_json::Value::Object(o)
     }
 
+    /// The options as they are used, defaults filled in (the rod model the
+    /// engine file's when none is given): what a campaign's parts record
+    /// and `merge` compares, so that `--step 0.1` is no flag at all.
+    pub fn resolved_json(&self, engine_rod_model: enginedyn_engine::RodModel) -> serde_json::Value {
+        let d = self.options();
+        Method {
+            step_deg: Some(self.step()),
+            kinematics: Some(d.kinematics),
+            rod_model: Some(self.rod_model.unwrap_or(engine_rod_model)),
+            interp: Some(d.interp),
+            integration: Some(d.integration),
+            ..*self
+        }
+        .json()
+    }
+
     /// The grid step (deg): given or the default.
     pub fn step(&self) -> f64 {
         self.step_deg.unwrap_or(DEFAULT_STEP_DEG)

@@ -10,12 +10,12 @@
 //! use enginedyn_pipeline::schema::SummaryRecord;
 //! use enginedyn_tables::{Meta, Table, summary_parquet, write_part};
 //! # fn demo(s: &enginedyn_pipeline::Summary) -> Result<(), enginedyn_tables::TablesError> {
-//! let meta = Meta::new("3f…", serde_json::json!({"step_deg": 0.1}));
+//! let meta = Meta::new("3f…", "9a…", serde_json::json!({"step_deg": 0.1}));
 //! let rows = [SummaryRecord {
 //!     file: "run_2200.csv",
 //!     error: None,
 //!     engine: "VAZ-2108",
-//!     diagram_sha256: Some("ab…"),
+//!     diagram_blake3: Some("ab…"),
 //!     summary: Some(s),
 //! }];
 //! let bytes = summary_parquet(&rows, &meta)?;
@@ -41,8 +41,15 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+mod campaign;
 mod merge;
-pub use merge::{MANIFEST, Manifest, check_campaign, write_manifest};
+mod set;
+pub use campaign::{
+    CAMPAIGN_KEY, Campaign, FILES_KEY, Identity, Prepared, escape_name, list_blake3, prepare,
+    short, staging_prefix, unescape_name,
+};
+pub use merge::{MANIFEST, Manifest, check_campaign, remove_manifest, write_manifest};
+pub use set::PartSet;
 
 /// The most parts a campaign has (`--shard I/N`: N ≤ 100,000).
 pub const MAX_PARTS: usize = 100_000;
@@ -123,6 +130,34 @@ pub enum TablesError {
         expected: usize,
         /// What the expected count comes from (another part, or `--parts N`).
         other: PathBuf,
+    },
+    /// Something other than enginedyn's part at a part's path.
+    #[error("{}: {what} is in the way of a part (only enginedyn's own parts are replaced): move it, or write the campaign to another folder", path.display())]
+    InTheWay {
+        /// Its path.
+        path: PathBuf,
+        /// What it is.
+        what: &'static str,
+    },
+    /// The folder holds parts of another campaign.
+    #[error("{}: holds {theirs}, not this one ({ours}): {why}; give --replace (Python: overwrite=True) to remove enginedyn's parts there first, or write to another folder", path.display())]
+    OtherCampaign {
+        /// A part of the other campaign.
+        path: PathBuf,
+        /// The other campaign.
+        theirs: String,
+        /// This one.
+        ours: String,
+        /// How they differ.
+        why: String,
+    },
+    /// A part that is not of the campaign (its identity, its files).
+    #[error("{}: {what}", path.display())]
+    NotOfCampaign {
+        /// The part.
+        path: PathBuf,
+        /// What is wrong, naming the file when it is one file.
+        what: String,
     },
     /// A part's schema or metadata differs from the first part's.
     #[error("{}: {what} differs from {}'s ({detail})", path.display(), reference.display())]
@@ -213,44 +248,87 @@ pub fn data_type(ty: ColumnType) -> DataType {
 }
 
 /// What every part carries as key-value metadata besides its schema's
-/// name: the version of enginedyn, the engine file's SHA-256, and the
-/// options used (JSON).
+/// name: the version of enginedyn, the engine file's BLAKE3 and the parsed
+/// engine's, the resolved options (JSON), and, in a campaign, its identity
+/// and (summary parts) the canonical paths of its files.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Meta {
     /// `enginedyn.version`.
     pub enginedyn_version: String,
-    /// `engine.sha256`.
-    pub engine_sha256: String,
-    /// `options`, written as compact JSON text.
+    /// `engine.blake3`: of the engine file's bytes.
+    pub engine_blake3: String,
+    /// `engine.parsed_blake3`: of the engine as parsed (what `merge`
+    /// compares: a blank line more is the same engine).
+    pub engine_parsed_blake3: String,
+    /// `options`, written as compact JSON text: the options resolved.
     pub options: serde_json::Value,
+    /// `enginedyn.campaign`, when the part is one of a campaign.
+    pub campaign: Option<Campaign>,
+    /// `enginedyn.files` (summary parts): each row's canonical path,
+    /// escaped ([`escape_name`]).
+    pub files: Option<Vec<String>>,
 }
 
-/// The metadata keys, in the order written.
-pub const META_KEYS: [&str; 4] = [
+/// The metadata key of the parsed engine's hash.
+pub const ENGINE_PARSED_KEY: &str = "engine.parsed_blake3";
+
+/// The metadata keys, in the order written (the last two in a campaign).
+pub const META_KEYS: [&str; 7] = [
     "enginedyn.schema",
     "enginedyn.version",
-    "engine.sha256",
+    "engine.blake3",
+    ENGINE_PARSED_KEY,
     "options",
+    CAMPAIGN_KEY,
+    FILES_KEY,
 ];
 
 impl Meta {
-    /// This version of enginedyn's metadata for an engine and options.
-    pub fn new(engine_sha256: impl Into<String>, options: serde_json::Value) -> Self {
+    /// This version of enginedyn's metadata for an engine (the file's hash
+    /// and the parsed engine's) and options, outside a campaign.
+    pub fn new(
+        engine_blake3: impl Into<String>,
+        engine_parsed_blake3: impl Into<String>,
+        options: serde_json::Value,
+    ) -> Self {
         Self {
             enginedyn_version: env!("CARGO_PKG_VERSION").to_string(),
-            engine_sha256: engine_sha256.into(),
+            engine_blake3: engine_blake3.into(),
+            engine_parsed_blake3: engine_parsed_blake3.into(),
             options,
+            campaign: None,
+            files: None,
         }
     }
 
     /// The key-value pairs of `table`'s parts ([`META_KEYS`]).
     pub fn key_values(&self, table: Table) -> Vec<(&'static str, String)> {
-        vec![
+        let mut kv = vec![
             (META_KEYS[0], table.schema_name().to_string()),
             (META_KEYS[1], self.enginedyn_version.clone()),
-            (META_KEYS[2], self.engine_sha256.clone()),
-            (META_KEYS[3], self.options.to_string()),
-        ]
+            (META_KEYS[2], self.engine_blake3.clone()),
+            (META_KEYS[3], self.engine_parsed_blake3.clone()),
+            (META_KEYS[4], self.options.to_string()),
+        ];
+        if let Some(c) = &self.campaign {
+            kv.push((META_KEYS[5], c.json().to_string()));
+        }
+        if let (Some(f), Table::Summary) = (&self.files, table) {
+            kv.push((META_KEYS[6], serde_json::Value::from(f.clone()).to_string()));
+        }
+        kv
+    }
+
+    /// The campaign's identity as [`prepare`] compares it; `None` outside
+    /// a campaign.
+    pub fn identity(&self) -> Option<Identity> {
+        let c = self.campaign.as_ref()?;
+        Some(Identity {
+            list_blake3: c.list_blake3.clone(),
+            parts: c.parts,
+            engine: self.engine_parsed_blake3.clone(),
+            options: self.options.clone(),
+        })
     }
 }
 
@@ -613,7 +691,7 @@ mod tests {
     /// error naming the column and row, never a wrong number.
     #[test]
     fn values_are_checked() {
-        let meta = Meta::new("x", serde_json::json!({}));
+        let meta = Meta::new("x", "y", serde_json::json!({}));
         let row = |cylinder| CycleRow {
             file: "f",
             cylinder,

@@ -1,7 +1,10 @@
 //! The merge check: every part of every table, one schema, one engine and
 //! one set of options; then the campaign's manifest (`_manifest.json`).
 
-use crate::{META_KEYS, Table, TablesError, parse_part_name, part_name};
+use crate::{
+    CAMPAIGN_KEY, Campaign, ENGINE_PARSED_KEY, FILES_KEY, META_KEYS, Table, TablesError,
+    parse_part_name, part_name, unescape_name,
+};
 use arrow_array::{Array, BooleanArray};
 use arrow_schema::SchemaRef;
 use parquet::arrow::ProjectionMask;
@@ -29,8 +32,11 @@ pub struct Manifest {
     pub cycles_skipped: u64,
     /// The version of enginedyn that wrote the parts.
     pub enginedyn_version: String,
-    /// The engine file's SHA-256.
-    pub engine_sha256: String,
+    /// The engine file's BLAKE3 (of the first part; parts whose engine
+    /// files differ only in their bytes are one campaign).
+    pub engine_blake3: String,
+    /// The campaign's file list (its BLAKE3).
+    pub list_blake3: String,
     /// The options used.
     pub options: serde_json::Value,
 }
@@ -46,10 +52,26 @@ impl Manifest {
             "cycles": self.cycles,
             "cycles_skipped": self.cycles_skipped,
             "enginedyn_version": self.enginedyn_version,
-            "engine_sha256": self.engine_sha256,
+            "engine_blake3": self.engine_blake3,
+            "list_blake3": self.list_blake3,
             "options": self.options,
         })
     }
+}
+
+/// Removes `DIR/_manifest.json` (a failed merge, a campaign replaced):
+/// no manifest vouches for a folder that is not one campaign.
+pub fn remove_manifest(dir: &Path) -> Result<(), TablesError> {
+    let path = dir.join(MANIFEST);
+    match std::fs::symlink_metadata(&path) {
+        Ok(m) if m.is_file() => std::fs::remove_file(&path).map_err(|e| read_err(&path, e)),
+        _ => Ok(()),
+    }
+}
+
+/// The enginedyn metadata of the part at `path`.
+pub(crate) fn metadata(path: &Path) -> Result<BTreeMap<String, String>, TablesError> {
+    Ok(footer(path)?.0.meta)
 }
 
 /// Writes `DIR/_manifest.json` whole or not at all.
@@ -59,7 +81,7 @@ pub fn write_manifest(dir: &Path, m: &Manifest) -> Result<PathBuf, TablesError> 
     Ok(dir.join(MANIFEST))
 }
 
-fn read_err(path: &Path, e: impl std::fmt::Display) -> TablesError {
+pub(crate) fn read_err(path: &Path, e: impl std::fmt::Display) -> TablesError {
     TablesError::Read {
         path: path.to_path_buf(),
         message: e.to_string(),
@@ -223,8 +245,10 @@ pub fn check_campaign(dir: &Path, parts: Option<usize>) -> Result<Manifest, Tabl
             });
         }
     }
-    let mut reference: Option<(PathBuf, BTreeMap<String, String>)> = None;
+    let mut reference: Option<(PathBuf, BTreeMap<String, String>, Campaign)> = None;
     let (mut files, mut failed, mut cycles, mut cycles_skipped) = (0, 0, 0, 0);
+    let mut tables_named: Option<Vec<Table>> = None;
+    let mut in_parts: Vec<(Vec<u8>, usize)> = Vec::new();
     for (table, list) in &found {
         // Every part 0..N, in order (the list is sorted, of one count).
         for i in 0..n {
@@ -238,7 +262,7 @@ pub fn check_campaign(dir: &Path, parts: Option<usize>) -> Result<Manifest, Tabl
             }
         }
         let mut first: Option<(PathBuf, SchemaRef)> = None;
-        for (_, _, path) in list {
+        for &(part, _, ref path) in list {
             let (f, builder) = footer(path)?;
             let differs = |what: &str, detail: String, reference: &Path| TablesError::Differs {
                 path: path.clone(),
@@ -273,25 +297,12 @@ pub fn check_campaign(dir: &Path, parts: Option<usize>) -> Result<Manifest, Tabl
                     first = Some((path.clone(), f.schema.clone()));
                 }
             }
-            // One enginedyn, one engine, one set of options.
-            match &reference {
-                Some((p, m)) => {
-                    for key in &META_KEYS[1..] {
-                        let (here, there) = (f.meta.get(*key), m.get(*key));
-                        if here != there {
-                            return Err(differs(
-                                &format!("`{key}`"),
-                                format!(
-                                    "`{}` here, `{}` there",
-                                    here.map_or("", String::as_str),
-                                    there.map_or("", String::as_str)
-                                ),
-                                p,
-                            ));
-                        }
-                    }
-                }
-                None => reference = Some((path.clone(), f.meta.clone())),
+            // One enginedyn, one engine, one set of options, one campaign.
+            let campaign = same_campaign(path, part, n, &f, &mut reference)?;
+            if *table == Table::Summary {
+                tables_named = Some(campaign.tables.clone());
+                let listed = files_of(path, &f)?;
+                in_parts.extend(listed.into_iter().map(|k| (k, part)));
             }
             match table {
                 Table::Summary => {
@@ -306,20 +317,194 @@ pub fn check_campaign(dir: &Path, parts: Option<usize>) -> Result<Manifest, Tabl
             }
         }
     }
-    let meta = reference.map(|r| r.1).unwrap_or_default();
+    let tables: Vec<Table> = found.iter().map(|(t, _)| *t).collect();
+    let (first, meta, campaign) = reference.unwrap_or_default();
+    if let Some(named) = tables_named.filter(|t| *t != tables) {
+        let shown = |t: &[Table]| t.iter().map(|t| t.folder()).collect::<Vec<_>>().join(", ");
+        return Err(TablesError::NotOfCampaign {
+            path: first,
+            what: format!(
+                "its part holds the tables {}, but the folder has parts of {}: a part stopped before it was whole, or parts of two runs",
+                shown(&named),
+                shown(&tables)
+            ),
+        });
+    }
+    check_files(dir, n, &campaign.list_blake3, in_parts)?;
     let get = |k: &str| meta.get(k).cloned().unwrap_or_default();
-    let options_text = get(META_KEYS[3]);
+    let options_text = get(META_KEYS[4]);
     let options =
         serde_json::from_str(&options_text).unwrap_or(serde_json::Value::String(options_text));
     Ok(Manifest {
         parts: n,
-        tables: found.iter().map(|(t, _)| *t).collect(),
+        tables,
         files,
         failed,
         cycles,
         cycles_skipped,
         enginedyn_version: get(META_KEYS[1]),
-        engine_sha256: get(META_KEYS[2]),
+        engine_blake3: get(META_KEYS[2]),
+        list_blake3: campaign.list_blake3,
         options,
     })
+}
+
+/// The campaign a part names, checked against the part's own name (`part`
+/// of `n`) and the first part's (`reference`, set from this one when
+/// `None`): one enginedyn, one parsed engine, one set of resolved options,
+/// one file list and one set of tables.
+fn same_campaign(
+    path: &Path,
+    part: usize,
+    n: usize,
+    f: &Footer,
+    reference: &mut Option<(PathBuf, BTreeMap<String, String>, Campaign)>,
+) -> Result<Campaign, TablesError> {
+    let not = |what: String| TablesError::NotOfCampaign {
+        path: path.to_path_buf(),
+        what,
+    };
+    let c = f
+        .meta
+        .get(CAMPAIGN_KEY)
+        .and_then(|c| Campaign::parse(c))
+        .ok_or_else(|| {
+            not(format!(
+                "no `{CAMPAIGN_KEY}` metadata: not a part of a campaign (written outside one, or by an older enginedyn); write the campaign again"
+            ))
+        })?;
+    if (c.part, c.parts) != (part, n) {
+        return Err(not(format!(
+            "its metadata says part {} of {}, but its name says part {part} of {n}: a copy of another part?",
+            c.part, c.parts
+        )));
+    }
+    let Some((p, m, first)) = reference.as_ref() else {
+        *reference = Some((path.to_path_buf(), f.meta.clone(), c.clone()));
+        return Ok(c);
+    };
+    let differs = |what: &str, detail: String| TablesError::Differs {
+        path: path.to_path_buf(),
+        reference: p.clone(),
+        what: what.to_string(),
+        detail,
+    };
+    if c.list_blake3 != first.list_blake3 {
+        return Err(differs(
+            "the file list",
+            format!(
+                "list_blake3 {} here, {} there: a part of another campaign, or of the list before it changed",
+                crate::short(&c.list_blake3),
+                crate::short(&first.list_blake3)
+            ),
+        ));
+    }
+    for key in [META_KEYS[1], ENGINE_PARSED_KEY] {
+        let (here, there) = (f.meta.get(key), m.get(key));
+        if here != there {
+            return Err(differs(
+                &format!("`{key}`"),
+                format!(
+                    "`{}` here, `{}` there",
+                    here.map_or("", String::as_str),
+                    there.map_or("", String::as_str)
+                ),
+            ));
+        }
+    }
+    let options = |m: &BTreeMap<String, String>| {
+        m.get(META_KEYS[4])
+            .and_then(|t| serde_json::from_str::<serde_json::Value>(t).ok())
+    };
+    let (here, there) = (options(&f.meta), options(m));
+    if here != there {
+        let show = |o: Option<serde_json::Value>| o.map_or_else(String::new, |o| o.to_string());
+        return Err(differs(
+            "the options",
+            format!("`{}` here, `{}` there", show(here), show(there)),
+        ));
+    }
+    if c.tables != first.tables {
+        return Err(differs(
+            "the tables held",
+            format!("{} here, {} there", c.tables_shown(), first.tables_shown()),
+        ));
+    }
+    Ok(c)
+}
+
+/// The canonical paths a summary part's rows are of (`enginedyn.files`),
+/// one per row.
+fn files_of(path: &Path, f: &Footer) -> Result<Vec<Vec<u8>>, TablesError> {
+    let not = |what: String| TablesError::NotOfCampaign {
+        path: path.to_path_buf(),
+        what,
+    };
+    let list: Vec<String> = f
+        .meta
+        .get(FILES_KEY)
+        .and_then(|t| serde_json::from_str(t).ok())
+        .ok_or_else(|| not(format!("no `{FILES_KEY}` metadata")))?;
+    if list.len() as u64 != f.rows {
+        return Err(not(format!(
+            "{} rows for {} files: rows added or doubled after it was written",
+            f.rows,
+            list.len()
+        )));
+    }
+    Ok(list.iter().map(|s| unescape_name(s)).collect())
+}
+
+/// Every file of the list once, in the part the shard rule gives it (the
+/// paths sorted bytewise, path k in part k mod N), and the files together
+/// the list the parts name (`list_blake3`).
+fn check_files(
+    dir: &Path,
+    n: usize,
+    list_blake3: &str,
+    mut files: Vec<(Vec<u8>, usize)>,
+) -> Result<(), TablesError> {
+    let part_path = |i: usize| -> PathBuf {
+        dir.join(Table::Summary.folder())
+            .join(part_name(i, n).unwrap_or_default())
+    };
+    files.sort();
+    for w in files.windows(2) {
+        if w[0].0 == w[1].0 {
+            return Err(TablesError::NotOfCampaign {
+                path: part_path(w[1].1),
+                what: format!(
+                    "{} is there and in {}: a file twice",
+                    crate::escape_name(&w[0].0),
+                    part_path(w[0].1).display()
+                ),
+            });
+        }
+    }
+    for (k, (file, part)) in files.iter().enumerate() {
+        if k % n != *part {
+            return Err(TablesError::NotOfCampaign {
+                path: part_path(*part),
+                what: format!(
+                    "{} is there, but the shard rule puts it in part {} of {n}",
+                    crate::escape_name(file),
+                    k % n
+                ),
+            });
+        }
+    }
+    let names: Vec<&[u8]> = files.iter().map(|(f, _)| f.as_slice()).collect();
+    let union = crate::list_blake3(&names);
+    if union != list_blake3 {
+        return Err(TablesError::NotOfCampaign {
+            path: part_path(0),
+            what: format!(
+                "the parts hold {} files whose list (list_blake3 {}) is not the campaign's ({}): a file missing or one too many",
+                files.len(),
+                crate::short(&union),
+                crate::short(list_blake3)
+            ),
+        });
+    }
+    Ok(())
 }

@@ -13,9 +13,24 @@ use enginedyn_ingest::{GridOptions, Interp, ParseOptions, Resampled};
 use enginedyn_pipeline::schema::{self, SummaryRecord};
 use enginedyn_pipeline::{Analysis, Options, Scope};
 use enginedyn_tables::{
-    Meta, Table, TablesError, check_campaign, commit_part, cycles_parquet, stage_part,
-    summary_parquet, write_manifest, write_part,
+    Campaign, Meta, Table, TablesError, check_campaign, commit_part, cycles_parquet, list_blake3,
+    stage_part, summary_parquet, write_manifest, write_part,
 };
+
+/// `m` as part `part` of a 3-part campaign over the files `a`, `b`, `c`,
+/// `d` (sorted: a and d in part 0, b in part 1, c in part 2), holding
+/// `files`.
+fn in_campaign(m: &Meta, part: usize, files: &[&str]) -> Meta {
+    let mut m = m.clone();
+    m.campaign = Some(Campaign {
+        list_blake3: list_blake3(&["a", "b", "c", "d"]),
+        parts: 3,
+        part,
+        tables: vec![Table::Summary, Table::Cycles],
+    });
+    m.files = Some(files.iter().map(|f| f.to_string()).collect());
+    m
+}
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -67,13 +82,14 @@ fn run(e: &Engine, path: &Path, rpm: Option<f64>) -> Run {
         file: path.display().to_string(),
         resampled,
         analysis,
-        sha: enginedyn_report::sha256_hex(&bytes),
+        sha: enginedyn_report::blake3_hex(&bytes),
     }
 }
 
 fn meta(e: &str) -> Meta {
     Meta::new(
-        enginedyn_report::sha256_file(&root().join("data").join(e)).unwrap(),
+        enginedyn_report::blake3_file(&root().join("data").join(e)).unwrap(),
+        enginedyn_report::blake3_hex(engine(e).meaning().as_bytes()),
         serde_json::json!({"step_deg": 0.5, "interp": "auto"}),
     )
 }
@@ -84,7 +100,7 @@ fn records<'a>(e: &'a Engine, runs: &'a [Run]) -> Vec<SummaryRecord<'a>> {
             file: &r.file,
             error: None,
             engine: e.name(),
-            diagram_sha256: Some(&r.sha),
+            diagram_blake3: Some(&r.sha),
             summary: Some(&r.analysis.summary),
         })
         .collect()
@@ -137,7 +153,7 @@ fn summary_part_reads_back() {
         file: "missing.csv",
         error: Some("cannot open: no such file"),
         engine: e.name(),
-        diagram_sha256: None,
+        diagram_blake3: None,
         summary: None,
     });
     let (b, kv) = read(summary_parquet(&rows, &meta("vaz2108.toml")).unwrap());
@@ -151,7 +167,7 @@ fn summary_part_reads_back() {
         .collect();
     assert_eq!(fields.len(), schema::SUMMARY.len());
     assert_eq!(fields[0], ("file".into(), DataType::Utf8));
-    assert_eq!(fields[3], ("diagram_sha256".into(), DataType::Utf8));
+    assert_eq!(fields[3], ("diagram_blake3".into(), DataType::Utf8));
     assert_eq!(fields[4], ("rpm".into(), DataType::Float64));
     let ty = |n: &str| fields.iter().find(|f| f.0 == n).unwrap().1.clone();
     assert_eq!(ty("journal_most_loaded"), DataType::Int32);
@@ -166,7 +182,8 @@ fn summary_part_reads_back() {
     // Metadata.
     assert_eq!(kv["enginedyn.schema"], "summary/2");
     assert_eq!(kv["enginedyn.version"], env!("CARGO_PKG_VERSION"));
-    assert_eq!(kv["engine.sha256"].len(), 64);
+    assert_eq!(kv["engine.blake3"].len(), 64);
+    assert_eq!(kv["engine.parsed_blake3"].len(), 64);
     let options: serde_json::Value = serde_json::from_str(&kv["options"]).unwrap();
     assert_eq!(options["step_deg"], 0.5);
     // Every number is summary.json's number, bit for bit; absent is null.
@@ -218,7 +235,7 @@ fn summary_part_reads_back() {
     );
     assert!(col::<StringArray>(&b, "error").is_null(0));
     assert!(col::<Float64Array>(&b, "rpm").is_null(2));
-    assert!(col::<StringArray>(&b, "diagram_sha256").is_null(2));
+    assert!(col::<StringArray>(&b, "diagram_blake3").is_null(2));
     assert!(col::<StringArray>(&b, "notes").is_null(2));
 }
 
@@ -383,14 +400,16 @@ fn merge_names_a_missing_or_different_part() {
     let m = meta("vaz2108.toml");
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
+    let keys: [&[&str]; 3] = [&["a", "d"], &["b"], &["c"]];
     for (i, r) in runs.iter().enumerate() {
+        let m = in_campaign(&m, i, keys[i]);
         let mut rows = records(&e, std::slice::from_ref(r));
-        if i == 2 {
+        if i == 0 {
             rows.push(SummaryRecord {
                 file: "bad.csv",
                 error: Some("line 3: no number"),
                 engine: e.name(),
-                diagram_sha256: None,
+                diagram_blake3: None,
                 summary: None,
             });
         }
@@ -418,7 +437,8 @@ fn merge_names_a_missing_or_different_part() {
     // One cycle each for the bundled diagram, 20 for the dropout file.
     assert_eq!((manifest.cycles, manifest.cycles_skipped), (22, 2));
     assert_eq!(manifest.tables, [Table::Summary, Table::Cycles]);
-    assert_eq!(manifest.engine_sha256, m.engine_sha256);
+    assert_eq!(manifest.engine_blake3, m.engine_blake3);
+    assert_eq!(manifest.list_blake3, list_blake3(&["a", "b", "c", "d"]));
     assert_eq!(manifest.options, m.options);
     assert_eq!(check_campaign(d, Some(3)).unwrap(), manifest);
     let written = write_manifest(d, &manifest).unwrap();
@@ -438,7 +458,7 @@ fn merge_names_a_missing_or_different_part() {
     }
     // A traces part alone: the traces table's other parts are missing.
     let t = schema::trace_points(&runs[0].file, &runs[0].resampled);
-    let mut w = stage_part(d, Table::Traces, 1, 3, &m).unwrap();
+    let mut w = stage_part(d, Table::Traces, 1, 3, &in_campaign(&m, 1, &["b"])).unwrap();
     w.write(&t).unwrap();
     commit_part(w).unwrap();
     let e1 = check_campaign(d, None).unwrap_err();
@@ -477,8 +497,9 @@ fn merge_names_a_missing_or_different_part() {
         "{err}"
     );
     std::fs::write(&gone, &kept).unwrap();
-    // A part written for another engine file.
-    let other_engine = Meta::new("0".repeat(64), m.options.clone());
+    // A part written for another engine.
+    let mut other_engine = in_campaign(&m, 1, &["b"]);
+    other_engine.engine_parsed_blake3 = "0".repeat(64);
     let rows = records(&e, std::slice::from_ref(&runs[1]));
     write_part(
         d,
@@ -490,7 +511,7 @@ fn merge_names_a_missing_or_different_part() {
     .unwrap();
     let err = check_campaign(d, None).unwrap_err().to_string();
     assert!(
-        err.contains("summary/part-00001-of-00003.parquet: `engine.sha256` differs"),
+        err.contains("summary/part-00001-of-00003.parquet: `engine.parsed_blake3` differs"),
         "{err}"
     );
     write_part(
@@ -498,7 +519,7 @@ fn merge_names_a_missing_or_different_part() {
         Table::Summary,
         1,
         3,
-        &summary_parquet(&rows, &m).unwrap(),
+        &summary_parquet(&rows, &in_campaign(&m, 1, &["b"])).unwrap(),
     )
     .unwrap();
     // Parts of two counts side by side.
@@ -561,7 +582,7 @@ fn parquet_time_against_the_analysis() {
                 file: &r.file,
                 error: None,
                 engine: e.name(),
-                diagram_sha256: Some(&r.sha),
+                diagram_blake3: Some(&r.sha),
                 summary: Some(&r.analysis.summary),
             }
         })

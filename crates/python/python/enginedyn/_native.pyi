@@ -69,7 +69,13 @@ class NativeBatch:
     def summary_parquet(self) -> bytes: ...
     def cycles_parquet(self) -> bytes: ...
     def write_parquet(
-        self, dir: Union[str, os.PathLike[str]], part: int = 0, parts: int = 1, traces: bool = False
+        self,
+        dir: Union[str, os.PathLike[str]],
+        part: int = 0,
+        parts: int = 1,
+        traces: bool = False,
+        paths: Optional[Sequence[Union[str, os.PathLike[str]]]] = None,
+        overwrite: bool = False,
     ) -> List[str]: ...
 
 @final
@@ -108,6 +114,14 @@ class NativeSession:
         path: Optional[Union[str, os.PathLike[str]]] = None,
     ) -> Tuple[str, str, str, List[str], List[Tuple[str, str]]]: ...
     def batch(self, paths: Sequence[Union[str, os.PathLike[str]]], jobs: int = 0) -> NativeBatch: ...
+    def plan_campaign(
+        self,
+        dir: Union[str, os.PathLike[str]],
+        paths: Sequence[Union[str, os.PathLike[str]]],
+        parts: int,
+        traces: bool = False,
+        overwrite: bool = False,
+    ) -> List[str]: ...
 
 def check_reader(options: Dict[str, object]) -> None: ...
 def check_method(options: Dict[str, object]) -> None: ...

@@ -29,13 +29,26 @@ def shards(paths: Sequence[Any], n: int) -> List[List[str]]:
     return [[os.fspath(p) for p in _native.shard(items, i, n)] for i in range(n)]
 
 
-def run_shard(session: Any, paths: Sequence[Any], out: Any, part: int, parts: int, traces: bool = False) -> Dict[str, Any]:
+def run_shard(
+    session: Any,
+    paths: Sequence[Any],
+    out: Any,
+    part: int,
+    parts: int,
+    traces: bool = False,
+    overwrite: bool = False,
+) -> Dict[str, Any]:
     """Shard ``part`` of ``parts`` of ``paths`` into Parquet parts in ``out``
     (one thread: the scheduler gives the parallelism). Failed files are
-    error rows; returns the counts."""
-    mine = [os.fspath(p) for p in _native.shard([os.fspath(p) for p in paths], part, parts)]
+    error rows; returns the counts. The parts record the whole list
+    (``paths``), so that ``check_campaign`` knows every file once."""
+    items = [os.fspath(p) for p in paths]
+    mine = [os.fspath(p) for p in _native.shard(items, part, parts)]
     b = session.batch(mine, jobs=1)
-    written = b.write_parquet(out, part=part, parts=parts, traces=traces)
+    written = [
+        os.fspath(p)
+        for p in b._native.write_parquet(os.fspath(out), part, parts, traces, items, overwrite)
+    ]
     return {
         "part": part,
         "files": len(mine),
@@ -51,12 +64,16 @@ def map_campaign(
     out: Any,
     files_per_task: int = 500,
     traces: bool = False,
+    overwrite: bool = False,
 ) -> Dict[str, Any]:
     """The whole campaign over a Dask ``client``: ceil(len/files_per_task)
     shards, one task each (the session pickled to the workers), then the
-    merge check; returns the manifest (``_manifest.json``)."""
+    merge check; returns the manifest (``_manifest.json``). A folder that
+    holds another campaign's parts is refused before any work, naming
+    both; ``overwrite=True`` removes enginedyn's own parts there first."""
     items = [os.fspath(p) for p in paths]
     parts = max(1, math.ceil(len(items) / max(1, files_per_task)))
+    session._full.plan_campaign(os.fspath(out), items, parts, traces, overwrite)
     futures = [
         client.submit(run_shard, session, items, os.fspath(out), i, parts, traces, pure=False)
         for i in range(parts)
