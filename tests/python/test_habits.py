@@ -412,3 +412,75 @@ def test_the_readme_says_the_install_compiles_how_long_and_how_to_reuse_it():
     section = text[at : at + 1200]
     assert "compiles" in section and "minutes" in section
     assert "pip wheel ./crates/python -w dist/" in section
+
+
+# ------------------------------------------------ items 14-16, enginedyn.io
+
+
+def four_cylinder_mdf(path, unit="V"):
+    asammdf = pytest.importorskip("asammdf")
+    t, v, tdc = record()
+    mdf = asammdf.MDF(version="4.10")
+    mdf.append(
+        [asammdf.Signal(v, t, name=f"P_Cyl{k}", unit=unit) for k in range(1, 5)]
+        + [asammdf.Signal(tdc, t, name="TDC", unit="V")]
+    )
+    mdf.save(str(path), overwrite=True)
+    return t, v, tdc
+
+
+def test_read_mdf_feeds_four_cylinders_to_analyse_time_record(tmp_path):
+    path = tmp_path / "four.mf4"
+    t, v, tdc = four_cylinder_mdf(path)
+    a = ed.io.read_mdf(path, pressure=[f"P_Cyl{k}" for k in range(1, 5)], tdc="TDC")
+    assert sorted(a) == ["pressure_v", "tdc", "time_s"] and a["pressure_v"].shape == (4, len(t))
+    s = ed.Session(
+        ed.Engine.from_toml("data/vaz2108.toml"),
+        reader=ed.Reader(gain_bar_per_v=20.0, peg_bar=0.95, compression_check=False),
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        got = s.analyse_time_record(**a).summary
+        want = s.analyse_time_record(t, pressure_v=np.vstack([v] * 4), tdc=tdc).summary
+    got.pop("inputs"), want.pop("inputs")
+    assert got == want
+
+
+def test_read_mdf_lists_the_channels_and_refuses_a_unitless_pressure(tmp_path):
+    path = tmp_path / "four.mf4"
+    four_cylinder_mdf(path, unit="")
+    with pytest.raises(KeyError) as e:
+        ed.io.read_mdf(path, pressure="P_Cyl9", tdc="TDC")
+    assert e.value.args[0] == "no channel 'P_Cyl9'; the channels are P_Cyl1, P_Cyl2, P_Cyl3, P_Cyl4, TDC, time"
+    with pytest.raises(ValueError) as e:
+        ed.io.read_mdf(path, pressure="P_Cyl1", tdc="TDC")
+    assert str(e.value) == (
+        "channel 'P_Cyl1' has no unit: give it with unit= (bar, kPa, MPa, psi or V), as a file's column names it"
+    )
+    a = ed.io.read_mdf(path, pressure="P_Cyl1", tdc="TDC", unit="V")
+    assert "pressure_v" in a
+
+
+def single_cycle():
+    rows = [r for r in open("data/single.csv").read().splitlines() if r and not r.startswith("#")]
+    data = np.array([r.split(",") for r in rows[1:]], dtype=float)
+    return data[:, 0], data[:, 1]
+
+
+def test_arrays_in_psi_or_mpa_are_named_as_files_are():
+    s = session()
+    a, p = single_cycle()
+    with pytest.raises(ed.DiagramError) as e:
+        s.analyse_arrays(a, p / 0.0689475729316836)
+    assert "a pressure in psi read as bar" in str(e.value) and "`pressure [psi]`" in str(e.value)
+    with pytest.raises(ed.DiagramError) as e:
+        s.analyse_arrays(a, p / 10.0)
+    assert "; or a pressure in MPa read as bar (0.095 MPa is 0.95 bar)" in str(e.value)
+
+
+def test_a_time_in_ms_is_named_against_operating_rpm():
+    s = session(gain_bar_per_v=20.0, peg_bar=0.95)
+    t, v, tdc = record()
+    with pytest.raises(ed.DiagramError) as e:
+        s.analyse_time_record(t * 1e3, pressure_v=v, tdc=tdc)
+    assert "a time in ms read as seconds?" in str(e.value) and "operating.rpm" in str(e.value)

@@ -333,9 +333,15 @@ fn compression(
     } else {
         format!("its own {} bar at BDC", bar(p_in))
     };
+    // Read as gauge: the values may as well be MPa read as bar.
+    let mpa = if shift > 0.0 && ctx.gain.is_none() {
+        mpa_hint(level, peak)
+    } else {
+        String::new()
+    };
     Err(IngestError::Data(
         format!(
-            "{}: {} is not a cylinder pressure: its peak {} bar is below {} bar, half of what compression alone gives at ε = {} from {from}; it looks like {}",
+            "{}: {} is not a cylinder pressure: its peak {} bar is below {} bar, half of what compression alone gives at ε = {} from {from}; it looks like {}{mpa}",
             name(),
             ctx.source(),
             bar(peak),

@@ -699,7 +699,8 @@ fn far_from_operating(mean: f64, operating: Option<f64>, what: &str) -> Result<(
     if (1.0 / SPEED_UNIT_FACTOR..=SPEED_UNIT_FACTOR).contains(&ratio) {
         return Ok(());
     }
-    let near = |x: f64| (ratio / x - 1.0).abs() < 0.5;
+    // The unit whose factor brings the speed back within the band.
+    let near = |x: f64| (1.0 / SPEED_UNIT_FACTOR..=SPEED_UNIT_FACTOR).contains(&(ratio / x));
     let unit = if near(1e-3) {
         "a time in ms read as seconds? name the time column's unit (`time [ms]`) or convert it to seconds"
     } else if near(1e-6) {
