@@ -53,7 +53,7 @@ pub fn cancel_error() -> std::io::Error {
     std::io::Error::other(CANCELLED)
 }
 
-/// A reader that fails with [`cancelled`] once its token is set: each
+/// A reader that fails with [`cancel_error`] once its token is set: each
 /// block read checks it (a file's read is cancelled within one block).
 #[derive(Debug)]
 pub struct Cancellable<R> {

@@ -623,18 +623,13 @@ pub fn in_keywords(message: &str) -> String {
             Some((_, kw)) if boundary => {
                 out.push_str(kw);
                 rest = &from[name_len..];
-                // `--step 0.1` → `step_deg=0.1`: a value right after joins.
-                if kw.ends_with('=') {
-                    if let Some(v) = rest.strip_prefix(' ') {
-                        let word = v.split([' ', ',', ';', ':', ')']).next().unwrap_or("");
-                        let placeholder =
-                            !word.is_empty() && word.chars().all(|c| c.is_ascii_uppercase());
-                        if placeholder
-                            || v.starts_with(|c: char| c.is_ascii_digit() || c == '-' || c == '.')
-                        {
-                            rest = v;
-                        }
-                    }
+                // `--step 0.1` → `step_deg=0.1`: a value right after joins
+                // (a number, or a placeholder such as `P`).
+                if kw.ends_with('=')
+                    && let Some(v) = rest.strip_prefix(' ')
+                    && joins(v)
+                {
+                    rest = v;
                 }
             }
             _ => {
@@ -645,6 +640,14 @@ pub fn in_keywords(message: &str) -> String {
     }
     out.push_str(rest);
     out
+}
+
+/// Whether the text after a flag is its value: a number, or a placeholder
+/// in capitals (`P`, `N`).
+fn joins(v: &str) -> bool {
+    let word = v.split([' ', ',', ';', ':', ')']).next().unwrap_or("");
+    (!word.is_empty() && word.chars().all(|c| c.is_ascii_uppercase()))
+        || v.starts_with(|c: char| c.is_ascii_digit() || c == '-' || c == '.')
 }
 
 #[cfg(test)]
