@@ -479,7 +479,7 @@ impl NativeSession {
         pressures: Option<PyReadonlyArray2<'_, f64>>,
     ) -> PyResult<Run> {
         let type_error =
-            |e: numpy::NonContiguousError| pyo3::exceptions::PyTypeError::new_err(e.to_string());
+            |e: numpy::AsSliceError| pyo3::exceptions::PyTypeError::new_err(e.to_string());
         let slices: Vec<&[f64]> = columns
             .iter()
             .map(|c| c.as_slice())
