@@ -35,7 +35,7 @@ fn a_pressure_in_psi_read_as_bar_is_refused_naming_psi() {
         .to_string();
     assert_eq!(
         e,
-        "cycle 0: the pressure around intake BDC from column 2 `pressure_bar` (in bar) is 14.5 bar absolute, above the 6 bar any engine's intake holds: a pressure in psi read as bar (14.5 psi is 1 bar)? convert it, or name the column's unit (`pressure [psi]`)"
+        "line 2: cycle 1: the pressure around intake BDC from column 2 `pressure_bar` (in bar) is 14.5 bar absolute, above the 6 bar any engine's intake holds: a pressure in psi read as bar (14.5 psi is 1 bar)? convert it, or name the column's unit (`pressure [psi]`)"
     );
     // In bar it reads.
     parse(cycle(1.0).as_bytes(), &opts()).unwrap();
