@@ -45,7 +45,13 @@ impl Cells for Sample<'_> {
     fn number(&self, i: usize, line: usize) -> Result<f64, IngestError> {
         match self.0.get(i) {
             Some(v) if v.is_finite() => Ok(*v),
-            Some(v) => Err(at(line, Some(i + 1), format!("{v} is not a finite number"))),
+            Some(v) => Err(at(
+                line,
+                Some(i + 1),
+                format!(
+                    "{v} is not a finite number: drop the samples where a value is missing (from every array alike: a gap up to max_gap_deg is bridged), or give each sample's cycle (cycle=) so that a dropout's cycle is left out"
+                ),
+            )),
             None => Err(at(line, Some(i + 1), "no value")),
         }
     }
@@ -78,6 +84,9 @@ pub(crate) fn read<F: FnMut(Streamed) -> Result<(), IngestError>>(
     rd.row(0, &Names(names), || None)?;
     let mut row = vec![0.0; columns.len()];
     for k in 0..n {
+        if k % 65_536 == 0 {
+            opts.cancel.check()?;
+        }
         for (v, c) in row.iter_mut().zip(columns) {
             *v = c[k];
         }

@@ -30,9 +30,9 @@ pub(crate) struct Emitter<'o, F> {
     settled: Vec<(String, Gap, f64)>,
     /// Samples below zero, traces with any, the lowest (Pa).
     below: (usize, usize, f64),
-    /// Traces whose mean around intake BDC is below [`LOW_INTAKE_PA`], and
-    /// the lowest such mean (Pa).
-    low_intake: (usize, f64),
+    /// Traces whose mean around intake BDC is below [`LOW_INTAKE_PA`], the
+    /// lowest such mean and the highest of their peaks (Pa).
+    low_intake: (usize, f64, f64),
     total: usize,
     /// The value columns as messages name them (`Roles::labels`).
     pub labels: Vec<String>,
@@ -61,7 +61,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             bridged: Vec::new(),
             settled: Vec::new(),
             below: (0, 0, 0.0),
-            low_intake: (0, f64::INFINITY),
+            low_intake: (0, f64::INFINITY, 0.0),
             total: 0,
             labels: Vec::new(),
             volts: false,
@@ -167,6 +167,8 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
         {
             self.low_intake.0 += 1;
             self.low_intake.1 = self.low_intake.1.min(m);
+            let peak = tr.values.iter().copied().fold(0.0, f64::max);
+            self.low_intake.2 = self.low_intake.2.max(peak);
         }
         if c.below_zero.0 > 0 {
             self.below.0 += c.below_zero.0;
@@ -387,7 +389,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                     String::new()
                 },
                 enginedyn_numerics::format::human(LOW_INTAKE_PA / 1e5)
-            ));
+            ) + &crate::plausible::mpa_hint(self.low_intake.1, self.low_intake.2));
         }
         head.notes.append(&mut self.pv_notes);
         head.notes.extend(self.aligner.notes());

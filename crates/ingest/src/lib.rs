@@ -21,6 +21,7 @@ use std::io::BufRead;
 
 mod arrays;
 mod axis;
+mod cancel;
 mod columns;
 mod emit;
 mod error;
@@ -42,6 +43,7 @@ mod trace;
 mod values;
 
 pub use axis::CylinderAxis;
+pub use cancel::{CANCELLED, Cancel, Cancellable, cancel_error};
 pub use columns::{canonical, pressure_unit};
 pub use error::IngestError;
 pub use grid::{
@@ -125,6 +127,12 @@ pub struct ParseOptions {
     /// A record sampled on the crank angle without an angle column
     /// (`--angle-step`): row k of the data lies at k times this (deg).
     pub angle_step_deg: Option<f64>,
+    /// Stops the read when set (another thread's Ctrl-C, a stop button).
+    pub cancel: Cancel,
+    /// The engine file's `operating.rpm`: a time record's measured speed
+    /// far from it (a time in ms read as seconds) is an error naming the
+    /// likely unit.
+    pub operating_rpm: Option<f64>,
 }
 
 /// A workbook's sheet (`--sheet NAME|N`).
@@ -179,6 +187,8 @@ impl ParseOptions {
             wheel_tdc_deg: None,
             compression_check: true,
             angle_step_deg: None,
+            cancel: Cancel::default(),
+            operating_rpm: None,
         }
     }
 }

@@ -71,6 +71,30 @@ pub(crate) const MAX_TORQUE_NM: f64 = 1e9;
 /// threshold too.
 pub(crate) const LOW_INTAKE_PA: f64 = 0.2e5;
 
+/// The highest mean absolute pressure around intake BDC (Pa) an engine's
+/// intake holds: 6 bar, above the most a turbocharger gives (4 to 5 bar
+/// absolute on the largest diesels). Above it the values are in another
+/// unit: a pressure in psi reads 14.5 at the atmosphere.
+pub(crate) const HIGH_INTAKE_PA: f64 = 6e5;
+
+/// Bar per psi.
+const BAR_PER_PSI: f64 = 0.068_947_572_931_683_6;
+
+/// A trace in MPa read as bar has its intake at a tenth of a running
+/// engine's (0.02 to 0.2 "bar") and its peak at a tenth of an engine's
+/// (below 25 "bar"): what the low-intake warning adds then, naming MPa.
+pub(crate) fn mpa_hint(level: f64, peak: f64) -> String {
+    if level >= 0.1 * LOW_INTAKE_PA && peak <= 25e5 {
+        format!(
+            "; or a pressure in MPa read as bar ({} MPa is {} bar): convert it, or name the column's unit (`pressure [MPa]`)",
+            enginedyn_numerics::format::sig(level / 1e5, 3),
+            enginedyn_numerics::format::sig(level / 1e4, 3)
+        )
+    } else {
+        String::new()
+    }
+}
+
 /// The polytropic exponent of the compression bound (INTERFACE.md).
 const POLYTROPE: f64 = 1.3;
 
@@ -275,6 +299,7 @@ fn compression(
     let Some(eps) = ctx.compression_ratio else {
         return Ok(());
     };
+    high_intake(tr, cycle, ctx, name)?;
     // Each candidate for intake BDC: passed from any (the module's docs).
     let mut worst: Option<(f64, f64, f64, f64)> = None;
     for level in intake_levels(tr, cycle) {
@@ -308,9 +333,15 @@ fn compression(
     } else {
         format!("its own {} bar at BDC", bar(p_in))
     };
+    // Read as gauge: the values may as well be MPa read as bar.
+    let mpa = if shift > 0.0 && ctx.gain.is_none() {
+        mpa_hint(level, peak)
+    } else {
+        String::new()
+    };
     Err(IngestError::Data(
         format!(
-            "{}: {} is not a cylinder pressure: its peak {} bar is below {} bar, half of what compression alone gives at ε = {} from {from}; it looks like {}",
+            "{}: {} is not a cylinder pressure: its peak {} bar is below {} bar, half of what compression alone gives at ε = {} from {from}; it looks like {}{mpa}",
             name(),
             ctx.source(),
             bar(peak),
@@ -319,6 +350,36 @@ fn compression(
             looks_like(tr, level, peak, cycle, ctx)
         ) + NO_COMPRESSION,
     ))
+}
+
+/// The intake level's upper bound: every candidate level above
+/// [`HIGH_INTAKE_PA`] is no intake's, and the error names the likely unit.
+fn high_intake(
+    tr: &Trace,
+    cycle: f64,
+    ctx: &Context<'_>,
+    name: &dyn Fn() -> String,
+) -> Result<(), IngestError> {
+    let level = intake_levels(tr, cycle).fold(f64::INFINITY, f64::min);
+    if !(level.is_finite() && level > HIGH_INTAKE_PA) {
+        return Ok(());
+    }
+    let bar = |pa: f64| enginedyn_numerics::format::sig(pa / 1e5, 3);
+    let why = match ctx.gain {
+        Some(_) => "is --gain (bar per volt) right?".to_string(),
+        None => format!(
+            "a pressure in psi read as bar ({} psi is {} bar)? convert it, or name the column's unit (`pressure [psi]`)",
+            bar(level),
+            bar(level * BAR_PER_PSI)
+        ),
+    };
+    Err(IngestError::Data(format!(
+        "{}: the pressure around intake BDC from {} is {} bar absolute, above the {} bar any engine's intake holds: {why}",
+        name(),
+        ctx.source(),
+        bar(level),
+        enginedyn_numerics::format::human(HIGH_INTAKE_PA / 1e5),
+    )))
 }
 
 /// What the compression bound's refusal says last: the flag that lifts it.

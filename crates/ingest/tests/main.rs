@@ -14,3 +14,4 @@ mod no_header;
 mod no_panic;
 mod pv_peg_stats;
 mod rows;
+mod units_named;

@@ -8,7 +8,7 @@
 //! `python/enginedyn/`.
 
 use enginedyn_session::{Class, Error, Input, Loaded, Method, Reader, Session, Work};
-use numpy::{PyArray1, PyReadonlyArray1};
+use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyOSError};
 use pyo3::prelude::*;
@@ -17,42 +17,54 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 create_exception!(
-    _native,
+    enginedyn,
     EnginedynError,
     PyException,
     "Base of every error enginedyn raises (but OSError)."
 );
 create_exception!(
-    _native,
+    enginedyn,
     DiagramError,
     EnginedynError,
     "A diagram that cannot be used (the CLI exits 1): `path`, `line`, `column`."
 );
 create_exception!(
-    _native,
+    enginedyn,
     EngineFileError,
     EnginedynError,
     "A bad engine file (the CLI exits 2): `path`, `key`."
 );
 create_exception!(
-    _native,
+    enginedyn,
     UsageError,
     EnginedynError,
     "A bad option (the CLI exits 2), naming the argument."
 );
 
-/// The library's error as its Python exception, with its attributes.
+/// The library's error as its Python exception, with its attributes; the
+/// message speaks of keywords (`step_deg=`), not the CLI's flags, by the
+/// session's one table. A missing file is `FileNotFoundError` with its
+/// path; work stopped by Ctrl-C is `KeyboardInterrupt`.
 fn py_err(e: Error) -> PyErr {
     Python::attach(|py| {
-        let message = e.to_string();
+        if e.is_cancelled() {
+            return pyo3::exceptions::PyKeyboardInterrupt::new_err(());
+        }
+        let message = enginedyn_session::options::in_keywords(&e.to_string());
         let err = match e.class {
             Class::Diagram => DiagramError::new_err(message),
             Class::EngineFile => EngineFileError::new_err(message),
             Class::Usage => UsageError::new_err(message),
+            Class::Io if e.io_kind == Some(std::io::ErrorKind::NotFound) => {
+                let why = enginedyn_session::options::in_keywords(&e.message);
+                pyo3::exceptions::PyFileNotFoundError::new_err((2, why, e.file.clone()))
+            }
             Class::Io => PyOSError::new_err(message),
         };
         let value = err.value(py);
-        let _ = value.setattr("path", e.file.clone());
+        if e.class != Class::Io {
+            let _ = value.setattr("path", e.file.clone());
+        }
         match e.class {
             Class::Diagram => {
                 let _ = value.setattr("line", e.line);
@@ -64,6 +76,42 @@ fn py_err(e: Error) -> PyErr {
             _ => {}
         }
         err
+    })
+}
+
+/// Runs `work` on its own thread with the GIL released, polling Python's
+/// signal handlers every 20 ms: Ctrl-C sets `cancel` (the session's loops
+/// stop at their next check), waits for the work to stop, and raises
+/// `KeyboardInterrupt`.
+fn interruptible<T: Send>(
+    py: Python<'_>,
+    cancel: &enginedyn_ingest::Cancel,
+    work: impl FnOnce() -> Result<T, Error> + Send,
+) -> PyResult<T> {
+    std::thread::scope(|scope| {
+        let handle = scope.spawn(work);
+        loop {
+            py.detach(|| {
+                for _ in 0..4 {
+                    if handle.is_finished() {
+                        break;
+                    }
+                    std::thread::sleep(std::time::Duration::from_millis(5));
+                }
+            });
+            if handle.is_finished() {
+                break;
+            }
+            if let Err(interrupt) = py.check_signals() {
+                cancel.cancel();
+                let _ = py.detach(|| handle.join());
+                return Err(interrupt);
+            }
+        }
+        match handle.join() {
+            Ok(r) => r.py(),
+            Err(panic) => std::panic::resume_unwind(panic),
+        }
     })
 }
 
@@ -90,7 +138,14 @@ impl Engine {
     fn from_toml(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
         // A missing file is Python's FileNotFoundError; anything else goes
         // through the session's one rule (a regular file of at most 1 MiB).
-        std::fs::metadata(&path)?;
+        std::fs::metadata(&path).map_err(|e| match e.kind() {
+            std::io::ErrorKind::NotFound => pyo3::exceptions::PyFileNotFoundError::new_err((
+                2,
+                "No such file or directory",
+                path.display().to_string(),
+            )),
+            _ => e.into(),
+        })?;
         let loaded = py.detach(|| Loaded::from_file(&path)).py()?;
         Ok(Self {
             loaded: Arc::new(loaded),
@@ -377,7 +432,9 @@ impl NativeSession {
     /// none: the engine's own diagram), as `enginedyn run` reads them.
     fn analyse(&self, py: Python<'_>, paths: Vec<PathBuf>) -> PyResult<Run> {
         let s = self.session.clone();
-        py.detach(move || {
+        let cancel = enginedyn_ingest::Cancel::new();
+        let token = cancel.clone();
+        interruptible(py, &cancel, move || {
             let own;
             let mut inputs: Vec<Input<'_>> = paths.iter().map(|p| Input::File(p)).collect();
             if inputs.is_empty() {
@@ -390,11 +447,10 @@ impl NativeSession {
                     }
                 }
             }
-            let outcome = s.analyse(&inputs)?;
+            let outcome = s.analyse_cancellable(&inputs, &token)?;
             let inputs = enginedyn_session::inputs::of(&s.loaded, &inputs)?;
             Ok(Run::new(&s, outcome, inputs))
         })
-        .py()
     }
 
     /// One operating point from a turning-moment file.
@@ -408,31 +464,52 @@ impl NativeSession {
         .py()
     }
 
-    /// One operating point from named float64 columns (C-contiguous).
-    #[pyo3(signature = (names, columns, rpm=None))]
+    /// One operating point from named float64 columns (C-contiguous);
+    /// with `pressure` and `pressures` (2-D, one row a cylinder), one
+    /// pressure column per cylinder under that name, read as per-cylinder
+    /// files are.
+    #[pyo3(signature = (names, columns, rpm=None, pressure=None, pressures=None))]
     fn analyse_columns(
         &self,
         py: Python<'_>,
         names: Vec<String>,
         columns: Vec<PyReadonlyArray1<'_, f64>>,
         rpm: Option<f64>,
+        pressure: Option<String>,
+        pressures: Option<PyReadonlyArray2<'_, f64>>,
     ) -> PyResult<Run> {
+        let type_error =
+            |e: numpy::AsSliceError| pyo3::exceptions::PyTypeError::new_err(e.to_string());
         let slices: Vec<&[f64]> = columns
             .iter()
             .map(|c| c.as_slice())
             .collect::<Result<_, _>>()
-            .map_err(|e| pyo3::exceptions::PyTypeError::new_err(e.to_string()))?;
+            .map_err(type_error)?;
+        let rows: Vec<&[f64]> = match &pressures {
+            Some(p) => {
+                let n = p.shape()[1].max(1);
+                p.as_slice().map_err(type_error)?.chunks(n).collect()
+            }
+            None => Vec::new(),
+        };
         let s = self.session.clone();
-        py.detach(move || {
-            let outcome = s.analyse_columns(&names, &slices, rpm)?;
+        let cancel = enginedyn_ingest::Cancel::new();
+        let token = cancel.clone();
+        interruptible(py, &cancel, move || {
+            let outcome = match &pressure {
+                Some(name) => {
+                    s.analyse_cylinder_columns(&names, &slices, name, &rows, rpm, &token)?
+                }
+                None => s.analyse_columns(&names, &slices, rpm, &token)?,
+            };
             // Hashed from the borrowed slices: no copy of the arrays.
-            let hash = enginedyn_session::inputs::arrays_blake3(&slices);
+            let all: Vec<&[f64]> = slices.iter().chain(rows.iter()).copied().collect();
+            let hash = enginedyn_session::inputs::arrays_blake3(&all);
             let arrays = enginedyn_report::Source::Hashed(std::path::Path::new("arrays"), &hash);
             let engine = enginedyn_session::inputs::of(&s.loaded, &[])?;
             let inputs = engine.with_diagrams(&[arrays]).map_err(Error::from)?;
             Ok(Run::new(&s, outcome, inputs))
         })
-        .py()
     }
 
     /// The torsion study (the engine file's `[torsion]`) excited by the
@@ -506,9 +583,11 @@ impl NativeSession {
             )));
         }
         let s = self.session.clone();
-        py.detach(move || {
+        let cancel = enginedyn_ingest::Cancel::new();
+        let token = cancel.clone();
+        interruptible(py, &cancel, move || {
             let engine = enginedyn_session::inputs::of(&s.loaded, &[])?;
-            let items = s.batch(
+            let items = s.batch_cancellable(
                 &paths,
                 jobs,
                 Work::Analyse,
@@ -526,7 +605,13 @@ impl NativeSession {
                     ))
                 },
                 |_| {},
+                &token,
             )?;
+            if token.is_cancelled() {
+                return Err(
+                    enginedyn_ingest::IngestError::Io(enginedyn_ingest::cancel_error()).into(),
+                );
+            }
             let mut rows = Vec::with_capacity(items.len());
             let mut summaries = Vec::with_capacity(items.len());
             for item in items {
@@ -547,7 +632,6 @@ impl NativeSession {
                 summaries,
             })
         })
-        .py()
     }
 }
 
@@ -569,6 +653,23 @@ impl NativeBatch {
     /// Each file's error (`None` when it ran).
     fn errors(&self) -> Vec<Option<String>> {
         self.rows.iter().map(|r| r.error.clone()).collect()
+    }
+
+    /// Each file's notes apart by the CLI's severity: (`note:` lines,
+    /// `warning:` lines); empty for a failed file.
+    fn notes(&self) -> Vec<(Vec<String>, Vec<String>)> {
+        use enginedyn_pipeline::notes::{Severity, severity};
+        self.rows
+            .iter()
+            .map(|r| {
+                let all = r.summary.as_ref().map_or(&[][..], |s| &s.notes[..]);
+                let (warned, noted): (Vec<String>, Vec<String>) = all
+                    .iter()
+                    .cloned()
+                    .partition(|n| severity(n) == Severity::Warning);
+                (noted, warned)
+            })
+            .collect()
     }
 
     /// Each file's `summary.json` as text (`None` when it failed).
@@ -862,6 +963,20 @@ fn canonical(name: &str) -> Option<(&'static str, f64)> {
     enginedyn_ingest::canonical(name)
 }
 
+/// How the CLI prints a note: `"note"` (what was decided) or `"warning"`
+/// (what may be wrong), by the one rule every front end uses.
+#[pyfunction]
+fn severity(note: &str) -> &'static str {
+    enginedyn_pipeline::notes::severity(note).label()
+}
+
+/// `message` with the CLI's flags as the package's keywords (`--step` as
+/// `step_deg=`), by the session's one table.
+#[pyfunction]
+fn in_keywords(message: &str) -> String {
+    enginedyn_session::options::in_keywords(message)
+}
+
 /// The module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -880,6 +995,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(speeds, m)?)?;
     m.add_function(wrap_pyfunction!(shard, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
+    m.add_function(wrap_pyfunction!(severity, m)?)?;
+    m.add_function(wrap_pyfunction!(in_keywords, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -6,7 +6,7 @@ use crate::diagram::{load_file_hashed, parse_file_hashed, parse_only};
 use crate::error::{Error, Result};
 use crate::session::{Session, within};
 use crate::speed::resolve_rpm;
-use enginedyn_ingest::Quantity;
+use enginedyn_ingest::{Cancel, Quantity};
 use enginedyn_pipeline::Analysis;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
@@ -244,6 +244,20 @@ impl Session {
         each: impl Fn(usize, &Path, Option<Analysed>, &mut Times) -> Result<T> + Sync,
         done: impl Fn(&Item<T>) + Sync,
     ) -> Result<Vec<Item<T>>> {
+        self.batch_cancellable(files, jobs, work, each, done, &Cancel::default())
+    }
+
+    /// [`Session::batch`], stopped by `cancel`: once it is set, the files
+    /// not yet begun are neither read nor listed (the items stop short).
+    pub fn batch_cancellable<T: Send>(
+        &self,
+        files: &[PathBuf],
+        jobs: usize,
+        work: Work,
+        each: impl Fn(usize, &Path, Option<Analysed>, &mut Times) -> Result<T> + Sync,
+        done: impl Fn(&Item<T>) + Sync,
+        cancel: &Cancel,
+    ) -> Result<Vec<Item<T>>> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(jobs)
             .build()
@@ -253,6 +267,10 @@ impl Session {
                 .par_iter()
                 .enumerate()
                 .map(|(index, f)| {
+                    // Cancelled: no more items, the batch stops here.
+                    if cancel.is_cancelled() {
+                        return None;
+                    }
                     let mut times = Times::default();
                     let result = guarded(|| {
                         let an = self.analyse_item(f, work, &mut times)?;
@@ -265,8 +283,9 @@ impl Session {
                         times,
                     };
                     done(&item);
-                    item
+                    Some(item)
                 })
+                .while_some()
                 .collect()
         }))
     }

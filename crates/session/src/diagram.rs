@@ -86,6 +86,8 @@ pub fn diagram_options(
         wheel_tdc_deg: d.wheel_tdc_deg,
         compression_check: !d.no_compression_check,
         angle_step_deg: d.angle_step_deg,
+        cancel: enginedyn_ingest::Cancel::default(),
+        operating_rpm: engine.operating().rpm,
     };
     let mut grid = GridOptions {
         step_deg: step,
@@ -117,7 +119,7 @@ pub fn open_diagram(p: &Path) -> Result<std::fs::File> {
     }
     let file = options
         .open(p)
-        .map_err(|e| Error::io(format!("cannot open: {e}")).in_file(&shown))?;
+        .map_err(|e| Error::io_from(format!("cannot open: {e}"), &e).in_file(&shown))?;
     let meta = file
         .metadata()
         .map_err(|e| Error::io(format!("cannot open: {e}")).in_file(&shown))?;
@@ -158,7 +160,10 @@ pub fn load_diagram_timed(
             enginedyn_ingest::load_timed(
                 // The reader keeps its own 64 KiB blocks: a small BufReader
                 // passes those reads straight through instead of copying.
-                std::io::BufReader::with_capacity(1 << 12, file),
+                enginedyn_ingest::Cancellable::new(
+                    std::io::BufReader::with_capacity(1 << 12, file),
+                    parse.cancel.clone(),
+                ),
                 parse,
                 grid,
                 on_grid,

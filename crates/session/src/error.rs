@@ -47,6 +47,9 @@ pub struct Error {
     pub column: Option<usize>,
     /// The engine-file key at fault, when one is.
     pub key: Option<String>,
+    /// What the system said, for a file that cannot be opened or read (a
+    /// front end maps `NotFound` to its own "no such file").
+    pub io_kind: Option<std::io::ErrorKind>,
 }
 
 impl Error {
@@ -58,6 +61,7 @@ impl Error {
             line: None,
             column: None,
             key: None,
+            io_kind: None,
         }
     }
     /// A bad command line or option (exit 2).
@@ -75,6 +79,18 @@ impl Error {
     /// A file that cannot be opened, read or written (exit 1).
     pub fn io(message: impl Into<String>) -> Self {
         Self::new(Class::Io, message)
+    }
+    /// A file that cannot be opened or read, with what the system said.
+    pub fn io_from(message: impl Into<String>, e: &std::io::Error) -> Self {
+        Self {
+            io_kind: Some(e.kind()),
+            ..Self::io(message)
+        }
+    }
+    /// Whether the work was stopped by its cancel token
+    /// ([`enginedyn_ingest::Cancel`]), not failed.
+    pub fn is_cancelled(&self) -> bool {
+        self.class == Class::Io && self.message.ends_with(enginedyn_ingest::CANCELLED)
     }
     /// The same failure, about `file` (kept when it already names one).
     pub fn in_file(mut self, file: impl std::fmt::Display) -> Self {
@@ -110,9 +126,14 @@ impl From<enginedyn_ingest::IngestError> for Error {
             I::Io(_) => Class::Io,
             _ => Class::Diagram,
         };
+        let io_kind = match &e {
+            I::Io(io) => Some(io.kind()),
+            _ => None,
+        };
         Error {
             line,
             column,
+            io_kind,
             ..Self::new(class, e.to_string())
         }
     }

@@ -577,3 +577,121 @@ pub fn imep_range(spec: &str) -> Result<Vec<f64>> {
     Ok((0..=n as usize).map(|k| from + k as f64 * step).collect())
 }
 // ---- end synthesis for design ----
+
+/// The command line's flags as the Python package's keywords
+/// (INTERFACE.md, "Python package": messages raised in Python name the
+/// keyword, not the flag). One table for every message: a front end that
+/// takes keywords rewrites the shared message with [`in_keywords`].
+pub const FLAG_KEYWORDS: &[(&str, &str)] = &[
+    ("--step", "step_deg="),
+    ("--diagram", "diagram="),
+    ("--parts", "parts="),
+    ("--shard", "part=/parts="),
+    ("--jobs", "jobs="),
+    ("--tdc-deg", "tdc_deg="),
+    ("--columns", "columns="),
+    ("--tdc-time", "tdc_time="),
+    ("--rpm", "rpm="),
+    ("--max-gap", "max_gap_deg="),
+    ("--wheel-tdc-deg", "wheel_tdc_deg="),
+    ("--sheet", "sheet="),
+    ("--group", "group="),
+    ("--wheel", "wheel="),
+    ("--gain", "gain_bar_per_v="),
+    ("--encoder-ppr", "encoder_ppr="),
+    ("--angle-step", "angle_step="),
+    ("--cylinder-axis", "cylinder_axis="),
+    ("--tolerance", "tolerance="),
+    ("--torque", "analyse_torque()"),
+    ("--peg-bar", "peg_bar="),
+    ("--peg", "peg="),
+    ("--gauge", "gauge=True"),
+    ("--no-compression-check", "compression_check=False"),
+    ("--gamma", "gamma="),
+    ("--smooth", "smooth="),
+    ("--skip-lines", "skip_lines="),
+    ("--kinematics", "kinematics="),
+    ("--rod-model", "rod_model="),
+    ("--interp", "interp="),
+    ("--integration", "integration="),
+    ("--ivc-deg", "ivc_deg="),
+    ("--intake-temp-k", "intake_temp_k="),
+    ("--burn-window", "burn_window="),
+    ("--burn-points", "burn_points="),
+    ("--pv-start", "pv_start="),
+];
+
+/// `message` with each flag of [`FLAG_KEYWORDS`] as its keyword: `--step
+/// 0.1: …` reads `step_deg=0.1: …`, `give --diagram` reads `give
+/// diagram=`. Other flags stay as they are.
+pub fn in_keywords(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    while let Some(at) = rest.find("--") {
+        let (before, from) = rest.split_at(at);
+        out.push_str(before);
+        let name_len = from[2..]
+            .find(|c: char| !(c.is_ascii_lowercase() || c == '-'))
+            .map_or(from.len(), |n| n + 2);
+        let flag = &from[..name_len];
+        let boundary = before.is_empty() || !before.ends_with(|c: char| c.is_alphanumeric());
+        match FLAG_KEYWORDS.iter().find(|(f, _)| *f == flag) {
+            Some((_, kw)) if boundary => {
+                out.push_str(kw);
+                rest = &from[name_len..];
+                // `--step 0.1` → `step_deg=0.1`: a value right after joins
+                // (a number, or a placeholder such as `P`).
+                if kw.ends_with('=')
+                    && let Some(v) = rest.strip_prefix(' ')
+                    && joins(v)
+                {
+                    rest = v;
+                }
+            }
+            _ => {
+                out.push_str(flag);
+                rest = &from[name_len..];
+            }
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// Whether the text after a flag is its value: a number, or a placeholder
+/// in capitals (`P`, `N`).
+fn joins(v: &str) -> bool {
+    let word = v.split([' ', ',', ';', ':', ')']).next().unwrap_or("");
+    (!word.is_empty() && word.chars().all(|c| c.is_ascii_uppercase()))
+        || v.starts_with(|c: char| c.is_ascii_digit() || c == '-' || c == '.')
+}
+
+#[cfg(test)]
+mod keyword_tests {
+    use super::*;
+
+    #[test]
+    fn flags_read_as_keywords_in_one_mapping() {
+        assert_eq!(
+            in_keywords("--step 20: a grid step from 0.001 to 10° is needed"),
+            "step_deg=20: a grid step from 0.001 to 10° is needed"
+        );
+        assert_eq!(
+            in_keywords("no indicator diagram: give --diagram or `diagram =` in e.toml"),
+            "no indicator diagram: give diagram= or `diagram =` in e.toml"
+        );
+        assert_eq!(
+            in_keywords("--parts 3 but 4 parts found; --peg-bar or --peg, --out stays"),
+            "parts=3 but 4 parts found; peg_bar= or peg=, --out stays"
+        );
+        assert_eq!(
+            in_keywords("pass --no-compression-check or --gauge"),
+            "pass compression_check=False or gauge=True"
+        );
+        assert_eq!(in_keywords("a--step b -- c"), "a--step b -- c");
+        assert_eq!(
+            in_keywords("a relative (piezo) trace: --peg-bar P or --peg polytropic"),
+            "a relative (piezo) trace: peg_bar=P or peg= polytropic"
+        );
+    }
+}

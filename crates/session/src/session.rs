@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::options::{Method, Reader};
 use crate::speed::resolve_rpm;
 use enginedyn_engine::Engine;
-use enginedyn_ingest::{GridOptions, ParseOptions, Quantity, Resampled};
+use enginedyn_ingest::{Cancel, GridOptions, ParseOptions, Quantity, Resampled};
 use enginedyn_pipeline::{Analysis, Options, Scope};
 
 /// An engine, how its diagrams are read and how they are computed.
@@ -90,6 +90,12 @@ impl Session {
     /// order 1..z (as `enginedyn run` reads them); with a tolerance, the
     /// cheapest setting within it.
     pub fn analyse(&self, inputs: &[Input<'_>]) -> Result<Outcome> {
+        self.analyse_cancellable(inputs, &Cancel::default())
+    }
+
+    /// [`Session::analyse`], stopped by `cancel` (an error) at its reader's
+    /// next block once it is set.
+    pub fn analyse_cancellable(&self, inputs: &[Input<'_>], cancel: &Cancel) -> Result<Outcome> {
         if let Some(t) = self.method.tolerance {
             return self.analyse_within(inputs, t);
         }
@@ -98,7 +104,10 @@ impl Session {
             .iter()
             .enumerate()
             .map(|(k, input)| {
-                let parse = self.cylinder_parse(several, k);
+                let parse = ParseOptions {
+                    cancel: cancel.clone(),
+                    ..self.cylinder_parse(several, k)
+                };
                 Ok((input.shown(), load_diagram(*input, &parse, &self.grid)?))
             })
             .collect::<Result<Vec<_>>>()?;
@@ -163,12 +172,14 @@ impl Session {
     /// One operating point from named columns in memory (`crank_deg`,
     /// `pressure_bar`, `cycle`, `cylinder`, or a time record's `time_s`,
     /// `tdc`, …): the reader's every rule, as for a file with that header
-    /// and those rows. `rpm` stands for the reader's speed when given.
+    /// and those rows. `rpm` stands for the reader's speed when given;
+    /// `cancel` stops the read (an error) once set.
     pub fn analyse_columns(
         &self,
         names: &[String],
         columns: &[&[f64]],
         rpm: Option<f64>,
+        cancel: &Cancel,
     ) -> Result<Outcome> {
         let rpm = rpm.or(self.reader.rpm);
         if let Some(r) = rpm {
@@ -176,10 +187,79 @@ impl Session {
         }
         let parse = ParseOptions {
             rpm,
+            cancel: cancel.clone(),
             ..self.parse.clone()
         };
         let resampled = enginedyn_ingest::load_columns(names, columns, &parse, &self.grid)
             .map_err(|e| Error::from(e).in_file("arrays"))?;
+        if resampled.quantity != Quantity::Pressure {
+            return Err(Error::data("arrays: a turning moment, not a pressure"));
+        }
+        let engine = self.engine();
+        let speed = resolve_rpm(rpm, resampled.rpm, engine)?;
+        let mut analysis = enginedyn_pipeline::analyse(engine, &resampled, speed.rpm, &self.opts)?;
+        analysis.summary.notes.extend(speed.note);
+        Ok(Outcome {
+            analysis,
+            opts: self.opts,
+            resampled: Some(resampled),
+        })
+    }
+
+    /// One operating point from named columns with one pressure column per
+    /// cylinder (`pressures[k]`, cylinder k + 1, under the name `pressure`
+    /// beside `names`): each cylinder read as one of several per-cylinder
+    /// files is (`run --diagram a --diagram b …`), the shared columns (a
+    /// time record's time, pulse, encoder) with each, then merged as those
+    /// files are. One pressure column is [`Session::analyse_columns`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn analyse_cylinder_columns(
+        &self,
+        names: &[String],
+        columns: &[&[f64]],
+        pressure: &str,
+        pressures: &[&[f64]],
+        rpm: Option<f64>,
+        cancel: &Cancel,
+    ) -> Result<Outcome> {
+        fn with<'a>(
+            names: &[String],
+            columns: &[&'a [f64]],
+            pressure: &str,
+            p: &'a [f64],
+        ) -> (Vec<String>, Vec<&'a [f64]>) {
+            let mut n = names.to_vec();
+            n.push(pressure.to_string());
+            let mut c: Vec<&[f64]> = columns.to_vec();
+            c.push(p);
+            (n, c)
+        }
+        if let [one] = pressures {
+            let (n, c) = with(names, columns, pressure, one);
+            return self.analyse_columns(&n, &c, rpm, cancel);
+        }
+        let rpm = rpm.or(self.reader.rpm);
+        if let Some(r) = rpm {
+            crate::options::check_rpm(r).map_err(|w| Error::usage(format!("rpm: {w}")))?;
+        }
+        let several = pressures.len() > 1;
+        let loaded = pressures
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let (n, c) = with(names, columns, pressure, p);
+                let parse = ParseOptions {
+                    rpm,
+                    cancel: cancel.clone(),
+                    ..self.cylinder_parse(several, k)
+                };
+                let shown = format!("arrays, cylinder {}", k + 1);
+                let r = enginedyn_ingest::load_columns(&n, &c, &parse, &self.grid)
+                    .map_err(|e| Error::from(e).in_file(&shown))?;
+                Ok((shown, r))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let resampled = merge_per_cylinder(loaded)?;
         if resampled.quantity != Quantity::Pressure {
             return Err(Error::data("arrays: a turning moment, not a pressure"));
         }

@@ -93,6 +93,8 @@ pub(crate) struct TimeRecord {
     file_rpm: Option<(f64, &'static str)>,
     /// `--rpm`.
     flag_rpm: Option<f64>,
+    /// The engine file's `operating.rpm`.
+    operating_rpm: Option<f64>,
     /// Columns of the crank's signals that this source does not use.
     unused: Vec<String>,
 }
@@ -376,6 +378,7 @@ impl TimeRecord {
             last_line: line,
             file_rpm: rpm,
             flag_rpm: opts.rpm,
+            operating_rpm: opts.operating_rpm,
             unused,
         })
     }
@@ -620,11 +623,48 @@ impl TimeRecord {
                 ));
             }
         }
+        if self.flag_rpm.is_none() && self.file_rpm.is_none() {
+            far_from_operating(mean, self.operating_rpm, &what)?;
+        }
         if head.rpm.is_none() {
             head.rpm = Some(mean);
         }
         Ok(())
     }
+}
+
+/// A measured speed this many times off the engine file's `operating.rpm`
+/// (either way) is a unit mix-up, not the engine at another speed.
+const SPEED_UNIT_FACTOR: f64 = 50.0;
+
+/// The speed `what` measures (`mean`, rpm) against `operating.rpm`: far
+/// off, an error naming the likely unit of the time.
+fn far_from_operating(mean: f64, operating: Option<f64>, what: &str) -> Result<(), IngestError> {
+    let Some(r) = operating else {
+        return Ok(());
+    };
+    let ratio = mean / r;
+    if (1.0 / SPEED_UNIT_FACTOR..=SPEED_UNIT_FACTOR).contains(&ratio) {
+        return Ok(());
+    }
+    // The unit whose factor brings the speed back within the band.
+    let near = |x: f64| (1.0 / SPEED_UNIT_FACTOR..=SPEED_UNIT_FACTOR).contains(&(ratio / x));
+    let unit = if near(1e-3) {
+        "a time in ms read as seconds? name the time column's unit (`time [ms]`) or convert it to seconds"
+    } else if near(1e-6) {
+        "a time in µs read as seconds? name the time column's unit (`time [us]`) or convert it to seconds"
+    } else if near(1e3) {
+        "a time in seconds read as ms? check the time column's unit"
+    } else {
+        "is the time column's unit right? (if the engine ran so, give --rpm)"
+    };
+    let fmt = |x: f64| enginedyn_numerics::format::sig(x, 4);
+    Err(IngestError::Data(format!(
+        "{what} gives {} rpm, {} times the engine file's operating.rpm = {} rpm: {unit}",
+        fmt(mean),
+        fmt(ratio),
+        fmt(r)
+    )))
 }
 
 impl TimeRecord {

@@ -15,9 +15,11 @@ True
 
 from __future__ import annotations
 
-import io as io_module
-import json
-import os
+import importlib as _importlib
+import io as _io
+import json as _json
+import os as _os
+import warnings as _warnings
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Union
 
 import numpy as np
@@ -43,10 +45,46 @@ __all__ = [
     "DiagramError",
     "EngineFileError",
     "UsageError",
+    "EnginedynWarning",
     "__version__",
 ]
 
-PathLike = Union[str, "os.PathLike[str]"]
+# ``enginedyn.io`` and ``enginedyn.dask`` load on first use.
+_LAZY = ("io", "dask")
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        module = _importlib.import_module(f"{__name__}.{name}")
+        globals()[name] = module
+        return module
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> List[str]:
+    return sorted(__all__ + list(_LAZY))
+
+
+class EnginedynWarning(UserWarning):
+    """What may mean a wrong result: the CLI's ``warning:`` lines (``python
+    -W error`` stops on them; ``warnings.filterwarnings("ignore",
+    category=EnginedynWarning)`` silences them)."""
+
+
+def _warn(lines: Iterable[str], stacklevel: int = 3) -> None:
+    for w in lines:
+        _warnings.warn(w, EnginedynWarning, stacklevel=stacklevel)
+
+
+def _split(notes: Iterable[str]) -> "tuple[List[str], List[str]]":
+    """Notes and warnings apart, by the CLI's one rule."""
+    kept: List[str] = []
+    warned: List[str] = []
+    for n in notes:
+        (warned if _native.severity(n) == "warning" else kept).append(n)
+    return kept, warned
+
+PathLike = Union[str, "_os.PathLike[str]"]
 
 
 class Engine:
@@ -60,13 +98,13 @@ class Engine:
     @classmethod
     def from_toml(cls, path: PathLike) -> "Engine":
         """Reads and checks an engine file."""
-        return cls(_native.Engine.from_toml(os.fspath(path)))
+        return cls(_native.Engine.from_toml(_os.fspath(path)))
 
     @classmethod
     def from_str(cls, text: str, path: Optional[PathLike] = None) -> "Engine":
         """Checks engine-file text (``path``: where it was read from, for its
         name and the folder its ``diagram`` is relative to)."""
-        return cls(_native.Engine.from_str(text, None if path is None else os.fspath(path)))
+        return cls(_native.Engine.from_str(text, None if path is None else _os.fspath(path)))
 
     @classmethod
     def bundled(cls, name: str = "vaz2108") -> "Engine":
@@ -94,7 +132,7 @@ class Engine:
     @property
     def path(self) -> Optional[str]:
         p = self._native.path
-        return None if p is None else os.fspath(p)
+        return None if p is None else _os.fspath(p)
 
     def __reduce__(self) -> Any:
         return (_engine_from_state, (self._native.text, self.path, self._native.bundled_name))
@@ -119,8 +157,8 @@ class _Options:
         _CHECKS[type(self).__name__](self._kw)
 
     def __getattr__(self, name: str) -> Any:
-        if name.startswith("_"):
-            raise AttributeError(name)
+        if name.startswith("_") or name not in _keywords(type(self)):
+            raise AttributeError(f"{type(self).__name__} has no option {name!r}")
         return self._kw.get(name)
 
     def as_dict(self) -> Dict[str, Any]:
@@ -131,7 +169,7 @@ class _Options:
         return type(other) is type(self) and other._kw == self._kw  # type: ignore[attr-defined]
 
     def __hash__(self) -> int:
-        return hash((type(self).__name__, json.dumps(self._kw, sort_keys=True, default=str)))
+        return hash((type(self).__name__, _json.dumps(self._kw, sort_keys=True, default=str)))
 
     def __reduce__(self) -> Any:
         return (_options_from_state, (type(self).__name__, self._kw))
@@ -156,6 +194,7 @@ class Method(_Options):
     def __init__(
         self,
         step_deg: Optional[float] = None,
+        *,
         kinematics: Optional[str] = None,
         rod_model: Optional[str] = None,
         interp: Optional[str] = None,
@@ -195,43 +234,189 @@ class Reader(_Options):
 
     __slots__ = ()
 
-    def __init__(self, **kw: Any) -> None:
-        super().__init__(**kw)
+    def __init__(
+        self,
+        *,
+        tdc_deg: Optional[float] = None,
+        columns: Optional[Sequence[str]] = None,
+        skip_lines: Optional[int] = None,
+        sheet: Optional[Union[str, int]] = None,
+        group: Optional[int] = None,
+        max_gap_deg: Optional[float] = None,
+        gauge: Optional[bool] = None,
+        peg_bar: Optional[float] = None,
+        peg: Optional[str] = None,
+        gain_bar_per_v: Optional[float] = None,
+        tdc_time: Optional[float] = None,
+        rpm: Optional[float] = None,
+        cylinder_axis: Optional[str] = None,
+        pv_start: Optional[str] = None,
+        encoder_ppr: Optional[int] = None,
+        wheel: Optional[str] = None,
+        wheel_tdc_deg: Optional[float] = None,
+        compression_check: Optional[bool] = None,
+        angle_step: Optional[float] = None,
+    ) -> None:
+        super().__init__(
+            tdc_deg=tdc_deg,
+            columns=columns if columns is None or isinstance(columns, str) else list(columns),
+            skip_lines=skip_lines,
+            sheet=sheet,
+            group=group,
+            max_gap_deg=max_gap_deg,
+            gauge=gauge,
+            peg_bar=peg_bar,
+            peg=peg,
+            gain_bar_per_v=gain_bar_per_v,
+            tdc_time=tdc_time,
+            rpm=rpm,
+            cylinder_axis=cylinder_axis,
+            pv_start=pv_start,
+            encoder_ppr=encoder_ppr,
+            wheel=wheel,
+            wheel_tdc_deg=wheel_tdc_deg,
+            compression_check=compression_check,
+            angle_step=angle_step,
+        )
 
 
 _CHECKS = {"Method": _native.check_method, "Reader": _native.check_reader}
+
+
+def _keywords(cls: type) -> List[str]:
+    import inspect
+
+    return [p for p in inspect.signature(cls).parameters]
 
 
 def _options_from_state(kind: str, kw: Dict[str, Any]) -> _Options:
     return {"Method": Method, "Reader": Reader}[kind](**kw)
 
 
-def _float64(name: str, x: Any) -> np.ndarray:
-    """A 1-D C-contiguous float64 array: borrowed when it already is one,
-    converted otherwise; anything else a ``TypeError``."""
+def _float64(name: str, x: Any, time: bool = False) -> np.ndarray:
+    """A C-contiguous float64 array: borrowed when it already is one,
+    converted otherwise. A masked array is refused (its mask would be
+    lost); a ``timedelta64`` time is converted to seconds."""
+    if np.ma.isMaskedArray(x):
+        raise ValueError(
+            f"{name}=: a masked array (its mask would be lost): fill it, "
+            f"e.g. {name}.filled(np.nan), and drop the masked samples from every "
+            "array alike, or give the samples' cycle= so that a dropout's cycle is left out"
+        )
+    raw = np.asarray(x) if not isinstance(x, np.ndarray) else x
+    if raw.dtype.kind == "m":
+        if not time:
+            raise TypeError(f"{name}=: a timedelta64 array is a time, not a {name}")
+        return np.ascontiguousarray(raw / np.timedelta64(1, "s"), dtype=np.float64)
+    if raw.dtype.kind == "M":
+        raise TypeError(
+            f"{name}=: datetime64 values: give the time since the start, "
+            f"e.g. ({name} - {name}[0]) as timedelta64 or seconds"
+        )
     try:
-        a = np.ascontiguousarray(x, dtype=np.float64)
+        return np.ascontiguousarray(raw, dtype=np.float64)
     except (TypeError, ValueError) as e:
-        raise TypeError(f"{name}: not an array of numbers ({e})") from None
+        raise TypeError(f"{name}=: not an array of numbers ({e})") from None
+
+
+def _vector(name: str, x: Any, time: bool = False) -> np.ndarray:
+    a = _float64(name, x, time)
     if a.ndim != 1:
-        raise TypeError(f"{name}: a 1-D array is needed, not {a.ndim}-D of shape {a.shape}")
+        raise TypeError(f"{name}=: a 1-D array is needed, not {a.ndim}-D of shape {a.shape}")
     return a
 
 
+class _Frozen:
+    """A result held as plain data (what a pickle or ``Result.load`` gives
+    back): the same answers as the binding's run it was taken from."""
+
+    __slots__ = ("_state",)
+
+    def __init__(self, state: Dict[str, Any]) -> None:
+        self._state = state
+
+    @property
+    def notes(self) -> List[str]:
+        return list(self._state["notes"])
+
+    def summary_json(self) -> str:
+        return str(self._state["summary_json"])
+
+    def curves(self, centered: bool = False) -> Dict[str, np.ndarray]:
+        if centered:
+            raise UsageError("centered curves are computed by the run itself, not kept with a saved result")
+        return {k: np.array(v, dtype=np.float64) for k, v in self._state["curves"].items()}
+
+    def harmonics(self) -> Dict[str, np.ndarray]:
+        return {k: np.array(v, dtype=np.float64) for k, v in self._state["harmonics"].items()}
+
+    def cycles(self) -> Dict[str, Any]:
+        return {
+            k: (np.array(v["values"], dtype=v["dtype"]) if isinstance(v, dict) else list(v))
+            for k, v in self._state["cycles"].items()
+        }
+
+    def summary_parquet(self) -> bytes:
+        return bytes(self._state["summary_parquet"])
+
+    def charts(self) -> List[str]:
+        return list(self._state["charts"])
+
+    def svg(self, name: str) -> str:
+        want = name[:-4] if name.endswith(".svg") else name
+        for file, data in self._state["files"]:
+            if file == want + ".svg":
+                return bytes(data).decode()
+        raise UsageError(f"no chart `{want}`: the charts are {', '.join(self.charts())}")
+
+    def files(self, centered: bool = False) -> List[tuple]:
+        if centered:
+            raise UsageError("centered curves are computed by the run itself, not kept with a saved result")
+        return [(n, bytes(b)) for n, b in self._state["files"]]
+
+
+def _state_of(native: Any) -> Dict[str, Any]:
+    """Everything a result answers, as plain data (exact: arrays as lists of
+    the very floats)."""
+    if isinstance(native, _Frozen):
+        return native._state
+    cycles: Dict[str, Any] = {}
+    for k, v in native.cycles().items():
+        cycles[k] = list(v) if isinstance(v, list) else {"dtype": str(v.dtype), "values": v.tolist()}
+    return {
+        "summary_json": native.summary_json(),
+        "notes": list(native.notes),
+        "curves": {k: v.tolist() for k, v in native.curves(False).items()},
+        "harmonics": {k: v.tolist() for k, v in native.harmonics().items()},
+        "cycles": cycles,
+        "summary_parquet": native.summary_parquet(),
+        "charts": list(native.charts()),
+        "files": [(n, bytes(b)) for n, b in native.files(False)],
+    }
+
+
+# What ``Result.to_folder`` writes beside the files of ``run --out``.
+_SAVED = "enginedyn-result.json"
+_SAVED_PARQUET = "enginedyn-summary.parquet"
+
+
 class Result:
-    """One operating point: the summary, notes, curves, harmonics, charts."""
+    """One operating point: the summary, notes and warnings, curves,
+    harmonics, charts. It pickles (a worker can return it) and saves
+    (``to_folder``, ``Result.load``)."""
 
     __slots__ = ("_native", "_summary")
 
-    def __init__(self, native: "_native.Run") -> None:
+    def __init__(self, native: Any) -> None:
         self._native = native
         self._summary: Optional[Dict[str, Any]] = None
 
     @property
     def summary(self) -> Dict[str, Any]:
-        """``summary.json``'s keys, exactly as the CLI writes them."""
+        """``summary.json``'s keys, exactly as the CLI writes them (its
+        ``notes`` hold the notes and the warnings, in the CLI's order)."""
         if self._summary is None:
-            self._summary = json.loads(self._native.summary_json())
+            self._summary = _json.loads(self._native.summary_json())
         return self._summary
 
     def summary_json(self) -> str:
@@ -240,8 +425,14 @@ class Result:
 
     @property
     def notes(self) -> List[str]:
-        """What was decided or may be wrong, as the CLI says it."""
-        return list(self._native.notes)
+        """What was decided or assumed: the CLI's ``note:`` lines."""
+        return _split(self._native.notes)[0]
+
+    @property
+    def warnings(self) -> List[str]:
+        """What may mean a wrong result: the CLI's ``warning:`` lines (each
+        also issued as an ``EnginedynWarning`` when the result was made)."""
+        return _split(self._native.notes)[1]
 
     @property
     def cycles(self) -> Dict[str, Any]:
@@ -285,39 +476,98 @@ class Result:
         """This run as a one-row polars DataFrame (the ``summary/2`` columns)."""
         import polars as pl
 
-        return pl.read_parquet(io_module.BytesIO(self._native.summary_parquet()))
+        return pl.read_parquet(_io.BytesIO(self._native.summary_parquet()))
+
+    def __reduce__(self) -> Any:
+        return (_result_from_state, (_state_of(self._native),))
+
+    def to_folder(self, path: PathLike) -> str:
+        """Writes the files of ``run --out`` into the folder ``path`` (made
+        when missing), and what ``Result.load`` needs to give this result
+        back (``enginedyn-result.json``, ``enginedyn-summary.parquet``)."""
+        state = _state_of(self._native)
+        folder = _os.fspath(path)
+        _os.makedirs(folder, exist_ok=True)
+        for name, data in state["files"]:
+            target = _os.path.join(folder, name)
+            _os.makedirs(_os.path.dirname(target) or folder, exist_ok=True)
+            with open(target, "wb") as f:
+                f.write(data)
+        kept = {k: v for k, v in state.items() if k not in ("files", "summary_parquet")}
+        kept["files"] = [n for n, _ in state["files"]]
+        with open(_os.path.join(folder, _SAVED), "w", encoding="utf-8") as f:
+            _json.dump(kept, f)
+        with open(_os.path.join(folder, _SAVED_PARQUET), "wb") as f:
+            f.write(state["summary_parquet"])
+        return folder
+
+    @classmethod
+    def load(cls, path: PathLike) -> "Result":
+        """A result saved by ``to_folder``."""
+        folder = _os.fspath(path)
+        saved = _os.path.join(folder, _SAVED)
+        if not _os.path.exists(saved):
+            raise FileNotFoundError(2, f"not a folder Result.to_folder wrote (no {_SAVED})", saved)
+        with open(saved, encoding="utf-8") as f:
+            state = _json.load(f)
+        files = []
+        for name in state["files"]:
+            with open(_os.path.join(folder, name), "rb") as f:
+                files.append((name, f.read()))
+        state["files"] = files
+        with open(_os.path.join(folder, _SAVED_PARQUET), "rb") as f:
+            state["summary_parquet"] = f.read()
+        return cls(_Frozen(state))
 
     def _repr_html_(self) -> str:
         s = self.summary
         rows = "".join(
-            f"<tr><th style='text-align:left'>{k}</th><td>{_shown(s.get(k))}</td></tr>"
-            for k in (
-                "rpm",
-                "imep_bar",
-                "mean_torque_nm",
-                "power_kw",
-                "torque_max_nm",
-                "torque_min_nm",
-                "torque_nonuniformity",
-                "flywheel_inertia_kg_m2",
-            )
+            f"<tr><th style='text-align:left'>{label}</th><td style='text-align:right'>{_figure(s.get(k), digits)}</td><td>{unit}</td></tr>"
+            for k, label, unit, digits in _SHOWN
             if k in s
         )
-        notes = "".join(f"<li>{_esc(n)}</li>" for n in self.notes)
-        return (
-            f"<div><table>{rows}</table>"
-            + (f"<ul>{notes}</ul>" if notes else "")
-            + self.svg("torque")
-            + "</div>"
-        )
+        warned = "".join(f"<li style='color:#b45309'>&#9888; warning: {_esc(w)}</li>" for w in self.warnings)
+        noted = "".join(f"<li style='color:#555'>note: {_esc(n)}</li>" for n in self.notes)
+        listed = f"<ul style='list-style:none;padding-left:0'>{warned}{noted}</ul>" if warned or noted else ""
+        return f"<div><table>{rows}</table>{listed}{self.svg('torque')}</div>"
 
     def __repr__(self) -> str:
         s = self.summary
-        return f"Result(rpm={s.get('rpm')}, imep_bar={s.get('imep_bar')}, notes={len(self.notes)})"
+        return (
+            f"Result(rpm={s.get('rpm')}, imep_bar={s.get('imep_bar')}, "
+            f"warnings={len(self.warnings)}, notes={len(self.notes)})"
+        )
+
+
+def _result_from_state(state: Dict[str, Any]) -> Result:
+    return Result(_Frozen(state))
+
+
+# The summary's figures a notebook shows: key, label, unit, decimals.
+_SHOWN = (
+    ("rpm", "speed", "rpm", 0),
+    ("imep_bar", "IMEP", "bar", 2),
+    ("mean_torque_nm", "mean torque", "N·m", 1),
+    ("power_kw", "power", "kW", 2),
+    ("torque_max_nm", "torque max", "N·m", 1),
+    ("torque_min_nm", "torque min", "N·m", 1),
+    ("torque_nonuniformity", "torque non-uniformity", "", 3),
+    ("flywheel_inertia_kg_m2", "flywheel inertia", "kg·m²", 4),
+)
+
+
+def _figure(v: Any, digits: int) -> str:
+    if v is None:
+        return "—"
+    if isinstance(v, (int, float)):
+        return f"{v:,.{digits}f}"
+    return _esc(str(v))
 
 
 def _esc(t: str) -> str:
-    return t.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    return (
+        t.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace("'", "&#39;").replace('"', "&quot;")
+    )
 
 
 def _shown(v: Any) -> str:
@@ -358,7 +608,7 @@ class Torsion:
     @property
     def doc(self) -> Dict[str, Any]:
         """``torsion.json``."""
-        return json.loads(self.json_text)
+        return _json.loads(self.json_text)
 
     @property
     def modes(self) -> Dict[str, np.ndarray]:
@@ -380,14 +630,53 @@ class Torsion:
         return self._charts[key]
 
 
+class _FrozenBatch:
+    """A batch held as plain data (what a pickle gives back)."""
+
+    __slots__ = ("_state",)
+
+    def __init__(self, state: Dict[str, Any]) -> None:
+        self._state = state
+
+    def files(self) -> List[str]:
+        return list(self._state["files"])
+
+    def errors(self) -> List[Optional[str]]:
+        return list(self._state["errors"])
+
+    def summaries(self) -> List[Optional[str]]:
+        return list(self._state["summaries"])
+
+    def summary_parquet(self) -> bytes:
+        return bytes(self._state["summary_parquet"])
+
+    def notes(self) -> "List[tuple[List[str], List[str]]]":
+        return [
+            ([], []) if t is None else tuple(_split(_json.loads(t).get("notes", [])))  # type: ignore[misc]
+            for t in self._state["summaries"]
+        ]
+
+    def cycles_parquet(self) -> bytes:
+        return bytes(self._state["cycles_parquet"])
+
+    def write_parquet(self, dir: str, part: int, parts: int, traces: bool) -> List[str]:
+        raise UsageError(
+            "write_parquet writes a campaign's parts from the batch that ran them, "
+            "not from a copy (a pickle): call it where the batch ran, or use "
+            "enginedyn.dask.run_shard on the worker"
+        )
+
+
 class Batch:
     """Many files: one row per file; a failed file is a row with ``error``.
     Its tables are the campaign's (``summary/2``, ``cycles/2``): the same
-    columns, types and metadata ``enginedyn batch --parquet`` writes."""
+    columns, types and metadata ``enginedyn batch --parquet`` writes. It
+    pickles (its tables and summaries; ``write_parquet`` stays with the
+    batch that ran)."""
 
     __slots__ = ("_native",)
 
-    def __init__(self, native: "_native.NativeBatch") -> None:
+    def __init__(self, native: Any) -> None:
         self._native = native
 
     def __len__(self) -> int:
@@ -403,7 +692,17 @@ class Batch:
 
     def summaries(self) -> List[Optional[Dict[str, Any]]]:
         """Each file's ``summary.json`` keys (``None`` for a failed file)."""
-        return [None if t is None else json.loads(t) for t in self._native.summaries()]
+        return [None if t is None else _json.loads(t) for t in self._native.summaries()]
+
+    @property
+    def warnings(self) -> List[List[str]]:
+        """Each file's ``warning:`` lines (empty for a failed file)."""
+        return [list(w) for _, w in self._native.notes()]
+
+    @property
+    def notes(self) -> List[List[str]]:
+        """Each file's ``note:`` lines (empty for a failed file)."""
+        return [list(n) for n, _ in self._native.notes()]
 
     def to_arrow(self) -> Any:
         """The ``summary/2`` table as a ``pyarrow.Table`` (one row per file)."""
@@ -421,28 +720,76 @@ class Batch:
         """The ``summary/2`` table as a polars DataFrame."""
         import polars as pl
 
-        return pl.read_parquet(io_module.BytesIO(self._native.summary_parquet()))
+        return pl.read_parquet(_io.BytesIO(self._native.summary_parquet()))
 
     def write_parquet(
         self, dir: PathLike, part: int = 0, parts: int = 1, traces: bool = False
     ) -> List[str]:
         """Writes part ``part`` of ``parts`` of the campaign in ``dir``: the
         files ``enginedyn batch --shard part/parts --parquet dir`` writes."""
-        return [os.fspath(p) for p in self._native.write_parquet(os.fspath(dir), part, parts, traces)]
+        return [_os.fspath(p) for p in self._native.write_parquet(_os.fspath(dir), part, parts, traces)]
+
+    def __reduce__(self) -> Any:
+        n = self._native
+        if isinstance(n, _FrozenBatch):
+            state = n._state
+        else:
+            state = {
+                "files": n.files(),
+                "errors": n.errors(),
+                "summaries": n.summaries(),
+                "summary_parquet": n.summary_parquet(),
+                "cycles_parquet": n.cycles_parquet(),
+            }
+        return (_batch_from_state, (state,))
+
+    def _repr_html_(self) -> str:
+        summaries = self.summaries()
+        head = "".join(f"<th>{label}{' (' + unit + ')' if unit else ''}</th>" for _, label, unit, _ in _SHOWN[:4])
+        rows = []
+        for f, e, s, w in zip(self.files, self.errors, summaries, self.warnings):
+            if s is None:
+                cells = f"<td colspan='4' style='color:#b91c1c'>error: {_esc(e or '')}</td>"
+            else:
+                cells = "".join(f"<td style='text-align:right'>{_figure(s.get(k), d)}</td>" for k, _, _, d in _SHOWN[:4])
+            mark = f" <span style='color:#b45309' title='{_esc('; '.join(w))}'>&#9888; {len(w)}</span>" if w else ""
+            rows.append(f"<tr><td>{_esc(f)}{mark}</td>{cells}</tr>")
+        shown = rows if len(rows) <= 20 else rows[:10] + ["<tr><td colspan='5'>…</td></tr>"] + rows[-10:]
+        return (
+            f"<div><p>{_esc(repr(self))}</p><table><tr><th>file</th>{head}</tr>"
+            + "".join(shown)
+            + "</table></div>"
+        )
 
     def __repr__(self) -> str:
         failed = sum(1 for e in self.errors if e is not None)
-        return f"Batch({len(self)} files, {failed} failed)"
+        warned = sum(1 for w in self.warnings if w)
+        return f"Batch({len(self)} files, {failed} failed, {warned} with warnings)"
+
+
+def _batch_from_state(state: Dict[str, Any]) -> Batch:
+    return Batch(_FrozenBatch(state))
 
 
 def _read_parquet(data: bytes) -> Any:
     import pyarrow.parquet as pq
 
-    return pq.read_table(io_module.BytesIO(data))
+    return pq.read_table(_io.BytesIO(data))
+
+
+# The keyword each column is given as.
+_KEYWORD_OF = {"crank_deg": "angle_deg"}
+
+
+def _warned(r: Result) -> Result:
+    _warn(r.warnings, stacklevel=4)
+    return r
 
 
 class Session:
-    """An engine with reader and method options, checked once."""
+    """An engine with reader and method options, checked once. It pickles
+    (the engine file's text and the options), so that a scheduler can ship
+    it, and its bound methods, to workers."""
 
     __slots__ = ("engine", "method", "reader", "_full", "_summary_only")
 
@@ -467,12 +814,13 @@ class Session:
 
     def analyse(self, *paths: PathLike) -> Result:
         """One operating point from a diagram file (or one per cylinder, in
-        order 1..z; none: the engine's own diagram), as ``enginedyn run``."""
-        return Result(self._full.analyse([os.fspath(p) for p in paths]))
+        order 1..z; none: the engine's own diagram), as ``enginedyn run``.
+        Its warnings are issued as ``EnginedynWarning``."""
+        return _warned(Result(self._full.analyse([_os.fspath(p) for p in paths])))
 
     def analyse_torque(self, path: PathLike) -> Result:
         """One operating point from a turning-moment file (``run --torque``)."""
-        return Result(self._full.analyse_torque(os.fspath(path)))
+        return _warned(Result(self._full.analyse_torque(_os.fspath(path))))
 
     def analyse_arrays(
         self,
@@ -484,9 +832,10 @@ class Session:
     ) -> Result:
         """One operating point from arrays: crank angle (deg) and absolute
         pressure (bar), optionally each sample's cycle and cylinder number;
-        the same reader as a file with those columns."""
-        cols = {"crank_deg": angle_deg, "pressure_bar": pressure_bar, "cycle": cycle, "cylinder": cylinder}
-        return self._columns(cols, rpm)
+        the same reader, and the same plausibility, as a file with those
+        columns. ``pressure_bar`` 2-D is one row a cylinder."""
+        cols = {"crank_deg": angle_deg, "cycle": cycle, "cylinder": cylinder}
+        return _warned(self._columns(cols, ("pressure_bar", pressure_bar), rpm))
 
     def analyse_time_record(
         self,
@@ -495,25 +844,69 @@ class Session:
         tdc: Any = None,
         rpm: Optional[float] = None,
         pressure_v: Any = None,
+        encoder: Any = None,
+        wheel: Any = None,
+        cam: Any = None,
     ) -> Result:
-        """One operating point from a time record: time (s), pressure (bar,
-        or volts with ``Reader(gain_bar_per_v=…)``) and a TDC pulse (or
-        ``rpm`` with ``Reader(tdc_time=…)``)."""
+        """One operating point from a time record: time (s, or
+        ``timedelta64``), pressure (bar, or volts with
+        ``Reader(gain_bar_per_v=…)``; 2-D: one row a cylinder) and the angle
+        source: a TDC pulse, an ``encoder`` (``Reader(encoder_ppr=…)``), a
+        tooth ``wheel`` (``Reader(wheel="60-2")``) with an optional ``cam``,
+        or ``rpm`` with ``Reader(tdc_time=…)``."""
         if (pressure_bar is None) == (pressure_v is None):
-            raise TypeError("give one of pressure_bar or pressure_v")
-        cols = {"time_s": time_s, "pressure_bar": pressure_bar, "pressure_v": pressure_v, "tdc": tdc}
-        return self._columns(cols, rpm)
+            raise TypeError("give one of pressure_bar= or pressure_v=")
+        cols = {"time_s": time_s, "tdc": tdc, "encoder": encoder, "wheel": wheel, "cam": cam}
+        pressure = ("pressure_bar", pressure_bar) if pressure_v is None else ("pressure_v", pressure_v)
+        return _warned(self._columns(cols, pressure, rpm))
 
-    def _columns(self, cols: Dict[str, Any], rpm: Optional[float]) -> Result:
+    def _columns(self, cols: Dict[str, Any], pressure: "tuple[str, Any]", rpm: Optional[float]) -> Result:
         names = [k for k, v in cols.items() if v is not None]
-        arrays = [_float64(k, cols[k]) for k in names]
-        lengths = {len(a) for a in arrays}
-        if len(lengths) > 1:
-            raise ValueError(
-                "arrays of different lengths: "
-                + ", ".join(f"{k} {len(a)}" for k, a in zip(names, arrays))
+        arrays = [_vector(_KEYWORD_OF.get(k, k), cols[k], time=k == "time_s") for k in names]
+        pname, p = pressure
+        pa = _float64(pname, p)
+        if pa.ndim not in (1, 2):
+            raise TypeError(f"{pname}=: a 1-D array (or 2-D, one row a cylinder) is needed, not {pa.ndim}-D")
+        n = pa.shape[-1]
+        shown = [(_KEYWORD_OF.get(k, k), len(a)) for k, a in zip(names, arrays)] + [(pname, n)]
+        if len({m for _, m in shown}) > 1:
+            raise ValueError("arrays of different lengths: " + ", ".join(f"{k} {m}" for k, m in shown))
+        if pa.ndim == 1:
+            # The pressure second, as a file's header has it.
+            native = self._full.analyse_columns(names[:1] + [pname] + names[1:], arrays[:1] + [pa] + arrays[1:], rpm)
+        else:
+            native = self._full.analyse_columns(names, arrays, rpm, pname, pa)
+        return Result(native)
+
+    def batch(self, paths: Iterable[PathLike], jobs: int = 0) -> Batch:
+        """Many diagram files on ``jobs`` threads (0 or -1: one per core, -2:
+        all but one, as in joblib; use 1 inside Dask, joblib or
+        multiprocessing workers). A failed file is a row with ``error``,
+        never an exception. Each distinct warning is issued once, with the
+        number of files that gave it."""
+        if isinstance(paths, (str, bytes, _os.PathLike)):
+            raise TypeError(
+                f"paths=: a list of files is needed, not one path ({paths!r}): "
+                "batch([path]), or analyse(path) for one file"
             )
-        return Result(self._full.analyse_columns(names, arrays, rpm))
+        if isinstance(jobs, bool) or not isinstance(jobs, int):
+            raise TypeError(f"jobs=: an int is needed, not {type(jobs).__name__}")
+        if jobs < 0:
+            cores = _os.cpu_count() or 1
+            if jobs + 1 + cores < 1:
+                raise UsageError(f"jobs={jobs}: this machine has {cores} cores (-1 is all of them)")
+            jobs = 0 if jobs == -1 else jobs + 1 + cores
+        if self._summary_only is None:
+            self._summary_only = _native.NativeSession(
+                self.engine._native, self.method.as_dict(), self.reader.as_dict(), False
+            )
+        b = Batch(self._summary_only.batch([_os.fspath(p) for p in paths], jobs))
+        counts: Dict[str, int] = {}
+        for w in b.warnings:
+            for line in dict.fromkeys(w):
+                counts[line] = counts.get(line, 0) + 1
+        _warn((f"{c} of {len(b)} files: {line}" if len(b) > 1 else line) for line, c in counts.items())
+        return b
 
     def torsion(
         self,
@@ -529,18 +922,8 @@ class Session:
             rpms = _native.speeds(float(rpm[0]), float(rpm[1]), float(rpm[2]))
         else:
             rpms = [float(x) for x in rpm]
-        texts = self._full.torsion(rpms, None if diagram is None else os.fspath(diagram))
+        texts = self._full.torsion(rpms, None if diagram is None else _os.fspath(diagram))
         return Torsion(*texts)
-
-    def batch(self, paths: Iterable[PathLike], jobs: int = 0) -> Batch:
-        """Many diagram files on ``jobs`` threads (0: one per core; use 1
-        inside Dask, joblib or multiprocessing workers). A failed file is a
-        row with ``error``, never an exception."""
-        if self._summary_only is None:
-            self._summary_only = _native.NativeSession(
-                self.engine._native, self.method.as_dict(), self.reader.as_dict(), False
-            )
-        return Batch(self._summary_only.batch([os.fspath(p) for p in paths], jobs))
 
     def __repr__(self) -> str:
         return f"Session({self.engine!r}, {self.method!r}, {self.reader!r})"

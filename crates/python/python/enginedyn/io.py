@@ -7,10 +7,10 @@ the reader's own unit tables (``enginedyn._native.canonical``: ``MPa``,
 ``psi``, ``rad``, ``ms`` …), so a channel reads here as the same column in
 a CSV file would.
 
-Several pressure channels (one per cylinder) come back as
-``pressure_bar`` of shape (cylinders, samples) under ``"cylinders"``; pass
-each row to its own analysis, or use ``enginedyn run`` with one file per
-cylinder.
+Several pressure channels (one per cylinder, in the order given) come back
+as ``pressure_bar`` (or ``pressure_v``) of shape (cylinders, samples), one
+row a cylinder, which ``analyse_arrays(**a)`` and
+``analyse_time_record(**a)`` take as they are.
 
 The packages are optional extras: ``pip install enginedyn[mdf]``,
 ``enginedyn[tdms]``, ``enginedyn[hdf5]``.
@@ -80,8 +80,11 @@ def _collect(
     time: Optional[str],
     tdc: Optional[str],
     master: Optional[Tuple[str, str, Any]],
+    unit: Optional[str] = None,
 ) -> Dict[str, Any]:
     by_name = {c[0]: c for c in channels}
+    if unit is not None:
+        by_name.update({n: (n, unit, by_name[n][2]) for n in pressure if n in by_name})
     out: Dict[str, Any] = {}
 
     def take(name: str, role: str) -> None:
@@ -120,11 +123,30 @@ def _collect(
     if not pressures:
         raise ValueError("name the pressure channel(s): pressure=[...]")
     key = "pressure_v" if volts else "pressure_bar"
-    if len(pressures) == 1:
-        out[key] = pressures[0]
-    else:
-        out["cylinders"] = {key: np.vstack(pressures)}
+    out[key] = pressures[0] if len(pressures) == 1 else np.vstack(pressures)
     return out
+
+
+def _missing(names: Sequence[str], channels: Sequence[str]) -> None:
+    """A ``KeyError`` naming each channel asked for that the file lacks,
+    with the channels it has."""
+    lacking = [n for n in names if n not in channels]
+    if lacking:
+        raise KeyError(
+            f"no channel {', '.join(repr(n) for n in lacking)}; the channels are {', '.join(sorted(set(channels)))}"
+        )
+
+
+def _unitless(channels: Sequence[Tuple[str, str, Any]], pressure: Sequence[str]) -> None:
+    """A pressure channel without a unit is refused, as a file's pressure
+    column without one is: bar, kPa, MPa and psi differ by the factors a
+    wrong guess hides."""
+    for name, unit, _ in channels:
+        if name in pressure and not unit.strip():
+            raise ValueError(
+                f"channel {name!r} has no unit: give it with unit= (bar, kPa, MPa, psi or V), "
+                "as a file's column names it"
+            )
 
 
 def read_mdf(
@@ -133,10 +155,13 @@ def read_mdf(
     angle: Optional[str] = None,
     time: Optional[str] = None,
     tdc: Optional[str] = None,
+    unit: Optional[str] = None,
 ) -> Dict[str, Any]:
     """An MDF4 (or MDF3) file through asammdf: the pressure channel(s),
     with the angle master (``angle_deg``) or the time master (``time_s``)
-    unless ``angle=`` or ``time=`` names another channel, and ``tdc=``."""
+    unless ``angle=`` or ``time=`` names another channel, and ``tdc=``.
+    A pressure channel without a unit is refused unless ``unit=`` gives it
+    (``"bar"``, ``"MPa"``, ``"psi"``, ``"V"`` …)."""
     try:
         from asammdf import MDF
     except ImportError as e:  # pragma: no cover - an optional extra
@@ -144,6 +169,7 @@ def read_mdf(
     names = [pressure] if isinstance(pressure, str) else list(pressure)
     wanted = names + [c for c in (angle, time, tdc) if c is not None]
     with MDF(path) as mdf:
+        _missing(wanted, list(mdf.channels_db))
         channels = []
         master = None
         for name in wanted:
@@ -157,7 +183,9 @@ def read_mdf(
                         m_name, m_unit = ch.name, str(ch.unit or "")
                         break
                 master = (m_name, m_unit, np.asarray(sig.timestamps, dtype=np.float64))
-    return _collect(channels, names, angle, time, tdc, master)
+    if unit is None:
+        _unitless(channels, names)
+    return _collect(channels, names, angle, time, tdc, master, unit)
 
 
 def read_tdms(
