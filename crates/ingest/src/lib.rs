@@ -484,24 +484,15 @@ fn placement(placed: Option<TdcPlacement>, opts: &ParseOptions) -> TdcPlacement 
     })
 }
 
-/// The peak-angle rule on each cylinder's mean, or the one mean. Each
-/// cylinder's mean lies on its own firing TDC (a shared axis was moved
-/// there, [`axis`]), so a crank reference that is wrong for all of them is
-/// named on cylinder 1's.
+/// The peak-angle rule on the one mean, or on cylinder 1's: cylinder 1's
+/// mean lies on its own firing TDC whether the file's cylinders share its
+/// axis or each has its own (the others are moved onto theirs later, by
+/// the firing order), so a crank reference wrong for all is named there.
 fn peak_rule(r: &Resampled, cycle: f64, placed: &TdcPlacement) -> Result<(), IngestError> {
-    if r.cylinders.is_empty() {
-        return plausible::peak_angle(&r.pressure, r.step_deg, cycle, placed, "");
+    match r.cylinders.first() {
+        None => plausible::peak_angle(&r.pressure, r.step_deg, cycle, placed, ""),
+        Some(first) => plausible::peak_angle(first, r.step_deg, cycle, placed, " of cylinder 1"),
     }
-    for (i, mean) in r.cylinders.iter().enumerate() {
-        plausible::peak_angle(
-            mean,
-            r.step_deg,
-            cycle,
-            placed,
-            &format!(" of cylinder {}", i + 1),
-        )?;
-    }
-    Ok(())
 }
 
 /// Puts an in-memory diagram on the grid (the same path as [`load`]).
