@@ -49,9 +49,11 @@ def test_cycles_carry_the_combustion_columns():
 
 
 def test_result_cycles_carry_each_cycles_burn(cli, tmp_path):
-    """Six cycles of the bundled diagram, cycle k turned k samples (0.5° a
-    sample) later: each cycle's CA50 is cycle 0's plus 0.5° k (within
-    0.02°), in Python's Result.cycles as in the CLI's cycles/2 table."""
+    """Six cycles of the bundled diagram, cycle k's pressure turned k
+    samples (0.5° a sample) later: each cycle's CA50 is cycle 0's plus
+    0.5° k, within 0.1° (the volume is not turned with it, so the burn is
+    not exactly the same one moved: 0.05° measured at k = 5), in Python's
+    Result.cycles as in the CLI's cycles/2 table."""
     import pyarrow.parquet as pq
 
     rows = [l for l in open("data/single.csv") if l.strip() and not l.startswith("#")][1:]
@@ -68,7 +70,8 @@ def test_result_cycles_carry_each_cycles_burn(cli, tmp_path):
     ca50 = list(c["ca50_deg"])
     assert len(ca50) == 6
     for k in range(6):
-        assert abs(ca50[k] - ca50[0] - 0.5 * k) < 0.02, (k, ca50)
+        assert abs(ca50[k] - ca50[0] - 0.5 * k) < 0.1, (k, ca50)
+    assert all(b > a for a, b in zip(ca50, ca50[1:])), ca50
     assert list(c["combustion"]) == [True] * 6
     out = tmp_path / "campaign"
     subprocess.run([cli, "batch", "--engine", "data/single.toml", str(path), "--parquet", str(out)], check=True, capture_output=True)
