@@ -61,6 +61,16 @@ fn grid_of(cyl: &Cylinder, step: f64) -> (Vec<f64>, Vec<f64>) {
     cyl.fill_volume(step.to_radians(), (720.0 / step).round() as usize)
 }
 
+/// A cycle's pressure with the volume law on the same grid.
+fn on_grid<'a>(p: &'a [f64], v: &'a [f64], dv: &'a [f64], step: f64) -> CycleGrid<'a> {
+    CycleGrid {
+        pressure: p,
+        volume: v,
+        dvolume: dv,
+        step_deg: step,
+    }
+}
+
 fn petrol() -> BurnLaw {
     BurnLaw::single(Wiebe::from_ca50(8.0, 22.0, 2.0, DEFAULT_A).unwrap())
 }
@@ -93,12 +103,7 @@ fn a_single_wiebe_comes_back_within_a_hundredth_of_a_degree() {
     let law = petrol();
     let p = trace(&cyl, &law, heat, gamma, step, 0.0);
     let (v, dv) = grid_of(&cyl, step);
-    let g = CycleGrid {
-        pressure: &p,
-        volume: &v,
-        dvolume: &dv,
-        step_deg: step,
-    };
+    let g = on_grid(&p, &v, &dv, step);
     let opts = Options::default();
     let r = analyse(&g, &opts).unwrap();
     let b = r.burn.expect("a fired cycle burns");
@@ -136,12 +141,7 @@ fn a_diesel_double_wiebe_on_a_half_degree_grid() {
     let law = BurnLaw::double(pre, diff, 0.8).unwrap();
     let p = trace(&cyl, &law, heat, gamma, step, 0.0);
     let (v, dv) = grid_of(&cyl, step);
-    let g = CycleGrid {
-        pressure: &p,
-        volume: &v,
-        dvolume: &dv,
-        step_deg: step,
-    };
+    let g = on_grid(&p, &v, &dv, step);
     let opts = Options::default();
     let b = analyse(&g, &opts).unwrap().burn.unwrap();
     for (pct, tol) in [(10.0, 0.2), (50.0, 0.2), (90.0, 0.4)] {
@@ -212,12 +212,7 @@ fn a_brunt_trace_round_trips_with_brunt() {
     let gm = GammaModel::brunt_default();
     let p = brunt_trace(&cyl, &law, 600.0, gm, step);
     let (v, dv) = grid_of(&cyl, step);
-    let g = CycleGrid {
-        pressure: &p,
-        volume: &v,
-        dvolume: &dv,
-        step_deg: step,
-    };
+    let g = on_grid(&p, &v, &dv, step);
     let opts = Options {
         gamma: gm,
         ..Options::default()
@@ -244,12 +239,7 @@ fn a_motored_cycle_has_no_burn_points() {
     let step = 0.1;
     let p = trace(&cyl, &petrol(), 0.0, 1.32, step, 0.0);
     let (v, dv) = grid_of(&cyl, step);
-    let g = CycleGrid {
-        pressure: &p,
-        volume: &v,
-        dvolume: &dv,
-        step_deg: step,
-    };
+    let g = on_grid(&p, &v, &dv, step);
     let r = analyse(&g, &Options::default()).unwrap();
     assert!(r.burn.is_none());
     assert!(
@@ -271,12 +261,7 @@ fn a_tdc_shift_of_half_a_degree_moves_ca50_by_half_a_degree() {
     let opts = Options::default();
     let ca50 = |shift: f64| {
         let p = trace(&cyl, &law, 600.0, 1.32, step, shift);
-        let g = CycleGrid {
-            pressure: &p,
-            volume: &v,
-            dvolume: &dv,
-            step_deg: step,
-        };
+        let g = on_grid(&p, &v, &dv, step);
         analyse(&g, &opts)
             .unwrap()
             .burn
@@ -311,12 +296,7 @@ fn noise_of_two_hundredths_of_a_bar_moves_the_pressure_rise_under_three_percent(
     let clean = trace(&cyl, &law, 600.0, 1.32, step, 0.0);
     let (v, dv) = grid_of(&cyl, step);
     let rise = |p: &[f64], opts: &Options| {
-        let g = CycleGrid {
-            pressure: p,
-            volume: &v,
-            dvolume: &dv,
-            step_deg: step,
-        };
+        let g = on_grid(p, &v, &dv, step);
         analyse(&g, opts).unwrap().burn.unwrap()
     };
     let smooth = Options::default();
@@ -350,12 +330,7 @@ fn the_curves_end_where_the_burn_does() {
     let law = petrol();
     let p = trace(&cyl, &law, 600.0, 1.32, step, 0.0);
     let (v, dv) = grid_of(&cyl, step);
-    let g = CycleGrid {
-        pressure: &p,
-        volume: &v,
-        dvolume: &dv,
-        step_deg: step,
-    };
+    let g = on_grid(&p, &v, &dv, step);
     let opts = Options::default();
     let r = analyse(&g, &opts).unwrap();
     let c = curves(&g, &opts, &r).unwrap();
@@ -487,12 +462,7 @@ fn a_motored_cycle_losing_heat_has_no_burn_points() {
     let loss = BurnLaw::single(Wiebe::from_ca50(5.0, 60.0, 1.0, DEFAULT_A).unwrap());
     let p = trace(&cyl, &loss, -40.0, 1.32, step, 0.0);
     let (v, dv) = grid_of(&cyl, step);
-    let g = CycleGrid {
-        pressure: &p,
-        volume: &v,
-        dvolume: &dv,
-        step_deg: step,
-    };
+    let g = on_grid(&p, &v, &dv, step);
     for gamma in [1.30, 1.32, 1.34] {
         let opts = Options {
             gamma: GammaModel::Constant(gamma),
