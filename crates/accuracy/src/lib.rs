@@ -44,7 +44,7 @@
 //! let mut b = a.clone();
 //! b.mean_torque_nm = Some(101.0);
 //! let e = relative_errors(&b, &a);
-//! assert_eq!(KEYS[0], "mean_torque_nm");
+//! assert_eq!(KEYS[0].key, "mean_torque_nm");
 //! assert!((e[0].unwrap() - 0.01).abs() < 1e-12);
 //! ```
 
@@ -52,7 +52,7 @@ use enginedyn_engine::{Engine, RodModel};
 use enginedyn_ingest::{Diagram, GridOptions, Interp, Resampled, Trace};
 use enginedyn_kinematics::Model;
 use enginedyn_numerics::integrate::Rule;
-use enginedyn_pipeline::{Options, Scope, Summary};
+use enginedyn_pipeline::{Key, Options, Scope, Summary, key};
 use enginedyn_synth::{CycleModel, CycleSolution};
 use std::time::Instant;
 
@@ -101,40 +101,40 @@ pub enum AccuracyError {
 /// a method setting can move, kinematic extremes included (the speed, the
 /// geometry, the mean piston speed, the journal's number and the energy
 /// balance's own round-off are not results of a method).
-pub const KEYS: &[&str] = &[
-    "mean_torque_nm",
-    "power_kw",
-    "indicated_mean_torque_nm",
-    "indicated_power_kw",
-    "torque_max_nm",
-    "torque_min_nm",
-    "torque_nonuniformity",
-    "excess_work_j",
-    "excess_work_coefficient",
-    "required_inertia_kg_m2",
-    "flywheel_inertia_kg_m2",
-    "flywheel_gd2_n_m2",
-    "flywheel_outer_diameter_m",
-    "flywheel_mass_kg",
-    "flywheel_width_m",
-    "speed_fluctuation_achieved",
-    "piston_speed_max_m_s",
-    "piston_accel_max_m_s2",
-    "piston_accel_min_m_s2",
-    "gas_force_max_n",
-    "side_force_max_n",
-    "rod_force_max_n",
-    "crankpin_load_max_n",
-    "crankpin_load_mean_n",
-    "journal_torque_max_nm",
-    "imep_bar",
-    "indicated_work_per_cylinder_j",
+pub const KEYS: &[&Key] = &[
+    key("mean_torque_nm"),
+    key("power_kw"),
+    key("indicated_mean_torque_nm"),
+    key("indicated_power_kw"),
+    key("torque_max_nm"),
+    key("torque_min_nm"),
+    key("torque_nonuniformity"),
+    key("excess_work_j"),
+    key("excess_work_coefficient"),
+    key("required_inertia_kg_m2"),
+    key("flywheel_inertia_kg_m2"),
+    key("flywheel_gd2_n_m2"),
+    key("flywheel_outer_diameter_m"),
+    key("flywheel_mass_kg"),
+    key("flywheel_width_m"),
+    key("speed_fluctuation_achieved"),
+    key("piston_speed_max_m_s"),
+    key("piston_accel_max_m_s2"),
+    key("piston_accel_min_m_s2"),
+    key("gas_force_max_n"),
+    key("side_force_max_n"),
+    key("rod_force_max_n"),
+    key("crankpin_load_max_n"),
+    key("crankpin_load_mean_n"),
+    key("journal_torque_max_nm"),
+    key("imep_bar"),
+    key("indicated_work_per_cylinder_j"),
 ];
 
 /// A key result's value in a summary (`None` when absent or not computed:
 /// the kinematic extremes are `NaN` in [`Scope::Keys`]).
-pub fn key_value(s: &Summary, key: &str) -> Option<f64> {
-    Summary::key(key)?.number(s).filter(|x| x.is_finite())
+pub fn key_value(s: &Summary, key: &Key) -> Option<f64> {
+    key.number(s).filter(|x| x.is_finite())
 }
 
 /// Relative errors of `got` against `reference`, key by key of [`KEYS`]
@@ -148,9 +148,9 @@ pub fn relative_errors(got: &Summary, reference: &Summary) -> Vec<Option<f64>> {
         _ => 0.0,
     };
     KEYS.iter()
-        .map(|name| {
-            let (g, r) = (key_value(got, name)?, key_value(reference, name)?);
-            let floor = if name.contains("torque_") && !name.contains("nonuniformity") {
+        .map(|k| {
+            let (g, r) = (key_value(got, k)?, key_value(reference, k)?);
+            let floor = if k.key.contains("torque_") && !k.key.contains("nonuniformity") {
                 swing
             } else {
                 0.0
@@ -615,7 +615,7 @@ pub fn table(a: &Accuracy, engine: &Engine, rpm: f64) -> String {
             .zip(KEYS)
             .filter_map(|(e, k)| Some((e.as_ref()?, k)))
             .max_by(|a, b| a.0.total_cmp(b.0))
-            .map_or("", |(_, k)| *k);
+            .map_or("", |(_, k)| k.key);
         let _ = writeln!(
             t,
             "{:<14} {:<52} {:>10.3} {:>10}  {}{}",
@@ -638,7 +638,7 @@ pub fn csv(a: &Accuracy) -> String {
     let mut out = String::from("study,setting,time_s,max_relative_error");
     for k in KEYS {
         out.push(',');
-        out.push_str(k);
+        out.push_str(k.key);
     }
     out.push('\n');
     let num = |v: Option<f64>| v.map(enginedyn_numerics::format::csv).unwrap_or_default();

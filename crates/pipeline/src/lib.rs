@@ -28,7 +28,9 @@ mod summary;
 pub mod tdc;
 pub mod torsion;
 pub use combustion::CombustionSummary;
-pub use summary::{Basis, CycleSummary, KEYS, Key, Pegging, Shown, Summary, Value};
+pub use summary::{
+    Basis, Columns, CycleSummary, Field, KEYS, Key, Pegging, Shown, Summary, Value, key,
+};
 
 /// Why an operating point cannot be analysed.
 #[derive(Debug, thiserror::Error)]

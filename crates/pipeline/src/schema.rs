@@ -11,10 +11,12 @@
 //! `models.*` and `notes`). A new column is appended to its table and bumps
 //! the table's number (`summary/2`).
 
-use crate::summary::{Summary, Value};
+use crate::KEYS;
+use crate::summary::{Columns, Field, Key, Summary, Value};
 use enginedyn_combustion::BurnPoints;
 use enginedyn_ingest::{CycleCombustion, Resampled};
 use std::borrow::Cow;
+use std::sync::LazyLock;
 
 /// The schema names and versions written as `enginedyn.schema`.
 pub const SUMMARY_SCHEMA: &str = "summary/2";
@@ -156,8 +158,17 @@ pub struct Column<G> {
     pub get: G,
 }
 
-/// How a [`SUMMARY`] column gets its value.
-pub type SummaryGet = for<'r, 'a> fn(&'r SummaryRecord<'a>) -> Cell<'r>;
+/// How a [`SUMMARY`] column gets its value: from the row itself, or from
+/// a summary key ([`KEYS`](crate::KEYS)) or one field of an object key.
+#[derive(Debug, Clone, Copy)]
+pub enum SummaryGet {
+    /// A column of the row's own (`file`, `error`, provenance).
+    Row(for<'r, 'a> fn(&'r SummaryRecord<'a>) -> Cell<'r>),
+    /// A summary key of its own.
+    Key(&'static Key),
+    /// A field of an object key (`models.kinematics`).
+    Field(&'static Field),
+}
 /// How a [`CYCLES`] column gets its value.
 pub type CycleGet = for<'r, 'a> fn(&'r CycleRow<'a>) -> Cell<'r>;
 /// How a [`TRACES`] column gets its value.
@@ -190,34 +201,6 @@ impl<'a> SummaryRecord<'a> {
             summary: Some(summary),
         }
     }
-
-    /// The summary key `key` ([`KEYS`](crate::KEYS)), or the field `field` of the
-    /// object it holds (`models`, `pegging`): absent when the key is,
-    /// null without a summary.
-    fn key(&self, key: &str, field: Option<&str>) -> Cell<'static> {
-        let Some(s) = self.summary else {
-            return Cell::Null;
-        };
-        let Some(v) = Summary::key(key).and_then(|k| (k.get)(s)) else {
-            return Cell::Absent;
-        };
-        let v = match (field, v) {
-            (None, v) => v,
-            (Some(f), Value::Map(m)) => match m.into_iter().find(|(k, _)| *k == f) {
-                Some((_, v)) => v,
-                None => return Cell::Absent,
-            },
-            (Some(_), _) => return Cell::Absent,
-        };
-        match v {
-            Value::Num(x) => Cell::num(x),
-            Value::Int(i) => i64::try_from(i).map_or(Cell::Null, Cell::Int),
-            Value::Text(t) => Cell::Text(Cow::Borrowed(t)),
-            Value::Str(t) => Cell::Text(Cow::Owned(t)),
-            Value::List(l) => Cell::Text(Cow::Owned(l.join(" | "))),
-            Value::Map(_) => Cell::Null,
-        }
-    }
 }
 
 fn text<'r>(s: &'r str) -> Cell<'r> {
@@ -228,134 +211,91 @@ fn opt_text<'r>(s: Option<&'r str>) -> Cell<'r> {
     s.map_or(Cell::Null, text)
 }
 
-/// A column of `summary/2` holding the summary key `$key` (or its field
-/// `$field`), of type `$ty`, in group `$group`.
-macro_rules! key {
-    ($key:literal, $ty:ident, $group:ident) => {
-        Column {
-            name: $key,
-            ty: ColumnType::$ty,
-            nullable: true,
-            group: Group::$group,
-            get: |r| r.key($key, None),
-        }
+/// `summary/2`, in `summary.json`'s order (that of `summary.csv`): the
+/// row's own columns and the provenance, then one column per key of
+/// [`KEYS`](crate::KEYS) (an object's field by field, as its
+/// [`Columns`] say). The Parquet table's order is [`summary_columns`].
+/// Every column but `file` and `engine` may be null (a failed file has no
+/// figures).
+pub static SUMMARY: LazyLock<Vec<Column<SummaryGet>>> = LazyLock::new(|| {
+    let row = |name, nullable, group, get| Column {
+        name,
+        ty: ColumnType::Utf8,
+        nullable,
+        group,
+        get: SummaryGet::Row(get),
     };
-    ($key:literal . $field:literal, $ty:ident, $group:ident) => {
-        Column {
-            name: concat!($key, ".", $field),
-            ty: ColumnType::$ty,
-            nullable: true,
-            group: Group::$group,
-            get: |r| r.key($key, Some($field)),
+    let mut c = vec![
+        row("file", false, Group::Row, |r| text(r.file)),
+        row("error", true, Group::Row, |r| opt_text(r.error)),
+        row("engine", false, Group::Provenance, |r| text(r.engine)),
+        row("diagram_blake3", true, Group::Provenance, |r| {
+            opt_text(r.diagram_blake3)
+        }),
+    ];
+    for k in KEYS {
+        match k.columns {
+            Columns::One(ty, group) => c.push(Column {
+                name: k.key,
+                ty,
+                nullable: true,
+                group,
+                get: SummaryGet::Key(k),
+            }),
+            Columns::Object(fields) => c.extend(fields.iter().map(|f| Column {
+                name: f.column,
+                ty: f.ty,
+                nullable: true,
+                group: f.group,
+                get: SummaryGet::Field(f),
+            })),
         }
-    };
+    }
+    c
+});
+
+/// A summary value as a cell (`None`: absent).
+fn value_cell(v: Option<Value>) -> Cell<'static> {
+    match v {
+        None => Cell::Absent,
+        Some(Value::Num(x)) => Cell::num(x),
+        Some(Value::Int(i)) => i64::try_from(i).map_or(Cell::Null, Cell::Int),
+        Some(Value::Text(t)) => Cell::Text(Cow::Borrowed(t)),
+        Some(Value::Str(t)) => Cell::Text(Cow::Owned(t)),
+        Some(Value::List(l)) => Cell::Text(Cow::Owned(l.join(" | "))),
+        Some(Value::Map(_)) => Cell::Null,
+    }
 }
 
-/// `summary/2`, in `summary.json`'s order (that of `summary.csv`); the
-/// Parquet table's order is [`summary_columns`]. Every column but `file`
-/// and `engine` may be null (a failed file has no figures).
-pub const SUMMARY: &[Column<SummaryGet>] = &[
-    Column {
-        name: "file",
-        ty: ColumnType::Utf8,
-        nullable: false,
-        group: Group::Row,
-        get: |r| text(r.file),
-    },
-    Column {
-        name: "error",
-        ty: ColumnType::Utf8,
-        nullable: true,
-        group: Group::Row,
-        get: |r| opt_text(r.error),
-    },
-    Column {
-        name: "engine",
-        ty: ColumnType::Utf8,
-        nullable: false,
-        group: Group::Provenance,
-        get: |r| text(r.engine),
-    },
-    Column {
-        name: "diagram_blake3",
-        ty: ColumnType::Utf8,
-        nullable: true,
-        group: Group::Provenance,
-        get: |r| opt_text(r.diagram_blake3),
-    },
-    key!("rpm", Float64, Fixed),
-    key!("omega_rad_s", Float64, Fixed),
-    key!("imep_bar", Float64, Fixed),
-    key!("indicated_work_per_cylinder_j", Float64, Fixed),
-    key!("mean_torque_nm", Float64, Fixed),
-    key!("power_kw", Float64, Fixed),
-    key!("indicated_mean_torque_nm", Float64, Fixed),
-    key!("indicated_power_kw", Float64, Fixed),
-    key!("torque_max_nm", Float64, Fixed),
-    key!("torque_min_nm", Float64, Fixed),
-    key!("torque_nonuniformity", Float64, Fixed),
-    key!("excess_work_j", Float64, Fixed),
-    key!("excess_work_coefficient", Float64, Fixed),
-    key!("required_inertia_kg_m2", Float64, Fixed),
-    key!("flywheel_inertia_kg_m2", Float64, Fixed),
-    key!("flywheel_gd2_n_m2", Float64, Fixed),
-    key!("flywheel_outer_diameter_m", Float64, Fixed),
-    key!("flywheel_mass_kg", Float64, Fixed),
-    key!("flywheel_width_m", Float64, Fixed),
-    key!("speed_fluctuation_achieved", Float64, Fixed),
-    key!("stroke_m", Float64, Fixed),
-    key!("lambda", Float64, Fixed),
-    key!("piston_speed_mean_m_s", Float64, Fixed),
-    key!("piston_speed_max_m_s", Float64, Fixed),
-    key!("piston_accel_max_m_s2", Float64, Fixed),
-    key!("piston_accel_min_m_s2", Float64, Fixed),
-    key!("gas_force_max_n", Float64, Fixed),
-    key!("side_force_max_n", Float64, Fixed),
-    key!("rod_force_max_n", Float64, Fixed),
-    key!("crankpin_load_max_n", Float64, Fixed),
-    key!("crankpin_load_mean_n", Float64, Fixed),
-    key!("journal_torque_max_nm", Float64, Fixed),
-    key!("journal_most_loaded", Int32, Fixed),
-    key!("energy_balance_error", Float64, Fixed),
-    key!("models"."kinematics", Utf8, ModelsText),
-    key!("models"."rod_model", Utf8, ModelsText),
-    key!("models"."interpolation", Utf8, ModelsText),
-    key!("models"."grid_step_deg", Float64, ModelsNumber),
-    key!("models"."integration", Utf8, ModelsText),
-    key!("models"."gamma", Utf8, Combustion),
-    key!("models"."smoothing", Utf8, Combustion),
-    key!("models"."burn_window", Utf8, Combustion),
-    key!("notes", Utf8, Notes),
-    key!("cycles", Int64, Optional),
-    key!("cycles_skipped", Int64, Optional),
-    key!("imep_std_bar", Float64, Optional),
-    key!("imep_cov", Float64, Optional),
-    key!("p_max_mean_bar", Float64, Optional),
-    key!("p_max_cov", Float64, Optional),
-    key!("p_max_angle_mean_deg", Float64, Optional),
-    key!("p_max_angle_std_deg", Float64, Optional),
-    key!("pegging"."method", Utf8, Pegging),
-    key!("pegging"."offset_bar", Float64, Pegging),
-    key!("pegging"."polytropic_n", Float64, Pegging),
-    key!("tdc_offset_estimate_deg", Float64, Optional),
-    key!("estimated_relative_error", Float64, Optional),
-    key!("ca5_deg", Float64, Combustion),
-    key!("ca10_deg", Float64, Combustion),
-    key!("ca50_deg", Float64, Combustion),
-    key!("ca90_deg", Float64, Combustion),
-    key!("burn_10_90_deg", Float64, Combustion),
-    key!("soc_deg", Float64, Combustion),
-    key!("eoc_deg", Float64, Combustion),
-    key!("heat_released_j", Float64, Combustion),
-    key!("dp_dphi_max_bar_deg", Float64, Combustion),
-    key!("dp_dphi_max_angle_deg", Float64, Combustion),
-    key!("imep_gross_bar", Float64, Combustion),
-    key!("pmep_bar", Float64, Combustion),
-    key!("ca50_std_deg", Float64, Combustion),
-    key!("burn_10_90_std_deg", Float64, Combustion),
-    key!("dp_dphi_max_std_bar_deg", Float64, Combustion),
-    key!("imep_lnv", Float64, Combustion),
-];
+impl Column<SummaryGet> {
+    /// This column's value in `r`: absent when the key is (an optional
+    /// key that does not apply), null without a summary.
+    pub fn cell<'r>(&self, r: &'r SummaryRecord<'_>) -> Cell<'r> {
+        let get = match self.get {
+            SummaryGet::Row(get) => return get(r),
+            SummaryGet::Key(k) => k.get,
+            SummaryGet::Field(f) => f.get,
+        };
+        match r.summary {
+            Some(s) => value_cell(get(s)),
+            None => Cell::Null,
+        }
+    }
+}
+
+impl Column<CycleGet> {
+    /// This column's value in `r`.
+    pub fn cell<'r>(&self, r: &'r CycleRow<'_>) -> Cell<'r> {
+        (self.get)(r)
+    }
+}
+
+impl Column<TraceGet> {
+    /// This column's value in `r`.
+    pub fn cell<'r>(&self, r: &'r TracePoint<'_>) -> Cell<'r> {
+        (self.get)(r)
+    }
+}
 
 /// The columns of `summary/2` in the Parquet table's order: `file`,
 /// `error`, `engine`, `diagram_blake3`, the fixed keys, the optional keys,
@@ -713,7 +653,7 @@ mod tests {
         // And every one has a value in a full summary.
         let r = SummaryRecord::of(&s);
         for c in SUMMARY.iter().filter(|c| c.group > Group::Provenance) {
-            assert!(!matches!((c.get)(&r), Cell::Absent), "{}", c.name);
+            assert!(!matches!(c.cell(&r), Cell::Absent), "{}", c.name);
         }
     }
 
@@ -762,7 +702,12 @@ mod tests {
         let s = Summary::empty();
         let r = SummaryRecord::of(&s);
         let cell = |r: &SummaryRecord<'_>, n: &str| {
-            (SUMMARY.iter().find(|c| c.name == n).unwrap().get)(r).into_owned()
+            SUMMARY
+                .iter()
+                .find(|c| c.name == n)
+                .unwrap()
+                .cell(r)
+                .into_owned()
         };
         assert_eq!(cell(&r, "cycles"), Cell::Absent);
         assert_eq!(cell(&r, "pegging.offset_bar"), Cell::Absent);
@@ -818,7 +763,12 @@ mod tests {
             [(0, 2, true), (1, 1, true), (1, 2, false), (1, 3, true)]
         );
         let get = |n: &str, row: &CycleRow<'_>| {
-            (CYCLES.iter().find(|c| c.name == n).unwrap().get)(row).into_owned()
+            CYCLES
+                .iter()
+                .find(|c| c.name == n)
+                .unwrap()
+                .cell(row)
+                .into_owned()
         };
         assert_eq!(get("imep_bar", &rows[0]), Cell::Float(8.0));
         assert_eq!(get("peg_offset_bar", &rows[0]), Cell::Null);
@@ -836,6 +786,6 @@ mod tests {
         let p = trace_points("f", &r);
         assert_eq!(p.len(), 14400);
         assert_eq!((p[7203].cylinder, p[7203].crank_deg), (2, 0.3));
-        assert_eq!((TRACES[3].get)(&p[7203]), Cell::Float(3.0), "bar, absolute");
+        assert_eq!(TRACES[3].cell(&p[7203]), Cell::Float(3.0), "bar, absolute");
     }
 }

@@ -1,5 +1,7 @@
 //! The summary figures of one operating point, in INTERFACE.md's key order.
 
+use crate::schema::{ColumnType, Group};
+
 /// Summary figures (SI units as named by each key). `None` is JSON `null`.
 #[derive(Debug, Clone, PartialEq)]
 #[allow(missing_docs)] // each field is the summary.json key of the same name (INTERFACE.md)
@@ -232,6 +234,150 @@ pub struct Key {
     pub shown: Option<Shown>,
     /// The value; `None` when the key is absent from this summary.
     pub get: fn(&Summary) -> Option<Value>,
+    /// Its columns in `summary/2` and `summary.csv`.
+    pub columns: Columns,
+}
+
+/// The columns a summary key makes in the tables (`summary/2`,
+/// `summary.csv`): [`schema::SUMMARY`](crate::schema::SUMMARY) is built
+/// from these, so a key and its column cannot drift apart.
+#[derive(Debug, Clone, Copy)]
+pub enum Columns {
+    /// One column named as the key, of this type, in this group.
+    One(ColumnType, Group),
+    /// An object (`models`, `pegging`): one column per field,
+    /// `key.field`.
+    Object(&'static [Field]),
+}
+
+/// One field of an object key (`models.kinematics`): its column and its
+/// value.
+#[derive(Debug, Clone, Copy)]
+pub struct Field {
+    /// The field's name in the object.
+    pub field: &'static str,
+    /// Its column, `key.field`.
+    pub column: &'static str,
+    /// The column's type.
+    pub ty: ColumnType,
+    /// Where the column stands.
+    pub group: Group,
+    /// The value; `None` when the field is absent from this summary.
+    pub get: fn(&Summary) -> Option<Value>,
+}
+
+/// An object key's value: its fields present, in order; absent when none
+/// is.
+fn object(s: &Summary, fields: &[Field]) -> Option<Value> {
+    let m: Vec<(&'static str, Value)> = fields
+        .iter()
+        .filter_map(|f| (f.get)(s).map(|v| (f.field, v)))
+        .collect();
+    (!m.is_empty()).then_some(Value::Map(m))
+}
+
+/// A [`Field`] of object `$key`.
+macro_rules! field {
+    ($key:literal . $field:literal, $ty:ident, $group:ident, $get:expr) => {
+        Field {
+            field: $field,
+            column: concat!($key, ".", $field),
+            ty: ColumnType::$ty,
+            group: Group::$group,
+            get: $get,
+        }
+    };
+}
+
+/// `models`: the methods used (text, and the grid step), and the
+/// combustion analysis's when it ran.
+const MODELS: &[Field] = &[
+    field!("models"."kinematics", Utf8, ModelsText, |s| Some(Value::Text(s.kinematics))),
+    field!("models"."rod_model", Utf8, ModelsText, |s| Some(Value::Text(s.rod_model))),
+    field!("models"."interpolation", Utf8, ModelsText, |s| Some(Value::Text(
+        s.interpolation
+    ))),
+    field!("models"."grid_step_deg", Float64, ModelsNumber, |s| Some(
+        Value::Num(Some(s.grid_step_deg))
+    )),
+    field!("models"."integration", Utf8, ModelsText, |s| Some(Value::Text(
+        s.integration
+    ))),
+    field!("models"."gamma", Utf8, Combustion, |s| s
+        .combustion
+        .as_ref()
+        .map(|c| Value::Str(c.gamma.clone()))),
+    field!("models"."smoothing", Utf8, Combustion, |s| s
+        .combustion
+        .as_ref()
+        .map(|c| Value::Str(c.smoothing.clone()))),
+    field!("models"."burn_window", Utf8, Combustion, |s| s
+        .combustion
+        .as_ref()
+        .map(|c| Value::Str(c.burn_window.clone()))),
+];
+
+/// `pegging`, when relative traces were pegged.
+const PEGGING: &[Field] = &[
+    field!("pegging"."method", Utf8, Pegging, |s| s
+        .pegging
+        .map(|p| Value::Text(p.method))),
+    field!("pegging"."offset_bar", Float64, Pegging, |s| s
+        .pegging
+        .map(|p| Value::Num(Some(p.offset_bar)))),
+    field!("pegging"."polytropic_n", Float64, Pegging, |s| s
+        .pegging
+        .map(|p| Value::Num(p.polytropic_n))),
+];
+
+/// A fixed number key's column.
+const FIXED: Columns = Columns::One(ColumnType::Float64, Group::Fixed);
+/// An optional number key's column.
+const OPTIONAL: Columns = Columns::One(ColumnType::Float64, Group::Optional);
+/// A combustion number key's column (appended in `summary/2`).
+const COMBUSTION: Columns = Columns::One(ColumnType::Float64, Group::Combustion);
+
+/// The summary key named `name`, found when the program is compiled: for
+/// the lists of figures other crates choose (`report::KEY_FIGURES`,
+/// `accuracy::KEYS`), so that a name not in [`KEYS`] does not build.
+///
+/// ```
+/// const IMEP: &enginedyn_pipeline::Key = enginedyn_pipeline::key("imep_bar");
+/// assert_eq!(IMEP.key, "imep_bar");
+/// ```
+///
+/// A misspelt name is a compile error:
+///
+/// ```compile_fail
+/// const IMEP: &enginedyn_pipeline::Key = enginedyn_pipeline::key("imep");
+/// ```
+///
+/// At run time, where a name comes from the user, use
+/// [`Summary::key`], which returns `None` for an unknown name.
+pub const fn key(name: &str) -> &'static Key {
+    let mut i = 0;
+    while i < KEYS.len() {
+        if same(KEYS[i].key.as_bytes(), name.as_bytes()) {
+            return &KEYS[i];
+        }
+        i += 1;
+    }
+    panic!("not a summary key (enginedyn_pipeline::KEYS)")
+}
+
+/// Byte-wise equality, usable in a `const fn`.
+const fn same(a: &[u8], b: &[u8]) -> bool {
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
 }
 
 impl Value {
@@ -243,6 +389,13 @@ impl Value {
             Value::Int(i) => Some(Some(*i as f64)),
             _ => None,
         }
+    }
+}
+
+/// The key's name, as `summary.json` writes it.
+impl std::fmt::Display for Key {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.key)
     }
 }
 
@@ -307,16 +460,19 @@ pub const KEYS: &[Key] = &[
         key: "rpm",
         shown: None,
         get: always!(rpm),
+        columns: FIXED,
     },
     Key {
         key: "omega_rad_s",
         shown: None,
         get: always!(omega_rad_s),
+        columns: FIXED,
     },
     Key {
         key: "imep_bar",
         shown: shown(WORK, "IMEP", "bar", 1.0, 3, Basis::None),
         get: num!(imep_bar),
+        columns: FIXED,
     },
     Key {
         key: "indicated_work_per_cylinder_j",
@@ -329,36 +485,43 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: num!(indicated_work_per_cylinder_j),
+        columns: FIXED,
     },
     Key {
         key: "mean_torque_nm",
         shown: shown(WORK, "mean torque", "N m", 1.0, 2, Basis::Effective),
         get: num!(mean_torque_nm),
+        columns: FIXED,
     },
     Key {
         key: "power_kw",
         shown: shown(WORK, "power", "kW", 1.0, 2, Basis::Effective),
         get: num!(power_kw),
+        columns: FIXED,
     },
     Key {
         key: "indicated_mean_torque_nm",
         shown: shown(WORK, "mean torque", "N m", 1.0, 2, Basis::Indicated),
         get: num!(indicated_mean_torque_nm),
+        columns: FIXED,
     },
     Key {
         key: "indicated_power_kw",
         shown: shown(WORK, "power", "kW", 1.0, 2, Basis::Indicated),
         get: num!(indicated_power_kw),
+        columns: FIXED,
     },
     Key {
         key: "torque_max_nm",
         shown: shown(WORK, "torque max", "N m", 1.0, 2, Basis::Indicated),
         get: num!(torque_max_nm),
+        columns: FIXED,
     },
     Key {
         key: "torque_min_nm",
         shown: shown(WORK, "torque min", "N m", 1.0, 2, Basis::Indicated),
         get: num!(torque_min_nm),
+        columns: FIXED,
     },
     Key {
         key: "torque_nonuniformity",
@@ -371,106 +534,127 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: num!(torque_nonuniformity),
+        columns: FIXED,
     },
     Key {
         key: "excess_work_j",
         shown: shown(FLY, "excess work ΔE", "J", 1.0, 2, Basis::None),
         get: num!(excess_work_j),
+        columns: FIXED,
     },
     Key {
         key: "excess_work_coefficient",
         shown: shown(FLY, "excess work coefficient ψ", "", 1.0, 4, Basis::None),
         get: num!(excess_work_coefficient),
+        columns: FIXED,
     },
     Key {
         key: "required_inertia_kg_m2",
         shown: shown(FLY, "required inertia I₀", "kg m²", 1.0, 5, Basis::None),
         get: num!(required_inertia_kg_m2),
+        columns: FIXED,
     },
     Key {
         key: "flywheel_inertia_kg_m2",
         shown: shown(FLY, "flywheel inertia I_f", "kg m²", 1.0, 5, Basis::None),
         get: num!(flywheel_inertia_kg_m2),
+        columns: FIXED,
     },
     Key {
         key: "flywheel_gd2_n_m2",
         shown: shown(FLY, "flywheel GD²", "N m²", 1.0, 3, Basis::None),
         get: num!(flywheel_gd2_n_m2),
+        columns: FIXED,
     },
     Key {
         key: "flywheel_outer_diameter_m",
         shown: shown(FLY, "flywheel outer diameter", "mm", 1e3, 1, Basis::None),
         get: num!(flywheel_outer_diameter_m),
+        columns: FIXED,
     },
     Key {
         key: "flywheel_mass_kg",
         shown: shown(FLY, "flywheel mass", "kg", 1.0, 2, Basis::None),
         get: num!(flywheel_mass_kg),
+        columns: FIXED,
     },
     Key {
         key: "flywheel_width_m",
         shown: shown(FLY, "flywheel width", "mm", 1e3, 1, Basis::None),
         get: num!(flywheel_width_m),
+        columns: FIXED,
     },
     Key {
         key: "speed_fluctuation_achieved",
         shown: shown(FLY, "speed fluctuation achieved δ", "", 1.0, 5, Basis::None),
         get: num!(speed_fluctuation_achieved),
+        columns: FIXED,
     },
     Key {
         key: "stroke_m",
         shown: shown(KIN, "stroke", "mm", 1e3, 3, Basis::None),
         get: always!(stroke_m),
+        columns: FIXED,
     },
     Key {
         key: "lambda",
         shown: shown(KIN, "λ = R/L", "", 1.0, 4, Basis::None),
         get: always!(lambda),
+        columns: FIXED,
     },
     Key {
         key: "piston_speed_mean_m_s",
         shown: shown(KIN, "mean piston speed", "m/s", 1.0, 2, Basis::None),
         get: always!(piston_speed_mean_m_s),
+        columns: FIXED,
     },
     Key {
         key: "piston_speed_max_m_s",
         shown: shown(KIN, "max piston speed", "m/s", 1.0, 2, Basis::None),
         get: always!(piston_speed_max_m_s),
+        columns: FIXED,
     },
     Key {
         key: "piston_accel_max_m_s2",
         shown: shown(KIN, "max piston acceleration", "m/s²", 1.0, 0, Basis::None),
         get: always!(piston_accel_max_m_s2),
+        columns: FIXED,
     },
     Key {
         key: "piston_accel_min_m_s2",
         shown: shown(KIN, "min piston acceleration", "m/s²", 1.0, 0, Basis::None),
         get: always!(piston_accel_min_m_s2),
+        columns: FIXED,
     },
     Key {
         key: "gas_force_max_n",
         shown: shown(FORCES, "gas force max", "N", 1.0, 0, Basis::None),
         get: num!(gas_force_max_n),
+        columns: FIXED,
     },
     Key {
         key: "side_force_max_n",
         shown: shown(FORCES, "side thrust max", "N", 1.0, 0, Basis::None),
         get: num!(side_force_max_n),
+        columns: FIXED,
     },
     Key {
         key: "rod_force_max_n",
         shown: shown(FORCES, "rod force max", "N", 1.0, 0, Basis::None),
         get: num!(rod_force_max_n),
+        columns: FIXED,
     },
     Key {
         key: "crankpin_load_max_n",
         shown: shown(FORCES, "crank-pin load max", "N", 1.0, 0, Basis::None),
         get: num!(crankpin_load_max_n),
+        columns: FIXED,
     },
     Key {
         key: "crankpin_load_mean_n",
         shown: shown(FORCES, "crank-pin load mean", "N", 1.0, 0, Basis::None),
         get: num!(crankpin_load_mean_n),
+        columns: FIXED,
     },
     Key {
         key: "journal_torque_max_nm",
@@ -483,6 +667,7 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: always!(journal_torque_max_nm),
+        columns: FIXED,
     },
     Key {
         key: "journal_most_loaded",
@@ -495,40 +680,31 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: |s| Some(Value::Int(s.journal_most_loaded)),
+        columns: Columns::One(ColumnType::Int32, Group::Fixed),
     },
     Key {
         key: "energy_balance_error",
         shown: shown(DATA, "energy balance error", "", 1.0, 12, Basis::None),
         get: num!(energy_balance_error),
+        columns: FIXED,
     },
     Key {
         key: "models",
         shown: None,
-        get: |s| {
-            let mut m = vec![
-                ("kinematics", Value::Text(s.kinematics)),
-                ("rod_model", Value::Text(s.rod_model)),
-                ("interpolation", Value::Text(s.interpolation)),
-                ("grid_step_deg", Value::Num(Some(s.grid_step_deg))),
-                ("integration", Value::Text(s.integration)),
-            ];
-            if let Some(c) = &s.combustion {
-                m.push(("gamma", Value::Str(c.gamma.clone())));
-                m.push(("smoothing", Value::Str(c.smoothing.clone())));
-                m.push(("burn_window", Value::Str(c.burn_window.clone())));
-            }
-            Some(Value::Map(m))
-        },
+        get: |s| object(s, MODELS),
+        columns: Columns::Object(MODELS),
     },
     Key {
         key: "notes",
         shown: None,
         get: |s| Some(Value::List(s.notes.clone())),
+        columns: Columns::One(ColumnType::Utf8, Group::Notes),
     },
     Key {
         key: "cycles",
         shown: shown(DATA, "measured cycles averaged", "", 1.0, 0, Basis::None),
         get: |s| s.cycles.map(Value::Int),
+        columns: Columns::One(ColumnType::Int64, Group::Optional),
     },
     Key {
         key: "cycles_skipped",
@@ -541,11 +717,13 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: |s| s.cycles_skipped.map(Value::Int),
+        columns: Columns::One(ColumnType::Int64, Group::Optional),
     },
     Key {
         key: "imep_std_bar",
         shown: shown(DATA, "IMEP standard deviation", "bar", 1.0, 4, Basis::None),
         get: stat!(imep_std_bar),
+        columns: OPTIONAL,
     },
     Key {
         key: "imep_cov",
@@ -558,16 +736,19 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: stat!(imep_cov),
+        columns: OPTIONAL,
     },
     Key {
         key: "p_max_mean_bar",
         shown: shown(DATA, "peak pressure, mean", "bar", 1.0, 2, Basis::None),
         get: stat!(p_max_mean_bar),
+        columns: OPTIONAL,
     },
     Key {
         key: "p_max_cov",
         shown: shown(DATA, "peak pressure CoV", "%", 100.0, 2, Basis::None),
         get: stat!(p_max_cov),
+        columns: OPTIONAL,
     },
     Key {
         key: "p_max_angle_mean_deg",
@@ -580,24 +761,19 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: stat!(p_max_angle_mean_deg),
+        columns: OPTIONAL,
     },
     Key {
         key: "p_max_angle_std_deg",
         shown: shown(DATA, "peak pressure angle, std", "deg", 1.0, 2, Basis::None),
         get: stat!(p_max_angle_std_deg),
+        columns: OPTIONAL,
     },
     Key {
         key: "pegging",
         shown: None,
-        get: |s| {
-            s.pegging.map(|p| {
-                Value::Map(vec![
-                    ("method", Value::Text(p.method)),
-                    ("offset_bar", Value::Num(Some(p.offset_bar))),
-                    ("polytropic_n", Value::Num(p.polytropic_n)),
-                ])
-            })
-        },
+        get: |s| object(s, PEGGING),
+        columns: Columns::Object(PEGGING),
     },
     Key {
         key: "tdc_offset_estimate_deg",
@@ -610,6 +786,7 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: |s| s.tdc_offset_estimate_deg.map(|t| Value::Num(Some(t))),
+        columns: OPTIONAL,
     },
     Key {
         key: "estimated_relative_error",
@@ -622,41 +799,49 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: |s| s.estimated_relative_error.map(|e| Value::Num(Some(e))),
+        columns: OPTIONAL,
     },
     Key {
         key: "ca5_deg",
         shown: shown(BURN, "CA5", "deg", 1.0, 2, Basis::None),
         get: |s| burn(s, |c| c.level(5.0)),
+        columns: COMBUSTION,
     },
     Key {
         key: "ca10_deg",
         shown: shown(BURN, "CA10", "deg", 1.0, 2, Basis::None),
         get: |s| burn(s, |c| c.level(10.0)),
+        columns: COMBUSTION,
     },
     Key {
         key: "ca50_deg",
         shown: shown(BURN, "CA50", "deg", 1.0, 2, Basis::None),
         get: |s| burn(s, |c| c.level(50.0)),
+        columns: COMBUSTION,
     },
     Key {
         key: "ca90_deg",
         shown: shown(BURN, "CA90", "deg", 1.0, 2, Basis::None),
         get: |s| burn(s, |c| c.level(90.0)),
+        columns: COMBUSTION,
     },
     Key {
         key: "burn_10_90_deg",
         shown: shown(BURN, "burn duration 10–90 %", "deg", 1.0, 2, Basis::None),
         get: |s| burn(s, |c| c.burn_10_90_deg),
+        columns: COMBUSTION,
     },
     Key {
         key: "soc_deg",
         shown: shown(BURN, "start of combustion", "deg", 1.0, 2, Basis::None),
         get: |s| burn(s, |c| c.soc_deg),
+        columns: COMBUSTION,
     },
     Key {
         key: "eoc_deg",
         shown: shown(BURN, "end of combustion", "deg", 1.0, 2, Basis::None),
         get: |s| burn(s, |c| c.eoc_deg),
+        columns: COMBUSTION,
     },
     Key {
         key: "heat_released_j",
@@ -669,6 +854,7 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: |s| burn(s, |c| c.heat_released_j),
+        columns: COMBUSTION,
     },
     Key {
         key: "dp_dphi_max_bar_deg",
@@ -681,26 +867,31 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: |s| burn(s, |c| c.dp_dphi_max_bar_deg),
+        columns: COMBUSTION,
     },
     Key {
         key: "dp_dphi_max_angle_deg",
         shown: shown(BURN, "max pressure rise at", "deg", 1.0, 2, Basis::None),
         get: |s| burn(s, |c| c.dp_dphi_max_angle_deg),
+        columns: COMBUSTION,
     },
     Key {
         key: "imep_gross_bar",
         shown: shown(BURN, "IMEP gross (−180…180°)", "bar", 1.0, 3, Basis::None),
         get: |s| burn(s, |c| c.imep_gross_bar),
+        columns: COMBUSTION,
     },
     Key {
         key: "pmep_bar",
         shown: shown(BURN, "PMEP = net − gross", "bar", 1.0, 3, Basis::None),
         get: |s| burn(s, |c| c.pmep_bar),
+        columns: COMBUSTION,
     },
     Key {
         key: "ca50_std_deg",
         shown: shown(BURN, "CA50 std over cycles", "deg", 1.0, 3, Basis::None),
         get: |s| burn(s, |c| c.ca50_std_deg),
+        columns: COMBUSTION,
     },
     Key {
         key: "burn_10_90_std_deg",
@@ -713,6 +904,7 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: |s| burn(s, |c| c.burn_10_90_std_deg),
+        columns: COMBUSTION,
     },
     Key {
         key: "dp_dphi_max_std_bar_deg",
@@ -725,6 +917,7 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: |s| burn(s, |c| c.dp_dphi_max_std_bar_deg),
+        columns: COMBUSTION,
     },
     Key {
         key: "imep_lnv",
@@ -737,5 +930,6 @@ pub const KEYS: &[Key] = &[
             Basis::None,
         ),
         get: |s| burn(s, |c| c.imep_lnv),
+        columns: COMBUSTION,
     },
 ];

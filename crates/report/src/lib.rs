@@ -269,7 +269,7 @@ pub fn flatten(s: &Summary) -> Vec<(String, String)> {
         .iter()
         .filter(|c| c.group > Group::Provenance)
         .filter_map(|c| {
-            let cell = (c.get)(&record);
+            let cell = c.cell(&record);
             (cell != Cell::Absent).then(|| (c.name.to_string(), csv_cell(&cell)))
         })
         .collect()

@@ -6,33 +6,33 @@
 use crate::html::{esc, percent_encode};
 use crate::{Chart, Figure, Series, fixed};
 use enginedyn_numerics::format::table_text;
-use enginedyn_pipeline::Summary;
+use enginedyn_pipeline::{Key, Summary, key};
 use std::fmt::Write as _;
 
 /// The key figures of a batch or sweep row, in this order.
-pub const KEY_FIGURES: [&str; 10] = [
-    "rpm",
-    "imep_bar",
-    "mean_torque_nm",
-    "power_kw",
-    "torque_max_nm",
-    "torque_min_nm",
-    "crankpin_load_max_n",
-    "required_inertia_kg_m2",
-    "ca50_deg",
-    "dp_dphi_max_bar_deg",
+pub const KEY_FIGURES: [&Key; 10] = [
+    key("rpm"),
+    key("imep_bar"),
+    key("mean_torque_nm"),
+    key("power_kw"),
+    key("torque_max_nm"),
+    key("torque_min_nm"),
+    key("crankpin_load_max_n"),
+    key("required_inertia_kg_m2"),
+    key("ca50_deg"),
+    key("dp_dphi_max_bar_deg"),
 ];
 
 /// The key figures of a sweep's printed table (the speed is the row).
-pub const SWEEP_FIGURES: [&str; 8] = [
-    "mean_torque_nm",
-    "power_kw",
-    "indicated_mean_torque_nm",
-    "torque_max_nm",
-    "torque_min_nm",
-    "crankpin_load_max_n",
-    "gas_force_max_n",
-    "speed_fluctuation_achieved",
+pub const SWEEP_FIGURES: [&Key; 8] = [
+    key("mean_torque_nm"),
+    key("power_kw"),
+    key("indicated_mean_torque_nm"),
+    key("torque_max_nm"),
+    key("torque_min_nm"),
+    key("crankpin_load_max_n"),
+    key("gas_force_max_n"),
+    key("speed_fluctuation_achieved"),
 ];
 
 /// A key figure's column: heading, unit, SI-to-display scale and decimals.
@@ -54,33 +54,29 @@ impl Column {
     }
 }
 
-fn columns(keys: &[&str], s: &Summary) -> Vec<Column> {
+fn columns(keys: &[&Key], s: &Summary) -> Vec<Column> {
     keys.iter()
-        .map(
-            |key| match Summary::key(key).and_then(|k| k.shown.as_ref()) {
-                Some(shown) => Column {
-                    heading: crate::label(shown, s),
-                    unit: shown.unit,
-                    scale: shown.scale,
-                    digits: shown.digits,
-                },
-                None => Column {
-                    heading: "speed".into(),
-                    unit: "rpm",
-                    scale: 1.0,
-                    digits: 0,
-                },
+        .map(|k| match k.shown.as_ref() {
+            Some(shown) => Column {
+                heading: crate::label(shown, s),
+                unit: shown.unit,
+                scale: shown.scale,
+                digits: shown.digits,
             },
-        )
+            None => Column {
+                heading: "speed".into(),
+                unit: "rpm",
+                scale: 1.0,
+                digits: 0,
+            },
+        })
         .collect()
 }
 
 /// A summary's figures of `keys` ([`KEY_FIGURES`], [`SWEEP_FIGURES`]) in
 /// SI units.
-pub fn key_figures(keys: &[&str], s: &Summary) -> Vec<Option<f64>> {
-    keys.iter()
-        .map(|key| Summary::key(key).and_then(|k| k.number(s)))
-        .collect()
+pub fn key_figures(keys: &[&Key], s: &Summary) -> Vec<Option<f64>> {
+    keys.iter().map(|k| k.number(s)).collect()
 }
 
 /// One diagram (or speed) of a batch (or sweep) as the tables show it.
@@ -105,7 +101,7 @@ pub fn count(n: usize, what: &str) -> String {
 /// `--out`): one row per diagram or speed, the figures of `keys` (numbered
 /// columns, their labels and units listed below), failed rows with their
 /// error; names and errors on one line, control characters escaped. `eta` is the mechanical efficiency the effective figures carry.
-pub fn key_table(first: &str, keys: &[&str], rows: &[KeyRow], eta: f64) -> String {
+pub fn key_table(first: &str, keys: &[&Key], rows: &[KeyRow], eta: f64) -> String {
     let mut s = Summary::empty();
     s.mechanical_efficiency = eta;
     let cols = columns(keys, &s);

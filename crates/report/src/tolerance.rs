@@ -429,3 +429,30 @@ fn html_table(s: &Study, summary: Option<&enginedyn_pipeline::Summary>) -> Strin
     ));
     o
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The tolerance outputs named as summary keys are summary keys: the
+    /// table's "run value" column looks them up by name, and a key
+    /// renamed in one place only would fall back to the study's nominal
+    /// without a word. The others are the study's own figures.
+    #[test]
+    fn outputs_named_as_summary_keys_are_summary_keys() {
+        let own = [
+            "compression_ratio",
+            "clearance_volume_m3",
+            "free_force_1_n",
+            "free_force_2_n",
+            "free_moment_1_nm",
+            "free_moment_2_nm",
+            "torque_order_0_5_nm",
+            "torque_order_1_nm",
+        ];
+        for o in Output::ALL {
+            let in_summary = enginedyn_pipeline::Summary::key(o.key()).is_some();
+            assert_eq!(in_summary, !own.contains(&o.key()), "{}", o.key());
+        }
+    }
+}
