@@ -382,7 +382,7 @@ impl Rows for SummaryRecord<'_> {
         let columns = schema::summary_columns();
         let arrays = columns
             .iter()
-            .map(|c| array(Self::TABLE, c.name, c.ty, c.nullable, rows, |r| (c.get)(r)))
+            .map(|c| array(Self::TABLE, c.name, c.ty, c.nullable, rows, |r| c.cell(r)))
             .collect::<Result<Vec<_>, _>>()?;
         record_batch(Self::TABLE, arrays)
     }
@@ -393,7 +393,7 @@ impl Rows for CycleRow<'_> {
     fn batch(rows: &[Self]) -> Result<RecordBatch, TablesError> {
         let arrays = schema::CYCLES
             .iter()
-            .map(|c| array(Self::TABLE, c.name, c.ty, c.nullable, rows, |r| (c.get)(r)))
+            .map(|c| array(Self::TABLE, c.name, c.ty, c.nullable, rows, |r| c.cell(r)))
             .collect::<Result<Vec<_>, _>>()?;
         record_batch(Self::TABLE, arrays)
     }
@@ -404,7 +404,7 @@ impl Rows for TracePoint<'_> {
     fn batch(rows: &[Self]) -> Result<RecordBatch, TablesError> {
         let arrays = schema::TRACES
             .iter()
-            .map(|c| array(Self::TABLE, c.name, c.ty, c.nullable, rows, |r| (c.get)(r)))
+            .map(|c| array(Self::TABLE, c.name, c.ty, c.nullable, rows, |r| c.cell(r)))
             .collect::<Result<Vec<_>, _>>()?;
         record_batch(Self::TABLE, arrays)
     }
