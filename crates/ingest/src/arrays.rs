@@ -81,6 +81,7 @@ pub(crate) fn read<F: FnMut(Streamed) -> Result<(), IngestError>>(
         )));
     }
     let mut rd = Reader::new(opts, sink);
+    rd.names_given = true;
     rd.row(0, &Names(names), || None)?;
     let mut row = vec![0.0; columns.len()];
     for k in 0..n {

@@ -151,7 +151,11 @@ impl Aligner {
         let theta = usize::try_from(cylinder - 1)
             .ok()
             .and_then(|i| self.firing.get(i).copied());
-        if let Some(theta) = theta.filter(|_| !time) {
+        // A time record's angle is its own rule's (its crank reference and
+        // the firing TDC it decided), except for the cylinders of a record
+        // with one pressure column per cylinder: those all lie on cylinder
+        // 1's angle, as the peaks then show.
+        if let Some(theta) = theta.filter(|_| !time || tr.cylinder > 0) {
             let p = wrapped(peak_at(tr) - shift, self.cycle).rem_euclid(self.cycle);
             let distinct = wrapped(theta, self.cycle).abs() > 1e-6;
             let own = follows(p, 0.0, self.cycle);

@@ -66,6 +66,11 @@ impl<R> Cancellable<R> {
     pub fn new(inner: R, cancel: Cancel) -> Self {
         Self { inner, cancel }
     }
+
+    /// The reader it wraps.
+    pub fn into_inner(self) -> R {
+        self.inner
+    }
 }
 
 impl<R: std::io::Read> std::io::Read for Cancellable<R> {

@@ -917,17 +917,18 @@ impl<'a> Names<'a> {
 
     /// Phase 5: what several value columns allow (one cycle or one
     /// cylinder per column is read against crank angle, without a cycle or
-    /// cylinder column).
+    /// cylinder column; a time record takes one column per cylinder).
     fn layout(
         &self,
         values: &[ValueCol],
-        axis: Axis,
+        (axis, per_cylinder): (Axis, bool),
         x: usize,
         numbered: Option<usize>,
     ) -> Result<(), IngestError> {
         if values.len() <= 1 {
             return Ok(());
         }
+        let time = matches!(axis, Axis::Time(_));
         if let Some(c) = numbered {
             return Err(at(
                 self.line,
@@ -935,7 +936,10 @@ impl<'a> Names<'a> {
                 "several pressure columns and a cycle or cylinder column: give one pressure column per row (long layout), or one cycle per column without cycle and cylinder columns",
             ));
         }
-        if matches!(axis, Axis::Time(_) | Axis::Volume(_)) || x == STEPPED_X {
+        if time && per_cylinder {
+            return Ok(());
+        }
+        if time || matches!(axis, Axis::Volume(_)) || x == STEPPED_X {
             return Err(at(
                 self.line,
                 Some(values[1].col + 1),
@@ -1070,7 +1074,7 @@ impl Roles {
             c.sort_unstable();
             c[0] > 0 && c.windows(2).all(|w| w[0] != w[1])
         };
-        n.layout(&values, axis, x, cycle.or(cylinder))?;
+        n.layout(&values, (axis, per_cylinder), x, cycle.or(cylinder))?;
         for (i, why) in &n.unread {
             n.left_out.push(match why {
                 Unread::Unknown => format!(

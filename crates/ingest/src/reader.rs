@@ -50,6 +50,9 @@ pub(crate) struct Reader<'o, F> {
     /// The angle, pressure and volume columns (cells a source may refuse:
     /// `Cells::measured`).
     pub measured: Vec<usize>,
+    /// The names are the program's, not a file's (arrays in memory): no
+    /// note says how they were read.
+    pub names_given: bool,
 }
 
 impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
@@ -61,6 +64,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
             out: Emitter::new(opts, sink),
             rpm_source: "the `# rpm` line",
             measured: Vec::new(),
+            names_given: false,
         }
     }
 
@@ -306,10 +310,10 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                 e + 1
             ));
         }
-        if let Some(n) = &roles.note {
+        if let Some(n) = roles.note.as_ref().filter(|_| !self.names_given) {
             self.head.notes.push(n.clone());
         }
-        if roles.values.len() > 1 {
+        if roles.values.len() > 1 && !self.names_given {
             self.head.notes.push(if roles.per_cylinder {
                 format!(
                     "{} pressure columns, one per cylinder (their names say which)",

@@ -119,6 +119,13 @@ fn a_spreadsheet_reads_as_its_csv() {
 /// after each TDC (an analog ramp over 1° on a 0.3 V baseline), the record
 /// starting at θ = `from_deg`.
 fn record(variation: f64, pulse_deg: f64, from_deg: f64) -> String {
+    record_of(variation, pulse_deg, from_deg, &[])
+}
+
+/// [`record`] with one pressure column per cylinder, `P_Cyl{i} [bar]`,
+/// cylinder i firing `firing[i - 1]` degrees after cylinder 1 (empty: one
+/// `pressure_bar` column).
+fn record_of(variation: f64, pulse_deg: f64, from_deg: f64, firing: &[f64]) -> String {
     let revs = 2 * CYCLES + 4;
     let mut starts = vec![0.0f64];
     for j in 0..revs {
@@ -132,7 +139,14 @@ fn record(variation: f64, pulse_deg: f64, from_deg: f64) -> String {
             .min(revs - 1);
         360.0 * j as f64 - 720.0 + 360.0 * (t - starts[j]) / (starts[j + 1] - starts[j])
     };
-    let mut rec = String::from("time_s,pressure_bar,tdc\n");
+    let mut rec = if firing.is_empty() {
+        String::from("time_s,pressure_bar,tdc\n")
+    } else {
+        let names: Vec<String> = (1..=firing.len())
+            .map(|i| format!("P_Cyl{i} [bar]"))
+            .collect();
+        format!("time_s,{},tdc\n", names.join(","))
+    };
     let dt = 1.0 / 72_000.0;
     let mut t = starts[0] + (starts[1] - starts[0]) * (from_deg + 720.0) / 360.0;
     while t < starts[revs] {
@@ -146,7 +160,15 @@ fn record(variation: f64, pulse_deg: f64, from_deg: f64) -> String {
         } else {
             (k as usize).min(CYCLES - 1)
         };
-        rec.push_str(&format!("{t:.9},{},{pulse:.6}\n", cell(cycle_angle, k)));
+        let cells: Vec<String> = if firing.is_empty() {
+            vec![cell(cycle_angle, k)]
+        } else {
+            firing
+                .iter()
+                .map(|f| cell((cycle_angle - f).rem_euclid(720.0), k))
+                .collect()
+        };
+        rec.push_str(&format!("{t:.9},{},{pulse:.6}\n", cells.join(",")));
         t += dt;
     }
     rec
@@ -192,6 +214,46 @@ fn a_time_record_reads_as_its_cycles() {
         "{:?}",
         got.notes
     );
+}
+
+/// Issue 37, item 15: a time record with one pressure column per
+/// cylinder (`P_Cyl1` … `P_Cyl4`, as a 4-channel MDF4 or DAQ export names
+/// them) reads as four cylinders, every one on cylinder 1's crank angle
+/// (its TDC pulse and its pressure place the firing TDC), each then moved
+/// onto its own firing TDC: each cylinder's cycles are the long layout's.
+/// Today's main refused it as "one cycle per column is read against crank
+/// angle, not time".
+#[test]
+fn a_time_record_with_a_pressure_column_per_cylinder() {
+    let (mut o, g) = options();
+    let firing = [0.0, 540.0, 180.0, 360.0];
+    o.firing_deg = firing.to_vec();
+    let text = record_of(0.01, 0.0, -380.0, &firing);
+    let got = load(text.as_bytes(), &o, &g).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(got.cylinders.len(), 4, "{:?}", got.notes);
+    let want = long_imeps();
+    for c in 1..=4 {
+        let imeps: Vec<f64> = got
+            .stats
+            .iter()
+            .filter(|s| s.cylinder == c)
+            .map(|s| s.imep_pa.unwrap())
+            .collect();
+        assert_eq!(imeps.len(), CYCLES, "cylinder {c}: {:?}", got.notes);
+        for (a, b) in want.iter().zip(&imeps) {
+            assert!(((a - b) / a).abs() < 2e-5, "cylinder {c}: {a} vs {b}");
+        }
+    }
+    assert!(
+        got.notes.iter().any(|n| n.contains("one per cylinder")),
+        "{:?}",
+        got.notes
+    );
+    // Without cylinder 1 there is no reference: an error that says so.
+    let (o, _) = options();
+    let no_first = text.replacen("P_Cyl1 [bar]", "P_Cyl5 [bar]", 1);
+    let e = load(no_first.as_bytes(), &o, &g).unwrap_err().to_string();
+    assert!(e.contains("none of cylinder 1"), "{e}");
 }
 
 /// A pulse 20° before each TDC, the record starting before it: `--tdc-deg

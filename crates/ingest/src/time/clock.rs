@@ -1,10 +1,10 @@
 //! A constant speed and the time of one firing TDC (`--rpm`, `--tdc-time`):
 //! the angle linear in time over the whole record.
 
-use super::cycles::Building;
+use super::cycles::{Building, Others};
+use crate::Streamed;
 use crate::emit::Emitter;
 use crate::error::IngestError;
-use crate::{Quantity, Streamed};
 
 /// The angle from a constant speed: firing TDC at `t0` (s), `deg_per_s`.
 pub(super) struct Clock {
@@ -16,6 +16,8 @@ pub(super) struct Clock {
     cur: Option<Building>,
     pub complete: usize,
     pub partial: usize,
+    /// The other cylinders' values.
+    pub others: Others,
 }
 
 impl Clock {
@@ -28,6 +30,7 @@ impl Clock {
             cur: None,
             complete: 0,
             partial: 0,
+            others: Others::default(),
         }
     }
 
@@ -43,7 +46,7 @@ impl Clock {
         let within = a - c as f64 * self.cycle_deg;
         if self.cur.as_ref().is_none_or(|b| b.index != c) {
             self.close(out)?;
-            self.cur = Some(Building::new(c, line, 0, true));
+            self.cur = Some(Building::new(c, line, 0, true, &self.others));
         }
         if let Some(b) = self.cur.as_mut() {
             if let Some(&prev) = b.trace.angle_deg.last()
@@ -53,6 +56,7 @@ impl Clock {
             }
             b.trace.angle_deg.push(within);
             b.trace.values.push(p);
+            self.others.place(line, b);
         }
         Ok(())
     }
@@ -69,7 +73,7 @@ impl Clock {
             let step = self.step_deg.max(1e-9);
             if first <= 2.0 * step && self.cycle_deg - last <= 2.0 * step {
                 self.complete += 1;
-                out.trace(b.trace, b.line, Quantity::Pressure, false, 0)?;
+                self.others.emit(b, out)?;
             } else {
                 self.partial += 1;
             }

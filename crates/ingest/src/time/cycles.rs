@@ -10,15 +10,105 @@ use crate::emit::Emitter;
 use crate::error::{IngestError, at};
 use crate::plausible::Recurrence;
 use crate::{Quantity, Streamed, Trace};
+use std::collections::VecDeque;
 
 /// Revolutions held until the pressure-peak rule decides the firing TDC.
 const DECIDE_REVS: i64 = 4;
+
+/// The other cylinders of a time record with one pressure column per
+/// cylinder: every cylinder lies on the angle that the first one's (the
+/// reference cylinder's) samples are given, so each sample's other values
+/// wait here until the sample is placed (in line order) and then go into
+/// the cycle beside it.
+#[derive(Debug, Default)]
+pub(super) struct Others {
+    /// The cylinder numbers: the reference cylinder's, then the others'
+    /// (empty for one pressure column: its traces are every cylinder's).
+    pub cylinders: Vec<i64>,
+    /// Each cylinder's index among the file's value columns (for the
+    /// column an error names).
+    pub columns: Vec<usize>,
+    lines: VecDeque<usize>,
+    values: VecDeque<f64>,
+}
+
+impl Others {
+    /// Values per sample.
+    fn n(&self) -> usize {
+        self.cylinders.len().saturating_sub(1)
+    }
+
+    /// The other cylinders' values of the sample on `line`.
+    pub(super) fn hold(&mut self, line: usize, values: impl Iterator<Item = f64>) {
+        self.lines.push_back(line);
+        self.values.extend(values);
+    }
+
+    /// Puts the other values of the sample on `line` into `b`, beside it;
+    /// drops those of samples before it that no cycle took.
+    pub(super) fn place(&mut self, line: usize, b: &mut Building) {
+        let n = self.n();
+        if n == 0 {
+            return;
+        }
+        while self.lines.front().is_some_and(|&l| l < line) {
+            self.lines.pop_front();
+            self.values.drain(..n);
+        }
+        let here = self.lines.front() == Some(&line);
+        for (k, o) in b.others.iter_mut().enumerate() {
+            // Every sample is held before it is placed: NaN (refused by the
+            // trace's checks) only if that ever failed.
+            o.push(if here { self.values[k] } else { f64::NAN });
+        }
+        if here {
+            self.lines.pop_front();
+            self.values.drain(..n);
+        }
+    }
+
+    /// Hands on a whole cycle: one trace, or one per cylinder.
+    pub(super) fn emit<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &self,
+        b: Building,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        let Building {
+            mut trace,
+            others,
+            line,
+            ..
+        } = b;
+        if self.cylinders.is_empty() {
+            return out.trace(trace, line, Quantity::Pressure, false, 0);
+        }
+        let rest: Vec<Trace> = others
+            .into_iter()
+            .zip(&self.cylinders[1..])
+            .map(|(values, &cylinder)| Trace {
+                cycle: trace.cycle,
+                cylinder,
+                angle_deg: trace.angle_deg.clone(),
+                values,
+                rpm: trace.rpm,
+            })
+            .collect();
+        trace.cylinder = self.cylinders[0];
+        out.trace(trace, line, Quantity::Pressure, false, self.columns[0])?;
+        for (t, &col) in rest.into_iter().zip(&self.columns[1..]) {
+            out.trace(t, line, Quantity::Pressure, false, col)?;
+        }
+        Ok(())
+    }
+}
 
 /// A cycle being assembled.
 pub(super) struct Building {
     /// Cycle index from the first firing TDC (0-based).
     pub index: i64,
     pub trace: Trace,
+    /// The other cylinders' values at the same angles ([`Others`]).
+    pub others: Vec<Vec<f64>>,
     pub line: usize,
     /// It began at its firing TDC, not midway.
     pub from_start: bool,
@@ -28,7 +118,13 @@ pub(super) struct Building {
 }
 
 impl Building {
-    pub(super) fn new(index: i64, line: usize, capacity: usize, from_start: bool) -> Self {
+    pub(super) fn new(
+        index: i64,
+        line: usize,
+        capacity: usize,
+        from_start: bool,
+        others: &Others,
+    ) -> Self {
         Self {
             index,
             trace: Trace {
@@ -38,6 +134,7 @@ impl Building {
                 values: Vec::with_capacity(capacity),
                 rpm: None,
             },
+            others: vec![Vec::with_capacity(capacity); others.n()],
             line,
             from_start,
             span: None,
@@ -94,6 +191,8 @@ pub(super) struct Cycles {
     /// A cycle's error held while the recurrence is unknown: a wrong count
     /// makes a cycle of no cylinder's pressure, and the count is the cause.
     deferred: Option<IngestError>,
+    /// The other cylinders' values.
+    pub others: Others,
 }
 
 impl Cycles {
@@ -112,6 +211,7 @@ impl Cycles {
             last_len: 1024,
             recur: None,
             deferred: None,
+            others: Others::default(),
         }
     }
 
@@ -262,11 +362,18 @@ impl Cycles {
             // placed, or this revolution begins at or before it.
             let from_start = self.cur.is_some() || start <= c as f64 * self.cycle_deg + 1e-6;
             self.close(out, true)?;
-            self.cur = Some(Building::new(c, line, self.last_len, from_start));
+            self.cur = Some(Building::new(
+                c,
+                line,
+                self.last_len,
+                from_start,
+                &self.others,
+            ));
         }
         if let Some(b) = self.cur.as_mut() {
             b.trace.angle_deg.push(a - b.index as f64 * self.cycle_deg);
             b.trace.values.push(p);
+            self.others.place(line, b);
             b.timed(t, a);
         }
         Ok(())
@@ -287,7 +394,7 @@ impl Cycles {
                 self.complete += 1;
                 self.last_len = b.trace.angle_deg.len();
                 b.trace.rpm = b.rpm();
-                if let Err(e) = out.trace(b.trace, b.line, Quantity::Pressure, false, 0) {
+                if let Err(e) = self.others.emit(b, out) {
                     if self.recur.is_none() {
                         return Err(e);
                     }

@@ -29,14 +29,14 @@ mod wheel;
 
 pub use wheel::Wheel;
 
-use crate::columns::{Axis, Roles};
+use crate::columns::{Axis, Roles, ValueCol};
 use crate::emit::Emitter;
 use crate::error::{IngestError, at, shown_number};
 use crate::plausible::{Recurrence, TdcPlacement};
 use crate::row::Cells;
 use crate::values::value_scale;
 use crate::{Header, ParseOptions, Quantity, Streamed};
-use cycles::{Cycles, Firing};
+use cycles::{Cycles, Firing, Others};
 
 /// The most pulses a revolution `--encoder-ppr` may give (INTERFACE.md).
 pub const MAX_ENCODER_PPR: u32 = 100_000;
@@ -97,6 +97,51 @@ pub(crate) struct TimeRecord {
     operating_rpm: Option<f64>,
     /// Columns of the crank's signals that this source does not use.
     unused: Vec<String>,
+    /// The other cylinders' pressure columns, with one pressure column per
+    /// cylinder: read on the reference cylinder's angle
+    /// ([`cycles::Others`]).
+    others: Vec<OtherColumn>,
+    /// One row's values of `others`.
+    row_others: Vec<f64>,
+}
+
+/// Another cylinder's pressure column: its index, scale and offset.
+type OtherColumn = (usize, f64, f64);
+
+/// The reference cylinder's value column and the others', with one
+/// pressure column per cylinder (`P_Cyl1` …): every cylinder is read on
+/// the angle of cylinder 1, whose TDC the record's crank reference marks.
+fn per_cylinder(
+    roles: &Roles,
+    opts: &ParseOptions,
+    line: usize,
+) -> Result<(ValueCol, Vec<OtherColumn>, Others), IngestError> {
+    if roles.values.len() == 1 {
+        return Ok((roles.values[0], Vec::new(), Others::default()));
+    }
+    let mut order: Vec<usize> = (0..roles.values.len()).collect();
+    order.sort_by_key(|&i| roles.values[i].cylinder);
+    let first = roles.values[order[0]];
+    if first.cylinder != 1 {
+        return Err(at(
+            line,
+            Some(first.col + 1),
+            format!(
+                "{} pressure columns, one per cylinder, but none of cylinder 1: a time record's crank reference is cylinder 1's TDC, and its pressure places the others",
+                roles.values.len()
+            ),
+        ));
+    }
+    let mut others = Vec::with_capacity(order.len() - 1);
+    for &i in &order[1..] {
+        let v = roles.values[i];
+        let (scale, offset) = value_scale(roles, v.scale, opts, line)?;
+        others.push((v.col, scale, offset));
+    }
+    let mut o = Others::default();
+    o.cylinders = order.iter().map(|&i| roles.values[i].cylinder).collect();
+    o.columns = order;
+    Ok((first, others, o))
 }
 
 /// The angle source that a time record's columns and flags choose, with
@@ -321,7 +366,7 @@ impl TimeRecord {
         if roles.quantity != Quantity::Pressure {
             return Err(at(line, None, "a time record holds pressure, not torque"));
         }
-        let v = roles.values[0];
+        let (v, others, cylinders) = per_cylinder(roles, opts, line)?;
         let (p_scale, offset) = value_scale(roles, v.scale, opts, line)?;
         let tdc_deg = opts.tdc_given.then_some(opts.tdc_deg);
         let mut unused = Vec::new();
@@ -344,6 +389,11 @@ impl TimeRecord {
         };
         let probe = (!matches!(source, Source::Clock(_))).then(Vec::new);
         let mut cycles = Cycles::new(opts.cycle_deg, tdc_deg, firing);
+        let mut source = source;
+        match &mut source {
+            Source::Clock(c) => c.others = cylinders,
+            _ => cycles.others = cylinders,
+        }
         if let Source::Crank(c) = &source {
             cycles.recur = Some(match &c.kind {
                 teeth::Kind::Encoder(e) => (
@@ -380,6 +430,8 @@ impl TimeRecord {
             flag_rpm: opts.rpm,
             operating_rpm: opts.operating_rpm,
             unused,
+            row_others: Vec::with_capacity(others.len()),
+            others,
         })
     }
 
@@ -421,6 +473,18 @@ impl TimeRecord {
                     ),
                 ));
             }
+        }
+        if !self.others.is_empty() {
+            self.row_others.clear();
+            for &(col, scale, offset) in &self.others {
+                self.row_others
+                    .push(cells.number(col, line)? * scale + offset);
+            }
+            let held = match &mut self.source {
+                Source::Clock(c) => &mut c.others,
+                _ => &mut self.cycles.others,
+            };
+            held.hold(line, self.row_others.iter().copied());
         }
         if let Source::Clock(c) = &mut self.source {
             let a = (t - c.t0) * c.deg_per_s - self.tdc_deg.unwrap_or(0.0);
@@ -566,9 +630,13 @@ impl TimeRecord {
             )));
         }
         head.tdc_placement = Some(self.placement());
-        said.push_str(&format!("; {complete} whole cycles"));
+        let plural = |n: usize| if n == 1 { "" } else { "s" };
+        said.push_str(&format!("; {complete} whole cycle{}", plural(complete)));
         if partial > 0 {
-            said.push_str(&format!(", {partial} partial ones at the ends left out"));
+            said.push_str(&format!(
+                ", {partial} partial {} at the ends left out",
+                if partial == 1 { "one" } else { "ones" }
+            ));
         }
         head.notes.push(said);
         if !self.unused.is_empty() {
