@@ -84,7 +84,7 @@ fn finish(
     let engine = &loaded.engine;
     let analysis = &outcome.analysis;
     crate::say_all(&analysis.summary.notes);
-    let inputs = enginedyn_session::inputs::of(loaded, files)?;
+    let inputs = enginedyn_session::inputs::of_hashed(loaded, files, &outcome.diagram_blake3)?;
     if a.json {
         let json = enginedyn_report::summary_json(&analysis.summary, &inputs);
         crate::emit(&(serde_json::to_string_pretty(&json).unwrap_or_default() + "\n"));

@@ -448,7 +448,8 @@ impl NativeSession {
                 }
             }
             let outcome = s.analyse_cancellable(&inputs, &token)?;
-            let inputs = enginedyn_session::inputs::of(&s.loaded, &inputs)?;
+            let inputs =
+                enginedyn_session::inputs::of_hashed(&s.loaded, &inputs, &outcome.diagram_blake3)?;
             Ok(Run::new(&s, outcome, inputs))
         })
     }
@@ -466,8 +467,8 @@ impl NativeSession {
 
     /// One operating point from named float64 columns (C-contiguous);
     /// with `pressure` and `pressures` (2-D, one row a cylinder), one
-    /// pressure column per cylinder under that name, read as per-cylinder
-    /// files are.
+    /// pressure column per cylinder, read as a record whose header names
+    /// its cylinders.
     #[pyo3(signature = (names, columns, rpm=None, pressure=None, pressures=None))]
     fn analyse_columns(
         &self,
@@ -582,6 +583,10 @@ impl NativeSession {
                 enginedyn_session::options::MAX_JOBS
             )));
         }
+        // One file, one row: a file named twice (`a.csv`, `./a.csv`) is
+        // analysed once, by its canonical path, as a campaign's list is.
+        let (keyed, twice) = enginedyn_session::batch::unique(paths);
+        let paths: Vec<PathBuf> = keyed.into_iter().map(|(_, p)| p).collect();
         let s = self.session.clone();
         let cancel = enginedyn_ingest::Cancel::new();
         let token = cancel.clone();
@@ -630,6 +635,7 @@ impl NativeSession {
                 session: s.clone(),
                 rows,
                 summaries,
+                listed: twice.into_iter().collect(),
             })
         })
     }
@@ -641,6 +647,8 @@ struct NativeBatch {
     session: Arc<Session>,
     rows: Vec<enginedyn_session::campaign::Row>,
     summaries: Vec<Option<String>>,
+    /// What the list itself gave (a file named twice).
+    listed: Vec<String>,
 }
 
 #[pymethods]
@@ -648,6 +656,11 @@ impl NativeBatch {
     /// The files, as given.
     fn files(&self) -> Vec<String> {
         self.rows.iter().map(|r| r.file.clone()).collect()
+    }
+
+    /// The notes of the file list itself (a file named more than once).
+    fn listed(&self) -> Vec<String> {
+        self.listed.clone()
     }
 
     /// Each file's error (`None` when it ran).

@@ -229,10 +229,27 @@ pub fn load_file_hashed(
     grid: &GridOptions,
     on_grid: &mut std::time::Duration,
 ) -> Result<(Resampled, String)> {
-    let mut reader = std::io::BufReader::with_capacity(1 << 12, Hashing::new(open_diagram(p)?));
+    let mut reader = hashing_reader(p, parse)?;
     let r = enginedyn_ingest::load_timed(&mut reader, parse, grid, on_grid)
         .map_err(|e| Error::from(e).in_file(p.display()))?;
     Ok((r, finish_hash(reader, p)?))
+}
+
+/// [`load_diagram`], with a file's BLAKE3 hashed in the same read (`None`
+/// for text in memory: `inputs` hashes it there).
+pub fn load_diagram_hashed(
+    input: Input<'_>,
+    parse: &ParseOptions,
+    grid: &GridOptions,
+) -> Result<(Resampled, Option<String>)> {
+    match input {
+        Input::File(p) => {
+            let mut unused = std::time::Duration::ZERO;
+            let (r, hash) = load_file_hashed(p, parse, grid, &mut unused)?;
+            Ok((r, Some(hash)))
+        }
+        other => Ok((load_diagram(other, parse, grid)?, None)),
+    }
 }
 
 /// [`parse_diagram`] of a file, with the BLAKE3 of its bytes.
@@ -240,15 +257,26 @@ pub fn parse_file_hashed(
     p: &Path,
     parse: &ParseOptions,
 ) -> Result<(enginedyn_ingest::Diagram, String)> {
-    let mut reader = std::io::BufReader::with_capacity(1 << 12, Hashing::new(open_diagram(p)?));
+    let mut reader = hashing_reader(p, parse)?;
     let d = enginedyn_ingest::parse(&mut reader, parse)
         .map_err(|e| Error::from(e).in_file(p.display()))?;
     Ok((d, finish_hash(reader, p)?))
 }
 
-fn finish_hash(reader: std::io::BufReader<Hashing<std::fs::File>>, p: &Path) -> Result<String> {
+/// A file read through the hash, stopped by `parse.cancel`.
+type HashingReader = std::io::BufReader<enginedyn_ingest::Cancellable<Hashing<std::fs::File>>>;
+
+fn hashing_reader(p: &Path, parse: &ParseOptions) -> Result<HashingReader> {
+    Ok(std::io::BufReader::with_capacity(
+        1 << 12,
+        enginedyn_ingest::Cancellable::new(Hashing::new(open_diagram(p)?), parse.cancel.clone()),
+    ))
+}
+
+fn finish_hash(reader: HashingReader, p: &Path) -> Result<String> {
     // What the BufReader holds unread was hashed when it was read.
     reader
+        .into_inner()
         .into_inner()
         .finish()
         .map_err(|e| Error::io(format!("cannot read: {e}")).in_file(p.display()))

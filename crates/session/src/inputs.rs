@@ -1,5 +1,5 @@
 //! `summary.json`'s `inputs`: what a result came from (the engine file and
-//! the diagram files as given, their SHA-256 hashes, the version).
+//! the diagram files as given, their BLAKE3 hashes, the version).
 
 use crate::diagram::Input;
 use crate::engine::Loaded;
@@ -9,18 +9,38 @@ use enginedyn_report::{Inputs, Source};
 /// The engine's record (its file, the bundled example's text, or the text
 /// it was given as) with the `diagrams`.
 pub fn of(loaded: &Loaded, diagrams: &[Input<'_>]) -> Result<Inputs> {
+    of_hashed(loaded, diagrams, &[])
+}
+
+/// [`of`], with the diagram files' BLAKE3 as their read hashed them
+/// (`hashes[k]` for `diagrams[k]`; a file without one is read again to
+/// hash it). The engine file is hashed from the text that was read.
+pub fn of_hashed(
+    loaded: &Loaded,
+    diagrams: &[Input<'_>],
+    hashes: &[Option<String>],
+) -> Result<Inputs> {
+    let engine_hash;
     let engine = match (&loaded.path, loaded.bundled) {
-        (Some(p), _) => Source::File(p),
+        (Some(p), _) => {
+            // `text` holds the file's bytes as read (UTF-8, unchanged).
+            engine_hash = blake3::hash(loaded.text.as_bytes()).to_hex().to_string();
+            Source::Hashed(p, &engine_hash)
+        }
         (None, Some(b)) => Source::Bundled(b.engine.as_bytes()),
         (None, None) => Source::Text("text", loaded.text.as_bytes()),
     };
     let diagrams: Vec<Source<'_>> = diagrams
         .iter()
-        .map(|d| match d {
-            Input::File(p) => Source::File(p),
-            Input::Bundled(b) => Source::Bundled(b.diagram.as_bytes()),
-            Input::Synthesised(s) => Source::Text("synthesised", s.text.as_bytes()),
-        })
+        .enumerate()
+        .map(
+            |(k, d)| match (d, hashes.get(k).and_then(Option::as_deref)) {
+                (Input::File(p), Some(h)) => Source::Hashed(p, h),
+                (Input::File(p), None) => Source::File(p),
+                (Input::Bundled(b), _) => Source::Bundled(b.diagram.as_bytes()),
+                (Input::Synthesised(s), _) => Source::Text("synthesised", s.text.as_bytes()),
+            },
+        )
         .collect();
     Ok(Inputs::new(engine, &diagrams)?)
 }

@@ -4,7 +4,8 @@
 //! within a tolerance).
 
 use crate::diagram::{
-    Input, check_step, diagram_options, load_diagram, merge_per_cylinder, parse_diagram,
+    Input, check_step, diagram_options, load_diagram, load_diagram_hashed, merge_per_cylinder,
+    parse_diagram,
 };
 use crate::engine::Loaded;
 use crate::error::{Error, Result};
@@ -48,6 +49,9 @@ pub struct Outcome {
     /// The diagram on the grid with its per-cycle figures (the cycles
     /// table), when the run read one grid.
     pub resampled: Option<Resampled>,
+    /// Each diagram file's BLAKE3, hashed as it was read (`None` where it
+    /// was not: text in memory, or a command that reads it otherwise).
+    pub diagram_blake3: Vec<Option<String>>,
 }
 
 impl Session {
@@ -100,6 +104,7 @@ impl Session {
             return self.analyse_within(inputs, t);
         }
         let several = inputs.len() > 1;
+        let mut hashes = Vec::with_capacity(inputs.len());
         let loaded = inputs
             .iter()
             .enumerate()
@@ -108,12 +113,15 @@ impl Session {
                     cancel: cancel.clone(),
                     ..self.cylinder_parse(several, k)
                 };
-                Ok((input.shown(), load_diagram(*input, &parse, &self.grid)?))
+                let (r, hash) = load_diagram_hashed(*input, &parse, &self.grid)?;
+                hashes.push(hash);
+                Ok((input.shown(), r))
             })
             .collect::<Result<Vec<_>>>()?;
         let resampled = merge_per_cylinder(loaded)?;
         let mut out = self.analyse_resampled(&resampled, &shown_of(inputs))?;
         out.resampled = Some(resampled);
+        out.diagram_blake3 = hashes;
         Ok(out)
     }
 
@@ -132,6 +140,7 @@ impl Session {
             analysis,
             opts: self.opts,
             resampled: None,
+            diagram_blake3: Vec::new(),
         })
     }
 
@@ -166,6 +175,7 @@ impl Session {
             analysis,
             opts: self.opts,
             resampled: None,
+            diagram_blake3: Vec::new(),
         })
     }
 
@@ -203,15 +213,18 @@ impl Session {
             analysis,
             opts: self.opts,
             resampled: Some(resampled),
+            diagram_blake3: Vec::new(),
         })
     }
 
     /// One operating point from named columns with one pressure column per
     /// cylinder (`pressures[k]`, cylinder k + 1, under the name `pressure`
-    /// beside `names`): each cylinder read as one of several per-cylinder
-    /// files is (`run --diagram a --diagram b …`), the shared columns (a
-    /// time record's time, pulse, encoder) with each, then merged as those
-    /// files are. One pressure column is [`Session::analyse_columns`].
+    /// beside `names`): read as a file whose header names the cylinders
+    /// (`P_Cyl1 [bar]` …), so every cylinder lies on the one crank angle
+    /// the shared columns give (a time record's time, pulse, encoder: the
+    /// reference cylinder 1's) and the peaks say whether each trace is on
+    /// that axis or its own. One pressure column is
+    /// [`Session::analyse_columns`].
     #[allow(clippy::too_many_arguments)]
     pub fn analyse_cylinder_columns(
         &self,
@@ -222,56 +235,21 @@ impl Session {
         rpm: Option<f64>,
         cancel: &Cancel,
     ) -> Result<Outcome> {
-        fn with<'a>(
-            names: &[String],
-            columns: &[&'a [f64]],
-            pressure: &str,
-            p: &'a [f64],
-        ) -> (Vec<String>, Vec<&'a [f64]>) {
-            let mut n = names.to_vec();
-            n.push(pressure.to_string());
-            let mut c: Vec<&[f64]> = columns.to_vec();
-            c.push(p);
-            (n, c)
-        }
+        let unit = match pressure.strip_prefix("pressure_") {
+            Some("v") => "V",
+            Some(u) => u,
+            None => pressure,
+        };
+        let mut n = names.to_vec();
+        let mut c = columns.to_vec();
         if let [one] = pressures {
-            let (n, c) = with(names, columns, pressure, one);
-            return self.analyse_columns(&n, &c, rpm, cancel);
+            n.push(pressure.to_string());
+            c.push(one);
+        } else {
+            n.extend((1..=pressures.len()).map(|k| format!("P_Cyl{k} [{unit}]")));
+            c.extend(pressures.iter().copied());
         }
-        let rpm = rpm.or(self.reader.rpm);
-        if let Some(r) = rpm {
-            crate::options::check_rpm(r).map_err(|w| Error::usage(format!("rpm: {w}")))?;
-        }
-        let several = pressures.len() > 1;
-        let loaded = pressures
-            .iter()
-            .enumerate()
-            .map(|(k, p)| {
-                let (n, c) = with(names, columns, pressure, p);
-                let parse = ParseOptions {
-                    rpm,
-                    cancel: cancel.clone(),
-                    ..self.cylinder_parse(several, k)
-                };
-                let shown = format!("arrays, cylinder {}", k + 1);
-                let r = enginedyn_ingest::load_columns(&n, &c, &parse, &self.grid)
-                    .map_err(|e| Error::from(e).in_file(&shown))?;
-                Ok((shown, r))
-            })
-            .collect::<Result<Vec<_>>>()?;
-        let resampled = merge_per_cylinder(loaded)?;
-        if resampled.quantity != Quantity::Pressure {
-            return Err(Error::data("arrays: a turning moment, not a pressure"));
-        }
-        let engine = self.engine();
-        let speed = resolve_rpm(rpm, resampled.rpm, engine)?;
-        let mut analysis = enginedyn_pipeline::analyse(engine, &resampled, speed.rpm, &self.opts)?;
-        analysis.summary.notes.extend(speed.note);
-        Ok(Outcome {
-            analysis,
-            opts: self.opts,
-            resampled: Some(resampled),
-        })
+        self.analyse_columns(&n, &c, rpm, cancel)
     }
 
     /// Ingest's options for the `k`-th of several per-cylinder files
@@ -333,6 +311,7 @@ impl Session {
                 ..choice.options
             },
             resampled: None,
+            diagram_blake3: Vec::new(),
         })
     }
 }

@@ -5,4 +5,5 @@
 //! left out.
 
 mod engine_file;
+mod provenance;
 mod studies;

@@ -882,8 +882,10 @@ class Session:
         """Many diagram files on ``jobs`` threads (0 or -1: one per core, -2:
         all but one, as in joblib; use 1 inside Dask, joblib or
         multiprocessing workers). A failed file is a row with ``error``,
-        never an exception. Each distinct warning is issued once, with the
-        number of files that gave it."""
+        never an exception. A file named twice (``a.csv``, ``./a.csv``) is
+        one row, by its canonical path, with a warning naming the names.
+        Each distinct warning is issued once, with the number of files that
+        gave it."""
         if isinstance(paths, (str, bytes, _os.PathLike)):
             raise TypeError(
                 f"paths=: a list of files is needed, not one path ({paths!r}): "
@@ -900,7 +902,9 @@ class Session:
             self._summary_only = _native.NativeSession(
                 self.engine._native, self.method.as_dict(), self.reader.as_dict(), False
             )
-        b = Batch(self._summary_only.batch([_os.fspath(p) for p in paths], jobs))
+        native = self._summary_only.batch([_os.fspath(p) for p in paths], jobs)
+        _warn(native.listed())
+        b = Batch(native)
         counts: Dict[str, int] = {}
         for w in b.warnings:
             for line in dict.fromkeys(w):
