@@ -409,11 +409,15 @@ def test_the_notebook_shows_units_and_rounded_figures():
     r = session().analyse("data/single.csv")
     html = r._repr_html_()
     s = r.summary
-    assert f"<th style='text-align:left'>IMEP</th><td style='text-align:right'>{s['imep_bar']:,.2f}</td><td>bar</td>" in html
-    assert f"{s['mean_torque_nm']:,.1f}</td><td>N·m</td>" in html
+    assert f"<th style='text-align:left'>IMEP</th><td style='text-align:right'>{s['imep_bar']:,.3f}</td><td>bar</td>" in html
+    # Labels, units and decimals are the CLI's readable table's (KEYS).
+    assert f"{s['mean_torque_nm']:,.2f}</td><td>N m</td>" in html
+    assert f"{s['flywheel_inertia_kg_m2']:,.5f}</td><td>kg m²</td>" in html
+    with pytest.raises(KeyError):
+        ed._native.shown("models")
     b = session().batch(["data/single.csv", "no/such.csv"], jobs=1)
     bh = b._repr_html_()
-    assert "<th>IMEP (bar)</th>" in bh and f"{s['imep_bar']:,.2f}" in bh and "error: " in bh
+    assert "<th>IMEP (bar)</th>" in bh and f"{s['imep_bar']:,.3f}" in bh and "error: " in bh
 
 
 def test_a_result_saves_and_loads(tmp_path):

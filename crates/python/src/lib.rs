@@ -706,7 +706,9 @@ impl NativeBatch {
     /// same files `batch --shard part/parts --parquet dir` writes. `paths`:
     /// the whole campaign's files (every shard's; default: this batch's);
     /// `overwrite`: replace another campaign's parts (`--replace`).
-    #[pyo3(signature = (dir, part=0, parts=1, traces=false, paths=None, overwrite=false))]
+    /// `list_blake3`: the whole list's hash from `list_plan` (then `paths`
+    /// is not needed: each task of a campaign handles its own files only).
+    #[pyo3(signature = (dir, part=0, parts=1, traces=false, paths=None, overwrite=false, list_blake3=None))]
     #[allow(clippy::too_many_arguments)]
     fn write_parquet(
         &self,
@@ -717,13 +719,25 @@ impl NativeBatch {
         traces: bool,
         paths: Option<Vec<PathBuf>>,
         overwrite: bool,
+        list_blake3: Option<String>,
     ) -> PyResult<Vec<PathBuf>> {
         let shard = enginedyn_session::batch::Shard::new(part, parts)
             .map_err(|e| UsageError::new_err(format!("part/parts: {e}")))?;
-        py.detach(|| {
-            let list = paths.as_deref();
-            self.session
-                .write_parts(&dir, shard, list, &self.rows, traces, overwrite)
+        py.detach(|| match list_blake3 {
+            Some(hash) => {
+                let plan = self
+                    .session
+                    .plan_listed(&dir, shard, hash, traces, overwrite)?;
+                self.session.write_plan(&plan, &self.rows)
+            }
+            None => self.session.write_parts(
+                &dir,
+                shard,
+                paths.as_deref(),
+                &self.rows,
+                traces,
+                overwrite,
+            ),
         })
         .py()
     }
@@ -731,6 +745,17 @@ impl NativeBatch {
 
 /// The paths of shard `part` of `parts`: sorted bytewise, path k to shard
 /// k mod N (the rule of `batch --shard`).
+/// A campaign's list planned once: its BLAKE3 and each part's files.
+#[pyfunction]
+fn list_plan(
+    py: Python<'_>,
+    paths: Vec<PathBuf>,
+    parts: usize,
+) -> PyResult<(String, Vec<Vec<PathBuf>>)> {
+    py.detach(|| enginedyn_session::campaign::list_plan(&paths, parts))
+        .py()
+}
+
 #[pyfunction]
 fn shard(paths: Vec<PathBuf>, part: usize, parts: usize) -> PyResult<Vec<PathBuf>> {
     let s = enginedyn_session::batch::Shard::new(part, parts)
@@ -971,6 +996,16 @@ impl Run {
 
 /// What a channel or column name (with its unit) reads as: the canonical
 /// column and the factor from its unit, by the reader's own resolver.
+/// How the readable tables head the summary key `key`: (label, unit,
+/// SI-to-display scale, decimals); `KeyError` for a key that is not a
+/// figure of the summary.
+#[pyfunction]
+fn shown(key: &str) -> PyResult<(&'static str, &'static str, f64, usize)> {
+    enginedyn_pipeline::Summary::key(key)
+        .and_then(enginedyn_report::key_heading)
+        .ok_or_else(|| pyo3::exceptions::PyKeyError::new_err(key.to_string()))
+}
+
 #[pyfunction]
 fn canonical(name: &str) -> Option<(&'static str, f64)> {
     enginedyn_ingest::canonical(name)
@@ -1005,8 +1040,10 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check_reader, m)?)?;
     m.add_function(wrap_pyfunction!(check_method, m)?)?;
     m.add_function(wrap_pyfunction!(canonical, m)?)?;
+    m.add_function(wrap_pyfunction!(shown, m)?)?;
     m.add_function(wrap_pyfunction!(speeds, m)?)?;
     m.add_function(wrap_pyfunction!(shard, m)?)?;
+    m.add_function(wrap_pyfunction!(list_plan, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
     m.add_function(wrap_pyfunction!(severity, m)?)?;
     m.add_function(wrap_pyfunction!(in_keywords, m)?)?;

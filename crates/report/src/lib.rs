@@ -45,8 +45,8 @@ pub use out::{
     replace_file, sha256_file, sha256_hex,
 };
 pub use tables::{
-    KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_table, sweep_figure,
-    sweep_map_figure,
+    KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_heading, key_table,
+    sweep_figure, sweep_map_figure,
 };
 pub use text::{heading, summary_table};
 pub use tolerance::{

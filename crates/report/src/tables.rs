@@ -56,21 +56,31 @@ impl Column {
 
 fn columns(keys: &[&Key], s: &Summary) -> Vec<Column> {
     keys.iter()
-        .map(|k| match k.shown.as_ref() {
-            Some(shown) => Column {
-                heading: crate::label(shown, s),
-                unit: shown.unit,
-                scale: shown.scale,
-                digits: shown.digits,
-            },
-            None => Column {
-                heading: "speed".into(),
-                unit: "rpm",
-                scale: 1.0,
-                digits: 0,
-            },
+        .map(|k| {
+            let (label, unit, scale, digits) = key_heading(k).unwrap_or((k.key, "", 1.0, 0));
+            Column {
+                heading: k
+                    .shown
+                    .as_ref()
+                    .map_or(label.into(), |sh| crate::label(sh, s)),
+                unit,
+                scale,
+                digits,
+            }
         })
         .collect()
+}
+
+/// How a key figure's column is headed: its label (without the
+/// indicated/effective basis), unit, SI-to-display scale and decimals; the
+/// speed, shown otherwise in the readable tables, as "speed (rpm)". `None`
+/// for the keys no table shows as a figure (`models`, `notes`, …).
+pub fn key_heading(k: &Key) -> Option<(&'static str, &'static str, f64, usize)> {
+    match (k.shown.as_ref(), k.key) {
+        (Some(sh), _) => Some((sh.label, sh.unit, sh.scale, sh.digits)),
+        (None, "rpm") => Some(("speed", "rpm", 1.0, 0)),
+        (None, _) => None,
+    }
 }
 
 /// A summary's figures of `keys` ([`KEY_FIGURES`], [`SWEEP_FIGURES`]) in

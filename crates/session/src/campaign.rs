@@ -32,6 +32,25 @@ fn unique_keys(keys: &[Vec<u8>]) -> Vec<&[u8]> {
     k
 }
 
+/// A campaign's list cut into `parts` shards, each file's identity taken
+/// once: the list's BLAKE3 (`enginedyn.campaign`'s `list_blake3`) and
+/// each part's files by the shard rule. What a scheduler plans on its
+/// client, so that a task handles its own files only.
+pub fn list_plan(list: &[PathBuf], parts: usize) -> Result<(String, Vec<Vec<PathBuf>>)> {
+    let keyed: Vec<(Vec<u8>, PathBuf)> =
+        list.iter().map(|p| (canonical_key(p), p.clone())).collect();
+    let keys: Vec<Vec<u8>> = keyed.iter().map(|(k, _)| k.clone()).collect();
+    let hash = enginedyn_tables::list_blake3(&unique_keys(&keys));
+    let shards = (0..parts)
+        .map(|i| {
+            Shard::new(i, parts)
+                .map(|s| s.take_keyed(&keyed))
+                .map_err(|e| Error::usage(format!("parts: {e}")))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok((hash, shards))
+}
+
 /// A path as a table's `file` column holds it: the path as given, a name
 /// that is not UTF-8 escaped as `\xNN` without loss.
 pub fn shown(p: &Path) -> String {
@@ -171,13 +190,27 @@ impl Session {
         traces: bool,
         replace: bool,
     ) -> Result<Plan> {
+        let list = enginedyn_tables::list_blake3(&unique_keys(keys));
+        self.plan_listed(dir, shard, list, traces, replace)
+    }
+
+    /// [`Session::plan_keys`] of a list known by its hash ([`list_plan`]:
+    /// computed once for every part of a campaign, not in each task).
+    pub fn plan_listed(
+        &self,
+        dir: &Path,
+        shard: Shard,
+        list_blake3: String,
+        traces: bool,
+        replace: bool,
+    ) -> Result<Plan> {
         let mut meta = self.meta()?;
         let mut tables = vec![Table::Summary, Table::Cycles];
         if traces {
             tables.push(Table::Traces);
         }
         meta.campaign = Some(Campaign {
-            list_blake3: enginedyn_tables::list_blake3(&unique_keys(keys)),
+            list_blake3,
             parts: shard.count,
             part: shard.index,
             tables,

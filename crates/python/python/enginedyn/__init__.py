@@ -376,8 +376,9 @@ class _Frozen:
 
 
 def _state_of(native: Any) -> Dict[str, Any]:
-    """Everything a result answers, as plain data (exact: arrays as lists of
-    the very floats)."""
+    """Everything a result answers, as plain data (exact: arrays of the very
+    floats; NumPy arrays pickle as their bytes, ``to_folder`` writes them
+    as JSON lists)."""
     if isinstance(native, _Frozen):
         return native._state
     cycles: Dict[str, Any] = {}
@@ -386,8 +387,8 @@ def _state_of(native: Any) -> Dict[str, Any]:
     return {
         "summary_json": native.summary_json(),
         "notes": list(native.notes),
-        "curves": {k: v.tolist() for k, v in native.curves(False).items()},
-        "harmonics": {k: v.tolist() for k, v in native.harmonics().items()},
+        "curves": dict(native.curves(False)),
+        "harmonics": dict(native.harmonics()),
         "cycles": cycles,
         "summary_parquet": native.summary_parquet(),
         "charts": list(native.charts()),
@@ -494,6 +495,8 @@ class Result:
             with open(target, "wb") as f:
                 f.write(data)
         kept = {k: v for k, v in state.items() if k not in ("files", "summary_parquet")}
+        for arrays in ("curves", "harmonics"):
+            kept[arrays] = {k: np.asarray(v).tolist() for k, v in state[arrays].items()}
         kept["files"] = [n for n, _ in state["files"]]
         with open(_os.path.join(folder, _SAVED), "w", encoding="utf-8") as f:
             _json.dump(kept, f)
@@ -522,8 +525,8 @@ class Result:
     def _repr_html_(self) -> str:
         s = self.summary
         rows = "".join(
-            f"<tr><th style='text-align:left'>{label}</th><td style='text-align:right'>{_figure(s.get(k), digits)}</td><td>{unit}</td></tr>"
-            for k, label, unit, digits in _SHOWN
+            f"<tr><th style='text-align:left'>{label}</th><td style='text-align:right'>{_figure(s.get(k), scale, digits)}</td><td>{unit}</td></tr>"
+            for k, label, unit, scale, digits in _SHOWN
             if k in s
         )
         warned = "".join(f"<li style='color:#b45309'>&#9888; warning: {_esc(w)}</li>" for w in self.warnings)
@@ -543,24 +546,29 @@ def _result_from_state(state: Dict[str, Any]) -> Result:
     return Result(_Frozen(state))
 
 
-# The summary's figures a notebook shows: key, label, unit, decimals.
-_SHOWN = (
-    ("rpm", "speed", "rpm", 0),
-    ("imep_bar", "IMEP", "bar", 2),
-    ("mean_torque_nm", "mean torque", "N·m", 1),
-    ("power_kw", "power", "kW", 2),
-    ("torque_max_nm", "torque max", "N·m", 1),
-    ("torque_min_nm", "torque min", "N·m", 1),
-    ("torque_nonuniformity", "torque non-uniformity", "", 3),
-    ("flywheel_inertia_kg_m2", "flywheel inertia", "kg·m²", 4),
+# The summary's figures a notebook shows: key, then label, unit, scale and
+# decimals as the CLI's readable tables give them (a key that is not a
+# figure raises KeyError here, at import).
+_SHOWN = tuple(
+    (k, *_native.shown(k))
+    for k in (
+        "rpm",
+        "imep_bar",
+        "mean_torque_nm",
+        "power_kw",
+        "torque_max_nm",
+        "torque_min_nm",
+        "torque_nonuniformity",
+        "flywheel_inertia_kg_m2",
+    )
 )
 
 
-def _figure(v: Any, digits: int) -> str:
+def _figure(v: Any, scale: float, digits: int) -> str:
     if v is None:
         return "—"
     if isinstance(v, (int, float)):
-        return f"{v:,.{digits}f}"
+        return f"{v * scale:,.{digits}f}"
     return _esc(str(v))
 
 
@@ -745,13 +753,15 @@ class Batch:
 
     def _repr_html_(self) -> str:
         summaries = self.summaries()
-        head = "".join(f"<th>{label}{' (' + unit + ')' if unit else ''}</th>" for _, label, unit, _ in _SHOWN[:4])
+        head = "".join(f"<th>{label}{' (' + unit + ')' if unit else ''}</th>" for _, label, unit, _, _ in _SHOWN[:4])
         rows = []
         for f, e, s, w in zip(self.files, self.errors, summaries, self.warnings):
             if s is None:
                 cells = f"<td colspan='4' style='color:#b91c1c'>error: {_esc(e or '')}</td>"
             else:
-                cells = "".join(f"<td style='text-align:right'>{_figure(s.get(k), d)}</td>" for k, _, _, d in _SHOWN[:4])
+                cells = "".join(
+                    f"<td style='text-align:right'>{_figure(s.get(k), sc, d)}</td>" for k, _, _, sc, d in _SHOWN[:4]
+                )
             mark = f" <span style='color:#b45309' title='{_esc('; '.join(w))}'>&#9888; {len(w)}</span>" if w else ""
             rows.append(f"<tr><td>{_esc(f)}{mark}</td>{cells}</tr>")
         shown = rows if len(rows) <= 20 else rows[:10] + ["<tr><td colspan='5'>…</td></tr>"] + rows[-10:]
