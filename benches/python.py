@@ -48,19 +48,23 @@ def main():
     ap.add_argument("--files", type=int, default=200)
     ap.add_argument("--cycles", type=int, default=10)
     ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--data", help="a folder make_batch.py already wrote (its engine.toml and files): not made again")
     a = ap.parse_args()
     import enginedyn as ed
     from distributed import Client, LocalCluster
     from enginedyn.dask import map_campaign
 
-    work = tempfile.mkdtemp(prefix="edpy_")
-    subprocess.run(
-        [sys.executable, os.path.join(SHARED, "make_batch.py"), work, "--files", str(a.files), "--cycles", str(a.cycles)],
-        check=True,
-        capture_output=True,
-    )
+    if a.data:
+        work = a.data
+    else:
+        work = tempfile.mkdtemp(prefix="edpy_")
+        subprocess.run(
+            [sys.executable, os.path.join(SHARED, "make_batch.py"), work, "--files", str(a.files), "--cycles", str(a.cycles)],
+            check=True,
+            capture_output=True,
+        )
     engine = os.path.join(work, "engine.toml")
-    files = sorted(os.path.join(work, f) for f in os.listdir(work) if f.endswith(".csv"))
+    files = sorted(os.path.join(work, f) for f in os.listdir(work) if f.endswith(".csv"))[: a.files]
     for f in files:
         open(f, "rb").read()
     s = ed.Session(ed.Engine.from_toml(engine))
