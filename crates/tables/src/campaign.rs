@@ -264,7 +264,15 @@ pub fn prepare(
             };
             let meta = match what {
                 Some(_) => None,
-                None => crate::merge::metadata(&path).ok(),
+                None => match crate::merge::metadata(&path) {
+                    Ok(m) => Some(m),
+                    // Gone since the folder was listed: the run of that
+                    // part replacing it (its commit removes the old part
+                    // before the new one is moved in) in a campaign whose
+                    // parts run at once.
+                    Err(_) if std::fs::symlink_metadata(&path).is_err() => continue,
+                    Err(_) => None,
+                },
             };
             let Some(meta) = meta.filter(|m| m.contains_key(crate::META_KEYS[0])) else {
                 return Err(TablesError::InTheWay {
