@@ -210,7 +210,7 @@ pub(crate) fn finish(
         .angle_deg
         .iter()
         .map(|a| {
-            let w = a.rem_euclid(cycle);
+            let w = enginedyn_numerics::scan::rem_euclid(*a, cycle);
             if w >= cycle { 0.0 } else { w }
         })
         .collect();

@@ -95,8 +95,69 @@ pub fn step_range(v: &[f64]) -> (f64, f64) {
     l.finish()
 }
 
+/// `x.rem_euclid(c)`, bit for bit, without the software `fmod` that `%`
+/// on `f64` calls (about a hundred instructions: a fifth of reading a
+/// record whose angle runs on) when `c` is a whole number of degrees (a
+/// cycle, 360 or 720). The remainder of `|x|` is `|x| − k c` with
+/// `k = ⌊|x|/c⌋` corrected by one where the division rounded across an
+/// integer: exact, as `fmod` is (Sterbenz), as long as `k c` is exact (a
+/// whole `c` under 2²⁰ and `|x|` under 2⁵²). Otherwise, and for NaN or
+/// infinities, `f64::rem_euclid` itself.
+pub fn rem_euclid(x: f64, c: f64) -> f64 {
+    let a = x.abs();
+    if !(a < 4.5e15) || !(c > 0.0 && c < 1e6 && c.fract() == 0.0) {
+        return x.rem_euclid(c);
+    }
+    let k = (a / c).floor();
+    let mut m = a - k * c;
+    if m < 0.0 {
+        m += c;
+    } else if m >= c {
+        m -= c;
+    }
+    // `fmod` keeps the sign of `x` (−0 too); `rem_euclid` then adds `c`
+    // to a negative remainder.
+    let r = m.copysign(x);
+    if r < 0.0 { r + c } else { r }
+}
+
 #[cfg(test)]
 mod tests {
+    /// The same bits as `f64::rem_euclid` over angles as files hold them
+    /// (running on, negative, on and beside multiples of the cycle,
+    /// −0, huge, NaN) for the cycles a record has.
+    #[test]
+    fn rem_euclid_is_the_std_ones_bit_for_bit() {
+        let mut xs: Vec<f64> = vec![
+            0.0, -0.0, 720.0, -720.0, 1440.0, 1e-300, -1e-300, 4.6e15, -9e18, 1e300,
+        ];
+        for k in -3000..3000 {
+            let a = k as f64 * 0.1;
+            xs.extend([
+                a,
+                a * 7.3,
+                a + 1e-13,
+                a - 1e-13,
+                k as f64 * 720.0,
+                k as f64 * 360.0 + 0.05,
+            ]);
+            xs.push(f64::from_bits((k as f64 * 720.0).to_bits().wrapping_sub(1)));
+        }
+        // Whole cycles take the fast path; the others, `f64::rem_euclid`.
+        for &c in &[720.0, 360.0, 1.0, 3.0, 0.1, 1.0 / 3.0] {
+            for &x in &xs {
+                let (got, want) = (super::rem_euclid(x, c), x.rem_euclid(c));
+                assert_eq!(
+                    got.to_bits(),
+                    want.to_bits(),
+                    "{x} mod {c}: {got} vs {want}"
+                );
+            }
+        }
+        assert!(super::rem_euclid(f64::NAN, 720.0).is_nan());
+        assert!(super::rem_euclid(f64::INFINITY, 720.0).is_nan());
+    }
+
     use super::*;
     use proptest::prelude::*;
 

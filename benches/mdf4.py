@@ -1,0 +1,109 @@
+#!/usr/bin/env python3
+"""The MDF4 reader against the CSV reader on the same samples.
+
+usage: benches/mdf4.py [--cycles 60] [--rounds 5] [--copies 10] [--bin PATH]
+       (with the virtual environment's python: numpy and asammdf)
+
+- One bench file from ../shared/bench/make_batch.py (the inline-6 diesel,
+  --cycles cycles at 0.1°) is written again as an MDF4 file (asammdf,
+  version 4.10): an angle master `crank_deg` in degrees that runs on over
+  the cycles, and one `pressure` channel in bar, float64, one channel
+  group, uncompressed; and as a CSV of the same two columns (the angle
+  running on too, so both go through the same cut at firing TDC).
+- Before timing, each is read once with `run --json` and their IMEP
+  compared: equal to the bit, or the bench stops.
+- Parsing is timed as `enginedyn batch --parse-only --jobs 1` over --copies
+  hard links of each file (one process, start-up included), --rounds
+  times, alternating; medians. Reported per pressure value (M values/s)
+  and the MDF4 rate over the CSV's.
+
+Prints a Markdown table.
+"""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+SHARED = os.path.join(ROOT, "..", "shared", "bench")
+BIN = os.path.join(ROOT, "target", "release", "enginedyn")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--cycles", type=int, default=60)
+    ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--copies", type=int, default=10)
+    ap.add_argument("--bin", default=BIN)
+    a = ap.parse_args()
+    import asammdf
+    import numpy as np
+
+    d = tempfile.mkdtemp(prefix="edmdf_")
+    subprocess.run(
+        [sys.executable, os.path.join(SHARED, "make_batch.py"), d, "--files", "1", "--cycles", str(a.cycles)],
+        check=True,
+        capture_output=True,
+    )
+    engine = os.path.join(d, "engine.toml")
+    src = next(os.path.join(d, f) for f in os.listdir(d) if f.endswith(".csv"))
+    rows = [r for r in open(src).read().splitlines() if r and not r.startswith("#")]
+    head = rows[0].split(",")
+    data = np.array([r.split(",") for r in rows[1:]], dtype=float)
+    angle = np.arange(len(data)) / 10.0
+    p = data[:, head.index("pressure_bar")]
+    csv = os.path.join(d, "run_on.csv")
+    cells = [r.split(",")[head.index("pressure_bar")] for r in rows[1:]]
+    with open(csv, "w") as f:
+        # The bench file's own pressure text; the angle to its 0.1°.
+        f.write("crank_deg,pressure_bar\n")
+        f.writelines(f"{k / 10:.1f},{c}\n" for k, c in enumerate(cells))
+    mf4 = os.path.join(d, "run_on.mf4")
+    m = asammdf.MDF(version="4.10")
+    # An angle master (sync type 2), as an indicating system writes it.
+    m.append([asammdf.Signal(p, angle, name="pressure", unit="bar", master_metadata=("Crank angle", 2))])
+    m.save(mf4, overwrite=True)
+    want = None
+    for f in (csv, mf4):
+        r = subprocess.run([a.bin, "run", "--engine", engine, "--diagram", f, "--json"], capture_output=True, text=True)
+        if r.returncode != 0:
+            print(f"{os.path.basename(f)}: exit {r.returncode}: {r.stderr.strip()}")
+            return 1
+        imep = json.loads(r.stdout)["imep_bar"]
+        want = imep if want is None else want
+        if imep != want:
+            print(f"IMEP differs: {imep} against {want}")
+            return 1
+    links = {}
+    for f in (csv, mf4):
+        links[f] = []
+        for k in range(a.copies):
+            link = f"{f}.{k}{os.path.splitext(f)[1]}"
+            os.link(f, link)
+            links[f].append(link)
+    times = {csv: [], mf4: []}
+    for _ in range(a.rounds):
+        for f in (csv, mf4):
+            for x in links[f]:
+                open(x, "rb").read()
+            t = time.perf_counter()
+            subprocess.run([a.bin, "batch", "--engine", engine, "--parse-only", "--jobs", "1", *links[f]], check=True, capture_output=True)
+            times[f].append(time.perf_counter() - t)
+    values = len(p) * a.copies
+    rate = {f: values / statistics.median(t) / 1e6 for f, t in times.items()}
+    print(f"{a.cycles} cycles at 0.1° ({len(p)} pressure values a file), {a.copies} copies, {a.rounds} rounds, medians; IMEP equal ({want} bar)\n")
+    print("| layout | M values/s | every run (s) |")
+    print("| --- | --- | --- |")
+    for f, name in ((csv, "CSV, angle running on"), (mf4, "MDF4, angle master, float64")):
+        print(f"| {name} | {rate[f]:.1f} | {', '.join(f'{x:.3f}' for x in times[f])} |")
+    print(f"\nMDF4 / CSV rate: {rate[mf4] / rate[csv]:.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
