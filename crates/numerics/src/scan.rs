@@ -105,7 +105,8 @@ pub fn step_range(v: &[f64]) -> (f64, f64) {
 /// infinities, `f64::rem_euclid` itself.
 pub fn rem_euclid(x: f64, c: f64) -> f64 {
     let a = x.abs();
-    if !(a < 4.5e15) || !(c > 0.0 && c < 1e6 && c.fract() == 0.0) {
+    let fast = a < 4.5e15 && c > 0.0 && c < 1e6 && c.fract() == 0.0;
+    if !fast {
         return x.rem_euclid(c);
     }
     let k = (a / c).floor();
