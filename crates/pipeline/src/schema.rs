@@ -3,7 +3,7 @@
 //! and how to get its value. **The one definition**: the Parquet writers
 //! (`enginedyn-tables`) and `summary.csv` (`report::summary_csv`,
 //! `report::flatten`) are built from it; the summary's values come from
-//! [`KEYS`](crate::KEYS) by the column's key, so a figure has one accessor.
+//! [`KEYS`] by the column's key, so a figure has one accessor.
 //!
 //! [`SUMMARY`] lists its columns in `summary.json`'s order (the order of
 //! `summary.csv`); each column's [`Group`] places it in the Parquet table
@@ -159,7 +159,7 @@ pub struct Column<G> {
 }
 
 /// How a [`SUMMARY`] column gets its value: from the row itself, or from
-/// a summary key ([`KEYS`](crate::KEYS)) or one field of an object key.
+/// a summary key ([`KEYS`]) or one field of an object key.
 #[derive(Debug, Clone, Copy)]
 pub enum SummaryGet {
     /// A column of the row's own (`file`, `error`, provenance).
@@ -213,7 +213,7 @@ fn opt_text<'r>(s: Option<&'r str>) -> Cell<'r> {
 
 /// `summary/2`, in `summary.json`'s order (that of `summary.csv`): the
 /// row's own columns and the provenance, then one column per key of
-/// [`KEYS`](crate::KEYS) (an object's field by field, as its
+/// [`KEYS`] (an object's field by field, as its
 /// [`Columns`] say). The Parquet table's order is [`summary_columns`].
 /// Every column but `file` and `engine` may be null (a failed file has no
 /// figures).
