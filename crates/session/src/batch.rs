@@ -361,17 +361,32 @@ impl Shard {
     /// [`Shard::take`] of files whose identities are known; a file named
     /// twice is taken once (as first named).
     pub fn take_keyed(&self, files: &[(Vec<u8>, PathBuf)]) -> Vec<PathBuf> {
-        let mut sorted: Vec<&(Vec<u8>, PathBuf)> = files.iter().collect();
-        // Stable: of one file's names, the first given stays first.
-        sorted.sort_by(|a, b| a.0.cmp(&b.0));
-        sorted.dedup_by(|a, b| a.0 == b.0);
-        sorted
+        shard_order(files)
             .into_iter()
             .enumerate()
             .filter(|(k, _)| k % self.count == self.index)
             .map(|(_, (_, p))| p.clone())
             .collect()
     }
+
+    /// Every shard of `count` at once ([`Shard::take_keyed`] of each),
+    /// the list sorted once.
+    pub fn split_keyed(files: &[(Vec<u8>, PathBuf)], count: usize) -> Vec<Vec<PathBuf>> {
+        let mut parts = vec![Vec::new(); count.max(1)];
+        for (k, (_, p)) in shard_order(files).into_iter().enumerate() {
+            parts[k % count.max(1)].push(p.clone());
+        }
+        parts
+    }
+}
+
+/// The shard rule's order: by identity, bytewise, each file once (of one
+/// file's names, the first given; the sort is stable).
+pub fn shard_order(files: &[(Vec<u8>, PathBuf)]) -> Vec<&(Vec<u8>, PathBuf)> {
+    let mut sorted: Vec<&(Vec<u8>, PathBuf)> = files.iter().collect();
+    sorted.sort_by(|a, b| a.0.cmp(&b.0));
+    sorted.dedup_by(|a, b| a.0 == b.0);
+    sorted
 }
 
 /// A batch's files: this shard's, and the identity of every file of the

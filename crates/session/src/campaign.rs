@@ -37,18 +37,15 @@ fn unique_keys(keys: &[Vec<u8>]) -> Vec<&[u8]> {
 /// each part's files by the shard rule. What a scheduler plans on its
 /// client, so that a task handles its own files only.
 pub fn list_plan(list: &[PathBuf], parts: usize) -> Result<(String, Vec<Vec<PathBuf>>)> {
+    Shard::new(0, parts).map_err(|e| Error::usage(format!("parts: {e}")))?;
     let keyed: Vec<(Vec<u8>, PathBuf)> =
         list.iter().map(|p| (canonical_key(p), p.clone())).collect();
-    let keys: Vec<Vec<u8>> = keyed.iter().map(|(k, _)| k.clone()).collect();
-    let hash = enginedyn_tables::list_blake3(&unique_keys(&keys));
-    let shards = (0..parts)
-        .map(|i| {
-            Shard::new(i, parts)
-                .map(|s| s.take_keyed(&keyed))
-                .map_err(|e| Error::usage(format!("parts: {e}")))
-        })
-        .collect::<Result<Vec<_>>>()?;
-    Ok((hash, shards))
+    let unique: Vec<&[u8]> = crate::batch::shard_order(&keyed)
+        .into_iter()
+        .map(|(k, _)| k.as_slice())
+        .collect();
+    let hash = enginedyn_tables::list_blake3(&unique);
+    Ok((hash, Shard::split_keyed(&keyed, parts)))
 }
 
 /// A path as a table's `file` column holds it: the path as given, a name

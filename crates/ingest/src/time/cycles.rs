@@ -20,7 +20,7 @@ const DECIDE_REVS: i64 = 4;
 /// reference cylinder's) samples are given, so each sample's other values
 /// wait here until the sample is placed (in line order) and then go into
 /// the cycle beside it.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(super) struct Others {
     /// The cylinder numbers: the reference cylinder's, then the others'
     /// (empty for one pressure column: its traces are every cylinder's).
@@ -30,6 +30,26 @@ pub(super) struct Others {
     pub columns: Vec<usize>,
     lines: VecDeque<usize>,
     values: VecDeque<f64>,
+    /// The most samples that may wait ([`MAX_WAITING`]).
+    cap: usize,
+}
+
+/// The most samples whose other cylinders' values may wait for the crank
+/// reference to place them (a revolution and the firing-TDC decision's
+/// four take far fewer): memory stays bounded (128 MiB for four
+/// cylinders) when a record's reference never comes.
+pub(super) const MAX_WAITING: usize = 1 << 22;
+
+impl Default for Others {
+    fn default() -> Self {
+        Self {
+            cylinders: Vec::new(),
+            columns: Vec::new(),
+            lines: VecDeque::new(),
+            values: VecDeque::new(),
+            cap: MAX_WAITING,
+        }
+    }
 }
 
 impl Others {
@@ -38,10 +58,26 @@ impl Others {
         self.cylinders.len().saturating_sub(1)
     }
 
-    /// The other cylinders' values of the sample on `line`.
-    pub(super) fn hold(&mut self, line: usize, values: impl Iterator<Item = f64>) {
+    /// The other cylinders' values of the sample on `line`; an error when
+    /// more than [`MAX_WAITING`] samples wait.
+    pub(super) fn hold(
+        &mut self,
+        line: usize,
+        values: impl Iterator<Item = f64>,
+    ) -> Result<(), IngestError> {
+        if self.lines.len() >= self.cap {
+            return Err(at(
+                line,
+                None,
+                format!(
+                    "the crank reference placed none of the last {} samples on an angle: a record with one pressure column per cylinder holds the other cylinders' samples until it does, and no more than that many",
+                    self.cap
+                ),
+            ));
+        }
         self.lines.push_back(line);
         self.values.extend(values);
+        Ok(())
     }
 
     /// Puts the other values of the sample on `line` into `b`, beside it;
@@ -134,7 +170,10 @@ impl Building {
                 values: Vec::with_capacity(capacity),
                 rpm: None,
             },
-            others: vec![Vec::with_capacity(capacity); others.n()],
+            // Each with the capacity (`vec![v; n]` clones would not keep it).
+            others: (0..others.n())
+                .map(|_| Vec::with_capacity(capacity))
+                .collect(),
             line,
             from_start,
             span: None,
@@ -433,5 +472,38 @@ impl Cycles {
             Some(e) => Err(e),
             None => Ok(()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The other cylinders' values go into the cycle beside their sample,
+    /// those of samples no cycle took are dropped, and the wait is bounded.
+    #[test]
+    fn others_ride_along_and_wait_bounded() {
+        let mut o = Others {
+            cylinders: vec![1, 2, 3],
+            columns: vec![0, 1, 2],
+            cap: 3,
+            ..Others::default()
+        };
+        for line in 1..=3 {
+            o.hold(line, [10.0 * line as f64, 100.0 * line as f64].into_iter())
+                .unwrap();
+        }
+        let e = o.hold(4, [0.0, 0.0].into_iter()).unwrap_err().to_string();
+        assert!(e.contains("none of the last 3 samples"), "{e}");
+        let mut b = Building::new(0, 1, 4, true, &o);
+        // Sample 1 was dropped by the source; 2 and 3 are placed.
+        o.place(2, &mut b);
+        o.place(3, &mut b);
+        assert_eq!(b.others, vec![vec![20.0, 30.0], vec![200.0, 300.0]]);
+        assert!(b.others.iter().all(|v| v.capacity() >= 4));
+        // A sample never held (a bug) is NaN, refused by the trace's checks.
+        o.place(9, &mut b);
+        assert!(b.others[0][2].is_nan());
+        o.hold(10, [1.0, 2.0].into_iter()).unwrap();
     }
 }

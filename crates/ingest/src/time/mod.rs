@@ -484,7 +484,7 @@ impl TimeRecord {
                 Source::Clock(c) => &mut c.others,
                 _ => &mut self.cycles.others,
             };
-            held.hold(line, self.row_others.iter().copied());
+            held.hold(line, self.row_others.iter().copied())?;
         }
         if let Source::Clock(c) = &mut self.source {
             let a = (t - c.t0) * c.deg_per_s - self.tdc_deg.unwrap_or(0.0);
