@@ -192,3 +192,22 @@ def test_map_campaign_refuses_another_campaigns_folder_before_any_work(cli, tmp_
         with distributed.Client(cluster) as client:
             manifest = ed_dask.map_campaign(client, s, FILES[:2], out, files_per_task=1, overwrite=True)
     assert (manifest["files"], manifest["parts"]) == (2, 2)
+
+
+def test_run_shard_parts_are_map_campaigns(tmp_path):
+    """`run_shard` over every part (what each Slurm task or worker runs),
+    then `check_campaign`, gives the campaign `map_campaign` gives: the
+    same manifest and the same rows; a part outside 0..N-1 is the
+    library's UsageError."""
+    from enginedyn import dask as ed_dask
+
+    s = ed.Session(ed.Engine.from_toml("data/single.toml"))
+    got = [ed_dask.run_shard(s, FILES, tmp_path / "shards", i, 3) for i in range(3)]
+    assert sum(g["files"] for g in got) == len(FILES)
+    manifest = ed_dask.check_campaign(tmp_path / "shards", 3)
+    assert manifest["files"] == len(FILES) and manifest["parts"] == 3
+    rows = read(tmp_path / "shards", "summary").sort_by("file")
+    want = s.batch(FILES, jobs=1).to_arrow().sort_by("file")
+    assert rows.replace_schema_metadata(None).to_pylist() == want.replace_schema_metadata(None).to_pylist()
+    with pytest.raises(ed.UsageError, match="part/parts"):
+        ed_dask.run_shard(s, FILES, tmp_path / "shards", 3, 3)

@@ -42,19 +42,11 @@ def run_shard(
     (one thread: the scheduler gives the parallelism). Failed files are
     error rows; returns the counts. The parts record the whole list
     (``paths``), so that ``check_campaign`` knows every file once."""
-    items = [os.fspath(p) for p in paths]
-    mine = [os.fspath(p) for p in _native.shard(items, part, parts)]
-    b = session.batch(mine, jobs=1)
-    written = [
-        os.fspath(p)
-        for p in b._native.write_parquet(os.fspath(out), part, parts, traces, items, overwrite)
-    ]
-    return {
-        "part": part,
-        "files": len(mine),
-        "failed": sum(1 for e in b.errors if e is not None),
-        "written": written,
-    }
+    _native.shard([], part, parts)  # the library's check of part/parts, and its message
+    list_blake3, mine = _native.list_plan([os.fspath(p) for p in paths], parts)
+    return _run_part(
+        session, [os.fspath(p) for p in mine[part]], os.fspath(out), part, parts, list_blake3, traces, overwrite
+    )
 
 
 def map_campaign(
@@ -86,14 +78,21 @@ def map_campaign(
 
 
 def _run_part(
-    session: Any, mine: List[str], out: str, part: int, parts: int, list_blake3: str, traces: bool
+    session: Any,
+    mine: List[str],
+    out: str,
+    part: int,
+    parts: int,
+    list_blake3: str,
+    traces: bool,
+    overwrite: bool = False,
 ) -> Dict[str, Any]:
-    """One task of ``map_campaign``: its own files, the list known by its
-    hash."""
+    """One part: its own files, the whole list known by its hash
+    (``run_shard``, and each task of ``map_campaign``)."""
     b = session.batch(mine, jobs=1)
     written = [
         os.fspath(p)
-        for p in b._native.write_parquet(out, part, parts, traces, None, False, list_blake3)
+        for p in b._native.write_parquet(out, part, parts, traces, None, overwrite, list_blake3)
     ]
     return {
         "part": part,
