@@ -11,6 +11,20 @@ pub const DEFAULT_WINDOW: (f64, f64) = (-90.0, 120.0);
 /// A cycle burns when its heat released is at least this share of
 /// `p_max V(p_max) / (γ − 1)`, the charge's energy at the peak.
 pub const NO_COMBUSTION_SHARE: f64 = 0.05;
+/// SOC: the last burnt fraction at or under this before CA50.
+pub const SOC_FRACTION: f64 = 0.005;
+/// EOC: the first burnt fraction at or over this after CA50.
+pub const EOC_FRACTION: f64 = 0.995;
+/// The burn points are null when the trace's noise leaves CA50 uncertain
+/// by more than this (deg, one standard uncertainty).
+pub const MAX_CA50_UNCERTAINTY_DEG: f64 = 1.0;
+/// Nor is a release resolved under this many standard deviations of the
+/// cumulative's noise at the window's largest volume.
+pub const NOISE_FLOOR: f64 = 10.0;
+/// The most points the smoothing filter may span: each point of the
+/// analysis and the curves is a dot product of this many weights, so the
+/// bound keeps a cycle under a second at any step.
+pub const MAX_FILTER_POINTS: usize = 401;
 
 /// How a cycle is analysed.
 #[derive(Debug, Clone, PartialEq)]
@@ -53,6 +67,33 @@ impl Options {
         }
         for &l in &self.levels_pct {
             check_range("burn level (%)", l, 1.0, 99.0)?;
+        }
+        Ok(())
+    }
+
+    /// Checks what depends on the grid: the filter spans at most
+    /// [`MAX_FILTER_POINTS`] points, and the window holds at least 5 grid
+    /// points and less than the cycle.
+    pub fn check_grid(&self, step_deg: f64, cycle_deg: f64) -> Result<(), CombustionError> {
+        let points = 2 * self.smoothing.half_points(step_deg) + 1;
+        if points > MAX_FILTER_POINTS {
+            let Smoothing::SavitzkyGolay { width_deg } = self.smoothing else {
+                unreachable!("the filter off spans one point")
+            };
+            return Err(CombustionError::Input(format!(
+                "--smooth SG:{} at a {}° step spans {points} points, over the {MAX_FILTER_POINTS} the analysis takes: \
+                 a width up to {}° at this step, or a coarser --step",
+                enginedyn_numerics::format::human(width_deg),
+                enginedyn_numerics::format::human(step_deg),
+                enginedyn_numerics::format::human((MAX_FILTER_POINTS - 1) as f64 * step_deg)
+            )));
+        }
+        let (i0, i1) = window_indices(step_deg, self.window_deg);
+        if i1 - i0 < 4 || (i1 - i0) as f64 * step_deg >= cycle_deg {
+            return Err(CombustionError::Input(format!(
+                "the burn window {}:{} does not fit the {}° cycle at a {}° step: it needs at least 5 grid points",
+                self.window_deg.0, self.window_deg.1, cycle_deg, step_deg
+            )));
         }
         Ok(())
     }
@@ -106,9 +147,11 @@ fn wrap(k: i64, n: i64) -> usize {
 /// The burn points of a cycle that burns.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BurnPoints {
-    /// Start of combustion (deg): where the cumulative is least before EOC.
+    /// Start of combustion (deg): the last angle before CA50 where the
+    /// burnt fraction is at most [`SOC_FRACTION`], interpolated.
     pub soc_deg: f64,
-    /// End of combustion (deg): where the cumulative is largest.
+    /// End of combustion (deg): the first angle after CA50 where the
+    /// burnt fraction reaches [`EOC_FRACTION`], interpolated.
     pub eoc_deg: f64,
     /// The angle of each level of [`Options::levels_pct`] (deg), in order.
     pub levels_deg: Vec<f64>,
@@ -116,6 +159,11 @@ pub struct BurnPoints {
     pub dp_max_pa_deg: f64,
     /// Its angle (deg).
     pub dp_max_angle_deg: f64,
+    /// SOC lies on the window's start: the burn may start before it.
+    pub cut_at_start: bool,
+    /// EOC lies on the window's end: the burn runs past it, and the heat
+    /// released and the late burn points are cut short.
+    pub cut_at_end: bool,
 }
 
 impl BurnPoints {
@@ -128,141 +176,158 @@ impl BurnPoints {
 /// What one cycle says of its combustion.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CycleBurn {
-    /// `Q(EOC) − Q(SOC)` (J), whether or not it clears the bound.
+    /// `Q_max − Q_min` (J) of the smoothed cumulative in the window,
+    /// whether or not it clears the bound.
     pub heat_released_j: f64,
     /// The no-combustion bound (J): `0.05 p_max V(p_max) / (γ − 1)`.
     pub bound_j: f64,
-    /// The burn points; `None` when the heat released is under the bound.
+    /// The trace's noise (Pa): the RMS residual of the smoothing fit over
+    /// the window, scaled to one sample's.
+    pub noise_pa: f64,
+    /// The standard uncertainty of CA50 (deg) that the noise gives, when
+    /// the heat released clears the bound.
+    pub ca50_uncertainty_deg: Option<f64>,
+    /// The heat released clears the bound, but the noise hides the burn:
+    /// CA50 uncertain by more than [`MAX_CA50_UNCERTAINTY_DEG`], or the
+    /// release under [`NOISE_FLOOR`] σ of the cumulative's noise.
+    pub unresolved: bool,
+    /// The burn points; `None` when the heat released is under the bound,
+    /// or [`Self::unresolved`].
     pub burn: Option<BurnPoints>,
     /// `∫ p dV` over −180…180° (J): the gross work (the whole cycle for a
     /// two-stroke).
     pub gross_work_j: f64,
 }
 
-/// The cumulative heat release over the window: from the pressure as read
-/// (one pass, no derivative), and from the smoothed pressure where the
-/// rules need it (near SOC, EOC and each level's crossing): the smoothing
-/// touches only the energy term `E(pV)`, as the work is an integral.
+/// The cumulative heat release over the window, smoothed: the work `∫ p
+/// dV` from the pressure as read (an integral needs no smoothing), the
+/// energy term `E(pV)` from the smoothed pressure. Its reference (the
+/// value at the window's start) cancels in every figure.
 struct Window<'a> {
     g: &'a CycleGrid<'a>,
     f: &'a Filter,
-    gamma: GammaModel,
     /// First grid index of the window (may be negative: it wraps).
     i0: i64,
-    /// `pV` at IVC (γ(T) only).
-    ivc: f64,
-    /// The cumulative heat release from the pressure as read (J); the
-    /// work `∫ p dV` from the window's start is `q − E(pV) + e0`.
-    q: Vec<f64>,
+    /// The smoothed cumulative (J), one value a window point.
+    qs: Vec<f64>,
     /// The largest pressure in the window and its index.
     peak: (f64, usize),
-    /// The index of the largest cumulative (the first, if tied): EOC as read.
-    eoc0: usize,
-    /// The index of the smallest cumulative up to [`Self::eoc0`]: SOC as read.
-    soc0: usize,
+    /// The sum of squared residuals `p − p_smooth` of the noise fit.
+    residual2: f64,
+    /// `Σ (h dV)²` over the window (m⁶): the work's noise gain.
+    dv2: f64,
+    /// The largest volume in the window (m³).
+    v_max: f64,
 }
 
-/// The one pass over the window: the trapezoidal work `∫ p dV`, the energy
-/// term, the cumulative, the pressure peak, and the cumulative's extremes
-/// (its largest value, and the smallest before that).
-struct Pass {
-    q: Vec<f64>,
-    half_h: f64,
-    work: f64,
-    /// `p dV/dφ` at the previous point.
-    prev: f64,
-    peak: (f64, usize),
-    min: (f64, usize),
-    max: (f64, usize),
-    /// The index of the smallest cumulative before [`Self::max`].
-    soc: usize,
-}
-
-impl Pass {
-    fn new(len: usize, half_h: f64) -> Self {
-        Self {
-            q: Vec::with_capacity(len),
-            half_h,
-            work: 0.0,
-            prev: 0.0,
-            peak: (f64::NEG_INFINITY, 0),
-            min: (f64::INFINITY, 0),
-            max: (f64::NEG_INFINITY, 0),
-            soc: 0,
+/// The one pass over the window: the trapezoidal work `∫ p dV`, the
+/// smoothed pressure and with it the energy term, the pressure peak, and
+/// the residuals of the noise fit.
+fn pass(
+    g: &CycleGrid,
+    f: &Filter,
+    (i0, i1): (i64, i64),
+    energy: impl Fn(f64) -> f64,
+) -> (Vec<f64>, (f64, usize), f64, f64, f64) {
+    let h = g.step_deg.to_radians();
+    let len = (i1 - i0 + 1) as usize;
+    let mut qs = Vec::with_capacity(len);
+    let (mut work, mut prev) = (0.0, g.at(g.pressure, i0) * g.at(g.dvolume, i0));
+    let mut peak = (f64::NEG_INFINITY, 0);
+    let (mut res2, mut dv2, mut v_max) = (0.0, 0.0, 0.0f64);
+    for j in 0..len {
+        let k = i0 + j as i64;
+        let (p, v, dv) = (g.at(g.pressure, k), g.at(g.volume, k), g.at(g.dvolume, k));
+        let pdv = p * dv;
+        if j > 0 {
+            work += 0.5 * h * (prev + pdv);
         }
-    }
-
-    /// Runs over grid indices `i0..=i1` (in at most two contiguous pieces
-    /// of the periodic grid), `energy` the term `E(pV)`.
-    #[inline]
-    fn run(&mut self, g: &CycleGrid, (i0, i1): (i64, i64), energy: impl Fn(f64) -> f64) {
-        let n = g.n();
-        // The cumulative starts at 0: the energy term from its value at the
-        // start, and the first trapezoid adds nothing.
-        let e0 = energy(g.at(g.pressure, i0) * g.at(g.volume, i0));
-        self.prev = -g.at(g.pressure, i0) * g.at(g.dvolume, i0);
-        let mut k = i0;
-        while k <= i1 {
-            let start = wrap(k, n);
-            let end = (start + (i1 - k + 1) as usize).min(n as usize);
-            let p = &g.pressure[start..end];
-            let v = &g.volume[start..end];
-            let dv = &g.dvolume[start..end];
-            // The state in locals (registers), not behind `self`, which the
-            // stores into `q` could alias.
-            let (half_h, mut work, mut prev) = (self.half_h, self.work, self.prev);
-            let (mut peak, mut min, mut max, mut soc) = (self.peak, self.min, self.max, self.soc);
-            let mut j = self.q.len();
-            self.q
-                .extend(p.iter().zip(v).zip(dv).map(|((&p, &v), &dv)| {
-                    let pdv = p * dv;
-                    work += half_h * (prev + pdv);
-                    prev = pdv;
-                    let q = work + energy(p * v) - e0;
-                    if p > peak.0 {
-                        peak = (p, j);
-                    }
-                    if q < min.0 {
-                        min = (q, j);
-                    }
-                    if q > max.0 {
-                        max = (q, j);
-                        soc = min.1;
-                    }
-                    j += 1;
-                    q
-                }));
-            (self.work, self.prev) = (work, prev);
-            (self.peak, self.min, self.max, self.soc) = (peak, min, max, soc);
-            k += (end - start) as i64;
+        prev = pdv;
+        let ps = f.value(g.pressure, k);
+        let r = p - f.fit(g.pressure, k, ps);
+        res2 += r * r;
+        dv2 += (h * dv) * (h * dv);
+        v_max = v_max.max(v);
+        if p > peak.0 {
+            peak = (p, j);
         }
+        qs.push(work + energy(ps * v));
     }
+    (qs, peak, res2, dv2, v_max)
 }
 
 impl Window<'_> {
-    /// The cumulative heat release at window index `j` from the smoothed
-    /// pressure (J).
-    fn smoothed(&self, j: usize) -> f64 {
-        let k = self.i0 + j as i64;
-        let v = self.g.at(self.g.volume, k);
-        let raw = self
-            .gamma
-            .energy(self.g.at(self.g.pressure, k) * v, self.ivc);
-        let ps = self.f.value(self.g.pressure, k);
-        self.q[j] - raw + self.gamma.energy(ps * v, self.ivc)
+    /// The pressure noise of one sample (Pa), from the fit's residuals: a
+    /// least-squares fit keeps `1 − w₀` of white noise's variance in the
+    /// residual (w₀ its centre weight).
+    fn noise(&self) -> f64 {
+        let n = self.qs.len() as f64;
+        (self.residual2 / n / (1.0 - self.f.fit_centre())).sqrt()
     }
 
-    /// The index in `lo..=hi` where the smoothed cumulative is largest
-    /// (`max`) or smallest.
-    fn extreme(&self, lo: usize, hi: usize, max: bool) -> (usize, f64) {
-        let mut best = (lo, self.smoothed(lo));
-        for j in lo + 1..=hi {
-            let v = self.smoothed(j);
-            if (max && v > best.1) || (!max && v < best.1) {
-                best = (j, v);
+    /// The first index in `from..=to` where the cumulative reaches
+    /// `target`, and the angle (deg) where it crosses, linearly
+    /// interpolated from the point before.
+    fn rising(&self, from: usize, to: usize, target: f64) -> (usize, f64) {
+        self.rising_by(from, to, |_| target)
+    }
+
+    /// [`Self::rising`] to a level that may change along the window.
+    fn rising_by(&self, from: usize, to: usize, target: impl Fn(usize) -> f64) -> (usize, f64) {
+        let j = (from..=to).find(|&j| self.qs[j] >= target(j)).unwrap_or(to);
+        let t = if j == 0 {
+            0.0
+        } else {
+            let (a, b, y) = (self.qs[j - 1], self.qs[j], target(j));
+            if b > a {
+                ((y - a) / (b - a)).clamp(0.0, 1.0)
+            } else {
+                1.0
             }
+        };
+        (j, self.deg(j as f64 - 1.0 + t))
+    }
+
+    /// The last index in `to..=from` (searching back from `from`) where
+    /// the cumulative is at most `target(j)`, and the angle (deg) where it
+    /// leaves that level, interpolated towards the next point.
+    fn falling_by(&self, from: usize, to: usize, target: impl Fn(usize) -> f64) -> (usize, f64) {
+        let j = (to..=from)
+            .rev()
+            .find(|&j| self.qs[j] <= target(j))
+            .unwrap_or(to);
+        let t = if j + 1 < self.qs.len() {
+            let (a, b, y) = (self.qs[j], self.qs[j + 1], target(j));
+            if b > a {
+                ((y - a) / (b - a)).clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        } else {
+            0.0
+        };
+        (j, self.deg(j as f64 + t))
+    }
+
+    /// The burn runs past the window's start (`start`) or end: the
+    /// extreme lies within a degree of that edge, and the cumulative
+    /// changes there by more than the SOC/EOC band (0.5 % of the heat) over
+    /// two degrees.
+    fn cut(&self, extreme: usize, released: f64, start: bool) -> bool {
+        let last = self.qs.len() - 1;
+        let deg = |d: f64| ((d / self.g.step_deg).round() as usize).clamp(1, last);
+        let (one, two) = (deg(1.0), deg(2.0));
+        let band = SOC_FRACTION * released;
+        if start {
+            extreme <= one && self.qs[two] - self.qs[0] > band
+        } else {
+            extreme + one >= last && self.qs[last] - self.qs[last - two] > band
         }
-        best
+    }
+
+    /// The angle (deg) of window index `j` (fractional).
+    fn deg(&self, j: f64) -> f64 {
+        (self.i0 as f64 + j) * self.g.step_deg
     }
 }
 
@@ -275,15 +340,40 @@ fn window_indices(step: f64, (a, b): (f64, f64)) -> (i64, i64) {
 }
 
 /// `pV` at intake valve closing, for γ(T) (1 for a constant γ: unused).
-fn pv_ivc(g: &CycleGrid, opts: &Options, f: &Filter) -> f64 {
-    match opts.gamma {
-        GammaModel::Constant(_) => 1.0,
-        GammaModel::Brunt { ivc_deg, .. } => {
-            let k = (ivc_deg / g.step_deg).round() as i64;
-            f.value(g.pressure, k) * g.at(g.volume, k)
-        }
+/// The state must be one Brunt's temperature can scale from: a pressure
+/// of at least [`MIN_IVC_PRESSURE_PA`] and within a factor of
+/// [`IVC_PRESSURE_RATIO`] of the mean around intake BDC.
+fn pv_ivc(g: &CycleGrid, opts: &Options, f: &Filter) -> Result<f64, CombustionError> {
+    let GammaModel::Brunt { ivc_deg, .. } = opts.gamma else {
+        return Ok(1.0);
+    };
+    let k = (ivc_deg / g.step_deg).round() as i64;
+    let p = f.value(g.pressure, k);
+    // Intake BDC: 180° before firing TDC (both strokes), ±10°.
+    let half = (10.0 / g.step_deg).round().max(1.0) as i64;
+    let bdc = (-180.0 / g.step_deg).round() as i64;
+    let mean = (bdc - half..=bdc + half)
+        .map(|k| g.at(g.pressure, k))
+        .sum::<f64>()
+        / (2 * half + 1) as f64;
+    let plausible = p >= MIN_IVC_PRESSURE_PA
+        && (mean <= 0.0 || (p / mean <= IVC_PRESSURE_RATIO && mean / p <= IVC_PRESSURE_RATIO));
+    if !plausible {
+        return Err(CombustionError::Input(format!(
+            "the pressure at intake valve closing ({ivc_deg}°) is {} bar, against {} bar around intake BDC: \
+             γ(T) cannot scale its temperature from there (a dropout or a wrong IVC?); check the trace there or set --ivc-deg",
+            enginedyn_numerics::format::sig(p / 1e5, 3),
+            enginedyn_numerics::format::sig(mean / 1e5, 3)
+        )));
     }
+    Ok(p * g.at(g.volume, k))
 }
+
+/// The lowest pressure at IVC that γ(T) scales from (Pa).
+pub const MIN_IVC_PRESSURE_PA: f64 = 0.1e5;
+/// How far the pressure at IVC may lie from the mean around intake BDC
+/// (a factor either way).
+pub const IVC_PRESSURE_RATIO: f64 = 3.0;
 
 fn cumulative<'a>(
     g: &'a CycleGrid<'a>,
@@ -295,66 +385,50 @@ fn cumulative<'a>(
             "pressure and volume law of different lengths".into(),
         ));
     }
+    opts.check_grid(g.step_deg, g.cycle_deg())?;
     let (i0, i1) = window_indices(g.step_deg, opts.window_deg);
-    if i1 - i0 < 4 || (i1 - i0) as f64 * g.step_deg >= g.cycle_deg() {
-        return Err(CombustionError::Input(format!(
-            "the burn window {}…{}° does not fit the {}° cycle at a {}° step",
-            opts.window_deg.0,
-            opts.window_deg.1,
-            g.cycle_deg(),
-            g.step_deg
-        )));
-    }
-    let ivc = pv_ivc(g, opts, f);
+    let ivc = pv_ivc(g, opts, f)?;
     let gamma = opts.gamma;
-    let mut pass = Pass::new((i1 - i0 + 1) as usize, 0.5 * g.step_deg.to_radians());
-    // A constant γ takes the product form (no call, no division); each
-    // form is its own loop.
-    match gamma {
+    // A constant γ takes the product form (no call, no division).
+    let (qs, peak, residual2, dv2, v_max) = match gamma {
         GammaModel::Constant(c) => {
             let inv = 1.0 / (c - 1.0);
-            pass.run(g, (i0, i1), |pv| pv * inv);
+            pass(g, f, (i0, i1), |pv| pv * inv)
         }
-        GammaModel::Brunt { .. } => pass.run(g, (i0, i1), |pv| gamma.energy(pv, ivc)),
-    }
+        GammaModel::Brunt { .. } => pass(g, f, (i0, i1), |pv| gamma.energy(pv, ivc)),
+    };
     Ok(Window {
         g,
         f,
-        gamma,
         i0,
-        ivc,
-        q: pass.q,
-        peak: pass.peak,
-        eoc0: pass.max.1,
-        soc0: pass.soc,
+        qs,
+        peak,
+        residual2,
+        dv2,
+        v_max,
     })
-}
-
-/// The first angle after `from` (SOC, or the crossing of the level below)
-/// where the smoothed cumulative reaches `target`, linearly interpolated
-/// between grid points, and its index; the crossing is found on the
-/// cumulative as read, then taken on the smoothed one.
-fn crossing(win: &Window, soc: usize, from: usize, eoc: usize, target: f64) -> (f64, usize) {
-    let mut j = (from.max(soc + 1)..=eoc)
-        .find(|&j| win.q[j] >= target)
-        .unwrap_or(eoc);
-    // The smoothed curve may cross a little earlier: step back while it has.
-    while j > soc + 1 && win.smoothed(j - 1) >= target {
-        j -= 1;
-    }
-    let (a, b) = (win.smoothed(j - 1), win.smoothed(j));
-    let t = if b > a {
-        ((target - a) / (b - a)).clamp(0.0, 1.0)
-    } else {
-        1.0
-    };
-    ((win.i0 as f64 + (j - 1) as f64 + t) * win.g.step_deg, j)
 }
 
 /// Analyses one cycle (checked options: [`Options::check`]).
 pub fn analyse(g: &CycleGrid, opts: &Options) -> Result<CycleBurn, CombustionError> {
     let f = Filter::new(opts.smoothing, g.step_deg);
     analyse_with(g, opts, &f)
+}
+
+/// The smoothed cumulative's extremes: the index of its largest value
+/// (the first, if tied) and of the smallest before it.
+fn extremes(qs: &[f64]) -> (usize, usize) {
+    let (mut min, mut max, mut soc) = ((f64::INFINITY, 0), (f64::NEG_INFINITY, 0), 0);
+    for (j, &q) in qs.iter().enumerate() {
+        if q < min.0 {
+            min = (q, j);
+        }
+        if q > max.0 {
+            max = (q, j);
+            soc = min.1;
+        }
+    }
+    (soc, max.1)
 }
 
 /// [`analyse`] with the filter built once for many cycles.
@@ -364,73 +438,88 @@ pub fn analyse_with(
     f: &Filter,
 ) -> Result<CycleBurn, CombustionError> {
     let win = cumulative(g, opts, f)?;
-    let last = win.q.len() - 1;
-    let deg = |j: f64| (win.i0 as f64 + j) * g.step_deg;
-    // SOC and EOC on the cumulative as read, then taken where the smoothed
-    // cumulative has its extreme within a filter's width of them.
-    let (eoc0, soc0) = (win.eoc0, win.soc0);
-    let r = f.half_points().max(1);
-    let (eoc, q_eoc) = win.extreme(eoc0.saturating_sub(r), (eoc0 + r).min(last), true);
-    let (soc, q_soc) = win.extreme(soc0.saturating_sub(r), (soc0 + r).min(eoc), false);
-    let released = q_eoc - q_soc;
+    let (jmin, jmax) = extremes(&win.qs);
+    let (q_min, q_max) = (win.qs[jmin], win.qs[jmax]);
+    let released = q_max - q_min;
     let gamma = opts.gamma.nominal();
     let (p_max, at) = win.peak;
     let bound = NO_COMBUSTION_SHARE * p_max * g.at(g.volume, win.i0 + at as i64) / (gamma - 1.0);
+    let noise = win.noise();
     let mut out = CycleBurn {
         heat_released_j: released,
         bound_j: bound,
+        noise_pa: noise,
+        ca50_uncertainty_deg: None,
+        unresolved: false,
         burn: None,
         gross_work_j: gross_work(g),
     };
-    if !(released >= bound) || eoc <= soc {
+    if !(released >= bound) || jmax <= jmin {
         return Ok(out);
     }
+    let x = |frac: f64| q_min + frac * released;
+    let (j10, ca10) = win.rising(jmin + 1, jmax, x(0.1));
+    let (j50, _) = win.rising(j10, jmax, x(0.5));
+    let (_, ca90) = win.rising(j50, jmax, x(0.9));
+    // The noise carried into the smoothed cumulative at window index j:
+    // the energy term's (the work integrates the noise away, nearly).
+    let vol = |j: usize| g.at(g.volume, win.i0 + j as i64);
+    let sigma = |v: f64| v * f.gain() * noise / (gamma - 1.0);
+    let sq = |j: usize| sigma(vol(j)).powi(2);
+    // CA50's target is the extremes' mean; over the central burn the
+    // cumulative rises 80 % of the heat in CA90 − CA10.
+    let sigma_q = (sq(j50) + 0.25 * (sq(jmin) + sq(jmax)) + noise * noise * win.dv2).sqrt();
+    let uncertainty = sigma_q * (ca90 - ca10).max(g.step_deg) / (0.8 * released);
+    out.ca50_uncertainty_deg = Some(uncertainty);
+    // A release under NOISE_FLOOR σ of the cumulative's noise where it is
+    // largest (the window's largest volume) is not told from noise: a
+    // step of noise passes for a burn of a degree.
+    out.unresolved =
+        !(uncertainty <= MAX_CA50_UNCERTAINTY_DEG) || released < NOISE_FLOOR * sigma(win.v_max);
+    if out.unresolved {
+        return Ok(out);
+    }
+    // The bands widen by the noise (3 σ of the cumulative at the extreme
+    // it is measured from and where it is sought), so that noise on a
+    // flat cumulative does not cross them; on a clean trace they are the
+    // 0.5 % and 99.5 % of PHYSICS.
+    let band = |at: usize, j: usize| 3.0 * (sigma(vol(at)) + sigma(vol(j)));
+    let (j_soc, soc) = win.falling_by(j50, jmin, |j| x(SOC_FRACTION) + band(jmin, j));
+    let (j_eoc, eoc) = win.rising_by(j50, jmax, |j| x(EOC_FRACTION) - band(jmax, j));
     // Levels rise, so each search starts where the one below it crossed.
-    let mut from = soc + 1;
+    let mut from = jmin + 1;
     let levels_deg = opts
         .levels_pct
         .iter()
         .map(|l| {
-            let (deg, j) = crossing(&win, soc, from, eoc, q_soc + l / 100.0 * released);
-            from = j.saturating_sub(win.f.half_points() + 1).max(soc + 1);
+            let (j, deg) = win.rising(from, jmax, x(l / 100.0));
+            from = j.max(jmin + 1);
             deg
         })
         .collect();
-    let (dp_max, dp_at) = pressure_rise(&win, soc, eoc);
+    let (dp_max, dp_at) = pressure_rise(&win, j_soc, j_eoc);
     out.burn = Some(BurnPoints {
-        soc_deg: deg(soc as f64),
-        eoc_deg: deg(eoc as f64),
+        soc_deg: soc,
+        eoc_deg: eoc,
         levels_deg,
         dp_max_pa_deg: dp_max,
-        dp_max_angle_deg: deg(dp_at),
+        dp_max_angle_deg: win.deg(dp_at),
+        cut_at_start: win.cut(jmin, released, true),
+        cut_at_end: win.cut(jmax, released, false),
     });
     Ok(out)
 }
 
-/// The largest smoothed dp/dφ (Pa/°) between SOC and EOC and its window
-/// index: found on the difference across the filter's width (one
-/// subtraction a point), then taken on the filter's own slope around it
-/// and refined by the parabola through it and its neighbours.
+/// The largest smoothed dp/dφ (Pa/°) between window indices `soc` and
+/// `eoc` and its window index: the filter's own slope at every grid
+/// point of that span (no coarser pre-search, which can step over a
+/// diesel's premixed spike), refined by the parabola through the largest
+/// and its neighbours.
 fn pressure_rise(win: &Window, soc: usize, eoc: usize) -> (f64, f64) {
     let g = win.g;
-    let m = win.f.half_points().max(1) as i64;
-    let at = |j: usize| win.i0 + j as i64;
-    // The difference across the filter's width, every half width: a rise
-    // narrower than that is one the filter does not keep either.
-    let stride = (m as usize / 2).max(1);
-    let (mut best, mut arg) = (f64::NEG_INFINITY, soc);
-    for j in (soc..=eoc).step_by(stride) {
-        let d = g.at(g.pressure, at(j) + m) - g.at(g.pressure, at(j) - m);
-        if d > best {
-            best = d;
-            arg = j;
-        }
-    }
-    let slope = |j: usize| win.f.slope(g.pressure, at(j));
-    let lo = arg.saturating_sub(m as usize + stride).max(soc);
-    let hi = (arg + m as usize + stride).min(eoc);
-    let (mut top, mut j_top) = (slope(lo), lo);
-    for j in lo + 1..=hi {
+    let slope = |j: usize| win.f.slope(g.pressure, win.i0 + j as i64);
+    let (mut top, mut j_top) = (f64::NEG_INFINITY, soc);
+    for j in soc..=eoc.max(soc) {
         let s = slope(j);
         if s > top {
             top = s;
@@ -438,7 +527,7 @@ fn pressure_rise(win: &Window, soc: usize, eoc: usize) -> (f64, f64) {
         }
     }
     let (mut value, mut x) = (top, j_top as f64);
-    if j_top > 0 && j_top < win.q.len() - 1 {
+    if j_top > 0 && j_top < win.qs.len() - 1 {
         let (a, c) = (slope(j_top - 1), slope(j_top + 1));
         let den = a - 2.0 * top + c;
         if den < 0.0 {
@@ -472,7 +561,7 @@ pub struct Curves {
     /// `dQ/dφ` (J/°) at every grid point, from the smoothed pressure and
     /// slope.
     pub rate_j_deg: Vec<f64>,
-    /// `Q(φ) − Q(SOC)` (J) inside the window; 0 before it, its end value
+    /// `Q(φ) − Q_min` (J) inside the window; 0 before it, its end value
     /// after it.
     pub cumulative_j: Vec<f64>,
     /// The mass fraction burned: 0 before SOC, `xb` between SOC and EOC, 1
@@ -486,7 +575,7 @@ pub fn curves(g: &CycleGrid, opts: &Options, burn: &CycleBurn) -> Result<Curves,
     let f = Filter::new(opts.smoothing, g.step_deg);
     let w = cumulative(g, opts, &f)?;
     let n = g.pressure.len();
-    let ivc = pv_ivc(g, opts, &f);
+    let ivc = pv_ivc(g, opts, &f)?;
     let deg_per_rad = 180.0 / std::f64::consts::PI;
     let mut rate = Vec::with_capacity(n);
     for k in 0..n as i64 {
@@ -496,13 +585,13 @@ pub fn curves(g: &CycleGrid, opts: &Options, burn: &CycleBurn) -> Result<Curves,
         let gm = opts.gamma.gamma(p * v, ivc);
         rate.push(gm / (gm - 1.0) * p * dv + v * dp / (gm - 1.0));
     }
-    let qs: Vec<f64> = (0..w.q.len()).map(|j| w.smoothed(j)).collect();
-    let base = burn.burn.as_ref().map_or(0.0, |b| {
-        qs[((b.soc_deg / g.step_deg).round() as i64 - w.i0) as usize]
-    });
+    let qs = &w.qs;
+    // The burnt fraction's reference: the smallest cumulative before the
+    // largest (PHYSICS "Burn points").
+    let base = qs[extremes(qs).0];
     let mut cumulative = vec![0.0; n];
     let mut mfb = burn.burn.as_ref().map(|_| vec![0.0; n]);
-    let last = w.q.len() - 1;
+    let last = qs.len() - 1;
     let half = (n / 2) as i64;
     // Walk one cycle from the window's start `a = i0 + j`: inside the
     // window its values; after it (up to half a cycle), the end values;

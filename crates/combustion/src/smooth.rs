@@ -75,6 +75,12 @@ pub struct Filter {
     value: Vec<f64>,
     slope: Vec<f64>,
     step_deg: f64,
+    /// The cubic fit that measures the noise: the filter's own, or the
+    /// five-point one when the filter is off.
+    fit: Option<Vec<f64>>,
+    /// `√Σ w²` of the value weights: the share of white noise's standard
+    /// deviation the smoothed value keeps.
+    gain: f64,
 }
 
 impl Filter {
@@ -86,13 +92,42 @@ impl Filter {
                 value: vec![1.0],
                 slope: vec![-0.5, 0.0, 0.5],
                 step_deg,
+                fit: Some(savitzky_golay(MIN_POINTS / 2, 0)),
+                gain: 1.0,
             };
         }
+        let value = savitzky_golay(m, 0);
+        let gain = value.iter().map(|w| w * w).sum::<f64>().sqrt();
         Self {
-            value: savitzky_golay(m, 0),
+            value,
             slope: savitzky_golay(m, 1),
             step_deg,
+            fit: None,
+            gain,
         }
+    }
+
+    /// The noise fit's value at `k`, given the smoothed value `smoothed`
+    /// there (the same, unless the filter is off).
+    #[inline]
+    pub fn fit(&self, p: &[f64], k: i64, smoothed: f64) -> f64 {
+        match &self.fit {
+            None => smoothed,
+            Some(w) => apply(w, p, k),
+        }
+    }
+
+    /// The noise fit's centre weight `w₀`: white noise keeps `1 − w₀` of
+    /// its variance in the fit's residual.
+    pub fn fit_centre(&self) -> f64 {
+        let w = self.fit.as_ref().unwrap_or(&self.value);
+        w[w.len() / 2]
+    }
+
+    /// The share of a sample's white noise (standard deviation) that the
+    /// smoothed value keeps: `√Σ w²`.
+    pub fn gain(&self) -> f64 {
+        self.gain
     }
 
     /// Half the smoothing window in points (0 without smoothing).

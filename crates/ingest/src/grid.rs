@@ -80,6 +80,10 @@ pub struct CycleCombustion {
     pub heat_released_j: f64,
     /// The no-combustion bound (J).
     pub bound_j: f64,
+    /// The trace's noise (Pa, one sample's standard deviation).
+    pub noise_pa: f64,
+    /// The heat clears the bound but the noise hides the burn.
+    pub unresolved: bool,
     /// The burn points, `None` without combustion.
     pub burn: Option<enginedyn_combustion::BurnPoints>,
 }
@@ -492,6 +496,8 @@ impl Accumulator {
             imep_gross_pa: r.gross_work_j / cyl.swept_volume(),
             heat_released_j: r.heat_released_j,
             bound_j: r.bound_j,
+            noise_pa: r.noise_pa,
+            unresolved: r.unresolved,
             burn: r.burn,
         }))
     }

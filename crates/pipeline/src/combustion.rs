@@ -121,14 +121,24 @@ pub(crate) fn analyse(
         / swept;
     let mut notes = Vec::new();
     let b = mean.burn.as_ref();
-    if b.is_none() {
+    if mean.unresolved {
+        notes.push(noise_note(
+            "the mean trace",
+            mean.noise_pa,
+            mean.ca50_uncertainty_deg,
+        ));
+    } else if b.is_none() {
         notes.push(format!(
             "no combustion in the mean trace: heat released {} J, under the bound of {} J (5 % of p_max V/(γ−1)): the burn keys are null",
             sig(mean.heat_released_j, 3),
             sig(mean.bound_j, 3)
         ));
     }
+    if let Some(b) = b {
+        notes.extend(edge_notes(b, opts, "the mean trace"));
+    }
     notes.extend(cycle_note(pressure));
+    notes.extend(cycle_noise_note(pressure));
     let step = pressure.step_deg;
     let mut s = CombustionSummary {
         levels: opts
@@ -195,6 +205,64 @@ fn spread(pressure: &Resampled, opts: &Options, s: &mut CombustionSummary) {
     }
 }
 
+/// The warning for a trace whose noise hides its burn (PHYSICS "Burn
+/// points need data that resolve them").
+fn noise_note(what: &str, noise_pa: f64, uncertainty: Option<f64>) -> String {
+    let by = match uncertainty {
+        Some(u) if u <= enginedyn_combustion::burn::MAX_CA50_UNCERTAINTY_DEG => {
+            "its heat released is under 10 σ of the cumulative's noise".to_string()
+        }
+        Some(u) if u < 1e3 => format!("CA50 is uncertain by ±{}°", sig(u, 2)),
+        _ => "CA50 cannot be told from the noise".to_string(),
+    };
+    format!(
+        "the noise of {what} ({} bar RMS, from the smoothing fit's residual) hides its burn: {by}; the burn points are null (a wider --smooth, or the mean of more cycles, resolves them)",
+        sig(noise_pa / 1e5, 2)
+    )
+}
+
+/// Warnings for a burn that runs past the burn window's edges.
+fn edge_notes(b: &enginedyn_combustion::BurnPoints, opts: &Options, what: &str) -> Vec<String> {
+    let (w0, w1) = opts.window_deg;
+    let mut out = Vec::new();
+    if b.cut_at_end {
+        out.push(format!(
+            "the burn of {what} runs past the burn window's end ({w1}°): EOC lies on its edge, and the heat released and the late burn points are cut short; widen --burn-window"
+        ));
+    }
+    if b.cut_at_start {
+        out.push(format!(
+            "the burn of {what} starts before the burn window ({w0}°): SOC lies on its edge, and the early burn points are cut short; widen --burn-window"
+        ));
+    }
+    out
+}
+
+/// One warning on the measured cycles whose noise hides their burn.
+fn cycle_noise_note(pressure: &Resampled) -> Option<String> {
+    let hidden: Vec<(i64, f64)> = pressure
+        .stats
+        .iter()
+        .filter_map(|c| {
+            let b = c.combustion.as_ref()?;
+            b.unresolved.then_some((c.cycle, b.noise_pa))
+        })
+        .collect();
+    if hidden.is_empty() || pressure.stats.len() < 2 {
+        return None;
+    }
+    let worst = hidden.iter().map(|h| h.1).fold(0.0, f64::max);
+    let listed: Vec<String> = hidden.iter().take(8).map(|h| h.0.to_string()).collect();
+    Some(format!(
+        "the noise hides the burn in {} of {} cycles ({}{}): up to {} bar RMS; their burn points are null",
+        hidden.len(),
+        pressure.stats.len(),
+        listed.join(", "),
+        if hidden.len() > 8 { ", …" } else { "" },
+        sig(worst / 1e5, 2)
+    ))
+}
+
 /// One note on the measured cycles without combustion, naming them (up to
 /// eight) with the largest heat released among them.
 fn cycle_note(pressure: &Resampled) -> Option<String> {
@@ -203,7 +271,7 @@ fn cycle_note(pressure: &Resampled) -> Option<String> {
         .iter()
         .filter_map(|c| {
             let b = c.combustion.as_ref()?;
-            b.burn.is_none().then_some((c.cylinder, c.cycle, b))
+            (b.burn.is_none() && !b.unresolved).then_some((c.cylinder, c.cycle, b))
         })
         .collect();
     if none.is_empty() || pressure.stats.len() < 2 {
