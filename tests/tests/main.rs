@@ -4,6 +4,7 @@
 //! gets a `mod` line here; `tests/tests/layout.rs` checks that none is
 //! left out.
 
+mod burn_rules;
 mod campaign;
 mod charts_tables;
 mod combustion;

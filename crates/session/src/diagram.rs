@@ -175,7 +175,16 @@ pub fn load_diagram_timed(
                 .map_err(|e| Error::from(e).in_file(b.diagram_name()))
         }
         Input::Synthesised(s) => {
-            enginedyn_ingest::load_timed(s.text.as_bytes(), parse, grid, on_grid)
+            // Read back with its own γ model and a window that holds its
+            // burn (unless the command line says otherwise).
+            let own = GridOptions {
+                combustion: grid
+                    .combustion
+                    .as_deref()
+                    .map(|o| std::sync::Arc::new(s.analysis_options(o))),
+                ..grid.clone()
+            };
+            enginedyn_ingest::load_timed(s.text.as_bytes(), parse, &own, on_grid)
                 .map_err(|e| Error::from(e).in_file(&s.name))
         }
     }

@@ -60,6 +60,16 @@ impl Session {
     pub fn new(loaded: Loaded, reader: Reader, method: Method, scope: Scope) -> Result<Self> {
         let step = method.step();
         check_step(&loaded.engine, step)?;
+        if !method.burn.off {
+            // What the analysis' options need of the grid (the filter's
+            // points, the window's): the command line's, before any work.
+            let cycle_deg = loaded.engine.cycle().to_degrees();
+            method
+                .burn
+                .options()
+                .check_grid(step, cycle_deg)
+                .map_err(|e| Error::usage(format!("--step {step}: {e}")))?;
+        }
         let opts = Options {
             scope,
             ..method.options()

@@ -39,6 +39,13 @@ pub struct Synthesised {
     pub heat_released_j: f64,
     /// The note a command says when it runs on it.
     pub note: String,
+    /// The γ model it was made with (the analysis reads it back with the
+    /// same, PHYSICS "Combustion").
+    pub gamma: GammaModel,
+    /// The burn window that holds its whole burn (deg): the default
+    /// −90…120°, widened to the law's 0.1 % and 99.9 % points ± 15°,
+    /// within IVC … EVO.
+    pub burn_window_deg: (f64, f64),
 }
 
 impl Synthesised {
@@ -46,6 +53,33 @@ impl Synthesised {
     pub fn input(&self) -> Input<'_> {
         Input::Synthesised(self)
     }
+
+    /// The analysis options for this diagram: where `opts` has the
+    /// defaults (no `--gamma`, no `--burn-window`), the diagram's own γ
+    /// model and a window that holds its burn.
+    pub fn analysis_options(
+        &self,
+        opts: &enginedyn_combustion::Options,
+    ) -> enginedyn_combustion::Options {
+        let mut o = opts.clone();
+        if o.gamma == GammaModel::default() {
+            o.gamma = self.gamma;
+        }
+        if o.window_deg == enginedyn_combustion::DEFAULT_WINDOW {
+            o.window_deg = self.burn_window_deg;
+        }
+        o
+    }
+}
+
+/// The burn window of a design cycle: the default, widened to hold the
+/// law from its 0.1 % to its 99.9 % point with 15° to spare, within IVC …
+/// EVO (5° inside each) and the analysis' bounds.
+fn burn_window(m: &DesignModel) -> (f64, f64) {
+    let (d0, d1) = enginedyn_combustion::DEFAULT_WINDOW;
+    let a = d0.min(m.burn.angle_of(0.001) - 15.0).max(m.ivc_deg + 5.0);
+    let b = d1.max(m.burn.angle_of(0.999) + 15.0).min(m.evo_deg - 5.0);
+    (a.max(-180.0).floor(), b.min(180.0).ceil())
 }
 
 /// The `[combustion]` section of `loaded`, or a usage error naming the file.
@@ -151,6 +185,8 @@ pub fn synthesise(
         imep_target_bar,
         imep_bar: design.imep_pa / 1e5,
         heat_released_j: design.heat_released_j,
+        gamma: model.gamma,
+        burn_window_deg: burn_window(&model),
     })
 }
 
