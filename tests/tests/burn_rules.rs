@@ -126,3 +126,65 @@ fn the_filter_and_the_window_are_checked_against_the_step() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("burn window"), "{}", stderr(&o));
 }
+
+/// `--burn-points 3,7,33`: the levels reach `summary.csv` and `sweep.csv`
+/// as `caK_deg` columns, with numbers (they reached `--json` and the run
+/// folders only, and the tables kept ca5–ca90, all empty).
+#[test]
+fn every_table_carries_the_levels_asked_for() {
+    let t = tempfile::tempdir().unwrap();
+    let read = |p: &std::path::Path| {
+        let mut r = csv::Reader::from_path(p).unwrap();
+        let head: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
+        let row: Vec<String> = r
+            .records()
+            .next()
+            .unwrap()
+            .unwrap()
+            .iter()
+            .map(String::from)
+            .collect();
+        (head, row)
+    };
+    let check = |p: &std::path::Path| {
+        let (head, row) = read(p);
+        let at = |k: &str| {
+            let i = head
+                .iter()
+                .position(|h| h == k)
+                .unwrap_or_else(|| panic!("no {k} in {head:?}"));
+            row[i]
+                .parse::<f64>()
+                .unwrap_or_else(|_| panic!("{k}: `{}`", row[i]))
+        };
+        let (a, b, c) = (at("ca3_deg"), at("ca7_deg"), at("ca33_deg"));
+        assert!(a < b && b < c && c < at("ca50_deg"), "{a} {b} {c}");
+    };
+    let out = t.path().join("batch");
+    let o = run(&[
+        "batch",
+        "--engine",
+        &data("vaz2108.toml"),
+        "--burn-points",
+        "3,7,33,50",
+        &data("vaz2108.csv"),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    check(&out.join("summary.csv"));
+    let out = t.path().join("sweep");
+    let o = run(&[
+        "sweep",
+        "--engine",
+        &data("vaz2108.toml"),
+        "--burn-points",
+        "3,7,33,50",
+        "--rpm",
+        "2000:4000:1000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    check(&out.join("sweep.csv"));
+}

@@ -24,6 +24,17 @@ pub fn level_key(pct: f64) -> &'static str {
     names[(pct.round() as usize).min(99)]
 }
 
+/// The burn levels of `s` asked for beyond [`FIXED_LEVELS`], as
+/// `(caK_deg, angle)`: the keys `summary.json`, `summary.csv` and the
+/// tables add for them.
+pub fn extra_levels(s: &crate::Summary) -> impl Iterator<Item = (&'static str, Option<f64>)> + '_ {
+    s.combustion
+        .iter()
+        .flat_map(|c| c.levels.iter())
+        .filter(|(pct, _)| !FIXED_LEVELS.contains(pct))
+        .map(|(pct, deg)| (level_key(*pct), *deg))
+}
+
 /// The combustion keys of `summary.json` (SI inside: bar and degrees only
 /// where the key says so).
 #[derive(Debug, Clone, PartialEq, Default)]

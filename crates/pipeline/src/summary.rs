@@ -176,13 +176,7 @@ impl Summary {
             .filter_map(|k| (k.get)(self).map(|v| (k.key, v)))
             .collect();
         // Burn levels asked for beyond the four of KEYS: `caK_deg`.
-        if let Some(c) = &self.combustion {
-            for (pct, deg) in &c.levels {
-                if !crate::combustion::FIXED_LEVELS.contains(pct) {
-                    f.push((crate::combustion::level_key(*pct), Value::Num(*deg)));
-                }
-            }
-        }
+        f.extend(crate::combustion::extra_levels(self).map(|(k, deg)| (k, Value::Num(deg))));
         f
     }
 

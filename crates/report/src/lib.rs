@@ -265,14 +265,21 @@ fn csv_cell(c: &Cell<'_>) -> String {
 /// optional keys present.
 pub fn flatten(s: &Summary) -> Vec<(String, String)> {
     let record = schema::SummaryRecord::of(s);
-    schema::SUMMARY
+    let mut cells: Vec<(String, String)> = schema::SUMMARY
         .iter()
         .filter(|c| c.group > Group::Provenance)
         .filter_map(|c| {
             let cell = c.cell(&record);
             (cell != Cell::Absent).then(|| (c.name.to_string(), csv_cell(&cell)))
         })
-        .collect()
+        .collect();
+    // The burn levels asked for beyond the four fixed ones (`--burn-points
+    // 3,7,33`): `caK_deg`, as in `summary.json`.
+    cells.extend(
+        enginedyn_pipeline::combustion::extra_levels(s)
+            .map(|(key, deg)| (key.to_string(), csv_cell(&Cell::num(deg)))),
+    );
+    cells
 }
 
 /// One row of `summary.csv`: the file, its error (empty when it ran), and
