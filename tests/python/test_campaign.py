@@ -59,7 +59,7 @@ def test_parts_read_back_with_schema_nulls_and_metadata(cli, tmp_path):
     path = tmp_path / "c" / "summary" / "part-00000-of-00001.parquet"
     t = pq.read_table(path)
     meta = {k.decode(): v.decode() for k, v in t.schema.metadata.items() if not k.startswith(b"ARROW")}
-    assert meta["enginedyn.schema"] == "summary/2"
+    assert meta["enginedyn.schema"] == "summary/3"
     assert meta["enginedyn.version"] == ed.__version__
     options = json.loads(meta["options"])
     assert len(meta["engine.blake3"]) == 64 and len(meta["engine.parsed_blake3"]) == 64

@@ -53,7 +53,7 @@ def test_result_cycles_carry_each_cycles_burn(cli, tmp_path):
     samples (0.5° a sample) later: each cycle's CA50 is cycle 0's plus
     0.5° k, within 0.1° (the volume is not turned with it, so the burn is
     not exactly the same one moved: 0.05° measured at k = 5), in Python's
-    Result.cycles as in the CLI's cycles/2 table."""
+    Result.cycles as in the CLI's cycles/3 table."""
     import pyarrow.parquet as pq
 
     rows = [l for l in open("data/single.csv") if l.strip() and not l.startswith("#")][1:]

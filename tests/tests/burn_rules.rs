@@ -188,3 +188,67 @@ fn every_table_carries_the_levels_asked_for() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     check(&out.join("sweep.csv"));
 }
+
+/// The lists of a Parquet part's list column, row by row.
+fn lists(path: &std::path::Path, name: &str) -> Vec<Option<Vec<f64>>> {
+    use arrow_array::{Array, Float64Array, ListArray};
+    let b = parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(
+        std::fs::File::open(path).unwrap(),
+    )
+    .unwrap();
+    let mut out = Vec::new();
+    for batch in b.build().unwrap() {
+        let batch = batch.unwrap();
+        let c = batch
+            .column_by_name(name)
+            .unwrap_or_else(|| panic!("no {name}"));
+        let c = c.as_any().downcast_ref::<ListArray>().unwrap();
+        for k in 0..c.len() {
+            out.push(c.is_valid(k).then(|| {
+                let v = c.value(k);
+                let v = v.as_any().downcast_ref::<Float64Array>().unwrap();
+                v.values().to_vec()
+            }));
+        }
+    }
+    out
+}
+
+/// `batch --parquet --burn-points 3,7,33`: the summary and cycles parts
+/// carry every level asked for and its angle as list columns
+/// (`burn_levels_pct`, `burn_levels_deg`: `summary/3`, `cycles/3`); they
+/// kept ca5–ca90 only, all empty.
+#[test]
+fn parquet_parts_carry_the_levels_asked_for() {
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("pq");
+    let o = run(&[
+        "batch",
+        "--engine",
+        &data("vaz2108.toml"),
+        "--burn-points",
+        "3,7,33",
+        &data("vaz2108.csv"),
+        "--parquet",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let j = json(&["run", "--burn-points", "3,7,33", "--json"]);
+    for table in ["summary", "cycles"] {
+        let p = out.join(table).join("part-00000-of-00001.parquet");
+        let pct = lists(&p, "burn_levels_pct");
+        let deg = lists(&p, "burn_levels_deg");
+        assert_eq!(pct[0].as_deref(), Some(&[3.0, 7.0, 33.0][..]), "{table}");
+        let deg = deg[0].clone().unwrap();
+        assert_eq!(deg.len(), 3);
+        if table == "summary" {
+            // The mean trace's, as `run` gives them (to rounding: batch
+            // averages its cycles in its own order).
+            for (k, key) in ["ca3_deg", "ca7_deg", "ca33_deg"].iter().enumerate() {
+                let want = j[key].as_f64().unwrap();
+                assert!((deg[k] - want).abs() < 1e-9, "{key}: {} for {want}", deg[k]);
+            }
+        }
+        assert!(deg[0] < deg[1] && deg[1] < deg[2], "{deg:?}");
+    }
+}

@@ -1,5 +1,5 @@
 //! The fixed, typed tables of a campaign (INTERFACE.md, "Parquet tables"):
-//! `summary/2`, `cycles/2` and `traces/1`, each column's name, logical type
+//! `summary/3`, `cycles/3` and `traces/1`, each column's name, logical type
 //! and how to get its value. **The one definition**: the Parquet writers
 //! (`enginedyn-tables`) and `summary.csv` (`report::summary_csv`,
 //! `report::flatten`) are built from it; the summary's values come from
@@ -9,7 +9,7 @@
 //! `summary.csv`); each column's [`Group`] places it in the Parquet table
 //! ([`summary_columns`]: the fixed keys, then the optional ones, then
 //! `models.*` and `notes`). A new column is appended to its table and bumps
-//! the table's number (`summary/2`).
+//! the table's number (`summary/3`).
 
 use crate::KEYS;
 use crate::summary::{Columns, Field, Key, Summary, Value};
@@ -19,9 +19,9 @@ use std::borrow::Cow;
 use std::sync::LazyLock;
 
 /// The schema names and versions written as `enginedyn.schema`.
-pub const SUMMARY_SCHEMA: &str = "summary/2";
+pub const SUMMARY_SCHEMA: &str = "summary/3";
 /// See [`SUMMARY_SCHEMA`].
-pub const CYCLES_SCHEMA: &str = "cycles/2";
+pub const CYCLES_SCHEMA: &str = "cycles/3";
 /// See [`SUMMARY_SCHEMA`].
 pub const TRACES_SCHEMA: &str = "traces/1";
 
@@ -40,6 +40,9 @@ pub enum ColumnType {
     Int64,
     /// 64-bit float.
     Float64,
+    /// A list of 64-bit floats (the burn levels asked for and their
+    /// angles: as many as `--burn-points` gives).
+    Float64List,
 }
 
 impl ColumnType {
@@ -52,6 +55,7 @@ impl ColumnType {
             ColumnType::Int32 => "int32",
             ColumnType::Int64 => "int64",
             ColumnType::Float64 => "float64",
+            ColumnType::Float64List => "list<float64>",
         }
     }
 }
@@ -73,6 +77,8 @@ pub enum Cell<'a> {
     Bool(bool),
     /// Text.
     Text(Cow<'a, str>),
+    /// Numbers (a list column; non-finite entries are null).
+    Floats(Vec<f64>),
 }
 
 impl Cell<'_> {
@@ -98,6 +104,7 @@ impl Cell<'_> {
             Cell::Int(i) => Cell::Int(i),
             Cell::Bool(b) => Cell::Bool(b),
             Cell::Text(t) => Cell::Text(Cow::Owned(t.into_owned())),
+            Cell::Floats(v) => Cell::Floats(v),
         }
     }
 }
@@ -107,7 +114,7 @@ impl Cell<'_> {
 /// and only the columns some row has.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Group {
-    /// The row's own columns (`file`, `error`; every column of `cycles/2`
+    /// The row's own columns (`file`, `error`; every column of `cycles/3`
     /// and `traces/1`).
     Row,
     /// What the figures came from (`engine`, `diagram_blake3`): Parquet
@@ -128,17 +135,25 @@ pub enum Group {
     /// The combustion keys and their `models.*` (optional; appended in
     /// `summary/2`).
     Combustion,
+    /// The burn levels asked for and their angles as lists (appended in
+    /// `summary/3`; Parquet only: `summary.csv` has a `caK_deg` column a
+    /// level).
+    Levels,
 }
 
 impl Group {
     /// True for the optional keys (absent when they do not apply).
     pub fn optional(self) -> bool {
-        matches!(self, Group::Optional | Group::Pegging | Group::Combustion)
+        matches!(
+            self,
+            Group::Optional | Group::Pegging | Group::Combustion | Group::Levels
+        )
     }
 
-    /// True for the columns of `summary.csv` (all but the provenance).
+    /// True for the columns of `summary.csv` (all but the provenance and
+    /// the level lists, which it has as `caK_deg` columns).
     pub fn in_csv(self) -> bool {
-        self != Group::Provenance
+        !matches!(self, Group::Provenance | Group::Levels)
     }
 }
 
@@ -174,7 +189,7 @@ pub type CycleGet = for<'r, 'a> fn(&'r CycleRow<'a>) -> Cell<'r>;
 /// How a [`TRACES`] column gets its value.
 pub type TraceGet = for<'r, 'a> fn(&'r TracePoint<'a>) -> Cell<'r>;
 
-/// One row of `summary/2`: a diagram file and its summary, or its error.
+/// One row of `summary/3`: a diagram file and its summary, or its error.
 #[derive(Debug, Clone, Copy)]
 pub struct SummaryRecord<'a> {
     /// The path as given.
@@ -211,7 +226,7 @@ fn opt_text<'r>(s: Option<&'r str>) -> Cell<'r> {
     s.map_or(Cell::Null, text)
 }
 
-/// `summary/2`, in `summary.json`'s order (that of `summary.csv`): the
+/// `summary/3`, in `summary.json`'s order (that of `summary.csv`): the
 /// row's own columns and the provenance, then one column per key of
 /// [`KEYS`] (an object's field by field, as its
 /// [`Columns`] say). The Parquet table's order is [`summary_columns`].
@@ -251,8 +266,41 @@ pub static SUMMARY: LazyLock<Vec<Column<SummaryGet>>> = LazyLock::new(|| {
             })),
         }
     }
+    // summary/3: every burn level asked for, and its angle (the mean
+    // trace's), as lists: a level beyond the four fixed ones has no
+    // column of its own in a table whose columns are fixed.
+    let list = |name, get| Column {
+        name,
+        ty: ColumnType::Float64List,
+        nullable: true,
+        group: Group::Levels,
+        get: SummaryGet::Row(get),
+    };
+    c.push(list("burn_levels_pct", |r| {
+        levels_cell(r.summary, |(pct, _)| Some(*pct))
+    }));
+    c.push(list("burn_levels_deg", |r| {
+        levels_cell(r.summary, |(_, deg)| *deg)
+    }));
     c
 });
+
+/// A list of the summary's burn levels (`pick`: the level or its angle),
+/// null without combustion or without a summary.
+fn levels_cell(
+    s: Option<&Summary>,
+    pick: impl Fn(&(f64, Option<f64>)) -> Option<f64>,
+) -> Cell<'static> {
+    match s.and_then(|s| s.combustion.as_ref()) {
+        Some(c) if !c.levels.is_empty() => Cell::Floats(
+            c.levels
+                .iter()
+                .map(|l| pick(l).filter(|x| x.is_finite()).unwrap_or(f64::NAN))
+                .collect(),
+        ),
+        _ => Cell::Null,
+    }
+}
 
 /// A summary value as a cell (`None`: absent).
 fn value_cell(v: Option<Value>) -> Cell<'static> {
@@ -297,7 +345,7 @@ impl Column<TraceGet> {
     }
 }
 
-/// The columns of `summary/2` in the Parquet table's order: `file`,
+/// The columns of `summary/3` in the Parquet table's order: `file`,
 /// `error`, `engine`, `diagram_blake3`, the fixed keys, the optional keys,
 /// `pegging.*`, the text of `models.*`, `models.grid_step_deg`, `notes`.
 pub fn summary_columns() -> Vec<&'static Column<SummaryGet>> {
@@ -307,7 +355,7 @@ pub fn summary_columns() -> Vec<&'static Column<SummaryGet>> {
     c
 }
 
-/// One row of `cycles/2`: a measured cycle of one cylinder of one file,
+/// One row of `cycles/3`: a measured cycle of one cylinder of one file,
 /// used or left out. SI units; the columns convert.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CycleRow<'a> {
@@ -346,7 +394,7 @@ impl CycleRow<'_> {
     }
 }
 
-/// A float column of `cycles/2`'s combustion part.
+/// A float column of `cycles/3`'s combustion part.
 macro_rules! burn_column {
     ($name:literal, $get:expr) => {
         Column {
@@ -364,7 +412,7 @@ fn bar(x: Option<f64>) -> Cell<'static> {
     Cell::num(x.map(|p| p / 1e5))
 }
 
-/// `cycles/2`, in its order.
+/// `cycles/3`, in its order.
 pub const CYCLES: &[Column<CycleGet>] = &[
     Column {
         name: "file",
@@ -468,9 +516,30 @@ pub const CYCLES: &[Column<CycleGet>] = &[
             None => Cell::Null,
         },
     },
+    // cycles/3: every burn level asked for and its angle, as lists.
+    Column {
+        name: "burn_levels_pct",
+        ty: ColumnType::Float64List,
+        nullable: true,
+        group: Group::Row,
+        get: |r| match r.combustion {
+            Some((c, o)) if c.burn.is_some() => Cell::Floats(o.levels_pct.clone()),
+            _ => Cell::Null,
+        },
+    },
+    Column {
+        name: "burn_levels_deg",
+        ty: ColumnType::Float64List,
+        nullable: true,
+        group: Group::Row,
+        get: |r| match r.combustion.and_then(|(c, _)| c.burn.as_ref()) {
+            Some(b) => Cell::Floats(b.levels_deg.clone()),
+            None => Cell::Null,
+        },
+    },
 ];
 
-/// The rows of `cycles/2` for one file: every measured cycle of
+/// The rows of `cycles/3` for one file: every measured cycle of
 /// `resampled`, used ([`Resampled::stats`]) or left out
 /// ([`Resampled::skipped`], with the reason), by cylinder, then cycle;
 /// `run_rpm` is the speed of cycles the file does not time.
@@ -648,6 +717,8 @@ mod tests {
                 _ => expected.push(k.to_string()),
             }
         }
+        // summary/3: the level lists, after every key.
+        expected.extend(["burn_levels_pct".to_string(), "burn_levels_deg".to_string()]);
         let names: Vec<String> = SUMMARY.iter().map(|c| c.name.to_string()).collect();
         assert_eq!(names, expected);
         // And every one has a value in a full summary.
@@ -669,7 +740,8 @@ mod tests {
         let at = |n: &str| names.iter().position(|x| *x == n).unwrap();
         assert_eq!(at("energy_balance_error") + 1, at("cycles"));
         assert_eq!(at("estimated_relative_error") + 1, at("pegging.method"));
-        // summary/2: the combustion columns appended after `notes`.
+        // summary/2: the combustion columns appended after `notes`;
+        // summary/3: the level lists after them.
         assert_eq!(
             names[at("notes") - 5..=at("notes")],
             [
@@ -686,10 +758,16 @@ mod tests {
             ["models.gamma", "models.smoothing"]
         );
         assert_eq!(
-            names[names.len() - 2..],
-            ["dp_dphi_max_std_bar_deg", "imep_lnv"]
+            names[names.len() - 4..],
+            [
+                "dp_dphi_max_std_bar_deg",
+                "imep_lnv",
+                "burn_levels_pct",
+                "burn_levels_deg"
+            ]
         );
         let ty = |n: &str| SUMMARY.iter().find(|c| c.name == n).unwrap().ty;
+        assert_eq!(ty("burn_levels_deg"), ColumnType::Float64List);
         assert_eq!(ty("journal_most_loaded"), ColumnType::Int32);
         assert_eq!(ty("cycles_skipped"), ColumnType::Int64);
         assert_eq!(ty("pegging.method"), ColumnType::Utf8);

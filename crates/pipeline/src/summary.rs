@@ -228,11 +228,11 @@ pub struct Key {
     pub shown: Option<Shown>,
     /// The value; `None` when the key is absent from this summary.
     pub get: fn(&Summary) -> Option<Value>,
-    /// Its columns in `summary/2` and `summary.csv`.
+    /// Its columns in `summary/3` and `summary.csv`.
     pub columns: Columns,
 }
 
-/// The columns a summary key makes in the tables (`summary/2`,
+/// The columns a summary key makes in the tables (`summary/3`,
 /// `summary.csv`): [`schema::SUMMARY`](crate::schema::SUMMARY) is built
 /// from these, so a key and its column cannot drift apart.
 #[derive(Debug, Clone, Copy)]
@@ -328,7 +328,7 @@ const PEGGING: &[Field] = &[
 const FIXED: Columns = Columns::One(ColumnType::Float64, Group::Fixed);
 /// An optional number key's column.
 const OPTIONAL: Columns = Columns::One(ColumnType::Float64, Group::Optional);
-/// A combustion number key's column (appended in `summary/2`).
+/// A combustion number key's column (appended in `summary/3`).
 const COMBUSTION: Columns = Columns::One(ColumnType::Float64, Group::Combustion);
 
 /// The summary key named `name`, found when the program is compiled: for

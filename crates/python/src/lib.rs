@@ -840,6 +840,15 @@ fn table_dict<'py, R>(
                 let v: Vec<bool> = cells.map(|x| matches!(x, Cell::Bool(true))).collect();
                 d.set_item(c.name, PyArray1::from_vec(py, v))?;
             }
+            ColumnType::Float64List => {
+                let v: Vec<Option<Vec<f64>>> = cells
+                    .map(|x| match x {
+                        Cell::Floats(v) => Some(v),
+                        _ => None,
+                    })
+                    .collect();
+                d.set_item(c.name, v)?;
+            }
             ColumnType::Utf8 => {
                 let v: Vec<Option<String>> = cells
                     .map(|x| match x {

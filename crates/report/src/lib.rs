@@ -241,7 +241,7 @@ pub fn summary_json(summary: &Summary, inputs: &Inputs) -> serde_json::Value {
 pub fn summary_columns() -> Vec<String> {
     schema::SUMMARY
         .iter()
-        .filter(|c| c.group > Group::Provenance && !c.group.optional())
+        .filter(|c| c.group > Group::Provenance && c.group.in_csv() && !c.group.optional())
         .map(|c| c.name.to_string())
         .collect()
 }
@@ -255,6 +255,11 @@ fn csv_cell(c: &Cell<'_>) -> String {
         Cell::Int(i) => i.to_string(),
         Cell::Bool(b) => b.to_string(),
         Cell::Text(t) => csv_text(t).into_owned(),
+        Cell::Floats(v) => v
+            .iter()
+            .map(|x| enginedyn_numerics::format::csv(*x))
+            .collect::<Vec<_>>()
+            .join(" "),
         Cell::Null | Cell::Absent => String::new(),
     }
 }
@@ -267,7 +272,7 @@ pub fn flatten(s: &Summary) -> Vec<(String, String)> {
     let record = schema::SummaryRecord::of(s);
     let mut cells: Vec<(String, String)> = schema::SUMMARY
         .iter()
-        .filter(|c| c.group > Group::Provenance)
+        .filter(|c| c.group > Group::Provenance && c.group.in_csv())
         .filter_map(|c| {
             let cell = c.cell(&record);
             (cell != Cell::Absent).then(|| (c.name.to_string(), csv_cell(&cell)))

@@ -1,5 +1,5 @@
 //! A campaign's fixed, typed tables as Parquet (INTERFACE.md, "Campaigns:
-//! shards and Parquet" and "Parquet tables"): `summary/2`, `cycles/2` and
+//! shards and Parquet" and "Parquet tables"): `summary/3`, `cycles/3` and
 //! `traces/1`, built from the one definition in
 //! [`enginedyn_pipeline::schema`], each part a file
 //! `DIR/TABLE/part-IIIII-of-NNNNN.parquet` written whole or not at all; and
@@ -26,7 +26,8 @@
 //! ```
 
 use arrow_array::builder::{
-    BooleanBuilder, Float64Builder, Int16Builder, Int32Builder, Int64Builder, StringBuilder,
+    BooleanBuilder, Float64Builder, Int16Builder, Int32Builder, Int64Builder, ListBuilder,
+    StringBuilder,
 };
 use arrow_array::{ArrayRef, RecordBatch};
 use arrow_schema::{DataType, Field, Schema, SchemaRef};
@@ -176,9 +177,9 @@ pub enum TablesError {
 /// One of a campaign's tables.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Table {
-    /// `summary/2`: one row per diagram file.
+    /// `summary/3`: one row per diagram file.
     Summary,
-    /// `cycles/2`: one row per file × cylinder × measured cycle.
+    /// `cycles/3`: one row per file × cylinder × measured cycle.
     Cycles,
     /// `traces/1`: one row per file × cylinder × grid angle (opt-in).
     Traces,
@@ -244,6 +245,9 @@ pub fn data_type(ty: ColumnType) -> DataType {
         ColumnType::Int32 => DataType::Int32,
         ColumnType::Int64 => DataType::Int64,
         ColumnType::Float64 => DataType::Float64,
+        ColumnType::Float64List => {
+            DataType::List(Arc::new(Field::new("item", DataType::Float64, true)))
+        }
     }
 }
 
@@ -504,6 +508,25 @@ fn array<R>(
         ColumnType::Int16 => ints!(Int16Builder, i16),
         ColumnType::Int32 => ints!(Int32Builder, i32),
         ColumnType::Int64 => ints!(Int64Builder, i64),
+        ColumnType::Float64List => {
+            let mut b = ListBuilder::with_capacity(Float64Builder::new(), n);
+            for (k, r) in rows.iter().enumerate() {
+                let c = get(r);
+                check(k, &c)?;
+                match c {
+                    Cell::Floats(v) => {
+                        for x in v {
+                            // A NaN or an infinity is a null item.
+                            b.values().append_option(x.is_finite().then_some(x));
+                        }
+                        b.append(true);
+                    }
+                    Cell::Null | Cell::Absent => b.append_null(),
+                    c => return Err(mismatch(k, &c)),
+                }
+            }
+            Arc::new(b.finish())
+        }
     })
 }
 
@@ -596,12 +619,12 @@ pub fn parquet_bytes<R: Rows>(rows: &[R], meta: &Meta) -> Result<Vec<u8>, Tables
     w.finish()
 }
 
-/// A `summary/2` part holding `rows` (in the shard's order), as bytes.
+/// A `summary/3` part holding `rows` (in the shard's order), as bytes.
 pub fn summary_parquet(rows: &[SummaryRecord<'_>], meta: &Meta) -> Result<Vec<u8>, TablesError> {
     parquet_bytes(rows, meta)
 }
 
-/// A `cycles/2` part holding `rows` (file order, then cylinder, then
+/// A `cycles/3` part holding `rows` (file order, then cylinder, then
 /// cycle: [`schema::cycle_rows`] per file), as bytes.
 pub fn cycles_parquet(rows: &[CycleRow<'_>], meta: &Meta) -> Result<Vec<u8>, TablesError> {
     parquet_bytes(rows, meta)

@@ -175,12 +175,17 @@ fn summary_part_reads_back() {
     assert_eq!(ty("cycles_skipped"), DataType::Int64);
     assert_eq!(ty("pegging.method"), DataType::Utf8);
     assert_eq!(ty("models.grid_step_deg"), DataType::Float64);
-    // summary/2: the combustion columns after `notes`.
-    assert_eq!(fields.last().unwrap().0, "imep_lnv");
+    // summary/2: the combustion columns after `notes`; summary/3: the
+    // level lists after them.
+    let n = fields.len();
+    assert_eq!(fields[n - 3].0, "imep_lnv");
+    assert_eq!(fields[n - 2].0, "burn_levels_pct");
+    assert_eq!(fields[n - 1].0, "burn_levels_deg");
+    assert!(matches!(ty("burn_levels_deg"), DataType::List(_)));
     assert_eq!(ty("ca50_deg"), DataType::Float64);
     assert_eq!(ty("models.gamma"), DataType::Utf8);
     // Metadata.
-    assert_eq!(kv["enginedyn.schema"], "summary/2");
+    assert_eq!(kv["enginedyn.schema"], "summary/3");
     assert_eq!(kv["enginedyn.version"], env!("CARGO_PKG_VERSION"));
     assert_eq!(kv["engine.blake3"].len(), 64);
     assert_eq!(kv["engine.parsed_blake3"].len(), 64);
@@ -252,7 +257,7 @@ fn cycles_part_keeps_skipped_cycles() {
     );
     let rows = schema::cycle_rows(&r.file, &r.resampled, r.analysis.summary.rpm);
     let (b, kv) = read(cycles_parquet(&rows, &meta("vaz2108.toml")).unwrap());
-    assert_eq!(kv["enginedyn.schema"], "cycles/2");
+    assert_eq!(kv["enginedyn.schema"], "cycles/3");
     let schema = b.schema();
     let names: Vec<&str> = schema.fields().iter().map(|f| f.name().as_str()).collect();
     assert_eq!(
@@ -280,7 +285,9 @@ fn cycles_part_keeps_skipped_cycles() {
             "heat_released_j",
             "dp_dphi_max_bar_deg",
             "dp_dphi_max_angle_deg",
-            "combustion"
+            "combustion",
+            "burn_levels_pct",
+            "burn_levels_deg"
         ]
     );
     // This helper grids without the combustion analysis: its columns are
@@ -445,7 +452,7 @@ fn merge_names_a_missing_or_different_part() {
     let json: serde_json::Value = serde_json::from_slice(&std::fs::read(written).unwrap()).unwrap();
     assert_eq!(json["files"], 4);
     assert_eq!(json["failed"], 1);
-    assert_eq!(json["tables"][1], "cycles/2");
+    assert_eq!(json["tables"][1], "cycles/3");
 
     // --parts 4: part 3 is missing, and named.
     match check_campaign(d, Some(4)) {
@@ -493,7 +500,7 @@ fn merge_names_a_missing_or_different_part() {
         "{err}"
     );
     assert!(
-        err.contains("`enginedyn.schema` is `summary/2` here"),
+        err.contains("`enginedyn.schema` is `summary/3` here"),
         "{err}"
     );
     std::fs::write(&gone, &kept).unwrap();

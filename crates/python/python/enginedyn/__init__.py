@@ -437,7 +437,7 @@ class Result:
 
     @property
     def cycles(self) -> Dict[str, Any]:
-        """The ``cycles/2`` table's columns for this run: every measured
+        """The ``cycles/3`` table's columns for this run: every measured
         cycle, used or left out (``used``, ``skip_reason``), its IMEP, peak
         and speed (NumPy arrays; NaN where the table holds null)."""
         return dict(self._native.cycles())
@@ -465,16 +465,16 @@ class Result:
         return list(self._native.files(centered))
 
     def to_arrow(self) -> Any:
-        """This run as the ``summary/2`` table's one row (``pyarrow.Table``):
+        """This run as the ``summary/3`` table's one row (``pyarrow.Table``):
         the columns, types and metadata of a campaign's parts."""
         return _read_parquet(self._native.summary_parquet())
 
     def to_pandas(self) -> Any:
-        """This run as a one-row pandas DataFrame (the ``summary/2`` columns)."""
+        """This run as a one-row pandas DataFrame (the ``summary/3`` columns)."""
         return self.to_arrow().to_pandas()
 
     def to_polars(self) -> Any:
-        """This run as a one-row polars DataFrame (the ``summary/2`` columns)."""
+        """This run as a one-row polars DataFrame (the ``summary/3`` columns)."""
         import polars as pl
 
         return pl.read_parquet(_io.BytesIO(self._native.summary_parquet()))
@@ -677,7 +677,7 @@ class _FrozenBatch:
 
 class Batch:
     """Many files: one row per file; a failed file is a row with ``error``.
-    Its tables are the campaign's (``summary/2``, ``cycles/2``): the same
+    Its tables are the campaign's (``summary/3``, ``cycles/3``): the same
     columns, types and metadata ``enginedyn batch --parquet`` writes. It
     pickles (its tables and summaries; ``write_parquet`` stays with the
     batch that ran)."""
@@ -713,19 +713,19 @@ class Batch:
         return [list(n) for n, _ in self._native.notes()]
 
     def to_arrow(self) -> Any:
-        """The ``summary/2`` table as a ``pyarrow.Table`` (one row per file)."""
+        """The ``summary/3`` table as a ``pyarrow.Table`` (one row per file)."""
         return _read_parquet(self._native.summary_parquet())
 
     def cycles_arrow(self) -> Any:
-        """The ``cycles/2`` table as a ``pyarrow.Table``."""
+        """The ``cycles/3`` table as a ``pyarrow.Table``."""
         return _read_parquet(self._native.cycles_parquet())
 
     def to_pandas(self) -> Any:
-        """The ``summary/2`` table as a pandas DataFrame."""
+        """The ``summary/3`` table as a pandas DataFrame."""
         return self.to_arrow().to_pandas()
 
     def to_polars(self) -> Any:
-        """The ``summary/2`` table as a polars DataFrame."""
+        """The ``summary/3`` table as a polars DataFrame."""
         import polars as pl
 
         return pl.read_parquet(_io.BytesIO(self._native.summary_parquet()))
