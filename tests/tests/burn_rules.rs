@@ -252,3 +252,46 @@ fn parquet_parts_carry_the_levels_asked_for() {
         assert!(deg[0] < deg[1] && deg[1] < deg[2], "{deg:?}");
     }
 }
+
+/// Peak pressure, always (INTERFACE "Combustion"): `summary.json` has the
+/// mean trace's `p_max_bar` and `p_max_angle_deg` (they had to be
+/// back-calculated from `gas_force_max_n`), and every row of `sweep.csv`.
+/// Against the file's own largest sample: within 0.1 % and half a step.
+#[test]
+fn the_peak_pressure_is_reported() {
+    let rows = data_rows("vaz2108.csv");
+    let (a, p) = rows
+        .iter()
+        .map(|(a, p)| (a.parse::<f64>().unwrap(), *p))
+        .max_by(|x, y| x.1.total_cmp(&y.1))
+        .unwrap();
+    let s = json(&["run", "--json"]);
+    let got = s["p_max_bar"].as_f64().unwrap();
+    assert!((got / p - 1.0).abs() < 1e-3, "{got} for {p}");
+    let at = s["p_max_angle_deg"].as_f64().unwrap();
+    assert!((at - a).abs() <= 0.5, "{at} for {a}");
+    let t = tempfile::tempdir().unwrap();
+    let o = run(&[
+        "sweep",
+        "--engine",
+        &data("vaz2108.toml"),
+        "--rpm",
+        "2000:4000:1000",
+        "--out",
+        t.path().to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let mut r = csv::Reader::from_path(t.path().join("sweep.csv")).unwrap();
+    let i = r
+        .headers()
+        .unwrap()
+        .iter()
+        .position(|h| h == "p_max_bar")
+        .unwrap();
+    let n = r
+        .records()
+        .map(|rec| rec.unwrap()[i].parse::<f64>().unwrap())
+        .inspect(|x| assert!((x - got).abs() < 1e-9))
+        .count();
+    assert_eq!(n, 3);
+}

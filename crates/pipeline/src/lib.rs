@@ -618,6 +618,19 @@ pub fn analyse_with(
     };
     let mut analysis = complete(engine, parts, rpm, opts)?;
     if pressure.quantity == Quantity::Pressure {
+        // The mean trace's peak (cylinder 1's), the first a reviewer checks.
+        if let Some((k, p)) = traces[0]
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(b.1))
+        {
+            let n = traces[0].len();
+            let deg = k as f64 * pressure.step_deg;
+            let cycle = n as f64 * pressure.step_deg;
+            analysis.summary.p_max_bar = p.is_finite().then_some(p / 1e5);
+            analysis.summary.p_max_angle_deg =
+                Some(if deg >= cycle / 2.0 { deg - cycle } else { deg });
+        }
         let imep_pa = analysis.summary.imep_bar.map(|i| i * 1e5);
         let swept = engine.cylinder().swept_volume();
         let with_curves = opts.scope == Scope::Full;
@@ -870,6 +883,8 @@ fn complete(
         estimated_relative_error: None,
         mechanical_efficiency: eta,
         combustion: None,
+        p_max_bar: None,
+        p_max_angle_deg: None,
         notes,
     };
     Ok(Analysis {

@@ -135,10 +135,10 @@ pub enum Group {
     /// The combustion keys and their `models.*` (optional; appended in
     /// `summary/2`).
     Combustion,
-    /// The burn levels asked for and their angles as lists (appended in
-    /// `summary/3`; Parquet only: `summary.csv` has a `caK_deg` column a
-    /// level).
-    Levels,
+    /// Appended in `summary/3`: the mean trace's peak pressure and its
+    /// angle (optional), and the burn levels asked for and their angles as
+    /// lists (Parquet only: `summary.csv` has a `caK_deg` column a level).
+    Appended3,
 }
 
 impl Group {
@@ -146,14 +146,13 @@ impl Group {
     pub fn optional(self) -> bool {
         matches!(
             self,
-            Group::Optional | Group::Pegging | Group::Combustion | Group::Levels
+            Group::Optional | Group::Pegging | Group::Combustion | Group::Appended3
         )
     }
 
-    /// True for the columns of `summary.csv` (all but the provenance and
-    /// the level lists, which it has as `caK_deg` columns).
+    /// True for the columns of `summary.csv` (all but the provenance).
     pub fn in_csv(self) -> bool {
-        !matches!(self, Group::Provenance | Group::Levels)
+        self != Group::Provenance
     }
 }
 
@@ -273,7 +272,7 @@ pub static SUMMARY: LazyLock<Vec<Column<SummaryGet>>> = LazyLock::new(|| {
         name,
         ty: ColumnType::Float64List,
         nullable: true,
-        group: Group::Levels,
+        group: Group::Appended3,
         get: SummaryGet::Row(get),
     };
     c.push(list("burn_levels_pct", |r| {
@@ -697,6 +696,8 @@ mod tests {
             burn_window: "-90:120".into(),
             window_deg: (-90.0, 120.0),
         });
+        s.p_max_bar = Some(56.3);
+        s.p_max_angle_deg = Some(13.0);
         s.notes = vec!["a".into(), "b".into()];
         s
     }
@@ -717,7 +718,8 @@ mod tests {
                 _ => expected.push(k.to_string()),
             }
         }
-        // summary/3: the level lists, after every key.
+        // summary/3: the level lists, after every key (the peak pressure
+        // among them).
         expected.extend(["burn_levels_pct".to_string(), "burn_levels_deg".to_string()]);
         let names: Vec<String> = SUMMARY.iter().map(|c| c.name.to_string()).collect();
         assert_eq!(names, expected);
@@ -758,10 +760,12 @@ mod tests {
             ["models.gamma", "models.smoothing"]
         );
         assert_eq!(
-            names[names.len() - 4..],
+            names[names.len() - 6..],
             [
                 "dp_dphi_max_std_bar_deg",
                 "imep_lnv",
+                "p_max_bar",
+                "p_max_angle_deg",
                 "burn_levels_pct",
                 "burn_levels_deg"
             ]

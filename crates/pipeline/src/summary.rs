@@ -68,6 +68,11 @@ pub struct Summary {
     pub mechanical_efficiency: f64,
     /// The combustion figures, when a pressure diagram was analysed for them.
     pub combustion: Option<crate::CombustionSummary>,
+    /// The peak of the mean trace (cylinder 1's), bar, when a pressure
+    /// diagram was read.
+    pub p_max_bar: Option<f64>,
+    /// Its angle (deg from firing TDC, in `[-cycle/2, cycle/2)`).
+    pub p_max_angle_deg: Option<f64>,
     pub notes: Vec<String>,
 }
 
@@ -164,6 +169,8 @@ impl Summary {
             estimated_relative_error: None,
             mechanical_efficiency: 1.0,
             combustion: None,
+            p_max_bar: None,
+            p_max_angle_deg: None,
             notes: Vec::new(),
         }
     }
@@ -328,8 +335,10 @@ const PEGGING: &[Field] = &[
 const FIXED: Columns = Columns::One(ColumnType::Float64, Group::Fixed);
 /// An optional number key's column.
 const OPTIONAL: Columns = Columns::One(ColumnType::Float64, Group::Optional);
-/// A combustion number key's column (appended in `summary/3`).
+/// A combustion number key's column (appended in `summary/2`).
 const COMBUSTION: Columns = Columns::One(ColumnType::Float64, Group::Combustion);
+/// A number key's column appended in `summary/3`.
+const APPENDED_3: Columns = Columns::One(ColumnType::Float64, Group::Appended3);
 
 /// The summary key named `name`, found when the program is compiled: for
 /// the lists of figures other crates choose (`report::KEY_FIGURES`,
@@ -925,5 +934,31 @@ pub const KEYS: &[Key] = &[
         ),
         get: |s| burn(s, |c| c.imep_lnv),
         columns: COMBUSTION,
+    },
+    Key {
+        key: "p_max_bar",
+        shown: shown(
+            WORK,
+            "peak pressure (mean trace)",
+            "bar",
+            1.0,
+            2,
+            Basis::None,
+        ),
+        get: |s| s.p_max_bar.map(|x| Value::Num(Some(x))),
+        columns: APPENDED_3,
+    },
+    Key {
+        key: "p_max_angle_deg",
+        shown: shown(
+            WORK,
+            "peak pressure angle (from firing TDC)",
+            "deg",
+            1.0,
+            1,
+            Basis::None,
+        ),
+        get: |s| s.p_max_angle_deg.map(|x| Value::Num(Some(x))),
+        columns: APPENDED_3,
     },
 ];

@@ -241,7 +241,7 @@ pub fn summary_json(summary: &Summary, inputs: &Inputs) -> serde_json::Value {
 pub fn summary_columns() -> Vec<String> {
     schema::SUMMARY
         .iter()
-        .filter(|c| c.group > Group::Provenance && c.group.in_csv() && !c.group.optional())
+        .filter(|c| c.group > Group::Provenance && !c.group.optional())
         .map(|c| c.name.to_string())
         .collect()
 }
@@ -272,7 +272,8 @@ pub fn flatten(s: &Summary) -> Vec<(String, String)> {
     let record = schema::SummaryRecord::of(s);
     let mut cells: Vec<(String, String)> = schema::SUMMARY
         .iter()
-        .filter(|c| c.group > Group::Provenance && c.group.in_csv())
+        // The level lists are `caK_deg` columns here (below).
+        .filter(|c| c.group > Group::Provenance && c.ty != schema::ColumnType::Float64List)
         .filter_map(|c| {
             let cell = c.cell(&record);
             (cell != Cell::Absent).then(|| (c.name.to_string(), csv_cell(&cell)))

@@ -178,7 +178,9 @@ fn summary_part_reads_back() {
     // summary/2: the combustion columns after `notes`; summary/3: the
     // level lists after them.
     let n = fields.len();
-    assert_eq!(fields[n - 3].0, "imep_lnv");
+    assert_eq!(fields[n - 5].0, "imep_lnv");
+    assert_eq!(fields[n - 4].0, "p_max_bar");
+    assert_eq!(fields[n - 3].0, "p_max_angle_deg");
     assert_eq!(fields[n - 2].0, "burn_levels_pct");
     assert_eq!(fields[n - 1].0, "burn_levels_deg");
     assert!(matches!(ty("burn_levels_deg"), DataType::List(_)));
