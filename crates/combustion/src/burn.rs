@@ -2,6 +2,7 @@
 //! release (single zone, first law), the burn points by the min–max rule,
 //! the pressure rise and the gross work (PHYSICS.md "Combustion").
 
+use crate::wall::{Trapped, WallHeat};
 use crate::{CombustionError, GammaModel, Smoothing, check_range, smooth::Filter};
 
 /// The burn levels reported by default (percent).
@@ -37,6 +38,9 @@ pub struct Options {
     pub window_deg: (f64, f64),
     /// The burn levels to report (percent, 1–99, rising).
     pub levels_pct: Vec<f64>,
+    /// The wall-heat model: with one, the burn points come from the gross
+    /// cumulative (`None`: the net figures).
+    pub wall_heat: Option<WallHeat>,
 }
 
 impl Default for Options {
@@ -46,6 +50,7 @@ impl Default for Options {
             smoothing: Smoothing::default(),
             window_deg: DEFAULT_WINDOW,
             levels_pct: DEFAULT_LEVELS.to_vec(),
+            wall_heat: None,
         }
     }
 }
@@ -67,6 +72,9 @@ impl Options {
         }
         for &l in &self.levels_pct {
             check_range("burn level (%)", l, 1.0, 99.0)?;
+        }
+        if let Some(w) = &self.wall_heat {
+            w.check()?;
         }
         Ok(())
     }
@@ -116,6 +124,9 @@ pub struct CycleGrid<'a> {
     pub dvolume: &'a [f64],
     /// Grid step (deg).
     pub step_deg: f64,
+    /// The speed over this cycle (rpm): the wall heat needs it (`dt/dφ`,
+    /// the mean piston speed).
+    pub rpm: Option<f64>,
 }
 
 impl CycleGrid<'_> {
@@ -197,6 +208,12 @@ pub struct CycleBurn {
     /// `∫ p dV` over −180…180° (J): the gross work (the whole cycle for a
     /// two-stroke).
     pub gross_work_j: f64,
+    /// With a wall-heat model: `Q_max − Q_min` of the gross cumulative
+    /// (J), whose burn points [`Self::burn`] then are.
+    pub heat_released_gross_j: Option<f64>,
+    /// With a wall-heat model: the heat lost to the walls between SOC and
+    /// EOC (J), when the cycle burns.
+    pub wall_heat_j: Option<f64>,
 }
 
 /// The cumulative heat release over the window, smoothed: the work `∫ p
@@ -340,13 +357,29 @@ fn window_indices(step: f64, (a, b): (f64, f64)) -> (i64, i64) {
 }
 
 /// `pV` at intake valve closing, for γ(T) (1 for a constant γ: unused).
-/// The state must be one Brunt's temperature can scale from: a pressure
-/// of at least [`MIN_IVC_PRESSURE_PA`] and within a factor of
-/// [`IVC_PRESSURE_RATIO`] of the mean around intake BDC.
 fn pv_ivc(g: &CycleGrid, opts: &Options, f: &Filter) -> Result<f64, CombustionError> {
     let GammaModel::Brunt { ivc_deg, .. } = opts.gamma else {
         return Ok(1.0);
     };
+    let (p, v) = ivc_state(
+        g,
+        f,
+        ivc_deg,
+        "γ(T) cannot scale its temperature from there",
+    )?;
+    Ok(p * v)
+}
+
+/// The smoothed pressure and the volume at IVC, checked to be a state a
+/// temperature can scale from: a pressure of at least
+/// [`MIN_IVC_PRESSURE_PA`] and within a factor of [`IVC_PRESSURE_RATIO`]
+/// of the mean around intake BDC (`why` says what needs it).
+fn ivc_state(
+    g: &CycleGrid,
+    f: &Filter,
+    ivc_deg: f64,
+    why: &str,
+) -> Result<(f64, f64), CombustionError> {
     let k = (ivc_deg / g.step_deg).round() as i64;
     let p = f.value(g.pressure, k);
     // Intake BDC: 180° before firing TDC (both strokes), ±10°.
@@ -361,12 +394,12 @@ fn pv_ivc(g: &CycleGrid, opts: &Options, f: &Filter) -> Result<f64, CombustionEr
     if !plausible {
         return Err(CombustionError::Input(format!(
             "the pressure at intake valve closing ({ivc_deg}°) is {} bar, against {} bar around intake BDC: \
-             γ(T) cannot scale its temperature from there (a dropout or a wrong IVC?); check the trace there or set --ivc-deg",
+             {why} (a dropout or a wrong IVC?); check the trace there or set --ivc-deg",
             enginedyn_numerics::format::sig(p / 1e5, 3),
             enginedyn_numerics::format::sig(mean / 1e5, 3)
         )));
     }
-    Ok(p * g.at(g.volume, k))
+    Ok((p, g.at(g.volume, k)))
 }
 
 /// The lowest pressure at IVC that γ(T) scales from (Pa).
@@ -437,7 +470,78 @@ pub fn analyse_with(
     opts: &Options,
     f: &Filter,
 ) -> Result<CycleBurn, CombustionError> {
-    let win = cumulative(g, opts, f)?;
+    let mut win = cumulative(g, opts, f)?;
+    let net = rule(&win, g, opts, f);
+    let Some(wall) = &opts.wall_heat else {
+        return Ok(net);
+    };
+    // The gross cumulative: the net one plus the heat lost to the walls
+    // (Woschni's combustion term from the net SOC).
+    let w = wall_cumulative(&win, g, opts, f, wall, net.burn.as_ref().map(|b| b.soc_deg))?;
+    for (q, w) in win.qs.iter_mut().zip(&w) {
+        *q += w;
+    }
+    let mut gross = rule(&win, g, opts, f);
+    let at = |deg: f64| {
+        let x = (deg / g.step_deg - win.i0 as f64).clamp(0.0, (w.len() - 1) as f64);
+        let (j, t) = (x.floor() as usize, x.fract());
+        w[j] + t * (w[(j + 1).min(w.len() - 1)] - w[j])
+    };
+    gross.wall_heat_j = gross.burn.as_ref().map(|b| at(b.eoc_deg) - at(b.soc_deg));
+    gross.heat_released_gross_j = Some(gross.heat_released_j);
+    gross.heat_released_j = net.heat_released_j;
+    Ok(gross)
+}
+
+/// The heat lost to the walls (J) from the window's start, at every
+/// window point: `dQ_wall/dφ` from the smoothed pressure, integrated by
+/// the trapezoid.
+fn wall_cumulative(
+    win: &Window,
+    g: &CycleGrid,
+    opts: &Options,
+    f: &Filter,
+    wall: &WallHeat,
+    soc_deg: Option<f64>,
+) -> Result<Vec<f64>, CombustionError> {
+    let rpm = g.rpm.or(wall.rpm).filter(|r| r.is_finite() && *r > 0.0).ok_or_else(|| {
+        CombustionError::Input(
+            "the wall heat needs the engine's speed (dt/dφ and the mean piston speed): give --rpm".into(),
+        )
+    })?;
+    let (p_ivc, v_ivc) = ivc_state(
+        g,
+        f,
+        wall.ivc_deg,
+        "the wall heat cannot take the trapped mass from there",
+    )?;
+    let gamma_ivc = opts.gamma.gamma(p_ivc * v_ivc, p_ivc * v_ivc);
+    let s = Trapped {
+        p_ivc,
+        v_ivc,
+        gamma_ivc,
+        rpm,
+    };
+    let half = 0.5 * g.step_deg;
+    let mut out = Vec::with_capacity(win.qs.len());
+    let (mut total, mut prev) = (0.0, 0.0);
+    for j in 0..win.qs.len() {
+        let k = win.i0 + j as i64;
+        let burning = soc_deg.is_some_and(|soc| k as f64 * g.step_deg >= soc);
+        let r = wall.rate(&s, f.value(g.pressure, k), g.at(g.volume, k), burning);
+        if j > 0 {
+            total += half * (prev + r);
+        }
+        prev = r;
+        out.push(total);
+    }
+    Ok(out)
+}
+
+/// The burn rule on the window's cumulative (PHYSICS "Burn points"): the
+/// extremes, the no-combustion bound, the noise, the crossings, SOC and
+/// EOC, and the pressure rise.
+fn rule(win: &Window, g: &CycleGrid, opts: &Options, f: &Filter) -> CycleBurn {
     let (jmin, jmax) = extremes(&win.qs);
     let (q_min, q_max) = (win.qs[jmin], win.qs[jmax]);
     let released = q_max - q_min;
@@ -453,9 +557,11 @@ pub fn analyse_with(
         unresolved: false,
         burn: None,
         gross_work_j: gross_work(g),
+        heat_released_gross_j: None,
+        wall_heat_j: None,
     };
     if !(released >= bound) || jmax <= jmin {
-        return Ok(out);
+        return out;
     }
     let x = |frac: f64| q_min + frac * released;
     let (j10, ca10) = win.rising(jmin + 1, jmax, x(0.1));
@@ -477,7 +583,7 @@ pub fn analyse_with(
     out.unresolved =
         !(uncertainty <= MAX_CA50_UNCERTAINTY_DEG) || released < NOISE_FLOOR * sigma(win.v_max);
     if out.unresolved {
-        return Ok(out);
+        return out;
     }
     // The bands widen by the noise (3 σ of the cumulative at the extreme
     // it is measured from and where it is sought), so that noise on a
@@ -497,7 +603,7 @@ pub fn analyse_with(
             deg
         })
         .collect();
-    let (dp_max, dp_at) = pressure_rise(&win, j_soc, j_eoc);
+    let (dp_max, dp_at) = pressure_rise(win, j_soc, j_eoc);
     out.burn = Some(BurnPoints {
         soc_deg: soc,
         eoc_deg: eoc,
@@ -507,7 +613,7 @@ pub fn analyse_with(
         cut_at_start: win.cut(jmin, released, true),
         cut_at_end: win.cut(jmax, released, false),
     });
-    Ok(out)
+    out
 }
 
 /// The largest smoothed dp/dφ (Pa/°) between window indices `soc` and

@@ -11,6 +11,8 @@
 //! - [`wiebe`]: the single and double Wiebe law and its CA50 + 10–90
 //!   duration form;
 //! - [`smooth`]: the Savitzky–Golay filter applied before any derivative;
+//! - [`wall`]: the heat lost to the walls (Woschni, Hohenberg), for the
+//!   gross heat release;
 //! - [`burn`]: one cycle's heat release (cumulative without a derivative
 //!   of p), burn points by the min–max rule, the pressure rise, the gross
 //!   work, and the curves of the mean trace.
@@ -27,6 +29,7 @@
 pub mod burn;
 pub mod gamma;
 pub mod smooth;
+pub mod wall;
 pub mod wiebe;
 
 pub use burn::{
@@ -35,6 +38,7 @@ pub use burn::{
 };
 pub use gamma::{DEFAULT_GAMMA, DEFAULT_INTAKE_TEMP_K, DEFAULT_IVC_DEG, GammaModel, brunt};
 pub use smooth::{Filter, Smoothing};
+pub use wall::{DEFAULT_WALL_TEMP_K, WallHeat, WallModel};
 pub use wiebe::{BurnLaw, DEFAULT_A, Wiebe};
 
 /// Why a law or an analysis cannot be set up. Messages carry the

@@ -442,7 +442,7 @@ impl Accumulator {
                 .opts
                 .cylinder
                 .map(|c| pass.p_dv * self.opts.step_deg.to_radians() / c.swept_volume());
-            let combustion = self.combustion(src)?;
+            let combustion = self.combustion(src, tr.rpm)?;
             self.stats.push(CycleStats {
                 cylinder: tr.cylinder,
                 cycle: tr.cycle,
@@ -475,7 +475,11 @@ impl Accumulator {
 
     /// The combustion analysis of one cycle's pressure on the grid, when it
     /// is asked for and the volume law is known.
-    fn combustion(&self, p: &[f64]) -> Result<Option<CycleCombustion>, IngestError> {
+    fn combustion(
+        &self,
+        p: &[f64],
+        rpm: Option<f64>,
+    ) -> Result<Option<CycleCombustion>, IngestError> {
         let (Some(opts), Some(filter), Some(law), Some(cyl)) = (
             self.opts.combustion.as_deref(),
             self.filter.as_ref(),
@@ -489,6 +493,7 @@ impl Accumulator {
             volume: law.volume(),
             dvolume: law.dvolume(),
             step_deg: self.opts.step_deg,
+            rpm,
         };
         let r = enginedyn_combustion::analyse_with(&grid, opts, filter)
             .map_err(|e| IngestError::Data(e.to_string()))?;

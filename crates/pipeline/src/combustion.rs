@@ -108,7 +108,7 @@ pub(crate) fn analyse(
     traces: &[&[f64]],
     (volume, dvolume): (&[f64], &[f64]),
     swept: f64,
-    imep_pa: Option<f64>,
+    (imep_pa, rpm): (Option<f64>, f64),
     with_curves: bool,
 ) -> Option<Found> {
     let opts = pressure.combustion.as_deref()?;
@@ -117,6 +117,7 @@ pub(crate) fn analyse(
         volume,
         dvolume,
         step_deg: pressure.step_deg,
+        rpm: Some(rpm),
     };
     let mean = enginedyn_combustion::analyse(&grid(traces[0]), opts).ok()?;
     let curves = if with_curves {

@@ -639,7 +639,7 @@ pub fn analyse_with(
             &traces,
             (volume, dvolume),
             swept,
-            imep_pa,
+            (imep_pa, rpm),
             with_curves,
         ) {
             analysis.summary.notes.extend(found.notes);

@@ -181,6 +181,7 @@ impl BurnMethod {
             levels_pct: self
                 .levels
                 .map_or(DEFAULT_LEVELS.to_vec(), |l| l.as_slice().to_vec()),
+            wall_heat: None,
         }
     }
 
