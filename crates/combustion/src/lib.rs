@@ -11,6 +11,7 @@
 //! - [`wiebe`]: the single and double Wiebe law and its CA50 + 10–90
 //!   duration form;
 //! - [`smooth`]: the Savitzky–Golay filter applied before any derivative;
+//! - [`knock`]: MAPO and IMPO of the band-passed pressure, cycle by cycle;
 //! - [`wall`]: the heat lost to the walls (Woschni, Hohenberg), for the
 //!   gross heat release;
 //! - [`burn`]: one cycle's heat release (cumulative without a derivative
@@ -28,6 +29,7 @@
 
 pub mod burn;
 pub mod gamma;
+pub mod knock;
 pub mod smooth;
 pub mod wall;
 pub mod wiebe;
@@ -37,6 +39,7 @@ pub use burn::{
     analyse_with, curves, gross_work,
 };
 pub use gamma::{DEFAULT_GAMMA, DEFAULT_INTAKE_TEMP_K, DEFAULT_IVC_DEG, GammaModel, brunt};
+pub use knock::{Knock, KnockFigures, knock};
 pub use smooth::{Filter, Smoothing};
 pub use wall::{DEFAULT_WALL_TEMP_K, WallHeat, WallModel};
 pub use wiebe::{BurnLaw, DEFAULT_A, Wiebe};
