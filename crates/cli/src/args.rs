@@ -208,12 +208,27 @@ pub struct BurnArgs {
     /// Smoothing before dp/dφ and the SOC/EOC search: Savitzky-Golay cubic over DEG, or off [default: SG:2].
     #[arg(long, value_name = "SG:DEG|off", value_parser = enginedyn_session::burn::parse_smooth)]
     pub smooth: Option<enginedyn_session::burn::Smoothing>,
-    /// With --gamma brunt: charge temperature at intake valve closing (K, 200 to 1000) [default: 320].
-    #[arg(long, value_name = "K", requires = "gamma", value_parser = enginedyn_session::burn::parse_intake_temp_k)]
+    /// With --gamma brunt or --wall-heat: charge temperature at intake valve closing (K, 200 to 1000) [default: 320].
+    #[arg(long, value_name = "K", value_parser = enginedyn_session::burn::parse_intake_temp_k)]
     pub intake_temp_k: Option<f64>,
-    /// With --gamma brunt: intake valve closing (deg from firing TDC, -270 to 0) [default: -140].
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true, requires = "gamma", value_parser = enginedyn_session::burn::parse_ivc_deg)]
+    /// With --gamma brunt or --wall-heat: intake valve closing (deg from firing TDC, -270 to 0) [default: -140].
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = enginedyn_session::burn::parse_ivc_deg)]
     pub ivc_deg: Option<f64>,
+    /// Heat lost to the walls, for the gross heat release and its burn points: woschni, hohenberg or off [default: off].
+    #[arg(long, value_name = "MODEL", value_parser = enginedyn_session::burn::parse_wall_heat)]
+    pub wall_heat: Option<enginedyn_session::burn::WallSetting>,
+    /// With --wall-heat: mean wall temperature (K, 250 to 1000) [default: 450].
+    #[arg(long, value_name = "K", value_parser = enginedyn_session::burn::parse_wall_temp_k)]
+    pub wall_temp_k: Option<f64>,
+    /// Knock band, kHz (MAPO and IMPO of the band-passed pressure) [default: 4:20].
+    #[arg(long, value_name = "LO:HI", value_parser = enginedyn_session::burn::parse_knock_band)]
+    pub knock_band: Option<(f64, f64)>,
+    /// Knock window (deg from firing TDC) [default: -10:70].
+    #[arg(long, value_name = "A:B", allow_hyphen_values = true, value_parser = enginedyn_session::burn::parse_knock_window)]
+    pub knock_window: Option<(f64, f64)>,
+    /// A cycle knocks when its MAPO exceeds this (bar) [default: 1.0].
+    #[arg(long, value_name = "BAR", value_parser = enginedyn_session::burn::parse_knock_threshold)]
+    pub knock_threshold: Option<f64>,
     /// No combustion analysis (benches: what it costs).
     #[arg(long, hide = true)]
     pub no_burn: bool,
@@ -229,6 +244,11 @@ impl BurnArgs {
             smooth: self.smooth,
             intake_temp_k: self.intake_temp_k,
             ivc_deg: self.ivc_deg,
+            wall_heat: self.wall_heat,
+            wall_temp_k: self.wall_temp_k,
+            knock_band_hz: self.knock_band,
+            knock_window_deg: self.knock_window,
+            knock_threshold_pa: self.knock_threshold,
             off: self.no_burn,
         }
     }

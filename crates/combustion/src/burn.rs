@@ -2,6 +2,7 @@
 //! release (single zone, first law), the burn points by the min–max rule,
 //! the pressure rise and the gross work (PHYSICS.md "Combustion").
 
+use crate::knock::{Knock, KnockFigures, Unresolved};
 use crate::wall::{Trapped, WallHeat};
 use crate::{CombustionError, GammaModel, Smoothing, check_range, smooth::Filter};
 
@@ -41,6 +42,12 @@ pub struct Options {
     /// The wall-heat model: with one, the burn points come from the gross
     /// cumulative (`None`: the net figures).
     pub wall_heat: Option<WallHeat>,
+    /// Knock: MAPO and IMPO of each cycle (`None`: not measured).
+    pub knock: Option<Knock>,
+    /// The speed (rpm) of a cycle whose grid gives none
+    /// ([`CycleGrid::rpm`]): the command line's or the engine file's. The
+    /// wall heat and knock need one.
+    pub rpm: Option<f64>,
 }
 
 impl Default for Options {
@@ -51,6 +58,8 @@ impl Default for Options {
             window_deg: DEFAULT_WINDOW,
             levels_pct: DEFAULT_LEVELS.to_vec(),
             wall_heat: None,
+            knock: Some(Knock::default()),
+            rpm: None,
         }
     }
 }
@@ -75,6 +84,9 @@ impl Options {
         }
         if let Some(w) = &self.wall_heat {
             w.check()?;
+        }
+        if let Some(k) = &self.knock {
+            k.check()?;
         }
         Ok(())
     }
@@ -125,8 +137,11 @@ pub struct CycleGrid<'a> {
     /// Grid step (deg).
     pub step_deg: f64,
     /// The speed over this cycle (rpm): the wall heat needs it (`dt/dφ`,
-    /// the mean piston speed).
+    /// the mean piston speed), and knock (the band in degrees).
     pub rpm: Option<f64>,
+    /// The spacing of the samples the grid was made from (deg; `None`: the
+    /// grid's own step): knock needs samples that resolve its band.
+    pub sample_step_deg: Option<f64>,
 }
 
 impl CycleGrid<'_> {
@@ -214,6 +229,9 @@ pub struct CycleBurn {
     /// With a wall-heat model: the heat lost to the walls between SOC and
     /// EOC (J), when the cycle burns.
     pub wall_heat_j: Option<f64>,
+    /// Knock, when measured: its figures, or why the data do not resolve
+    /// the band.
+    pub knock: Option<Result<KnockFigures, Unresolved>>,
 }
 
 /// The cumulative heat release over the window, smoothed: the work `∫ p
@@ -471,8 +489,14 @@ pub fn analyse_with(
     f: &Filter,
 ) -> Result<CycleBurn, CombustionError> {
     let mut win = cumulative(g, opts, f)?;
-    let net = rule(&win, g, opts, f);
+    let mut net = rule(&win, g, opts, f);
+    let knock = opts.knock.as_ref().map(|k| {
+        let rpm = g.rpm.or(opts.rpm).unwrap_or(0.0);
+        let spacing = g.sample_step_deg.unwrap_or(g.step_deg);
+        crate::knock::knock(g.pressure, g.step_deg, spacing, rpm, k)
+    });
     let Some(wall) = &opts.wall_heat else {
+        net.knock = knock;
         return Ok(net);
     };
     // The gross cumulative: the net one plus the heat lost to the walls
@@ -490,6 +514,7 @@ pub fn analyse_with(
     gross.wall_heat_j = gross.burn.as_ref().map(|b| at(b.eoc_deg) - at(b.soc_deg));
     gross.heat_released_gross_j = Some(gross.heat_released_j);
     gross.heat_released_j = net.heat_released_j;
+    gross.knock = knock;
     Ok(gross)
 }
 
@@ -504,7 +529,7 @@ fn wall_cumulative(
     wall: &WallHeat,
     soc_deg: Option<f64>,
 ) -> Result<Vec<f64>, CombustionError> {
-    let rpm = g.rpm.or(wall.rpm).filter(|r| r.is_finite() && *r > 0.0).ok_or_else(|| {
+    let rpm = g.rpm.or(opts.rpm).filter(|r| r.is_finite() && *r > 0.0).ok_or_else(|| {
         CombustionError::Input(
             "the wall heat needs the engine's speed (dt/dφ and the mean piston speed): give --rpm".into(),
         )
@@ -559,6 +584,7 @@ fn rule(win: &Window, g: &CycleGrid, opts: &Options, f: &Filter) -> CycleBurn {
         gross_work_j: gross_work(g),
         heat_released_gross_j: None,
         wall_heat_j: None,
+        knock: None,
     };
     if !(released >= bound) || jmax <= jmin {
         return out;

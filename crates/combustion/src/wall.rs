@@ -53,10 +53,6 @@ pub struct WallHeat {
     pub stroke_m: f64,
     /// Swept volume of one cylinder (m³), for Woschni's combustion term.
     pub swept_m3: f64,
-    /// The speed (rpm) of a cycle whose grid gives none
-    /// ([`crate::CycleGrid::rpm`]): the command line's or the engine
-    /// file's.
-    pub rpm: Option<f64>,
 }
 
 impl WallHeat {
@@ -160,7 +156,6 @@ mod tests {
             bore_m: 0.076,
             stroke_m: 0.071,
             swept_m3: 0.000322,
-            rpm: Some(2000.0),
         }
     }
 

@@ -69,6 +69,7 @@ fn on_grid<'a>(p: &'a [f64], v: &'a [f64], dv: &'a [f64], step: f64) -> CycleGri
         dvolume: dv,
         step_deg: step,
         rpm: None,
+        sample_step_deg: None,
     }
 }
 
@@ -372,6 +373,7 @@ fn sensitivities() {
             dvolume: dv,
             step_deg: step,
             rpm: None,
+            sample_step_deg: None,
         };
         analyse(&g, o).unwrap()
     };
@@ -814,7 +816,6 @@ fn wall(model: enginedyn_combustion::WallModel) -> enginedyn_combustion::WallHea
         bore_m: 0.076,
         stroke_m: 0.071,
         swept_m3: cylinder().swept_volume(),
-        rpm: Some(2000.0),
     }
 }
 

@@ -84,6 +84,15 @@ pub struct CycleCombustion {
     pub noise_pa: f64,
     /// The heat clears the bound but the noise hides the burn.
     pub unresolved: bool,
+    /// With a wall-heat model: the gross heat released (J).
+    pub heat_released_gross_j: Option<f64>,
+    /// With a wall-heat model: the heat lost to the walls between SOC and
+    /// EOC (J).
+    pub wall_heat_j: Option<f64>,
+    /// Knock, when measured: MAPO and IMPO, or why the data do not
+    /// resolve the band.
+    pub knock:
+        Option<Result<enginedyn_combustion::KnockFigures, enginedyn_combustion::knock::Unresolved>>,
     /// The burn points, `None` without combustion.
     pub burn: Option<enginedyn_combustion::BurnPoints>,
 }
@@ -442,7 +451,8 @@ impl Accumulator {
                 .opts
                 .cylinder
                 .map(|c| pass.p_dv * self.opts.step_deg.to_radians() / c.swept_volume());
-            let combustion = self.combustion(src, tr.rpm)?;
+            let spacing = (!on_grid).then(|| self.cycle_deg / tr.angle_deg.len() as f64);
+            let combustion = self.combustion(src, tr.rpm, spacing)?;
             self.stats.push(CycleStats {
                 cylinder: tr.cylinder,
                 cycle: tr.cycle,
@@ -479,6 +489,7 @@ impl Accumulator {
         &self,
         p: &[f64],
         rpm: Option<f64>,
+        sample_step_deg: Option<f64>,
     ) -> Result<Option<CycleCombustion>, IngestError> {
         let (Some(opts), Some(filter), Some(law), Some(cyl)) = (
             self.opts.combustion.as_deref(),
@@ -494,6 +505,7 @@ impl Accumulator {
             dvolume: law.dvolume(),
             step_deg: self.opts.step_deg,
             rpm,
+            sample_step_deg,
         };
         let r = enginedyn_combustion::analyse_with(&grid, opts, filter)
             .map_err(|e| IngestError::Data(e.to_string()))?;
@@ -503,6 +515,9 @@ impl Accumulator {
             bound_j: r.bound_j,
             noise_pa: r.noise_pa,
             unresolved: r.unresolved,
+            heat_released_gross_j: r.heat_released_gross_j,
+            wall_heat_j: r.wall_heat_j,
+            knock: r.knock,
             burn: r.burn,
         }))
     }

@@ -54,6 +54,20 @@ pub struct CombustionSummary {
     pub burn_10_90_std_deg: Option<f64>,
     pub dp_dphi_max_std_bar_deg: Option<f64>,
     pub imep_lnv: Option<f64>,
+    /// With a wall-heat model: the mean trace's gross heat released (J);
+    /// `None` without a model.
+    pub heat_released_gross_j: Option<Option<f64>>,
+    /// With a wall-heat model: its heat lost to the walls, SOC to EOC (J).
+    pub wall_heat_j: Option<Option<f64>>,
+    /// Knock: MAPO over the cycles, mean and largest (bar), and the share
+    /// of cycles over the threshold; `None` where not resolved.
+    pub mapo_mean_bar: Option<f64>,
+    #[allow(missing_docs)]
+    pub mapo_max_bar: Option<f64>,
+    #[allow(missing_docs)]
+    pub knock_share: Option<f64>,
+    /// `models.wall_heat`: `woschni (T_w 450 K)` or `off`.
+    pub wall_heat: String,
     /// `models.gamma`.
     pub gamma: String,
     /// `models.smoothing`.
@@ -118,6 +132,7 @@ pub(crate) fn analyse(
         dvolume,
         step_deg: pressure.step_deg,
         rpm: Some(rpm),
+        sample_step_deg: Some(pressure.sample_step_deg),
     };
     let mean = enginedyn_combustion::analyse(&grid(traces[0]), opts).ok()?;
     let curves = if with_curves {
@@ -167,6 +182,11 @@ pub(crate) fn analyse(
         dp_dphi_max_angle_deg: b.map(|b| b.dp_max_angle_deg),
         imep_gross_bar: Some(gross / 1e5),
         pmep_bar: imep_pa.map(|i| (i - gross) / 1e5),
+        heat_released_gross_j: opts.wall_heat.map(|_| b.and(mean.heat_released_gross_j)),
+        wall_heat_j: opts.wall_heat.map(|_| b.and(mean.wall_heat_j)),
+        wall_heat: opts
+            .wall_heat
+            .map_or_else(|| "off".to_string(), |w| w.describe()),
         gamma: opts.gamma.describe(),
         smoothing: opts.smoothing.describe(step),
         burn_window: format!("{}:{}", opts.window_deg.0, opts.window_deg.1),
@@ -174,6 +194,7 @@ pub(crate) fn analyse(
         ..CombustionSummary::default()
     };
     spread(pressure, opts, &mut s);
+    notes.extend(knock(pressure, &mean, opts, &mut s));
     let scatter = pressure
         .stats
         .iter()
@@ -215,6 +236,54 @@ fn spread(pressure: &Resampled, opts: &Options, s: &mut CombustionSummary) {
             s.imep_lnv = Some(low / mean);
         }
     }
+}
+
+/// Knock over the measured cycles (the mean trace's for one cycle): MAPO
+/// mean and largest, the share over the threshold; a note when the data
+/// do not resolve the band, a warning when cycles knock.
+fn knock(
+    pressure: &Resampled,
+    mean: &enginedyn_combustion::CycleBurn,
+    opts: &Options,
+    s: &mut CombustionSummary,
+) -> Option<String> {
+    let k = opts.knock.as_ref()?;
+    let mut per: Vec<&Result<_, _>> = pressure
+        .stats
+        .iter()
+        .filter_map(|c| c.combustion.as_ref()?.knock.as_ref())
+        .collect();
+    if per.is_empty() {
+        per.extend(mean.knock.as_ref());
+    }
+    let figures: Vec<f64> = per
+        .iter()
+        .filter_map(|r| r.as_ref().ok().map(|f| f.mapo_pa))
+        .collect();
+    if figures.is_empty() {
+        let why = per.iter().find_map(|r| r.as_ref().err())?;
+        return Some(format!(
+            "knock not measured: the samples resolve up to {} kHz at this speed (2.5 a period), under the band's {} kHz (--knock-band): mapo_mean_bar and mapo_max_bar are null",
+            sig(why.highest_hz / 1e3, 3),
+            sig(k.band_hz.1 / 1e3, 3)
+        ));
+    }
+    let n = figures.len() as f64;
+    let max = figures.iter().copied().fold(0.0, f64::max);
+    let over = figures.iter().filter(|m| **m > k.threshold_pa).count();
+    s.mapo_mean_bar = Some(figures.iter().sum::<f64>() / n / 1e5);
+    s.mapo_max_bar = Some(max / 1e5);
+    s.knock_share = Some(over as f64 / n);
+    (over > 0).then(|| {
+        format!(
+            "knock in {over} of {} cycles: MAPO up to {} bar, over the threshold of {} bar (--knock-threshold; band {}–{} kHz)",
+            figures.len(),
+            sig(max / 1e5, 3),
+            sig(k.threshold_pa / 1e5, 3),
+            sig(k.band_hz.0 / 1e3, 3),
+            sig(k.band_hz.1 / 1e3, 3)
+        )
+    })
 }
 
 /// The warning for a trace whose noise hides its burn (PHYSICS "Burn

@@ -65,6 +65,8 @@ pub const DECIDED: &[&str] = &[
     "imep_std_bar, imep_cov",
     // The combustion analysis: a cycle that does not burn (motored, a fuel cut).
     "no combustion in ",
+    // Knock the data cannot resolve (their sampling): null, said once.
+    "knock not measured",
     // batch over folders (one file, or several).
     "1 file of another kind passed over",
     // A campaign's list: a file named twice (by any path); --replace.

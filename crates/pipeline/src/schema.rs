@@ -381,6 +381,14 @@ pub struct CycleRow<'a> {
 }
 
 impl CycleRow<'_> {
+    /// A knock figure of this cycle, when measured and resolved.
+    fn knock(&self, get: impl Fn(&enginedyn_combustion::KnockFigures) -> f64) -> Cell<'static> {
+        Cell::num(
+            self.combustion
+                .and_then(|(c, _)| c.knock.as_ref()?.as_ref().ok().map(&get)),
+        )
+    }
+
     /// A burn point of this cycle, when it burns.
     fn burn(
         &self,
@@ -515,7 +523,10 @@ pub const CYCLES: &[Column<CycleGet>] = &[
             None => Cell::Null,
         },
     },
-    // cycles/3: every burn level asked for and its angle, as lists.
+    // cycles/3: knock, every burn level asked for and its angle.
+    burn_column!("mapo_bar", |r| r.knock(|k| k.mapo_pa / 1e5)),
+    burn_column!("impo_bar_deg", |r| r.knock(|k| k.impo_pa_deg / 1e5)),
+    // (the levels as lists)
     Column {
         name: "burn_levels_pct",
         ty: ColumnType::Float64List,
@@ -695,7 +706,16 @@ mod tests {
             smoothing: "Savitzky-Golay cubic, 2° (21 points), zero-phase".into(),
             burn_window: "-90:120".into(),
             window_deg: (-90.0, 120.0),
+            ..Default::default()
         });
+        if let Some(c) = s.combustion.as_mut() {
+            c.heat_released_gross_j = Some(Some(640.0));
+            c.wall_heat_j = Some(Some(40.0));
+            c.mapo_mean_bar = Some(0.2);
+            c.mapo_max_bar = Some(1.4);
+            c.knock_share = Some(0.05);
+            c.wall_heat = "woschni (T_w 450 K)".into();
+        }
         s.p_max_bar = Some(56.3);
         s.p_max_angle_deg = Some(13.0);
         s.notes = vec!["a".into(), "b".into()];
@@ -760,10 +780,16 @@ mod tests {
             ["models.gamma", "models.smoothing"]
         );
         assert_eq!(
-            names[names.len() - 6..],
+            names[names.len() - 12..],
             [
                 "dp_dphi_max_std_bar_deg",
                 "imep_lnv",
+                "models.wall_heat",
+                "heat_released_gross_j",
+                "wall_heat_j",
+                "mapo_mean_bar",
+                "mapo_max_bar",
+                "knock_share",
                 "p_max_bar",
                 "p_max_angle_deg",
                 "burn_levels_pct",

@@ -316,6 +316,10 @@ const MODELS: &[Field] = &[
         .combustion
         .as_ref()
         .map(|c| Value::Str(c.burn_window.clone()))),
+    field!("models"."wall_heat", Utf8, Appended3, |s| s
+        .combustion
+        .as_ref()
+        .map(|c| Value::Str(c.wall_heat.clone()))),
 ];
 
 /// `pegging`, when relative traces were pegged.
@@ -438,6 +442,15 @@ const BURN: &str = "Combustion";
 /// does not exist (no combustion, or a level not asked for).
 fn burn(s: &Summary, get: fn(&crate::CombustionSummary) -> Option<f64>) -> Option<Value> {
     s.combustion.as_ref().map(|c| Value::Num(get(c)))
+}
+
+/// A combustion key null with the analysis and absent without its model
+/// (the wall heat's: `null when off`, INTERFACE "Wall heat and knock").
+fn burn_opt(
+    s: &Summary,
+    get: fn(&crate::CombustionSummary) -> Option<Option<f64>>,
+) -> Option<Value> {
+    s.combustion.as_ref().map(|c| Value::Num(get(c).flatten()))
 }
 
 macro_rules! num {
@@ -934,6 +947,64 @@ pub const KEYS: &[Key] = &[
         ),
         get: |s| burn(s, |c| c.imep_lnv),
         columns: COMBUSTION,
+    },
+    Key {
+        key: "heat_released_gross_j",
+        shown: shown(
+            BURN,
+            "gross heat released per cylinder (with wall heat)",
+            "J",
+            1.0,
+            1,
+            Basis::None,
+        ),
+        get: |s| burn_opt(s, |c| c.heat_released_gross_j),
+        columns: APPENDED_3,
+    },
+    Key {
+        key: "wall_heat_j",
+        shown: shown(
+            BURN,
+            "heat lost to the walls, SOC to EOC",
+            "J",
+            1.0,
+            1,
+            Basis::None,
+        ),
+        get: |s| burn_opt(s, |c| c.wall_heat_j),
+        columns: APPENDED_3,
+    },
+    Key {
+        key: "mapo_mean_bar",
+        shown: shown(
+            BURN,
+            "knock: MAPO, mean over cycles",
+            "bar",
+            1.0,
+            3,
+            Basis::None,
+        ),
+        get: |s| burn(s, |c| c.mapo_mean_bar),
+        columns: APPENDED_3,
+    },
+    Key {
+        key: "mapo_max_bar",
+        shown: shown(BURN, "knock: MAPO, largest", "bar", 1.0, 3, Basis::None),
+        get: |s| burn(s, |c| c.mapo_max_bar),
+        columns: APPENDED_3,
+    },
+    Key {
+        key: "knock_share",
+        shown: shown(
+            BURN,
+            "knock: share of cycles over the threshold",
+            "",
+            1.0,
+            3,
+            Basis::None,
+        ),
+        get: |s| burn(s, |c| c.knock_share),
+        columns: APPENDED_3,
     },
     Key {
         key: "p_max_bar",

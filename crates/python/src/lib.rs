@@ -380,6 +380,21 @@ fn burn(d: &Bound<'_, PyDict>) -> PyResult<enginedyn_session::burn::BurnMethod> 
             .transpose()?,
         intake_temp_k: get(d, "intake_temp_k")?,
         ivc_deg: get(d, "ivc_deg")?,
+        wall_heat: read("wall_heat", "")?
+            .map(|s| b::parse_wall_heat(&s).map_err(fail("wall_heat")))
+            .transpose()?,
+        wall_temp_k: read("wall_temp_k", "")?
+            .map(|s| b::parse_wall_temp_k(&s).map_err(fail("wall_temp_k")))
+            .transpose()?,
+        knock_band_hz: read("knock_band", ":")?
+            .map(|s| b::parse_knock_band(&s).map_err(fail("knock_band")))
+            .transpose()?,
+        knock_window_deg: read("knock_window", ":")?
+            .map(|s| b::parse_knock_window(&s).map_err(fail("knock_window")))
+            .transpose()?,
+        knock_threshold_pa: read("knock_threshold", "")?
+            .map(|s| b::parse_knock_threshold(&s).map_err(fail("knock_threshold")))
+            .transpose()?,
         off: false,
     })
 }

@@ -25,6 +25,15 @@ pub enum Gamma {
     Brunt,
 }
 
+/// The wall-heat model asked for (`--wall-heat`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WallSetting {
+    /// No wall heat: the net figures (the default).
+    Off,
+    /// Woschni's or Hohenberg's correlation: the gross figures.
+    Model(enginedyn_combustion::WallModel),
+}
+
 /// Burn levels (percent), rising, at most [`MAX_LEVELS`]: a fixed array so
 /// the method options stay `Copy`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -84,8 +93,18 @@ pub struct BurnMethod {
     pub smooth: Option<Smoothing>,
     /// `--intake-temp-k` (γ(T) only).
     pub intake_temp_k: Option<f64>,
-    /// `--ivc-deg` (γ(T) only).
+    /// `--ivc-deg` (γ(T) or the wall heat).
     pub ivc_deg: Option<f64>,
+    /// `--wall-heat`.
+    pub wall_heat: Option<WallSetting>,
+    /// `--wall-temp-k`.
+    pub wall_temp_k: Option<f64>,
+    /// `--knock-band LO:HI` (Hz).
+    pub knock_band_hz: Option<(f64, f64)>,
+    /// `--knock-window A:B` (deg).
+    pub knock_window_deg: Option<(f64, f64)>,
+    /// `--knock-threshold` (Pa).
+    pub knock_threshold_pa: Option<f64>,
     /// No analysis at all (the hidden `--no-burn` of the benches, which
     /// measure what the analysis costs).
     pub off: bool,
@@ -151,6 +170,75 @@ pub fn parse_intake_temp_k(s: &str) -> std::result::Result<f64, String> {
     Ok(t)
 }
 
+/// `woschni`, `hohenberg` or `off`.
+pub fn parse_wall_heat(s: &str) -> std::result::Result<WallSetting, String> {
+    use enginedyn_combustion::WallModel;
+    match s.trim().to_ascii_lowercase().as_str() {
+        "off" => Ok(WallSetting::Off),
+        "woschni" => Ok(WallSetting::Model(WallModel::Woschni)),
+        "hohenberg" => Ok(WallSetting::Model(WallModel::Hohenberg)),
+        _ => Err(format!("`{s}`: give woschni, hohenberg or off")),
+    }
+}
+
+/// The mean wall temperature (K), 250–1000.
+pub fn parse_wall_temp_k(s: &str) -> std::result::Result<f64, String> {
+    let t = read_number(s.trim(), false).map_err(|e| format!("`{s}` {e}"))?;
+    if !(250.0..=1000.0).contains(&t) {
+        return Err(format!("{t} K: expected 250 to 1000"));
+    }
+    Ok(t)
+}
+
+/// `A:B` as two numbers.
+fn pair(s: &str, example: &str) -> std::result::Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(':')
+        .ok_or_else(|| format!("`{s}`: give A:B, e.g. {example}"))?;
+    let a = read_number(a.trim(), false).map_err(|e| format!("`{a}` {e}"))?;
+    let b = read_number(b.trim(), false).map_err(|e| format!("`{b}` {e}"))?;
+    Ok((a, b))
+}
+
+/// The knock band `LO:HI` in kHz (as given) to Hz, within the bounds of
+/// [`enginedyn_combustion::Knock::check`].
+pub fn parse_knock_band(s: &str) -> std::result::Result<(f64, f64), String> {
+    let (a, b) = pair(s, "4:20 (kHz)")?;
+    let band_hz = (a * 1e3, b * 1e3);
+    enginedyn_combustion::Knock {
+        band_hz,
+        ..Default::default()
+    }
+    .check()
+    .map_err(|e| e.to_string())?;
+    Ok(band_hz)
+}
+
+/// The knock window `A:B` (deg from firing TDC).
+pub fn parse_knock_window(s: &str) -> std::result::Result<(f64, f64), String> {
+    let window_deg = pair(s, "-10:70")?;
+    enginedyn_combustion::Knock {
+        window_deg,
+        ..Default::default()
+    }
+    .check()
+    .map_err(|e| e.to_string())?;
+    Ok(window_deg)
+}
+
+/// The knock threshold in bar (as given) to Pa.
+pub fn parse_knock_threshold(s: &str) -> std::result::Result<f64, String> {
+    let t = read_number(s.trim(), false).map_err(|e| format!("`{s}` {e}"))?;
+    let threshold_pa = t * 1e5;
+    enginedyn_combustion::Knock {
+        threshold_pa,
+        ..Default::default()
+    }
+    .check()
+    .map_err(|_| format!("{t} bar: expected 0.01 to 100"))?;
+    Ok(threshold_pa)
+}
+
 /// Intake valve closing (deg from firing TDC), within Brunt's model's bound.
 pub fn parse_ivc_deg(s: &str) -> std::result::Result<f64, String> {
     let a = read_number(s.trim(), false).map_err(|e| format!("`{s}` {e}"))?;
@@ -182,20 +270,79 @@ impl BurnMethod {
                 .levels
                 .map_or(DEFAULT_LEVELS.to_vec(), |l| l.as_slice().to_vec()),
             wall_heat: None,
+            knock: Some(enginedyn_combustion::Knock {
+                band_hz: self
+                    .knock_band_hz
+                    .unwrap_or(enginedyn_combustion::knock::DEFAULT_BAND_HZ),
+                window_deg: self
+                    .knock_window_deg
+                    .unwrap_or(enginedyn_combustion::knock::DEFAULT_WINDOW_DEG),
+                threshold_pa: self
+                    .knock_threshold_pa
+                    .unwrap_or(enginedyn_combustion::knock::DEFAULT_THRESHOLD_PA),
+            }),
+            rpm: None,
         }
+    }
+
+    /// [`Self::options`] for `engine`: the wall heat's chamber and the
+    /// trapped state (IVC from `--ivc-deg`, else −140°, −100° for a
+    /// two-stroke; T_ivc from `--intake-temp-k`, else 320 K), and the
+    /// speed of a cycle whose file gives none (`rpm`, else the engine
+    /// file's).
+    pub fn options_for(&self, engine: &enginedyn_engine::Engine, rpm: Option<f64>) -> Options {
+        let mut o = self.options();
+        o.rpm = rpm.or(engine.operating().rpm);
+        if let Some(WallSetting::Model(model)) = self.wall_heat {
+            let cyl = engine.cylinder();
+            let two = engine.stroke_kind() == enginedyn_engine::Stroke::Two;
+            let (ivc_deg, intake_temp_k) = match o.gamma {
+                GammaModel::Brunt {
+                    ivc_deg,
+                    intake_temp_k,
+                } => (ivc_deg, intake_temp_k),
+                GammaModel::Constant(_) => (
+                    self.ivc_deg
+                        .unwrap_or(if two { -100.0 } else { DEFAULT_IVC_DEG }),
+                    self.intake_temp_k.unwrap_or(DEFAULT_INTAKE_TEMP_K),
+                ),
+            };
+            o.wall_heat = Some(enginedyn_combustion::WallHeat {
+                model,
+                wall_temp_k: self
+                    .wall_temp_k
+                    .unwrap_or(enginedyn_combustion::DEFAULT_WALL_TEMP_K),
+                intake_temp_k,
+                ivc_deg,
+                bore_m: cyl.bore(),
+                stroke_m: cyl.mechanism().stroke(),
+                swept_m3: cyl.swept_volume(),
+            });
+        }
+        o
     }
 
     /// Every bound checked; `name` gives an option's name as the front end
     /// says it (`--gamma` or `gamma=`).
     pub fn check(&self, name: impl Fn(&str) -> String) -> Result<()> {
+        let wall = matches!(self.wall_heat, Some(WallSetting::Model(_)));
         if (self.intake_temp_k.is_some() || self.ivc_deg.is_some())
             && self.gamma != Some(Gamma::Brunt)
+            && !wall
         {
             return Err(Error::usage(format!(
-                "{} and {} set the state for γ(T): give them with {} brunt",
+                "{} and {} set the state at intake valve closing for γ(T) and the wall heat: give them with {} brunt or {}",
                 name("intake_temp_k"),
                 name("ivc_deg"),
-                name("gamma")
+                name("gamma"),
+                name("wall_heat")
+            )));
+        }
+        if self.wall_temp_k.is_some() && !wall {
+            return Err(Error::usage(format!(
+                "{} is the wall heat's: give it with {} woschni or hohenberg",
+                name("wall_temp_k"),
+                name("wall_heat")
             )));
         }
         self.options().check().map_err(|e| {
@@ -245,6 +392,27 @@ impl BurnMethod {
         }
         if let Some(a) = self.ivc_deg {
             o.insert("ivc_deg".into(), a.into());
+        }
+        match self.wall_heat {
+            Some(WallSetting::Model(m)) => {
+                o.insert("wall_heat".into(), m.name().into());
+            }
+            Some(WallSetting::Off) => {
+                o.insert("wall_heat".into(), "off".into());
+            }
+            None => {}
+        }
+        if let Some(t) = self.wall_temp_k {
+            o.insert("wall_temp_k".into(), t.into());
+        }
+        if let Some((a, b)) = self.knock_band_hz {
+            o.insert("knock_band".into(), vec![a / 1e3, b / 1e3].into());
+        }
+        if let Some((a, b)) = self.knock_window_deg {
+            o.insert("knock_window".into(), vec![a, b].into());
+        }
+        if let Some(t) = self.knock_threshold_pa {
+            o.insert("knock_threshold".into(), (t / 1e5).into());
         }
     }
 }

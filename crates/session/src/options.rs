@@ -492,6 +492,11 @@ pub const METHOD_KEYS: &[&str] = &[
     "smooth",
     "intake_temp_k",
     "ivc_deg",
+    "wall_heat",
+    "wall_temp_k",
+    "knock_band",
+    "knock_window",
+    "knock_threshold",
 ];
 
 /// `kinematics` by name.
@@ -618,6 +623,11 @@ pub const FLAG_KEYWORDS: &[(&str, &str)] = &[
     ("--intake-temp-k", "intake_temp_k="),
     ("--burn-window", "burn_window="),
     ("--burn-points", "burn_points="),
+    ("--wall-heat", "wall_heat="),
+    ("--wall-temp-k", "wall_temp_k="),
+    ("--knock-band", "knock_band="),
+    ("--knock-window", "knock_window="),
+    ("--knock-threshold", "knock_threshold="),
     ("--pv-start", "pv_start="),
 ];
 

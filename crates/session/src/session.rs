@@ -66,7 +66,7 @@ impl Session {
             let cycle_deg = loaded.engine.cycle().to_degrees();
             method
                 .burn
-                .options()
+                .options_for(&loaded.engine, reader.rpm)
                 .check_grid(step, cycle_deg)
                 .map_err(|e| Error::usage(format!("--step {step}: {e}")))?;
         }
@@ -75,7 +75,8 @@ impl Session {
             ..method.options()
         };
         let (parse, mut grid) = diagram_options(&loaded.engine, &reader, step, opts.interp)?;
-        grid.combustion = (!method.burn.off).then(|| std::sync::Arc::new(method.burn.options()));
+        grid.combustion = (!method.burn.off)
+            .then(|| std::sync::Arc::new(method.burn.options_for(&loaded.engine, reader.rpm)));
         let n = (loaded.engine.cycle().to_degrees() / step).round() as usize;
         let tables = enginedyn_pipeline::Tables::new(&loaded.engine, n, &opts).ok();
         Ok(Self {

@@ -178,7 +178,9 @@ fn summary_part_reads_back() {
     // summary/2: the combustion columns after `notes`; summary/3: the
     // level lists after them.
     let n = fields.len();
-    assert_eq!(fields[n - 5].0, "imep_lnv");
+    assert_eq!(fields[n - 11].0, "imep_lnv");
+    assert_eq!(fields[n - 10].0, "models.wall_heat");
+    assert_eq!(fields[n - 5].0, "knock_share");
     assert_eq!(fields[n - 4].0, "p_max_bar");
     assert_eq!(fields[n - 3].0, "p_max_angle_deg");
     assert_eq!(fields[n - 2].0, "burn_levels_pct");
@@ -288,6 +290,8 @@ fn cycles_part_keeps_skipped_cycles() {
             "dp_dphi_max_bar_deg",
             "dp_dphi_max_angle_deg",
             "combustion",
+            "mapo_bar",
+            "impo_bar_deg",
             "burn_levels_pct",
             "burn_levels_deg"
         ]

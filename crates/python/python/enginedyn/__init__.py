@@ -187,7 +187,10 @@ class Method(_Options):
     ``burn_points`` (levels in percent, e.g. ``[5, 10, 50, 90]``),
     ``burn_window`` (``(-90, 120)`` or ``"-90:120"``), ``gamma`` (``1.32``
     or ``"brunt"``), ``smooth`` (``"SG:2"`` or ``"off"``),
-    ``intake_temp_k`` and ``ivc_deg`` (with ``gamma="brunt"``)."""
+    ``intake_temp_k`` and ``ivc_deg`` (with ``gamma="brunt"`` or a wall-heat
+    model), ``wall_heat`` (``"woschni"``, ``"hohenberg"`` or ``"off"``),
+    ``wall_temp_k``, ``knock_band`` (kHz, ``(4, 20)`` or ``"4:20"``),
+    ``knock_window`` (``(-10, 70)``) and ``knock_threshold`` (bar)."""
 
     __slots__ = ()
 
@@ -206,6 +209,11 @@ class Method(_Options):
         smooth: Optional[str] = None,
         intake_temp_k: Optional[float] = None,
         ivc_deg: Optional[float] = None,
+        wall_heat: Optional[str] = None,
+        wall_temp_k: Optional[float] = None,
+        knock_band: Optional[Union[Sequence[float], str]] = None,
+        knock_window: Optional[Union[Sequence[float], str]] = None,
+        knock_threshold: Optional[float] = None,
     ) -> None:
         super().__init__(
             step_deg=step_deg,
@@ -220,6 +228,11 @@ class Method(_Options):
             smooth=smooth,
             intake_temp_k=intake_temp_k,
             ivc_deg=ivc_deg,
+            wall_heat=wall_heat,
+            wall_temp_k=wall_temp_k,
+            knock_band=knock_band if knock_band is None or isinstance(knock_band, str) else list(knock_band),
+            knock_window=knock_window if knock_window is None or isinstance(knock_window, str) else list(knock_window),
+            knock_threshold=knock_threshold,
         )
 
 
