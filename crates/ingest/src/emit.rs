@@ -72,6 +72,22 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
         }
     }
 
+    /// Where a long record's firing TDC lies before its first cut
+    /// ([`crate::axis::Aligner::firing_offset`]).
+    pub(crate) fn firing_offset(
+        &self,
+        angles: &[f64],
+        values: &[f64],
+        quantity: Quantity,
+        cylinder: i64,
+    ) -> f64 {
+        if self.pv || self.time {
+            return 0.0;
+        }
+        self.aligner
+            .firing_offset(angles, values, quantity, cylinder)
+    }
+
     /// While probing a headerless file, any error but the probe's own
     /// verdict (a first column that is no angle, a cell that is no number)
     /// is the plain no-header error: the guessed names are not the user's.

@@ -109,6 +109,39 @@ impl Track {
     }
 }
 
+/// The window rule (INTERFACE.md, "A cycle is the window around its firing
+/// TDC"), the one place where a record longer than a cycle is cut, for the
+/// long layout and every time record alike: cycle `c` holds the angles
+/// (deg from the first firing TDC) from `c·cycle − cycle/2` up to
+/// `c·cycle + cycle/2`, −360…+360° around its firing TDC on a four-stroke
+/// (cut at the gas-exchange TDC), −180…+180° on a two-stroke (cut at BDC),
+/// so that each cycle holds its own compression, combustion and expansion.
+/// Returns the window holding angle `a` and where it begins (deg). A
+/// cycle's samples keep their angles from its own firing TDC
+/// (`a − c·cycle`, in `[−cycle/2, cycle/2)`); [`finish`] moves them into
+/// `[0, cycle)`, so the grid is the periodic one from firing TDC.
+pub(crate) fn window(a: f64, cycle: f64) -> (i64, f64) {
+    let half = cycle / 2.0;
+    // A sample on a window's edge (within rounding) begins that window.
+    let c = ((a + half) / cycle + 1e-12).floor() as i64;
+    (c, c as f64 * cycle - half)
+}
+
+/// How a note names the window rule for a cycle of `cycle` degrees: where
+/// cycles are cut (`at`, said after it when given) and the window around
+/// firing TDC.
+pub(crate) fn window_said(cycle: f64, at: &str) -> String {
+    let half = enginedyn_numerics::format::trimmed(cycle / 2.0, 3);
+    format!(
+        "cut at each {}{at}, each cycle the window −{half}…+{half}° around its firing TDC",
+        if cycle > 400.0 {
+            "gas-exchange TDC"
+        } else {
+            "BDC"
+        }
+    )
+}
+
 /// The widest gap of a trace.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Gap {
