@@ -157,7 +157,7 @@ pub(crate) struct Gap {
 }
 
 /// What the checks of a finished trace found.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub(crate) struct Checked {
     /// The smallest and largest step between its angles, when they did
     /// not have to move into the cycle.
@@ -166,6 +166,9 @@ pub(crate) struct Checked {
     pub gap: Option<Gap>,
     /// Samples below zero absolute pressure, and the lowest (Pa).
     pub below_zero: (usize, f64),
+    /// Its glitches ([`crate::plausible::glitches`]), replaced by their
+    /// cubic when `--despike` was given.
+    pub glitches: Vec<crate::plausible::Glitch>,
 }
 
 /// A gap is a spacing of more than this many median steps (INTERFACE.md).
@@ -221,6 +224,14 @@ pub(crate) fn finish(
             note_gap(i, w[0], w[1] - w[0]);
         }
     }
+    // The glitch rule, before the bounds: `--despike` puts each glitch's
+    // cubic in its place, and the bounds judge what is left.
+    let glitches = crate::plausible::glitches(&tr, cycle, quantity, ctx.absolute);
+    if ctx.despike {
+        for g in &glitches {
+            tr.values[g.at] = g.cubic;
+        }
+    }
     // Coverage is judged before the values (INTERFACE.md): a trace that
     // covers less than half its cycle is left out or refused by the gap
     // rule as a file cut short, never judged on the shape of what is left.
@@ -234,6 +245,7 @@ pub(crate) fn finish(
         steps,
         gap,
         below_zero,
+        glitches,
     };
     // Already in [0, cycle) and rising (the usual case): nothing to move.
     if first >= 0.0 && last < cycle && lo > 0.0 {
@@ -389,6 +401,7 @@ mod tests {
             absolute,
             gauge: false,
             compression_ratio: None,
+            despike: false,
             coverage_first: true,
         }
     }
