@@ -43,13 +43,21 @@ fn a_glitch_is_named_and_despike_replaces_it() {
     let diagram = f.to_str().unwrap();
     let (raw, e) = imep(&["run", "--engine", &engine, "--diagram", diagram, "--json"]);
     assert!(
-        e.contains("warning: 1 glitch") && e.contains("line 29: 1000 bar") && e.contains("--despike"),
+        e.contains("warning: 1 glitch")
+            && e.contains("line 29: 1000 bar")
+            && e.contains("--despike"),
         "{e}"
     );
     // What the glitch does unchecked: the issue's +8.6 %.
     assert!(raw / clean_imep - 1.0 > 0.05, "{raw} {clean_imep}");
     let (fixed, e) = imep(&[
-        "run", "--engine", &engine, "--diagram", diagram, "--despike", "--json",
+        "run",
+        "--engine",
+        &engine,
+        "--diagram",
+        diagram,
+        "--despike",
+        "--json",
     ]);
     assert!(e.contains("note: --despike replaced 1 glitch"), "{e}");
     assert!(

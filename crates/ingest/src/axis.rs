@@ -252,8 +252,7 @@ impl Aligner {
         quantity: Quantity,
         cylinder: i64,
     ) -> f64 {
-        if !self.may_shift || quantity != Quantity::Pressure || cylinder > 1 || values.is_empty()
-        {
+        if !self.may_shift || quantity != Quantity::Pressure || cylinder > 1 || values.is_empty() {
             return 0.0;
         }
         if let Some((at360, _)) = self.tdc360 {
@@ -263,7 +262,11 @@ impl Aligner {
         // of equal values, the one at the lowest angle there.
         let at = |i: usize| angles[i].rem_euclid(self.cycle);
         let i = (0..values.len())
-            .max_by(|&i, &j| values[i].total_cmp(&values[j]).then(at(j).total_cmp(&at(i))))
+            .max_by(|&i, &j| {
+                values[i]
+                    .total_cmp(&values[j])
+                    .then(at(j).total_cmp(&at(i)))
+            })
             .unwrap_or(0);
         let p = at(i);
         if follows(p, 360.0, self.cycle) && !follows(p, 0.0, self.cycle) {

@@ -193,9 +193,12 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
         }
         for g in &c.glitches {
             if self.glitches.0.len() < GLITCHES_SAID {
-                self.glitches
-                    .0
-                    .push((trace::describe(tr.cycle, tr.cylinder), line + g.at, g.value, g.cubic));
+                self.glitches.0.push((
+                    trace::describe(tr.cycle, tr.cylinder),
+                    line + g.at,
+                    g.value,
+                    g.cubic,
+                ));
             }
             self.glitches.1 += 1;
         }

@@ -30,7 +30,8 @@ fn load_of(k: i64) -> f64 {
 /// in −360…+360: compression, and a combustion bump times its load; the
 /// gas exchange flat at 1 bar, so the windows join without a step.
 fn p_of(d: f64, k: i64) -> f64 {
-    1.0 + 14.0 * (-(d / 70.0).powi(2)).exp() + 45.0 * load_of(k) * (-((d - 20.0) / 22.0).powi(2)).exp()
+    1.0 + 14.0 * (-(d / 70.0).powi(2)).exp()
+        + 45.0 * load_of(k) * (-((d - 20.0) / 22.0).powi(2)).exp()
 }
 
 /// A long record without a `cycle` column, the angle running on from
@@ -74,14 +75,20 @@ fn a_record_of_n_whole_windows_gives_n_cycles() {
         let got = imeps(&r);
         for (k, x) in got.iter().enumerate() {
             let want = imeps(&alone(k as i64))[0];
-            assert!((x - want).abs() <= 1e-9 * want.abs(), "cycle {k}: {x} vs {want}");
+            assert!(
+                (x - want).abs() <= 1e-9 * want.abs(),
+                "cycle {k}: {x} vs {want}"
+            );
         }
         // The loads differ: so do the IMEPs (a mixed cut would average them).
         if n > 1 {
             assert!((got[1] - got[0]).abs() > 0.05 * got[0].abs(), "{got:?}");
         }
         let notes = r.notes.join("\n");
-        assert!(!notes.contains("partial") && !notes.contains("starts again"), "{notes}");
+        assert!(
+            !notes.contains("partial") && !notes.contains("starts again"),
+            "{notes}"
+        );
         if n > 1 {
             assert!(notes.contains("cut at each gas-exchange TDC"), "{notes}");
         }
@@ -105,12 +112,19 @@ fn a_record_running_on_from_zero_gives_its_whole_windows() {
         ),
         "{notes}"
     );
-    assert!(!notes.contains("dropout") && !notes.contains("starts again"), "{notes}");
+    assert!(
+        !notes.contains("dropout") && !notes.contains("starts again"),
+        "{notes}"
+    );
     // Cycle 1 is the window around the firing TDC at 720°: load_of(1).
     let got = imeps(&r);
     for (i, x) in got.iter().enumerate().take(6) {
         let want = imeps(&alone(i as i64 + 1))[0];
-        assert!((x - want).abs() <= 1e-9 * want.abs(), "cycle {}: {x} vs {want}", i + 1);
+        assert!(
+            (x - want).abs() <= 1e-9 * want.abs(),
+            "cycle {}: {x} vs {want}",
+            i + 1
+        );
     }
 }
 
@@ -138,5 +152,9 @@ fn a_two_stroke_record_is_cut_at_bdc() {
         let want = 1.0 + 20.0 * load_of(k as i64);
         assert!((p - want).abs() < 1e-3, "{peaks:?}");
     }
-    assert!(r.notes.join("\n").contains("cut at each BDC"), "{:?}", r.notes);
+    assert!(
+        r.notes.join("\n").contains("cut at each BDC"),
+        "{:?}",
+        r.notes
+    );
 }

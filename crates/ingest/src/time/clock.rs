@@ -19,7 +19,7 @@ pub(super) struct Clock {
     /// The other cylinders' values.
     pub others: Others,
     /// The first partial window, kept while no cycle is whole.
-    first_part: Option<Building>,
+    first_part: Option<Box<Building>>,
     /// The record held no whole window: its one cycle from firing TDC to
     /// firing TDC was read ([`super::cycles::one_cycle`]).
     pub joined: bool,
@@ -87,7 +87,9 @@ impl Clock {
             } else {
                 b.trace.angle_deg.last()
             };
-            a.is_some_and(|&a| (a - at).abs() <= 2.0 * step || (first && a < at) || (!first && a > at))
+            a.is_some_and(|&a| {
+                (a - at).abs() <= 2.0 * step || (first && a < at) || (!first && a > at)
+            })
         };
         if end
             && self.complete == 0
@@ -95,7 +97,7 @@ impl Clock {
             && self.cur.as_ref().is_some_and(|e| near(e, 0.0, false))
             && let (Some(f), Some(e)) = (self.first_part.take(), self.cur.take())
         {
-            if let Some(b) = super::cycles::one_cycle(f, e, self.cycle_deg) {
+            if let Some(b) = super::cycles::one_cycle(*f, e, self.cycle_deg) {
                 self.joined = true;
                 self.partial -= 1;
                 self.complete += 1;
@@ -115,7 +117,7 @@ impl Clock {
             } else {
                 self.partial += 1;
                 if self.complete == 0 && self.first_part.is_none() {
-                    self.first_part = Some(b);
+                    self.first_part = Some(Box::new(b));
                 }
             }
         }
