@@ -15,7 +15,7 @@ import enginedyn as ed
 RENAMED = {"--max-gap": "max_gap_deg", "--gain": "gain_bar_per_v", "--no-compression-check": "compression_check"}
 NUMERIC = {"tdc_deg", "peg_bar", "max_gap_deg", "tdc_time", "gain_bar_per_v", "rpm", "wheel_tdc_deg", "angle_step"}
 INTEGER = {"encoder_ppr", "skip_lines", "group"}
-SWITCHES = {"--gauge": True, "--no-compression-check": False}
+SWITCHES = {"--gauge": True, "--no-compression-check": False, "--despike": True}
 
 
 def reader_kwargs(flags):

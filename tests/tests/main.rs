@@ -12,6 +12,7 @@ mod defaults;
 mod docs;
 mod firing_orders;
 mod fuzz_paths;
+mod glitch;
 mod hostile;
 mod hostile_input2;
 mod inputs;

@@ -314,6 +314,11 @@ pub struct DiagramArgs {
     /// textbook problem): the compression bound and the peak-angle rule.
     #[arg(long)]
     pub no_compression_check: bool,
+    /// Replace each glitch (a lone sample off the cubic through its
+    /// neighbours, two each side, by more than 10 bar and 20 % of the
+    /// cycle's peak) by that cubic; without it each is a warning.
+    #[arg(long)]
+    pub despike: bool,
     /// A pressure-only record sampled on the crank angle: row k lies at k
     /// times DEG (--tdc-deg places firing TDC on that axis).
     #[arg(long, value_name = "DEG", value_parser = parse_angle_step)]
@@ -369,6 +374,7 @@ impl DiagramArgs {
             wheel: self.wheel,
             wheel_tdc_deg: self.wheel_tdc_deg,
             no_compression_check: self.no_compression_check,
+            despike: self.despike,
             angle_step_deg: self.angle_step,
         }
     }

@@ -238,6 +238,44 @@ impl Aligner {
         Ok(false)
     }
 
+    /// Where a long record's firing TDC lies before any trace is cut
+    /// (deg: 0, or 360 when the 360° rule will move the first trace): the
+    /// window rule cuts a record whose angle runs on at the gas-exchange
+    /// TDC, half a cycle from its firing TDC, so the cut must know which of
+    /// the file's two TDCs fires. `angles` (deg from the file's firing
+    /// TDC, rising) and `values` span a cycle of cylinder `cylinder`'s
+    /// pressure (0: every cylinder's). The same peak rule as [`Self::align`].
+    pub(crate) fn firing_offset(
+        &self,
+        angles: &[f64],
+        values: &[f64],
+        quantity: Quantity,
+        cylinder: i64,
+    ) -> f64 {
+        if !self.may_shift || quantity != Quantity::Pressure || cylinder > 1 || values.is_empty() {
+            return 0.0;
+        }
+        if let Some((at360, _)) = self.tdc360 {
+            return if at360 { 360.0 } else { 0.0 };
+        }
+        // The peak as `align` finds it on the trace moved into the cycle:
+        // of equal values, the one at the lowest angle there.
+        let at = |i: usize| angles[i].rem_euclid(self.cycle);
+        let i = (0..values.len())
+            .max_by(|&i, &j| {
+                values[i]
+                    .total_cmp(&values[j])
+                    .then(at(j).total_cmp(&at(i)))
+            })
+            .unwrap_or(0);
+        let p = at(i);
+        if follows(p, 360.0, self.cycle) && !follows(p, 0.0, self.cycle) {
+            360.0
+        } else {
+            0.0
+        }
+    }
+
     /// The notes saying what was decided.
     pub(crate) fn notes(&self) -> Vec<String> {
         let mut notes = Vec::new();

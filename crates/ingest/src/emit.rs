@@ -28,6 +28,9 @@ pub(crate) struct Emitter<'o, F> {
     /// Gaps wider than `--max-gap` that the data settle, with the share of
     /// the cycle's work the two interpolants differ by over them.
     settled: Vec<(String, Gap, f64)>,
+    /// Glitches ([`crate::plausible::glitches`]): the first few said by
+    /// trace, line, value and cubic (Pa), and how many in all.
+    glitches: (Vec<(String, usize, f64, f64)>, usize),
     /// Samples below zero, traces with any, the lowest (Pa).
     below: (usize, usize, f64),
     /// Traces whose mean around intake BDC is below [`LOW_INTAKE_PA`], the
@@ -60,6 +63,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             skipped: Vec::new(),
             bridged: Vec::new(),
             settled: Vec::new(),
+            glitches: (Vec::new(), 0),
             below: (0, 0, 0.0),
             low_intake: (0, f64::INFINITY, 0.0),
             total: 0,
@@ -70,6 +74,22 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             aligner: crate::axis::Aligner::new(opts),
             probe: None,
         }
+    }
+
+    /// Where a long record's firing TDC lies before its first cut
+    /// ([`crate::axis::Aligner::firing_offset`]).
+    pub(crate) fn firing_offset(
+        &self,
+        angles: &[f64],
+        values: &[f64],
+        quantity: Quantity,
+        cylinder: i64,
+    ) -> f64 {
+        if self.pv || self.time {
+            return 0.0;
+        }
+        self.aligner
+            .firing_offset(angles, values, quantity, cylinder)
     }
 
     /// While probing a headerless file, any error but the probe's own
@@ -122,6 +142,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                 .as_ref()
                 .filter(|_| opts.compression_check)
                 .map(|c| c.compression_ratio()),
+            despike: opts.despike,
             coverage_first: self.probe.is_none(),
         };
         if let Some(p) = self.probe.as_mut() {
@@ -169,6 +190,17 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             self.low_intake.1 = self.low_intake.1.min(m);
             let peak = tr.values.iter().copied().fold(0.0, f64::max);
             self.low_intake.2 = self.low_intake.2.max(peak);
+        }
+        for g in &c.glitches {
+            if self.glitches.0.len() < GLITCHES_SAID {
+                self.glitches.0.push((
+                    trace::describe(tr.cycle, tr.cylinder),
+                    line + g.at,
+                    g.value,
+                    g.cubic,
+                ));
+            }
+            self.glitches.1 += 1;
         }
         if c.below_zero.0 > 0 {
             self.below.0 += c.below_zero.0;
@@ -370,6 +402,9 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                 })
                 .collect();
         }
+        if let Some(n) = glitch_note(&self.glitches, self.opts.despike) {
+            head.notes.push(n);
+        }
         if self.below.0 > 0 {
             head.notes.push(format!(
                 "{} sample{} below zero absolute pressure (lowest {} bar){}: kept, as sensor noise or drift in the gas exchange",
@@ -406,3 +441,49 @@ fn fmt(x: f64) -> String {
 const GAP: &str = "a gap in the data";
 /// What such a gap is.
 const DROPOUT: &str = "a dropout: a spacing of more than 5 median steps";
+
+/// Glitches said one by one in the note; the rest are counted.
+const GLITCHES_SAID: usize = 5;
+
+/// The note of the glitch rule ([`crate::plausible::glitches`]): with
+/// `--despike` how many were replaced (a decision), else a warning naming
+/// each one's line and value and the flag.
+fn glitch_note(g: &(Vec<(String, usize, f64, f64)>, usize), despike: bool) -> Option<String> {
+    let (said, count) = (&g.0, g.1);
+    if count == 0 {
+        return None;
+    }
+    let bar = |pa: f64| enginedyn_numerics::format::sig(pa / 1e5, 4);
+    let each: Vec<String> = said
+        .iter()
+        .map(|(name, line, value, cubic)| {
+            format!(
+                "{name}, line {line}: {} bar where its neighbours' cubic gives {} bar",
+                bar(*value),
+                bar(*cubic)
+            )
+        })
+        .collect();
+    let more = if count > said.len() {
+        format!(" and {} more", count - said.len())
+    } else {
+        String::new()
+    };
+    let s = if count == 1 { "" } else { "s" };
+    Some(if despike {
+        format!(
+            "--despike replaced {count} glitch{} by the cubic through its neighbours (two each side): {}{more}",
+            if count == 1 { "" } else { "es" },
+            each.join("; ")
+        )
+    } else {
+        format!(
+            "{count} glitch{} (a lone sample off the cubic through its neighbours, two each side, by more than {} bar and {} % of the cycle's peak): {}{more}; kept: --despike replaces {} by that cubic",
+            if count == 1 { "" } else { "es" },
+            enginedyn_numerics::format::human(crate::plausible::GLITCH_PA / 1e5),
+            enginedyn_numerics::format::human(100.0 * crate::plausible::GLITCH_SHARE),
+            each.join("; "),
+            if s.is_empty() { "it" } else { "each" }
+        )
+    })
+}

@@ -61,32 +61,10 @@ impl Layout {
                 // one column, the angle starting again.
                 let stacked = (l.cycle_col.is_none() && l.cyl_col.is_none() && l.stacked > 0)
                     .then_some(l.stacked + 1);
-                let (ran_on, tdc) = (l.ran_on, l.tdc);
-                let (partial, whole) = l.end(out)?;
+                let (ran_on, cycle) = (l.ran_on, l.cycle_deg);
+                let (partial, whole, cut) = l.end(out)?;
                 if ran_on {
-                    let mut n = format!(
-                        "the angle runs on over {whole} whole cycle{}: cut at each firing TDC (the file's angle {} plus a multiple of the cycle), numbered 1 to {whole}",
-                        if whole == 1 { "" } else { "s" },
-                        enginedyn_numerics::format::trimmed(tdc, 3)
-                    );
-                    if !partial.is_empty() {
-                        let said: Vec<String> = partial
-                            .iter()
-                            .map(|(at, deg)| {
-                                format!(
-                                    "{} ({}° of the cycle)",
-                                    at,
-                                    enginedyn_numerics::format::trimmed(*deg, 1)
-                                )
-                            })
-                            .collect();
-                        n.push_str(&format!(
-                            "; the partial cycle{} at {} left out",
-                            if partial.len() > 1 { "s" } else { "" },
-                            said.join(" and ")
-                        ));
-                    }
-                    head.notes.push(n);
+                    head.notes.push(ran_on_note(whole, cut, cycle, &partial));
                 } else if let Some(n) = stacked {
                     head.notes.push(format!(
                         "{n} cycles one after another in one column (each where the angle starts again), numbered 1 to {n}"
@@ -98,6 +76,52 @@ impl Layout {
             Layout::Time(t) => t.end(out, head),
         }
     }
+}
+
+/// The note of a record whose angle runs on: `whole` cycles cut at the
+/// file's angle `cut` (deg, modulo the `cycle`), the `partial` ones at the
+/// ends left out, each said by its samples and the degrees they span (its
+/// samples times the record's step, so the same count reads the same).
+fn ran_on_note(whole: usize, cut: f64, cycle: f64, partial: &[(&str, usize, f64)]) -> String {
+    let mut n = format!(
+        "the angle runs on over {whole} whole cycle{}: {}, numbered 1 to {whole}",
+        if whole == 1 { "" } else { "s" },
+        crate::trace::window_said(
+            cycle,
+            &format!(
+                " (the file's angle {} plus a multiple of {}°)",
+                enginedyn_numerics::format::trimmed(cut, 3),
+                enginedyn_numerics::format::trimmed(cycle, 3)
+            )
+        ),
+    );
+    if !partial.is_empty() {
+        let said: Vec<String> = partial
+            .iter()
+            .map(|(at, samples, step)| {
+                let span = if step.is_finite() {
+                    format!(
+                        ", {}° of the {}° cycle",
+                        enginedyn_numerics::format::trimmed(*samples as f64 * step, 1),
+                        enginedyn_numerics::format::trimmed(cycle, 3)
+                    )
+                } else {
+                    String::new()
+                };
+                format!(
+                    "{at} ({samples} sample{}{span})",
+                    if *samples == 1 { "" } else { "s" }
+                )
+            })
+            .collect();
+        n.push_str(&format!(
+            "; the partial cycle{} at {} left out: the record begins or ends within {}",
+            if partial.len() > 1 { "s" } else { "" },
+            said.join(" and "),
+            if partial.len() > 1 { "them" } else { "it" }
+        ));
+    }
+    n
 }
 
 /// A row with more cells than the names cover (`explicit`: named by
@@ -185,10 +209,16 @@ pub(crate) struct Long {
     /// Cycles started by the angle starting again (no `cycle` column).
     stacked: usize,
     /// The angle runs on past the cycle (no `cycle` column): cycles are
-    /// cut at each firing TDC, and the partial ones at the ends left out.
+    /// the windows around each firing TDC (cut at each gas-exchange TDC),
+    /// and the partial ones at the ends left out.
     ran_on: bool,
-    /// The partial cycles left out: which end, and the degrees they cover.
-    partial: Vec<(&'static str, f64)>,
+    /// The partial cycles left out: which end, their samples and the
+    /// record's step (deg).
+    partial: Vec<(&'static str, usize, f64)>,
+    /// The cylinder whose record was last cut at its first window's end.
+    cut_for: Option<i64>,
+    /// Where the cycles are cut (deg, the file's angle modulo the cycle).
+    cut_deg: f64,
     /// Cycles handed on (whole ones, in a record whose angle runs on).
     whole: usize,
     /// The cycle before a closing point (its first angle a cycle on), held
@@ -231,6 +261,8 @@ impl Long {
             stacked: 0,
             ran_on: false,
             partial: Vec::new(),
+            cut_for: None,
+            cut_deg: 0.0,
             whole: 0,
             held: None,
             last_len: 16,
@@ -413,14 +445,16 @@ impl Long {
         Ok(())
     }
 
-    /// Angle `a` runs on past the cycle being read (INTERFACE.md, "Cycles
-    /// run from firing TDC to firing TDC"). The first time, the cycle read
-    /// so far, which began at the record's first sample, is cut at the
-    /// firing TDC it holds: what lies before is a cycle of its own when it
-    /// reaches back to the TDC before (within a step and a half), else a
-    /// partial one, left out; what follows begins the next cycle. From
-    /// then on every cycle begins at a firing TDC, and the next one where
-    /// the angle reaches a cycle past it.
+    /// Angle `a` runs on past the cycle being read (INTERFACE.md, "A cycle
+    /// is the window around its firing TDC"). The first time (for each
+    /// cylinder), the cycle read so far, which began at the record's first
+    /// sample, is cut where the window rule ([`crate::trace::window`]) cuts
+    /// it: at the gas-exchange TDC (a two-stroke's BDC) after the first
+    /// sample. What lies before is a cycle of its own when it reaches back
+    /// to its window's start (within a step and a half), else a partial
+    /// one, left out; what follows begins the next cycle. From then on
+    /// every cycle begins at a window's start, and the next one where the
+    /// angle reaches a cycle past it.
     fn run_on<F: FnMut(Streamed) -> Result<(), IngestError>>(
         &mut self,
         line: usize,
@@ -429,68 +463,82 @@ impl Long {
         p: f64,
         out: &mut Emitter<'_, F>,
     ) -> Result<(), IngestError> {
-        if !self.ran_on
-            && let Some(c) = self.cur.as_mut()
+        self.ran_on = true;
+        if self.cut_for != Some(cyl)
+            && let Some(c) = self.cur.take()
         {
-            self.ran_on = true;
-            let first = c.track.first();
-            let cycle = self.cycle_deg;
-            // The firing TDC after the first sample.
-            let b = (first / cycle).floor() * cycle + cycle;
-            let angles = &c.trace.angle_deg;
-            let k = angles.partition_point(|&x| x < b - 1e-9);
-            if k < angles.len() {
-                let tail_a = c.trace.angle_deg.split_off(k);
-                let tail_v = c.trace.values.split_off(k);
-                let head_n = c.trace.angle_deg.len();
-                let step = if head_n >= 2 {
-                    (c.trace.angle_deg[head_n - 1] - first) / (head_n - 1) as f64
-                } else {
-                    f64::INFINITY
-                };
-                let whole_head = head_n >= 4 && first - (b - cycle) <= 1.5 * step;
-                let head_line = c.line;
-                let tail_line = head_line + k;
-                let cycle_no = c.trace.cycle;
-                let head = self.cur.take();
-                if whole_head {
-                    if let Some(h) = head {
-                        self.whole += 1;
-                        self.last_len = h.trace.angle_deg.len();
-                        out.trace(h.trace, head_line, self.quantity, self.pv, 0)?;
-                    }
-                    self.auto_cycle += 1;
-                } else {
-                    self.partial.push(("the start", b - first));
-                }
-                let mut track = Track::new(tail_a[0], cycle);
-                for &x in &tail_a[1..] {
-                    track.accept(x);
-                }
-                self.cur = Some(Current {
-                    trace: Trace {
-                        cycle: if whole_head { cycle_no + 1 } else { cycle_no },
-                        cylinder: cyl,
-                        angle_deg: tail_a,
-                        values: tail_v,
-                        rpm: None,
-                    },
-                    line: tail_line,
-                    track,
-                    closing: false,
-                });
-                // `a` continues the new cycle, or begins the one after.
-                if let Some(c) = self.cur.as_mut()
-                    && let Some(w) = c.track.accept(a)
-                {
-                    c.trace.angle_deg.push(w);
-                    c.trace.values.push(p);
-                    return Ok(());
-                }
+            self.cut_for = Some(cyl);
+            self.cur = self.first_cut(c, cyl, out)?;
+            // `a` continues the new cycle, or begins the one after.
+            if let Some(c) = self.cur.as_mut()
+                && let Some(w) = c.track.accept(a)
+            {
+                c.trace.angle_deg.push(w);
+                c.trace.values.push(p);
+                return Ok(());
             }
         }
         self.auto_cycle += 1;
         self.start(line, self.auto_cycle, cyl, a, p, false, out)
+    }
+
+    /// The first cut of a record whose angle runs on: `c`, read from the
+    /// record's first sample, is cut at the end of the window holding that
+    /// sample; its head handed on when whole, else noted as partial. The
+    /// tail is returned as the cycle being read.
+    fn first_cut<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        mut c: Current,
+        cyl: i64,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<Option<Current>, IngestError> {
+        let cycle = self.cycle_deg;
+        let first = c.track.first();
+        let n = c.trace.angle_deg.len();
+        // The record's step, from what is read so far (about a cycle).
+        let step = if n >= 2 {
+            (c.trace.angle_deg[n - 1] - first) / (n - 1) as f64
+        } else {
+            f64::INFINITY
+        };
+        // Which of the file's TDCs fires decides where the gas exchange's lies.
+        let off = out.firing_offset(&c.trace.angle_deg, &c.trace.values, self.quantity, cyl);
+        let begins = crate::trace::window(first - off, cycle).1 + off;
+        let b = begins + cycle;
+        self.cut_deg = (b + self.tdc).rem_euclid(cycle);
+        let k = c.trace.angle_deg.partition_point(|&x| x < b - 1e-9);
+        if k == n {
+            return Ok(Some(c));
+        }
+        let tail_a = c.trace.angle_deg.split_off(k);
+        let tail_v = c.trace.values.split_off(k);
+        let whole_head = k >= 4 && first - begins <= 1.5 * step;
+        let tail_line = c.line + k;
+        let cycle_no = c.trace.cycle;
+        if whole_head {
+            self.whole += 1;
+            self.last_len = k;
+            out.trace(c.trace, c.line, self.quantity, self.pv, 0)?;
+            self.auto_cycle += 1;
+        } else {
+            self.partial.push(("the start", k, step));
+        }
+        let mut track = Track::new(tail_a[0], cycle);
+        for &x in &tail_a[1..] {
+            track.accept(x);
+        }
+        Ok(Some(Current {
+            trace: Trace {
+                cycle: if whole_head { cycle_no + 1 } else { cycle_no },
+                cylinder: cyl,
+                angle_deg: tail_a,
+                values: tail_v,
+                rpm: None,
+            },
+            line: tail_line,
+            track,
+            closing: false,
+        }))
     }
 
     fn flush<F: FnMut(Streamed) -> Result<(), IngestError>>(
@@ -521,12 +569,12 @@ impl Long {
     /// The end of the file: the last cycle handed on, unless the angle
     /// ran on and it stops short of the next firing TDC (by more than a
     /// step and a half): a partial cycle, left out. Returns the partial
-    /// cycles left out and the whole ones handed on.
+    /// cycles left out, the whole ones handed on and where they were cut.
     #[allow(clippy::type_complexity)]
     fn end<F: FnMut(Streamed) -> Result<(), IngestError>>(
         mut self,
         out: &mut Emitter<'_, F>,
-    ) -> Result<(Vec<(&'static str, f64)>, usize), IngestError> {
+    ) -> Result<(Vec<(&'static str, usize, f64)>, usize, f64), IngestError> {
         if let Some(prev) = self.held.take() {
             self.send(*prev, out)?;
         }
@@ -546,12 +594,12 @@ impl Long {
                 // closing point.
                 self.cur = None;
             } else if n < 4 || first + self.cycle_deg - last > 1.5 * step {
-                self.partial.push(("the end", last - first));
+                self.partial.push(("the end", n, step));
                 self.cur = None;
             }
         }
         self.flush(out)?;
-        Ok((self.partial, self.whole))
+        Ok((self.partial, self.whole, self.cut_deg))
     }
 }
 

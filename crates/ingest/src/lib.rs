@@ -124,6 +124,11 @@ pub struct ParseOptions {
     /// the peak-angle rule) are made; `false` for `--no-compression-check`
     /// (a steam engine, a compressor, a textbook problem).
     pub compression_check: bool,
+    /// `--despike`: each glitch (a lone sample off the cubic through its
+    /// neighbours by more than 10 bar and 20 % of the cycle's peak) is
+    /// replaced by that cubic, with a note counting them; without it each
+    /// is a warning naming its line and value.
+    pub despike: bool,
     /// A record sampled on the crank angle without an angle column
     /// (`--angle-step`): row k of the data lies at k times this (deg).
     pub angle_step_deg: Option<f64>,
@@ -186,6 +191,7 @@ impl ParseOptions {
             wheel: None,
             wheel_tdc_deg: None,
             compression_check: true,
+            despike: false,
             angle_step_deg: None,
             cancel: Cancel::default(),
             operating_rpm: None,

@@ -117,6 +117,9 @@ pub(crate) struct Context<'a> {
     /// The engine's compression ratio, when the engine is known: the
     /// compression bound is checked only then.
     pub compression_ratio: Option<f64>,
+    /// `--despike`: each glitch is replaced by the cubic through its
+    /// neighbours ([`glitches`]).
+    pub despike: bool,
     /// A trace covering less than half its cycle is judged on its
     /// coverage, not its values (`false` while probing a headerless file,
     /// whose columns are judged on their values whatever they cover).
@@ -144,6 +147,108 @@ impl Context<'_> {
             "is the column's unit right?"
         }
     }
+}
+
+/// A glitch departs from the cubic through its neighbours by more than
+/// this (Pa): 10 bar (INTERFACE.md, "Plausibility").
+pub(crate) const GLITCH_PA: f64 = 10e5;
+
+/// … and by more than this share of the cycle's peak: 20 %.
+pub(crate) const GLITCH_SHARE: f64 = 0.2;
+
+/// A lone sample that departs from the cubic through its neighbours.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Glitch {
+    /// Its index in the trace, in the order the file gives the samples
+    /// (its line is the trace's first line plus this, one sample a row).
+    pub at: usize,
+    /// Its value (Pa).
+    pub value: f64,
+    /// The cubic through its neighbours at its angle (Pa): what
+    /// `--despike` puts in its place.
+    pub cubic: f64,
+}
+
+/// The glitch rule (INTERFACE.md, "Plausibility"): a lone sample of a
+/// pressure trace that departs from the cubic through its neighbours (two
+/// each side, the trace taken as periodic over its `cycle`) by more than
+/// [`GLITCH_PA`] and by more than [`GLITCH_SHARE`] of the cycle's peak
+/// (the highest of the other samples; a relative trace's swing) is a
+/// glitch. "Lone": its departure is the largest of the five samples around
+/// it (a spike also pulls its neighbours' cubics, by 2/3 and 1/6 of its
+/// height on even steps). Returns the glitches, in file order; none for a
+/// torque, p–V data or fewer than 8 samples. Angles rising, spanning less
+/// than a cycle.
+pub(crate) fn glitches(tr: &Trace, cycle: f64, quantity: Quantity, absolute: bool) -> Vec<Glitch> {
+    let (a, p) = (&tr.angle_deg, &tr.values);
+    let n = p.len();
+    if quantity != Quantity::Pressure || n < 8 {
+        return Vec::new();
+    }
+    // Sample i + k, any k in −2..=2, periodic: its angle and value.
+    let at = |i: usize, k: isize| -> (f64, f64) {
+        let j = i as isize + k;
+        let (j, turn) = if j < 0 {
+            (j + n as isize, -cycle)
+        } else if j >= n as isize {
+            (j - n as isize, cycle)
+        } else {
+            (j, 0.0)
+        };
+        (a[j as usize] + turn, p[j as usize])
+    };
+    // The cubic through i−2, i−1, i+1, i+2 at sample i's angle (Lagrange).
+    let cubic = |i: usize| -> f64 {
+        let x = a[i];
+        let pts = [at(i, -2), at(i, -1), at(i, 1), at(i, 2)];
+        let mut sum = 0.0;
+        for (m, &(xm, ym)) in pts.iter().enumerate() {
+            let mut w = 1.0;
+            for (l, &(xl, _)) in pts.iter().enumerate() {
+                if l != m {
+                    w *= (x - xl) / (xm - xl);
+                }
+            }
+            sum += w * ym;
+        }
+        sum
+    };
+    let off = |i: usize| (p[i] - cubic(i)).abs();
+    let candidates: Vec<usize> = (0..n)
+        .filter(|&i| p[i].is_finite() && off(i) > GLITCH_PA)
+        .collect();
+    if candidates.is_empty() {
+        return Vec::new();
+    }
+    // The two highest and the lowest values: the peak of the others.
+    let (mut top, mut second, mut low) = ((f64::NEG_INFINITY, n), f64::NEG_INFINITY, f64::INFINITY);
+    for (i, &v) in p.iter().enumerate() {
+        if v > top.0 {
+            second = top.0;
+            top = (v, i);
+        } else if v > second {
+            second = v;
+        }
+        low = low.min(v);
+    }
+    let mut found = Vec::new();
+    for i in candidates {
+        let peak = if top.1 == i { second } else { top.0 };
+        let scale = if absolute { peak } else { peak - low };
+        let d = off(i);
+        let lone = [-2isize, -1, 1, 2].iter().all(|&k| {
+            let j = (i as isize + k).rem_euclid(n as isize) as usize;
+            off(j) < d
+        });
+        if lone && d > GLITCH_SHARE * scale {
+            found.push(Glitch {
+                at: i,
+                value: p[i],
+                cubic: cubic(i),
+            });
+        }
+    }
+    found
 }
 
 /// Checks a finished trace (angles rising, `wrap_step` from its last angle
@@ -373,13 +478,17 @@ fn high_intake(
             bar(level * BAR_PER_PSI)
         ),
     };
-    Err(IngestError::Data(format!(
-        "{}: the pressure around intake BDC from {} is {} bar absolute, above the {} bar any engine's intake holds: {why}",
-        name(),
-        ctx.source(),
-        bar(level),
-        enginedyn_numerics::format::human(HIGH_INTAKE_PA / 1e5),
-    )))
+    // Every error of the bounds that assume a compressing engine names
+    // the flag that lifts them (INTERFACE.md, "Plausibility").
+    Err(IngestError::Data(
+        format!(
+            "{}: the pressure around intake BDC from {} is {} bar absolute, above the {} bar any engine's intake holds: {why}",
+            name(),
+            ctx.source(),
+            bar(level),
+            enginedyn_numerics::format::human(HIGH_INTAKE_PA / 1e5),
+        ) + NO_COMPRESSION,
+    ))
 }
 
 /// What the compression bound's refusal says last: the flag that lifts it.
@@ -757,6 +866,7 @@ mod tests {
             absolute,
             gauge: false,
             compression_ratio: Some(eps),
+            despike: false,
             coverage_first: true,
         }
     }

@@ -109,6 +109,39 @@ impl Track {
     }
 }
 
+/// The window rule (INTERFACE.md, "A cycle is the window around its firing
+/// TDC"), the one place where a record longer than a cycle is cut, for the
+/// long layout and every time record alike: cycle `c` holds the angles
+/// (deg from the first firing TDC) from `c·cycle − cycle/2` up to
+/// `c·cycle + cycle/2`, −360…+360° around its firing TDC on a four-stroke
+/// (cut at the gas-exchange TDC), −180…+180° on a two-stroke (cut at BDC),
+/// so that each cycle holds its own compression, combustion and expansion.
+/// Returns the window holding angle `a` and where it begins (deg). A
+/// cycle's samples keep their angles from its own firing TDC
+/// (`a − c·cycle`, in `[−cycle/2, cycle/2)`); [`finish`] moves them into
+/// `[0, cycle)`, so the grid is the periodic one from firing TDC.
+pub(crate) fn window(a: f64, cycle: f64) -> (i64, f64) {
+    let half = cycle / 2.0;
+    // A sample on a window's edge (within rounding) begins that window.
+    let c = ((a + half) / cycle + 1e-12).floor() as i64;
+    (c, c as f64 * cycle - half)
+}
+
+/// How a note names the window rule for a cycle of `cycle` degrees: where
+/// cycles are cut (`at`, said after it when given) and the window around
+/// firing TDC.
+pub(crate) fn window_said(cycle: f64, at: &str) -> String {
+    let half = enginedyn_numerics::format::trimmed(cycle / 2.0, 3);
+    format!(
+        "cut at each {}{at}, each cycle the window −{half}…+{half}° around its firing TDC",
+        if cycle > 400.0 {
+            "gas-exchange TDC"
+        } else {
+            "BDC"
+        }
+    )
+}
+
 /// The widest gap of a trace.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Gap {
@@ -124,7 +157,7 @@ pub(crate) struct Gap {
 }
 
 /// What the checks of a finished trace found.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub(crate) struct Checked {
     /// The smallest and largest step between its angles, when they did
     /// not have to move into the cycle.
@@ -133,6 +166,9 @@ pub(crate) struct Checked {
     pub gap: Option<Gap>,
     /// Samples below zero absolute pressure, and the lowest (Pa).
     pub below_zero: (usize, f64),
+    /// Its glitches ([`crate::plausible::glitches`]), replaced by their
+    /// cubic when `--despike` was given.
+    pub glitches: Vec<crate::plausible::Glitch>,
 }
 
 /// A gap is a spacing of more than this many median steps (INTERFACE.md).
@@ -188,6 +224,14 @@ pub(crate) fn finish(
             note_gap(i, w[0], w[1] - w[0]);
         }
     }
+    // The glitch rule, before the bounds: `--despike` puts each glitch's
+    // cubic in its place, and the bounds judge what is left.
+    let glitches = crate::plausible::glitches(&tr, cycle, quantity, ctx.absolute);
+    if ctx.despike {
+        for g in &glitches {
+            tr.values[g.at] = g.cubic;
+        }
+    }
     // Coverage is judged before the values (INTERFACE.md): a trace that
     // covers less than half its cycle is left out or refused by the gap
     // rule as a file cut short, never judged on the shape of what is left.
@@ -201,6 +245,7 @@ pub(crate) fn finish(
         steps,
         gap,
         below_zero,
+        glitches,
     };
     // Already in [0, cycle) and rising (the usual case): nothing to move.
     if first >= 0.0 && last < cycle && lo > 0.0 {
@@ -356,6 +401,7 @@ mod tests {
             absolute,
             gauge: false,
             compression_ratio: None,
+            despike: false,
             coverage_first: true,
         }
     }

@@ -60,16 +60,19 @@ fn skipped_cycles_are_listed_with_their_reason() {
 #[test]
 fn a_time_record_times_each_cycle() {
     let dt = 1.0 / 72_000.0;
+    // Each cycle is the window −360…+360° around its firing TDC (even
+    // pulses): revolutions 1–2, 3–4, 5–6, 7–8; 0 and 9 are partial ones.
     let speeds = [
-        1000.0, 1000.0, 1100.0, 1100.0, 1200.0, 1200.0, 1300.0, 1300.0,
+        1000.0, 1000.0, 1000.0, 1100.0, 1100.0, 1200.0, 1200.0, 1300.0, 1300.0, 1300.0,
     ];
+    let revs = speeds.len();
     // Pulse times: one a revolution, the first at 0.01 s.
     let mut edges = vec![0.01];
     for rpm in speeds {
         let last = *edges.last().unwrap();
         edges.push(last + 60.0 / rpm);
     }
-    let end = edges[8] + 0.01;
+    let end = edges[revs] + 0.01;
     let mut text = String::from("time_s,pressure_bar,tdc\n");
     let mut k = 0usize;
     loop {
@@ -78,13 +81,13 @@ fn a_time_record_times_each_cycle() {
             break;
         }
         // The crank angle from the first pulse (even pulses: firing TDC).
-        let rev = edges.windows(2).position(|w| t < w[1]).unwrap_or(8);
+        let rev = edges.windows(2).position(|w| t < w[1]).unwrap_or(revs);
         let angle = if t < edges[0] {
             -360.0 * (edges[0] - t) * speeds[0] / 60.0
-        } else if rev < 8 {
+        } else if rev < revs {
             360.0 * rev as f64 + 360.0 * (t - edges[rev]) / (edges[rev + 1] - edges[rev])
         } else {
-            2880.0 + 360.0 * (t - edges[8]) * speeds[7] / 60.0
+            360.0 * revs as f64 + 360.0 * (t - edges[revs]) * speeds[revs - 1] / 60.0
         };
         let a = (angle + 360.0).rem_euclid(720.0) - 360.0;
         let p = 1.0 + 40.0 * (-((a - 10.0) / 30.0).powi(2)).exp();

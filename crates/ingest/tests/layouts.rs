@@ -126,7 +126,9 @@ fn record(variation: f64, pulse_deg: f64, from_deg: f64) -> String {
 /// cylinder i firing `firing[i - 1]` degrees after cylinder 1 (empty: one
 /// `pressure_bar` column).
 fn record_of(variation: f64, pulse_deg: f64, from_deg: f64, firing: &[f64]) -> String {
-    let revs = 2 * CYCLES + 4;
+    // The record ends at the gas-exchange TDC after cycle CYCLES − 1's
+    // window, its last pulse unseen: CYCLES whole windows from −360°.
+    let revs = 2 * CYCLES + 3;
     let mut starts = vec![0.0f64];
     for j in 0..revs {
         let rpm = 1000.0 * (1.0 + variation * (j as f64).sin());
@@ -154,7 +156,8 @@ fn record_of(variation: f64, pulse_deg: f64, from_deg: f64, firing: &[f64]) -> S
         let from_pulse = (th - pulse_deg + 180.0).rem_euclid(360.0) - 180.0;
         let pulse =
             0.3 + 4.7 * ((from_pulse + 0.5) / 1.0).clamp(0.0, 1.0) * f64::from(from_pulse < 3.0);
-        let (cycle_angle, k) = (th.rem_euclid(720.0), (th / 720.0).floor());
+        // Cycle k is the window −360…+360° around its firing TDC.
+        let (cycle_angle, k) = (th.rem_euclid(720.0), ((th + 360.0) / 720.0).floor());
         let k = if k < 0.0 {
             0
         } else {
@@ -268,21 +271,23 @@ fn a_time_record_with_the_pulse_off_tdc() {
     same_cycles(&got);
 }
 
-/// Issue 36, item 5: a long record whose angle runs on, starting 132.5°
-/// after firing TDC, is cut at each firing TDC: its whole cycles are the
-/// cycles as measured, to the bit; the partial ones at the two ends are
-/// left out with a note calling them partial, never a dropout, and no
-/// note says the angle starts again.
+/// Issue 36, item 5 and issue 43, item 1: a long record whose angle runs
+/// on, starting 132.5° after firing TDC, is cut at each gas-exchange TDC
+/// (each cycle the window −360…+360° around its firing TDC): its whole
+/// cycles are the cycles as measured, to the bit; the partial ones at the
+/// two ends are left out with a note calling them partial, never a
+/// dropout, and no note says the angle starts again.
 #[test]
-fn a_record_whose_angle_runs_on_is_cut_at_firing_tdc() {
+fn a_record_whose_angle_runs_on_is_cut_at_the_gas_exchange_tdc() {
     let (o, _) = options();
     let start = 132.5;
     let mut text = String::from("crank_deg,pressure_bar\n");
     let rows = (8.0 * 720.0 / 0.5) as usize;
     for i in 0..rows {
         let a = start + i as f64 * 0.5;
-        let k = (a / 720.0).floor() as usize;
-        text.push_str(&format!("{a},{}\n", cell(a - 720.0 * k as f64, k)));
+        // Cycle k is the window −360…+360° around its firing TDC.
+        let k = ((a + 360.0) / 720.0).floor() as usize;
+        text.push_str(&format!("{a},{}\n", cell(a.rem_euclid(720.0), k)));
     }
     let got = read(&text, &o);
     // The whole cycles are k = 1 … 7.
@@ -412,8 +417,8 @@ fn a_record_sampled_on_the_crank_angle_reads_with_angle_step() {
     let rows = (8.0 * 720.0 / 0.5) as usize;
     for i in 0..rows {
         let a = start + i as f64 * 0.5;
-        let k = (a / 720.0).floor() as usize;
-        text.push_str(&format!("{}\n", cell(a - 720.0 * k as f64, k)));
+        let k = ((a + 360.0) / 720.0).floor() as usize;
+        text.push_str(&format!("{}\n", cell(a.rem_euclid(720.0), k)));
     }
     let e = load(text.as_bytes(), &o, &g).unwrap_err().to_string();
     assert!(e.contains("--angle-step"), "{e}");

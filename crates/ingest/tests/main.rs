@@ -15,3 +15,4 @@ mod no_panic;
 mod pv_peg_stats;
 mod rows;
 mod units_named;
+mod windows;

@@ -219,13 +219,13 @@ fn per_cylinder_traces() {
     );
 }
 
-/// Multi-cycle data without a cycle column: continuous angles (0..1440) or
-/// angles restarting at 0 are split into cycles.
+/// Multi-cycle data without a cycle column: continuous angles (two
+/// windows, −360..1080) or angles restarting at 0 are split into cycles.
 #[test]
 fn cycles_without_a_cycle_column() {
     let mut s = String::from("crank_deg,pressure_bar\n");
     for k in 0..144 {
-        s.push_str(&format!("{},{}\n", k * 10, 2.0));
+        s.push_str(&format!("{},{}\n", k * 10 - 360, 2.0));
     }
     let r = load(
         s.as_bytes(),

@@ -35,7 +35,7 @@ fn a_pressure_in_psi_read_as_bar_is_refused_naming_psi() {
         .to_string();
     assert_eq!(
         e,
-        "line 2: cycle 1: the pressure around intake BDC from column 2 `pressure_bar` (in bar) is 14.5 bar absolute, above the 6 bar any engine's intake holds: a pressure in psi read as bar (14.5 psi is 1 bar)? convert it, or name the column's unit (`pressure [psi]`)"
+        "line 2: cycle 1: the pressure around intake BDC from column 2 `pressure_bar` (in bar) is 14.5 bar absolute, above the 6 bar any engine's intake holds: a pressure in psi read as bar (14.5 psi is 1 bar)? convert it, or name the column's unit (`pressure [psi]`); a cylinder pressure of no compressing engine (a steam engine, a compressor, a textbook problem with a constant pressure) reads with --no-compression-check"
     );
     // In bar it reads.
     parse(cycle(1.0).as_bytes(), &opts()).unwrap();
@@ -86,4 +86,30 @@ fn a_time_in_ms_read_as_seconds_is_refused_against_operating_rpm() {
     );
     // Without operating.rpm, the speed is taken as measured.
     parse(record(1e3).as_bytes(), &opts()).unwrap();
+}
+
+/// Issue 43, item 8: a textbook steam-engine problem at a constant 11 bar
+/// absolute is refused by the intake level (over 6 bar: psi read as
+/// bar?), and the error names `--no-compression-check`, which lifts the
+/// intake level with the other bounds that assume a compressing engine:
+/// with it the trace reads, its mean 11 bar (to the printed digits).
+#[test]
+fn a_constant_pressure_is_refused_naming_the_flag_that_reads_it() {
+    let mut s = String::from("crank_deg,pressure_bar\n");
+    for k in 0..720 {
+        s.push_str(&format!("{},11.0\n", f64::from(k) - 360.0));
+    }
+    let e = parse(s.as_bytes(), &opts()).unwrap_err().to_string();
+    assert!(
+        e.contains("11 bar absolute, above the 6 bar") && e.contains("--no-compression-check"),
+        "{e}"
+    );
+    let lifted = ParseOptions {
+        compression_check: false,
+        ..opts()
+    };
+    let grid = enginedyn_ingest::GridOptions::new(0.5, enginedyn_ingest::Interp::Auto);
+    let r = enginedyn_ingest::load(s.as_bytes(), &lifted, &grid).unwrap();
+    let mean = r.pressure.iter().sum::<f64>() / r.pressure.len() as f64;
+    assert!((mean - 11e5).abs() < 1e-6, "{mean}");
 }

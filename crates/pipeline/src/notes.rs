@@ -48,6 +48,7 @@ pub const DECIDED: &[&str] = &[
     "one trace per cylinder",
     "no TDC offset estimate",
     "the periodic spline overshoots",
+    "--despike replaced ",
     // The engine file's defaults and estimates.
     "cylinder_spacing_mm not given",
     "defaults taken",

@@ -303,6 +303,7 @@ fn reader(d: &Bound<'_, PyDict>) -> PyResult<Reader> {
         },
         wheel_tdc_deg: get(d, "wheel_tdc_deg")?,
         no_compression_check: !get::<bool>(d, "compression_check")?.unwrap_or(true),
+        despike: get::<bool>(d, "despike")?.unwrap_or(false),
         angle_step_deg: get(d, "angle_step")?,
     };
     r.check(kw).py()?;

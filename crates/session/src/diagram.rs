@@ -85,6 +85,7 @@ pub fn diagram_options(
         wheel: d.wheel,
         wheel_tdc_deg: d.wheel_tdc_deg,
         compression_check: !d.no_compression_check,
+        despike: d.despike,
         angle_step_deg: d.angle_step_deg,
         cancel: enginedyn_ingest::Cancel::default(),
         operating_rpm: engine.operating().rpm,

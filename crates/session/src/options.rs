@@ -217,6 +217,10 @@ pub struct Reader {
     /// pressure without the checks that assume a compressing engine (the
     /// compression bound, the peak-angle rule).
     pub no_compression_check: bool,
+    /// `--despike`: each glitch (a lone sample off the cubic through its
+    /// neighbours by more than 10 bar and 20 % of the cycle's peak) is
+    /// replaced by that cubic.
+    pub despike: bool,
     /// A pressure-only record sampled on the crank angle: row k is at the
     /// angle k times this (deg).
     pub angle_step_deg: Option<f64>,
@@ -273,6 +277,9 @@ impl Reader {
         put("wheel_tdc_deg", self.wheel_tdc_deg.into());
         if self.no_compression_check {
             put("compression_check", false.into());
+        }
+        if self.despike {
+            put("despike", true.into());
         }
         put("angle_step", self.angle_step_deg.into());
         serde_json::Value::Object(o)
@@ -475,6 +482,7 @@ pub const READER_KEYS: &[&str] = &[
     "wheel",
     "wheel_tdc_deg",
     "compression_check",
+    "despike",
     "angle_step",
 ];
 
@@ -612,6 +620,7 @@ pub const FLAG_KEYWORDS: &[(&str, &str)] = &[
     ("--peg", "peg="),
     ("--gauge", "gauge=True"),
     ("--no-compression-check", "compression_check=False"),
+    ("--despike", "despike=True"),
     ("--gamma", "gamma="),
     ("--smooth", "smooth="),
     ("--skip-lines", "skip_lines="),

@@ -140,14 +140,18 @@ impl Others {
 
 /// A cycle being assembled.
 pub(super) struct Building {
-    /// Cycle index from the first firing TDC (0-based).
+    /// The window's index: its firing TDC `index` cycles after the first.
     pub index: i64,
     pub trace: Trace,
     /// The other cylinders' values at the same angles ([`Others`]).
     pub others: Vec<Vec<f64>>,
     pub line: usize,
-    /// It began at its firing TDC, not midway.
+    /// It began where its window begins, not midway.
     pub from_start: bool,
+    /// Where the source began the revolution of its first sample (deg from
+    /// its firing TDC; `-inf` when not known): a partial first window that
+    /// began at or before its firing TDC may join the next ([`one_cycle`]).
+    pub since: f64,
     /// The time (s) and angle (deg) of its first and last samples, for its
     /// speed.
     span: Option<((f64, f64), (f64, f64))>,
@@ -176,6 +180,7 @@ impl Building {
                 .collect(),
             line,
             from_start,
+            since: f64::NEG_INFINITY,
             span: None,
         }
     }
@@ -192,6 +197,39 @@ impl Building {
         let rpm = (a1 - a0) / (t1 - t0) / 6.0;
         (t1 > t0 && rpm.is_finite() && rpm > 0.0).then_some(rpm)
     }
+}
+
+/// A record that holds no whole window but one whole cycle from firing TDC
+/// to firing TDC (a record of one cycle, begun at or just before its
+/// firing TDC): the partial window `first` (from its firing TDC on) and the
+/// one after it, `next` (up to its firing TDC), joined into that cycle,
+/// read as a one-cycle diagram is. The callers have checked that `first`
+/// begins at its firing TDC and `next` reaches its own; `None` when they
+/// are not neighbours.
+pub(super) fn one_cycle(first: Building, next: Building, cycle: f64) -> Option<Building> {
+    if next.index != first.index + 1 {
+        return None;
+    }
+    let mut b = first;
+    let k = b.trace.angle_deg.partition_point(|&a| a < -1e-9);
+    b.trace.angle_deg.drain(..k);
+    b.trace.values.drain(..k);
+    for o in &mut b.others {
+        o.drain(..k.min(o.len()));
+    }
+    let m = next.trace.angle_deg.partition_point(|&a| a < -1e-9);
+    b.trace
+        .angle_deg
+        .extend(next.trace.angle_deg[..m].iter().map(|a| a + cycle));
+    b.trace.values.extend_from_slice(&next.trace.values[..m]);
+    for (o, n) in b.others.iter_mut().zip(&next.others) {
+        o.extend_from_slice(&n[..m.min(n.len())]);
+    }
+    if let (Some((s0, _)), Some((_, e1))) = (b.span, next.span) {
+        b.span = Some((s0, e1));
+    }
+    b.from_start = true;
+    Some(b)
 }
 
 /// How the firing TDC is found.
@@ -232,6 +270,12 @@ pub(super) struct Cycles {
     deferred: Option<IngestError>,
     /// The other cylinders' values.
     pub others: Others,
+    /// The first partial window, kept while no cycle is whole
+    /// ([`one_cycle`]).
+    first_part: Option<Building>,
+    /// The record held no whole window: its one cycle from firing TDC to
+    /// firing TDC was read ([`one_cycle`]).
+    pub joined: bool,
 }
 
 impl Cycles {
@@ -251,6 +295,8 @@ impl Cycles {
             recur: None,
             deferred: None,
             others: Others::default(),
+            first_part: None,
+            joined: false,
         }
     }
 
@@ -395,19 +441,16 @@ impl Cycles {
         if let Some(r) = self.recur.as_mut() {
             r.0.sample(a, p);
         }
-        let c = (a / self.cycle_deg + 1e-12).floor() as i64;
+        // The window around its firing TDC (the one rule, `trace::window`).
+        let (c, begins) = crate::trace::window(a, self.cycle_deg);
         if self.cur.as_ref().is_none_or(|b| b.index != c) {
             // A cycle is whole from its start when an earlier sample was
             // placed, or this revolution begins at or before it.
-            let from_start = self.cur.is_some() || start <= c as f64 * self.cycle_deg + 1e-6;
+            let from_start = self.cur.is_some() || start <= begins + 1e-6;
             self.close(out, true)?;
-            self.cur = Some(Building::new(
-                c,
-                line,
-                self.last_len,
-                from_start,
-                &self.others,
-            ));
+            let mut b = Building::new(c, line, self.last_len, from_start, &self.others);
+            b.since = start - c as f64 * self.cycle_deg;
+            self.cur = Some(b);
         }
         if let Some(b) = self.cur.as_mut() {
             b.trace.angle_deg.push(a - b.index as f64 * self.cycle_deg);
@@ -419,7 +462,8 @@ impl Cycles {
     }
 
     /// Hands the cycle being assembled on when it is whole: it began at its
-    /// firing TDC and the record `reached` its end.
+    /// window's start (the gas-exchange TDC before its firing TDC, BDC on a
+    /// two-stroke) and the record `reached` its end.
     fn close<F: FnMut(Streamed) -> Result<(), IngestError>>(
         &mut self,
         out: &mut Emitter<'_, F>,
@@ -441,6 +485,9 @@ impl Cycles {
                 }
             } else {
                 self.partial += 1;
+                if self.complete == 0 && self.first_part.is_none() {
+                    self.first_part = Some(b);
+                }
             }
         }
         Ok(())
@@ -460,11 +507,37 @@ impl Cycles {
         let reach = self
             .reach
             .map_or(f64::NEG_INFINITY, |(k, w)| self.start(k, par) + w);
+        // Where the last window ends: its firing TDC and half a cycle.
         let end = self
             .cur
             .as_ref()
-            .map_or(f64::INFINITY, |b| (b.index + 1) as f64 * self.cycle_deg);
-        self.close(out, reach >= end - 1e-6)?;
+            .map_or(f64::INFINITY, |b| (b.index as f64 + 0.5) * self.cycle_deg);
+        let whole = reach >= end - 1e-6;
+        // No whole window: the one cycle from firing TDC to firing TDC, when
+        // the record holds it.
+        let tdc = self
+            .cur
+            .as_ref()
+            .map_or(f64::INFINITY, |b| b.index as f64 * self.cycle_deg);
+        if !whole
+            && self.complete == 0
+            && self.deferred.is_none()
+            && reach >= tdc - 1e-6
+            && self.first_part.as_ref().is_some_and(|f| f.since <= 1e-6)
+            && let (Some(f), Some(e)) = (self.first_part.take(), self.cur.take())
+        {
+            match one_cycle(f, e, self.cycle_deg) {
+                Some(b) => {
+                    self.joined = true;
+                    self.partial -= 1;
+                    self.cur = Some(b);
+                    self.close(out, true)?;
+                }
+                None => self.partial += 1,
+            }
+        } else {
+            self.close(out, whole)?;
+        }
         if let Some((r, flag, count, what)) = &self.recur {
             r.check(self.cycle_deg, flag, *count, what)?;
         }

@@ -610,7 +610,7 @@ impl TimeRecord {
                 out,
             )?,
             Source::Clock(c) => {
-                c.close(out)?;
+                c.close(out, true)?;
                 (
                     format!(
                         "time record: the angle from a constant {} rpm and firing TDC at t = {} s",
@@ -625,13 +625,25 @@ impl TimeRecord {
         };
         if complete == 0 {
             return Err(IngestError::Data(format!(
-                "time record: no whole {}° cycle between firing TDCs ({said})",
+                "time record: no whole {}° cycle, the window from half a cycle before a firing TDC to half a cycle after ({said})",
                 fmt(self.cycle_deg, 0)
             )));
         }
         head.tdc_placement = Some(self.placement());
         let plural = |n: usize| if n == 1 { "" } else { "s" };
-        said.push_str(&format!("; {complete} whole cycle{}", plural(complete)));
+        let joined = self.cycles.joined || matches!(&self.source, Source::Clock(c) if c.joined);
+        if joined {
+            let half = fmt(self.cycle_deg / 2.0, 3);
+            said.push_str(&format!(
+                "; no whole window −{half}…+{half}° around a firing TDC, but one whole cycle from firing TDC to firing TDC: read as a one-cycle diagram"
+            ));
+        } else {
+            said.push_str(&format!(
+                "; {complete} whole cycle{}, {}",
+                plural(complete),
+                crate::trace::window_said(self.cycle_deg, "")
+            ));
+        }
         if partial > 0 {
             said.push_str(&format!(
                 ", {partial} partial {} at the ends left out",

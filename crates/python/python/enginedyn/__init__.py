@@ -242,8 +242,9 @@ class Reader(_Options):
     ``peg_bar``, ``peg``, ``gain_bar_per_v``, ``tdc_time``, ``rpm``,
     ``cylinder_axis``, ``pv_start``, ``encoder_ppr``, ``wheel``,
     ``wheel_tdc_deg``, ``compression_check`` (``False`` for
-    ``--no-compression-check``), ``angle_step`` (``--angle-step``)), with
-    their bounds."""
+    ``--no-compression-check``), ``despike`` (``True`` for ``--despike``:
+    each glitch replaced by the cubic through its neighbours, by the same
+    library rule), ``angle_step`` (``--angle-step``)), with their bounds."""
 
     __slots__ = ()
 
@@ -268,6 +269,7 @@ class Reader(_Options):
         wheel: Optional[str] = None,
         wheel_tdc_deg: Optional[float] = None,
         compression_check: Optional[bool] = None,
+        despike: Optional[bool] = None,
         angle_step: Optional[float] = None,
     ) -> None:
         super().__init__(
@@ -289,6 +291,7 @@ class Reader(_Options):
             wheel=wheel,
             wheel_tdc_deg=wheel_tdc_deg,
             compression_check=compression_check,
+            despike=despike,
             angle_step=angle_step,
         )
 
