@@ -295,3 +295,62 @@ fn the_peak_pressure_is_reported() {
         .count();
     assert_eq!(n, 3);
 }
+
+/// A synthesised diagram's TDC is never questioned (issue 41.8), read
+/// back from `synth --out` or made in memory: a late design burn (CA50
+/// 100°, 10–90 in 40°, EVO 200°) runs, its window taken from its law, and
+/// gives back the law's CA90 (120.54°; 113.79° and a silent heat 11 %
+/// low when the window stopped at 120°); a light load (0.5 bar IMEP) gets
+/// no "add it to --tdc-deg".
+#[test]
+fn a_synthesised_diagram_keeps_its_tdc_and_its_whole_burn() {
+    let t = tempfile::tempdir().unwrap();
+    let late = template(
+        t.path(),
+        "late.toml",
+        &[
+            ("ca50_deg = 8.0", "ca50_deg = 100.0"),
+            ("duration_10_90_deg = 20.0", "duration_10_90_deg = 40.0"),
+            ("# evo_deg = 130.0", "evo_deg = 200.0"),
+        ],
+    );
+    let s = json(&["run", "--engine", &late, "--json"]);
+    let law = Wiebe::from_ca50(100.0, 40.0, 2.0, DEFAULT_A).unwrap();
+    let ca90 = s["ca90_deg"].as_f64().unwrap();
+    assert!((ca90 - law.angle_of(0.9)).abs() < 0.05, "CA90 {ca90}");
+    // Written by synth and read back as a file: the same.
+    let csv = t.path().join("late.csv");
+    let o = run(&["synth", "--engine", &late, "--out", csv.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = run(&[
+        "run",
+        "--engine",
+        &late,
+        "--diagram",
+        csv.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // A light load: no TDC advice for a TDC exact by construction.
+    let light = template(t.path(), "light.toml", &[]);
+    let csv = t.path().join("light.csv");
+    let o = run(&[
+        "synth",
+        "--engine",
+        &light,
+        "--imep",
+        "0.5",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = run(&[
+        "run",
+        "--engine",
+        &light,
+        "--diagram",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("--tdc-deg"), "{}", stderr(&o));
+}

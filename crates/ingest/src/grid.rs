@@ -175,6 +175,9 @@ pub struct Resampled {
     pub notes: Vec<String>,
     /// The combustion options the cycles were analysed with.
     pub combustion: Option<Arc<enginedyn_combustion::Options>>,
+    /// The file says it was synthesised (`enginedyn synth`): its firing
+    /// TDC is exact, so no rule questions it.
+    pub synthetic: bool,
 }
 
 impl Resampled {
@@ -196,6 +199,7 @@ impl Resampled {
             sample_step_deg: step_deg,
             notes: Vec::new(),
             combustion: None,
+            synthetic: false,
         }
     }
 }
@@ -692,6 +696,7 @@ impl Accumulator {
             sample_step_deg: self.spacing,
             notes,
             combustion: self.opts.combustion.clone(),
+            synthetic: false,
         })
     }
 }

@@ -53,6 +53,7 @@ pub use grid::{
 pub use mdf::{MAX_MDF, MAX_MDF_BLOCK, MAX_MDF_CHANNELS, MAX_MDF_DECODED, MAX_MDF_GROUPS};
 pub use number::{NumberError, SpeedError, check_rpm, read_number, read_rpm};
 pub use plausible::TdcPlacement;
+pub use reader::SYNTHETIC_MARK;
 pub use sheet::MAX_WORKBOOK;
 pub use text::MAX_LINE;
 pub use time::{MAX_ENCODER_PPR, MAX_WHEEL_TDC_DEG, Wheel};
@@ -340,6 +341,9 @@ impl Interp {
 pub struct Header {
     /// Pressure, or torque from a turning-moment file.
     pub quantity: Quantity,
+    /// The file says it was synthesised by `enginedyn synth` (its first
+    /// comment line): its firing TDC is exact, never questioned.
+    pub synthetic: bool,
     /// Speed from a `# rpm = N` comment line.
     pub rpm: Option<f64>,
     /// True for p–V data.
@@ -446,12 +450,17 @@ fn load_from(
         Some(a) => {
             let (pv, cycles_skipped) = (h.pv, h.cycles_skipped);
             let placed = h.tdc_placement.clone();
+            let synthetic = h.synthetic;
             a.finish(h.rpm, h.notes)
                 .and_then(|r| {
-                    peak_angle(&r, h.quantity, pv, placed, opts)?;
+                    // A synthesised diagram's TDC is exact by construction.
+                    if !synthetic {
+                        peak_angle(&r, h.quantity, pv, placed, opts)?;
+                    }
                     Ok(r)
                 })
                 .map(|mut r| {
+                    r.synthetic = synthetic;
                     r.pv = pv;
                     r.cycles_skipped = cycles_skipped;
                     r.skipped = h.skipped;

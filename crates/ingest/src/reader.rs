@@ -70,6 +70,9 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
 
     /// A comment line (`#` …): a speed line is read, anything else skipped.
     pub(crate) fn comment(&mut self, line: usize, text: &str) -> Result<(), IngestError> {
+        if is_synthetic(text) {
+            self.head.synthetic = true;
+        }
         match parse_rpm(text) {
             Some(Ok(r))
                 if self
@@ -482,6 +485,18 @@ fn join_units(names: &[String], units: &[String]) -> Vec<String> {
             }
         })
         .collect()
+}
+
+/// The first line `enginedyn synth` writes: the diagram is synthetic,
+/// its firing TDC exact by construction.
+pub const SYNTHETIC_MARK: &str = "synthetic indicator diagram, not measured: enginedyn synth";
+
+/// True for the comment line that marks a synthesised diagram.
+fn is_synthetic(comment: &str) -> bool {
+    comment
+        .trim_start_matches('#')
+        .trim_start()
+        .starts_with(SYNTHETIC_MARK)
 }
 
 /// The speed a comment line gives: `None` when the comment is not a speed

@@ -546,10 +546,10 @@ pub fn analyse_with(
     };
     // Measured p–φ data: where the trace puts firing TDC, or why it cannot
     // tell (a note either way when there is something to say).
-    let tdc_offset = if opts.scope > Scope::Keys
-        && !pressure.pv
-        && pressure.quantity == Quantity::Pressure
-    {
+    let tdc_offset = if pressure.synthetic {
+        // A synthesised diagram's TDC is exact by construction.
+        None
+    } else if opts.scope > Scope::Keys && !pressure.pv && pressure.quantity == Quantity::Pressure {
         // A file sampled coarsely is judged by its own step, not the
         // interpolant's grid.
         let estimate = tdc::fine_enough(pressure.sample_step_deg)

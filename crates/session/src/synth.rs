@@ -236,14 +236,21 @@ fn header(
         )
     };
     let mut lines = vec![
-        "synthetic indicator diagram, not measured: enginedyn synth, the design cycle of the engine file's [combustion] (single-zone first law from IVC to EVO with a Wiebe heat release, no wall heat; docs/combustion.md, Synthesis for design)".to_string(),
+        format!(
+            "{}, the design cycle of the engine file's [combustion] (single-zone first law from IVC to EVO with a Wiebe heat release, no wall heat; docs/combustion.md, Synthesis for design)",
+            enginedyn_ingest::SYNTHETIC_MARK
+        ),
         format!(
             "engine: {file} ({}): bore {} mm, stroke {} mm, {geometry}, compression ratio {}, {}",
             engine.name(),
             human(cyl.bore() * 1e3),
             human(mech.stroke() * 1e3),
             human(cyl.compression_ratio()),
-            if m.two_stroke { "two-stroke" } else { "four-stroke" }
+            if m.two_stroke {
+                "two-stroke"
+            } else {
+                "four-stroke"
+            }
         ),
         format!("burn: {}", wiebe(m.burn.first())),
     ];
