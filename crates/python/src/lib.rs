@@ -1025,7 +1025,9 @@ fn severity(note: &str) -> &'static str {
 #[pyfunction]
 fn grouped(per_item: Vec<(String, Vec<String>)>, items: &str) -> Vec<(&'static str, String)> {
     enginedyn_pipeline::notes::grouped(
-        per_item.iter().map(|(n, notes)| (n.as_str(), notes.as_slice())),
+        per_item
+            .iter()
+            .map(|(n, notes)| (n.as_str(), notes.as_slice())),
         items,
     )
     .into_iter()
