@@ -468,12 +468,16 @@ fn each_diagram_is_hashed_with_blake3() {
 #[test]
 fn quiet_and_notes_said_once_with_a_count() {
     let t = tempfile::tempdir().unwrap();
-    let files = diagrams(t.path(), "d", 3);
+    // Four files: a kind of fewer than four is named, of more only counted.
+    let files = diagrams(t.path(), "d", 4);
     let out = t.path().join("out");
     let l = list(t.path(), "l.txt", &files);
     let o = ok(shard(&out, &l, None, &[]));
     let e = stderr(&o);
-    let counted: Vec<&str> = e.lines().filter(|l| l.contains(": 3 files: ")).collect();
+    let counted: Vec<&str> = e
+        .lines()
+        .filter(|l| l.contains(": 4 of 4 files: "))
+        .collect();
     assert!(!counted.is_empty(), "{e}");
     for f in &files {
         assert!(!e.contains(&format!("{}: ", f.display())), "{e}");

@@ -17,6 +17,7 @@ mod hostile;
 mod hostile_input2;
 mod inputs;
 mod layout;
+mod map_logs;
 mod measured;
 mod names;
 mod new_user;

@@ -527,8 +527,8 @@ pub struct BatchArgs {
     /// With --parquet: replace the parts of another campaign in DIR (enginedyn's own parts only).
     #[arg(long, requires = "parquet")]
     pub replace: bool,
-    /// With --parquet: no progress bar and no notes; warnings said once each with a count of files, errors as ever.
-    #[arg(long, requires = "parquet")]
+    /// For job logs (--parquet runs, Slurm): one line on standard output (files read, failed, where written), never the table; on standard error only the errors (one a file) and the warnings grouped by kind; no progress bar, no notes.
+    #[arg(long, conflicts_with_all = ["json", "csv"])]
     pub quiet: bool,
     /// Write summary.csv (and with --detail one run folder per diagram) into DIR.
     #[arg(long, value_name = "DIR")]
@@ -573,7 +573,7 @@ pub struct SweepArgs {
     /// Indicator diagram [default: the engine file's `diagram`].
     #[arg(long, value_name = "FILE")]
     pub diagram: Option<PathBuf>,
-    /// Speeds FROM:TO:STEP (rpm); TO is included when it falls on the step.
+    /// Speeds FROM:TO:STEP (rpm); TO is included when it falls on the step; at most 10,000 speeds (with --imep, 10,000 points: speeds × loads).
     #[arg(long, value_name = "FROM:TO:STEP", allow_hyphen_values = true)]
     pub rpm: String,
     /// Write sweep.csv and sweep.svg into DIR.
@@ -715,7 +715,7 @@ pub struct SynthArgs {
 /// `sweep --imep`: a speed × load map from the engine file's `[combustion]`.
 #[derive(Debug, Clone, Args)]
 pub struct SweepMapArgs {
-    /// Loads FROM:TO:STEP (net IMEP, bar): a speed × load map synthesised from `[combustion]`.
+    /// Loads FROM:TO:STEP (net IMEP, bar): a speed × load map synthesised from `[combustion]`; at most 10,000 points (speeds × loads).
     #[arg(long, value_name = "FROM:TO:STEP", conflicts_with = "diagram")]
     pub imep: Option<String>,
 }

@@ -20,7 +20,7 @@ struct Row {
     json: Option<String>,
     /// With `--parquet`: its rows of the campaign's tables.
     campaign: Option<enginedyn_session::campaign::Row>,
-    /// With `--parquet`: its notes, said at the end with the others'.
+    /// Its notes, said at the end grouped by kind with the others'.
     notes: Vec<String>,
 }
 
@@ -198,7 +198,6 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
         engine_inputs: engine_inputs.as_ref(),
         out_dir: out_dir.as_ref(),
         folders: &folders,
-        bar: &bar,
     };
     let items = session.batch(
         files,
@@ -227,17 +226,18 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
         .map(|item| item.result.unwrap_or_else(|e| failed_row(a, &item.file, e)))
         .collect();
     let failed = rows.iter().filter(|r| !r.error.is_empty()).count();
-    // Notes shared by many files said once, with their count.
-    let grouped = enginedyn_session::batch::grouped_notes(
-        rows.iter().map(|r| (r.file.as_str(), r.notes.as_slice())),
+    // The files' notes grouped by kind, one line a kind with its count
+    // and the range of its numbers (INTERFACE.md, "A batch's log").
+    let names: Vec<String> = rows.iter().map(|r| one_line(&r.file)).collect();
+    crate::say_grouped(
+        names
+            .iter()
+            .zip(&rows)
+            .map(|(f, r)| (f.as_str(), r.notes.as_slice())),
+        "files",
+        a.quiet,
     );
-    for (about, note) in &grouped {
-        let warning = enginedyn_pipeline::notes::severity(note)
-            == enginedyn_pipeline::notes::Severity::Warning;
-        if !a.quiet || warning {
-            crate::say(Some(about), note);
-        }
-    }
+    let mut written_to: Vec<String> = Vec::new();
     // The campaign's part: whole or not at all; one that cannot be
     // written is exit 2 (so a dependent job can trust every part exists).
     if let (Some(plan), Some(dir)) = (&plan, &a.parquet) {
@@ -246,19 +246,32 @@ pub fn run(a: &BatchArgs) -> Result<(), Failure> {
         let written = session
             .write_plan(plan, &campaign)
             .map_err(|e| parquet_failure(dir, e))?;
-        eprintln!(
-            "wrote {} ({} of {} files failed): {}",
-            enginedyn_report::count(written.len(), "part"),
-            failed,
-            rows.len(),
-            written
-                .iter()
-                .map(|p| p.display().to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
+        written_to.extend(written.iter().map(|p| p.display().to_string()));
+        if !a.quiet {
+            eprintln!(
+                "wrote {} ({} of {} files failed): {}",
+                enginedyn_report::count(written.len(), "part"),
+                failed,
+                rows.len(),
+                written_to.join(", ")
+            );
+        }
     }
-    print_outputs(a, engine, &rows, out_dir.as_ref(), started, failed)?;
+    if let Some(csv) = print_outputs(a, engine, &rows, out_dir.as_ref(), started, failed)? {
+        written_to.push(csv);
+    }
+    if a.quiet {
+        // The one line a job's log keeps on standard output.
+        crate::emit(&format!(
+            "{} read, {failed} failed{}\n",
+            enginedyn_report::count(rows.len(), "file"),
+            if written_to.is_empty() {
+                String::new()
+            } else {
+                format!("; wrote {}", written_to.join(", "))
+            }
+        ));
+    }
     if failed > 0 && a.parquet.is_none() {
         return Err(Failure::data(format!(
             "{failed} of {} diagrams failed (their rows say why)",
@@ -280,7 +293,6 @@ struct RowContext<'a> {
     engine_inputs: Option<&'a enginedyn_report::Inputs>,
     out_dir: Option<&'a enginedyn_report::OutDir>,
     folders: &'a [String],
-    bar: &'a indicatif::ProgressBar,
 }
 
 impl RowContext<'_> {
@@ -344,19 +356,8 @@ impl RowContext<'_> {
             )),
             _ => None,
         };
-        // A campaign's notes are said at the end, once each with a count.
-        let notes = if a.parquet.is_some() {
-            s.notes.clone()
-        } else {
-            if !s.notes.is_empty() {
-                self.bar.suspend(|| {
-                    for n in &s.notes {
-                        crate::say(Some(&one_line(&shown)), n);
-                    }
-                });
-            }
-            Vec::new()
-        };
+        // The notes are said at the end, grouped by kind over the files.
+        let notes = s.notes.clone();
         let flattened = Instant::now();
         let cells = enginedyn_report::flatten(s);
         times.analysis += flattened.elapsed();
@@ -376,7 +377,9 @@ impl RowContext<'_> {
     }
 }
 
-/// summary.csv, index.html and the table or JSON on standard output.
+/// summary.csv, index.html and the table or JSON on standard output (with
+/// `--quiet`, neither the table nor the line that says what was written);
+/// returns where summary.csv was written.
 fn print_outputs(
     a: &BatchArgs,
     engine: &enginedyn_engine::Engine,
@@ -384,7 +387,7 @@ fn print_outputs(
     out_dir: Option<&enginedyn_report::OutDir>,
     started: Instant,
     failed: usize,
-) -> Result<(), Failure> {
+) -> Result<Option<String>, Failure> {
     let table: Vec<enginedyn_report::CsvRow> = rows
         .iter()
         .map(|r| (r.file.clone(), r.error.clone(), r.cells.clone()))
@@ -424,17 +427,22 @@ fn print_outputs(
             for note in dir.write(&out)? {
                 crate::say(None, &note);
             }
+            let written = dir.path().join("summary.csv").display().to_string();
+            if a.quiet {
+                return Ok(Some(written));
+            }
             eprintln!(
-                "{} ({} failed) in {:.2} s; wrote {}",
+                "{} ({} failed) in {:.2} s; wrote {written}",
                 enginedyn_report::count(rows.len(), "diagram"),
                 failed,
                 started.elapsed().as_secs_f64(),
-                dir.path().join("summary.csv").display()
             );
             if let Some(json) = &json {
                 crate::emit(json);
             }
+            return Ok(Some(written));
         }
+        None if a.quiet => {}
         None if a.json => crate::emit(&json.unwrap_or_default()),
         None if a.csv || a.parse_only => crate::emit(&csv),
         None => {
@@ -454,7 +462,7 @@ fn print_outputs(
             crate::emit(&text);
         }
     }
-    Ok(())
+    Ok(None)
 }
 
 /// What `sweep --out DIR` writes.
@@ -486,12 +494,25 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
         crate::say(None, note);
     }
     let enginedyn_session::sweep::Sweep {
-        results,
+        points,
         sized_at,
         source,
         flywheel,
     } = session.sweep(input, &rpms, &a.rpm)?;
-    let table: Vec<enginedyn_report::CsvRow> = results
+    // The speeds' notes grouped by kind, one line a kind.
+    let names: Vec<String> = points
+        .iter()
+        .map(|p| format!("{} rpm", crate::human(p.summary.rpm)))
+        .collect();
+    crate::say_grouped(
+        names
+            .iter()
+            .zip(&points)
+            .map(|(n, p)| (n.as_str(), p.summary.notes.as_slice())),
+        "points",
+        false,
+    );
+    let table: Vec<enginedyn_report::CsvRow> = points
         .iter()
         .map(|an| {
             (
@@ -505,7 +526,7 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
     // `--json`: the per-speed summary.json objects.
     let json = if a.json {
         let inputs = enginedyn_session::inputs::of(&session.loaded, &[input])?;
-        let each: Vec<String> = results
+        let each: Vec<String> = points
             .iter()
             .map(|an| {
                 serde_json::to_string(&enginedyn_report::summary_json(&an.summary, &inputs))
@@ -519,7 +540,7 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
     match &out {
         Some(dir) => {
             let summaries: Vec<&enginedyn_pipeline::Summary> =
-                results.iter().map(|an| &an.summary).collect();
+                points.iter().map(|an| &an.summary).collect();
             let fig = enginedyn_report::sweep_figure(engine.name(), &summaries);
             let svg = fig.render().map_err(|e| Failure::data(e.to_string()))?;
             let [table, chart] = SWEEP_FILES.map(String::from);
@@ -538,7 +559,7 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
         None if a.json => crate::emit(&json.unwrap_or_default()),
         None if a.csv => crate::emit(&csv),
         None => {
-            let rows: Vec<enginedyn_report::KeyRow> = results
+            let rows: Vec<enginedyn_report::KeyRow> = points
                 .iter()
                 .map(|an| enginedyn_report::KeyRow {
                     name: crate::human(an.summary.rpm),

@@ -64,6 +64,24 @@ pub fn say_all<'a>(notes: impl IntoIterator<Item = &'a String>) {
     }
 }
 
+/// Says many items' notes (a batch's files, a sweep's points: `(name,
+/// notes)`, `items` their plural) grouped by kind, one line a kind
+/// (`enginedyn_pipeline::notes::grouped`, the one grouping); with
+/// `warnings_only` (`--quiet`) the notes that only say what was decided are
+/// left out.
+pub fn say_grouped<'a>(
+    per_item: impl IntoIterator<Item = (&'a str, &'a [String])>,
+    items: &str,
+    warnings_only: bool,
+) {
+    use enginedyn_pipeline::notes::{Severity, grouped};
+    for (severity, line) in grouped(per_item, items) {
+        if !warnings_only || severity == Severity::Warning {
+            eprintln!("{}: {line}", severity.label());
+        }
+    }
+}
+
 /// Writes to standard output; a closed pipe (`enginedyn run | head`) ends the
 /// program quietly instead of panicking.
 pub fn emit(text: &str) {

@@ -35,15 +35,32 @@ pub fn run(a: &SweepArgs) -> Result<(), Failure> {
     let loads = enginedyn_session::options::imep_range(shown_loads)?;
     let map = session.sweep_map(&rpms, &loads, &a.rpm, shown_loads)?;
     crate::say_all(&map.notes);
-    for p in &map.points {
-        crate::say_all(&p.analysis.summary.notes);
-    }
+    // The points' notes grouped by kind, one line a kind.
+    let names: Vec<String> = map
+        .points
+        .iter()
+        .map(|p| {
+            format!(
+                "IMEP {} bar, {} rpm",
+                crate::human(p.imep_target_bar),
+                crate::human(p.point.summary.rpm)
+            )
+        })
+        .collect();
+    crate::say_grouped(
+        names
+            .iter()
+            .zip(&map.points)
+            .map(|(n, p)| (n.as_str(), p.point.summary.notes.as_slice())),
+        "points",
+        false,
+    );
     let engine = session.engine();
     let table: Vec<enginedyn_report::CsvRow> = map
         .points
         .iter()
         .map(|p| {
-            let mut cells = enginedyn_report::flatten(&p.analysis.summary);
+            let mut cells = enginedyn_report::flatten(&p.point.summary);
             cells.push((
                 "imep_target_bar".to_string(),
                 enginedyn_numerics::format::csv(p.imep_target_bar),
@@ -58,14 +75,13 @@ pub fn run(a: &SweepArgs) -> Result<(), Failure> {
             .iter()
             .zip(&map.diagrams_for_points())
             .map(|(p, d)| {
-                let inputs = enginedyn_session::inputs::of(&session.loaded, &[d.input()])?;
-                let mut doc = enginedyn_report::summary_json(&p.analysis.summary, &inputs);
+                let mut doc = enginedyn_report::summary_json(&p.point.summary, &d.inputs);
                 if let Some(o) = doc.as_object_mut() {
                     o.insert("imep_target_bar".into(), p.imep_target_bar.into());
                 }
-                Ok(serde_json::to_string(&doc).unwrap_or_default())
+                serde_json::to_string(&doc).unwrap_or_default()
             })
-            .collect::<Result<Vec<String>, Failure>>()?;
+            .collect::<Vec<String>>();
         Some(json_array(&each))
     } else {
         None
@@ -80,7 +96,7 @@ pub fn run(a: &SweepArgs) -> Result<(), Failure> {
                         .points
                         .iter()
                         .filter(|p| map.loads[p.load].to_bits() == l.to_bits())
-                        .map(|p| &p.analysis.summary)
+                        .map(|p| &p.point.summary)
                         .collect();
                     (l, ss)
                 })
@@ -117,11 +133,11 @@ fn table_text(engine: &enginedyn_engine::Engine, map: &enginedyn_session::map::S
             name: format!(
                 "{} bar, {} rpm",
                 crate::human(p.imep_target_bar),
-                crate::human(p.analysis.summary.rpm)
+                crate::human(p.point.summary.rpm)
             ),
             figures: Some(enginedyn_report::key_figures(
                 &enginedyn_report::SWEEP_FIGURES,
-                &p.analysis.summary,
+                &p.point.summary,
             )),
             error: String::new(),
             folder: None,

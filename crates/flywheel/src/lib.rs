@@ -18,7 +18,7 @@
 //! ```
 
 use enginedyn_engine::{FlywheelShape, FlywheelSpec};
-use enginedyn_numerics::{extremes::periodic_min_max, integrate, integrate::Rule, roots};
+use enginedyn_numerics::{extremes, extremes::periodic_min_max, integrate, integrate::Rule, roots};
 
 /// Standard gravity (m/s²), for GD².
 pub const G: f64 = 9.806_65;
@@ -193,6 +193,100 @@ pub fn same_part(u: &Uniformity, part: &Flywheel, omega: f64) -> Flywheel {
     }
 }
 
+/// What a flywheel sized elsewhere needs of a torque curve to give its δ
+/// there ([`same_part_at`]): the excess energy's refined extremes and the
+/// five samples around each sample that may hold the speed's extreme; a few
+/// numbers in place of `E(φ)` on the whole grid, so that a sweep or map
+/// keeps no curve per point. The speed is an increasing function of `E`, so
+/// its extremes lie at the samples where `E` has its own, or (rounding) at
+/// another sample within [`TIE`] of it, as the equal peaks of identical
+/// cylinders are: each such sample is kept, in order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnergySpan {
+    /// Smallest `E` (J), refined between samples.
+    pub min: f64,
+    /// Largest `E` (J), refined between samples.
+    pub max: f64,
+    at_min: Vec<[f64; 5]>,
+    at_max: Vec<[f64; 5]>,
+}
+
+/// How close (a fraction of `max E − min E`) a sample's `E` must come to
+/// the extreme sample's for [`EnergySpan`] to keep it: far above where the
+/// speed's rounding could tie two samples (1e-16 of the range over δ).
+pub const TIE: f64 = 1e-9;
+
+/// The most samples [`EnergySpan`] keeps at each extreme.
+const MOST_TIED: usize = 64;
+
+impl EnergySpan {
+    /// From `E(φ)` over one cycle.
+    pub fn of(e: &[f64]) -> Self {
+        let (min, max) = periodic_min_max(e);
+        if e.len() < 4 {
+            // Too few samples to refine: the extremes as they are.
+            return Self {
+                min,
+                max,
+                at_min: vec![[min; 5]],
+                at_max: vec![[max; 5]],
+            };
+        }
+        let (lo, hi) = enginedyn_numerics::scan::min_max(e);
+        let tie = TIE * (hi - lo);
+        let near = |pick: &dyn Fn(f64) -> bool| -> Vec<[f64; 5]> {
+            (0..e.len())
+                .filter(|&k| pick(e[k]))
+                .take(MOST_TIED)
+                .map(|k| extremes::window(e, k))
+                .collect()
+        };
+        Self {
+            min,
+            max,
+            at_min: near(&|x| x <= lo + tie),
+            at_max: near(&|x| x >= hi - tie),
+        }
+    }
+}
+
+impl Uniformity {
+    /// What a flywheel sized elsewhere needs of this curve ([`EnergySpan`]).
+    pub fn span(&self) -> EnergySpan {
+        EnergySpan::of(&self.excess_energy)
+    }
+}
+
+/// [`same_part`] from an [`EnergySpan`]: the same part and figures with the
+/// `delta` it gives at the mean speed `omega` (the same number
+/// [`same_part`] gives), without the speed trace.
+pub fn same_part_at(span: &EnergySpan, part: &Flywheel, omega: f64) -> Flywheel {
+    let inertia = part.inertia + part.engine_inertia;
+    let w0 = base_speed(span.min, span.max, inertia, omega);
+    let w = |x: &f64| (w0 * w0 + 2.0 * x / inertia).max(0.0).sqrt();
+    // The first sample of the speed's extreme (as `periodic_min_max` takes
+    // it of the whole trace), refined from its window.
+    let refined = |kept: &[[f64; 5]], sign: f64| {
+        let mut best: Option<(f64, &[f64; 5])> = None;
+        for c in kept {
+            let v = sign * w(&c[2]);
+            if best.is_none_or(|(b, _)| v > b) {
+                best = Some((v, c));
+            }
+        }
+        best.map_or(f64::NAN, |(_, c)| {
+            sign * extremes::window_max(&c.each_ref().map(w), sign)
+        })
+    };
+    let (wmin, wmax) = (refined(&span.at_min, -1.0), refined(&span.at_max, 1.0));
+    Flywheel {
+        speed: Vec::new(),
+        speed_fluctuation_achieved: (wmax - wmin) / (0.5 * (wmax + wmin)),
+        notes: Vec::new(),
+        ..part.clone()
+    }
+}
+
 /// A flywheel thinner than this fraction of its diameter is no real part
 /// (a 570 mm rim 3.4 mm wide): it gets a warning.
 pub const THIN: f64 = 0.02;
@@ -245,14 +339,7 @@ fn thin_note(spec: &FlywheelSpec, inertia: f64, d: f64, width: f64) -> String {
 /// `(w_max + w_min)/2 = omega`; returns the trace and its `delta`.
 pub fn speed_trace(e: &[f64], inertia: f64, omega: f64) -> (Vec<f64>, f64) {
     let (emin, emax) = periodic_min_max(e);
-    let mid = |w0: f64| {
-        let hi = (w0 * w0 + 2.0 * emax / inertia).max(0.0).sqrt();
-        let lo = (w0 * w0 + 2.0 * emin / inertia).max(0.0).sqrt();
-        0.5 * (hi + lo) - omega
-    };
-    // mid is increasing in w0; bracket it from the smallest w0 that keeps w real.
-    let lo = (-2.0 * emin / inertia).max(0.0).sqrt();
-    let w0 = roots::brent(mid, lo, 2.0 * omega + lo, 1e-14 * omega).unwrap_or(omega);
+    let w0 = base_speed(emin, emax, inertia, omega);
     let speed: Vec<f64> = e
         .iter()
         .map(|&x| (w0 * w0 + 2.0 * x / inertia).max(0.0).sqrt())
@@ -261,9 +348,47 @@ pub fn speed_trace(e: &[f64], inertia: f64, omega: f64) -> (Vec<f64>, f64) {
     (speed, (wmax - wmin) / (0.5 * (wmax + wmin)))
 }
 
+/// `w_0` of [`speed_trace`]: `(w_max + w_min)/2 = omega` for the excess
+/// energy's extremes `emin`, `emax`.
+fn base_speed(emin: f64, emax: f64, inertia: f64, omega: f64) -> f64 {
+    let mid = |w0: f64| {
+        let hi = (w0 * w0 + 2.0 * emax / inertia).max(0.0).sqrt();
+        let lo = (w0 * w0 + 2.0 * emin / inertia).max(0.0).sqrt();
+        0.5 * (hi + lo) - omega
+    };
+    // mid is increasing in w0; bracket it from the smallest w0 that keeps w real.
+    let lo = (-2.0 * emin / inertia).max(0.0).sqrt();
+    roots::brent(mid, lo, 2.0 * omega + lo, 1e-14 * omega).unwrap_or(omega)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A part sized elsewhere gives the same δ from the span alone as from
+    /// the whole excess-energy curve, bit for bit.
+    #[test]
+    fn the_span_gives_the_same_part_as_the_curve() {
+        let n = 7200;
+        let h = 4.0 * std::f64::consts::PI / n as f64;
+        let m: Vec<f64> = (0..n)
+            .map(|k| {
+                let x = k as f64 * h;
+                120.0 + 300.0 * (2.0 * x + 0.3).cos() + 80.0 * (4.0 * x).sin()
+            })
+            .collect();
+        let u = Uniformity::new(&m, h, Rule::Trapezoid);
+        let part = analyse(&u, &FlywheelSpec::default(), 200.0, 0.05).unwrap();
+        for omega in [100.0, 314.0, 600.0] {
+            let whole = same_part(&u, &part, omega);
+            let kept = same_part_at(&u.span(), &part, omega);
+            assert_eq!(
+                whole.speed_fluctuation_achieved.to_bits(),
+                kept.speed_fluctuation_achieved.to_bits()
+            );
+            assert_eq!(kept.inertia.to_bits(), whole.inertia.to_bits());
+        }
+    }
 
     /// The issue's case: a rim sized by the default rim speed at about
     /// 2000 rpm, 570 mm in diameter and 3.4 mm wide, gets the warning that

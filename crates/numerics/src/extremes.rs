@@ -70,6 +70,23 @@ fn max_near(v: &[f64], k: usize, sign: f64) -> f64 {
     left.max(right)
 }
 
+/// The five samples `v[k-2..=k+2]` (periodic) that refine an extreme at
+/// sample `k`: what [`periodic_min_max`] reads of `v` there. With
+/// [`window_max`], a curve's extreme can be refined later from these alone
+/// (and from any increasing function of them) instead of the whole curve.
+pub fn window(v: &[f64], k: usize) -> [f64; 5] {
+    let n = v.len() as isize;
+    std::array::from_fn(|j| v[(k as isize + j as isize - 2).rem_euclid(n) as usize])
+}
+
+/// The largest value (`sign` 1) or the negated smallest (`sign` -1) of the
+/// refined curve through a [`window`] at its middle sample: the same
+/// number [`periodic_min_max`] gives of the whole curve when its extreme
+/// sample is that middle one.
+pub fn window_max(w: &[f64; 5], sign: f64) -> f64 {
+    max_near(w, 2, sign)
+}
+
 /// The smallest and largest value of the periodic curve sampled by `v`
 /// (one period, uniform steps), each refined between samples as the module
 /// says. `(inf, -inf)` for an empty slice; fewer than 4 samples are not
@@ -106,6 +123,22 @@ mod tests {
 
     fn raw_max(v: &[f64]) -> f64 {
         v.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+    }
+
+    /// A window at the extreme sample gives the whole curve's extreme, bit
+    /// for bit, across the wrap of the period too.
+    #[test]
+    fn a_window_refines_as_the_whole_curve() {
+        for shift in [0.0, 0.3, 1.7, 6.0] {
+            let v = sampled(48, |x| (x - shift).cos() + 0.3 * (3.0 * x).sin());
+            let (kmin, kmax) = crate::scan::arg_min_max(&v);
+            let (lo, hi) = periodic_min_max(&v);
+            assert_eq!(window_max(&window(&v, kmax), 1.0).to_bits(), hi.to_bits());
+            assert_eq!(
+                (-window_max(&window(&v, kmin), -1.0)).to_bits(),
+                lo.to_bits()
+            );
+        }
     }
 
     /// A parabola is recovered exactly (1e-12), wherever its vertex falls

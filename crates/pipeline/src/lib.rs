@@ -910,16 +910,20 @@ fn complete(
 /// part for every speed) on this operating point: its figures replace the
 /// ones sized here, and `speed_fluctuation_achieved` becomes the δ the part
 /// gives at this speed. Nothing changes without a flywheel here (motoring).
-pub fn with_flywheel(a: &mut Analysis, part: &enginedyn_flywheel::Flywheel) {
-    if a.flywheel.is_none() {
+pub fn with_flywheel(a: &mut Analysis, part: &Flywheel) {
+    let Some(here) = &a.flywheel else {
         return;
-    }
+    };
     let f = enginedyn_flywheel::same_part(&a.uniformity, part, a.summary.omega_rad_s);
-    let s = &mut a.summary;
+    put_part(&mut a.summary, here, part, &f);
+    a.flywheel = Some(f);
+}
+
+/// The summary of a point that sized `here` once `part` stands in its
+/// place (`f`: the part at this point).
+fn put_part(s: &mut Summary, here: &Flywheel, part: &Flywheel, f: &Flywheel) {
     // The notes about the flywheel sized here are about another part.
-    if let Some(here) = &a.flywheel {
-        s.notes.retain(|n| !here.notes.contains(n));
-    }
+    s.notes.retain(|n| !here.notes.contains(n));
     s.notes.extend(part.notes.iter().cloned());
     s.required_inertia_kg_m2 = Some(f.required_inertia);
     s.flywheel_inertia_kg_m2 = Some(f.inertia);
@@ -928,7 +932,49 @@ pub fn with_flywheel(a: &mut Analysis, part: &enginedyn_flywheel::Flywheel) {
     s.flywheel_mass_kg = Some(f.mass);
     s.flywheel_width_m = f.width;
     s.speed_fluctuation_achieved = Some(f.speed_fluctuation_achieved);
-    a.flywheel = Some(f);
+}
+
+/// One operating point as a sweep or map keeps it: the summary, the
+/// flywheel sized here (without its speed trace) and what a flywheel sized
+/// elsewhere needs of this point ([`enginedyn_flywheel::EnergySpan`]). A
+/// few kB where an [`Analysis`] holds every curve on the grid (about 1 MB at
+/// 0.1°), so a map's memory does not grow with its points' curves.
+#[derive(Debug, Clone)]
+pub struct Point {
+    /// The summary figures and notes.
+    pub summary: Summary,
+    /// The flywheel sized at this point, when the engine delivers work
+    /// (its `speed` trace left empty).
+    pub flywheel: Option<Flywheel>,
+    /// The excess energy's extremes, for [`Point::with_flywheel`] (a few
+    /// samples, not the curve).
+    pub energy: enginedyn_flywheel::EnergySpan,
+}
+
+impl Point {
+    /// What a sweep keeps of `a`; the rest is dropped.
+    pub fn of(a: Analysis) -> Self {
+        let energy = a.uniformity.span();
+        let flywheel = a.flywheel.map(|f| Flywheel {
+            speed: Vec::new(),
+            ..f
+        });
+        Point {
+            summary: a.summary,
+            flywheel,
+            energy,
+        }
+    }
+
+    /// [`with_flywheel`] on the kept point: the same summary.
+    pub fn with_flywheel(&mut self, part: &Flywheel) {
+        let Some(here) = &self.flywheel else {
+            return;
+        };
+        let f = enginedyn_flywheel::same_part_at(&self.energy, part, self.summary.omega_rad_s);
+        put_part(&mut self.summary, here, part, &f);
+        self.flywheel = Some(f);
+    }
 }
 
 #[derive(Debug, Clone, Copy)]

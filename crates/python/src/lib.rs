@@ -1043,6 +1043,23 @@ fn severity(note: &str) -> &'static str {
     enginedyn_pipeline::notes::severity(note).label()
 }
 
+/// Many items' notes (`(name, notes)` each) grouped by kind, one
+/// `(severity, line)` a kind with its count and the range of its numbers:
+/// the CLI's one grouping (`pipeline::notes::grouped`); `items` names the
+/// items in the plural (`"files"`).
+#[pyfunction]
+fn grouped(per_item: Vec<(String, Vec<String>)>, items: &str) -> Vec<(&'static str, String)> {
+    enginedyn_pipeline::notes::grouped(
+        per_item
+            .iter()
+            .map(|(n, notes)| (n.as_str(), notes.as_slice())),
+        items,
+    )
+    .into_iter()
+    .map(|(s, line)| (s.label(), line))
+    .collect()
+}
+
 /// `message` with the CLI's flags as the package's keywords (`--step` as
 /// `step_deg=`), by the session's one table.
 #[pyfunction]
@@ -1071,6 +1088,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(list_plan, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
     m.add_function(wrap_pyfunction!(severity, m)?)?;
+    m.add_function(wrap_pyfunction!(grouped, m)?)?;
     m.add_function(wrap_pyfunction!(in_keywords, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

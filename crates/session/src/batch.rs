@@ -439,34 +439,6 @@ pub fn listed(
     })
 }
 
-/// Each file's notes said once, as (about, note): a note that several
-/// files share, once with their count (`12 files`); one of a single file,
-/// with its name. In the order first met.
-pub fn grouped_notes<'a>(
-    per_file: impl IntoIterator<Item = (&'a str, &'a [String])>,
-) -> Vec<(String, String)> {
-    let mut order: Vec<&str> = Vec::new();
-    let mut by_note: std::collections::HashMap<&str, Vec<&str>> = std::collections::HashMap::new();
-    for (file, notes) in per_file {
-        for n in notes {
-            let files = by_note.entry(n.as_str()).or_insert_with(|| {
-                order.push(n.as_str());
-                Vec::new()
-            });
-            if files.last() != Some(&file) {
-                files.push(file);
-            }
-        }
-    }
-    order
-        .into_iter()
-        .map(|n| match by_note[n].as_slice() {
-            [one] => (one_line(one), n.to_string()),
-            files => (format!("{} files", files.len()), n.to_string()),
-        })
-        .collect()
-}
-
 /// The most groups of one file named twice a note lists.
 const DUPLICATES_SHOWN: usize = 5;
 

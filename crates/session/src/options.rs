@@ -561,6 +561,26 @@ pub const DEFAULT_SYNTH_STEP_DEG: f64 = DEFAULT_STEP_DEG;
 /// The most loads of one `sweep --imep` map.
 pub const MAX_LOADS: usize = 1_000;
 
+/// The most points (speeds × loads) of one `sweep --rpm … --imep …` map,
+/// as of one speed-only sweep ([`crate::speed::MAX_SPEEDS`]): each point
+/// keeps only its summary (a few kB), so a map at the cap stays within
+/// about 100 MB.
+pub const MAX_MAP_POINTS: usize = 10_000;
+
+/// A map of `speeds` × `loads` points within [`MAX_MAP_POINTS`]; past it a
+/// usage error naming both flags (`rpm`, `imep`: as given) and the cap.
+pub fn check_map_size(speeds: usize, loads: usize, rpm: &str, imep: &str) -> Result<()> {
+    let points = speeds.saturating_mul(loads);
+    if points > MAX_MAP_POINTS {
+        return Err(Error::usage(format!(
+            "--rpm {} × --imep {}: {speeds} speeds × {loads} loads = {points} points; a map computes at most {MAX_MAP_POINTS} (fewer speeds or loads, or a coarser step of either)",
+            quote(rpm),
+            quote(imep)
+        )));
+    }
+    Ok(())
+}
+
 /// `--imep FROM:TO:STEP` (bar): FROM, FROM + STEP, … up to TO (included
 /// when it falls on the step), each within [`IMEP_BAR`], at most
 /// [`MAX_LOADS`].

@@ -1,19 +1,20 @@
 //! One diagram over a range of speeds (`enginedyn sweep`): the gas load
 //! the same at every speed, inertia growing with ω², one flywheel for the
-//! whole sweep.
+//! whole sweep. Each speed's analysis is kept as its summary alone
+//! ([`Point`]), so memory does not grow with the curves of every speed.
 
 use crate::diagram::{Input, load_diagram};
 use crate::error::Result;
 use crate::session::Session;
 use enginedyn_numerics::format::human;
-use enginedyn_pipeline::Analysis;
+use enginedyn_pipeline::Point;
 use rayon::prelude::*;
 
 /// A sweep's results.
 #[derive(Debug)]
 pub struct Sweep {
-    /// One analysis per speed, in order, each with its notes.
-    pub results: Vec<Analysis>,
+    /// One point per speed, in order, each with its notes.
+    pub points: Vec<Point>,
     /// The speed the one flywheel was sized at (rpm).
     pub sized_at: f64,
     /// Where that speed came from.
@@ -30,6 +31,7 @@ impl Session {
         let resampled = load_diagram(diagram, &self.parse, &self.grid)?;
         let analyse = |rpm: f64| {
             enginedyn_pipeline::analyse_with(self.tables(), engine, &resampled, rpm, &self.opts)
+                .map(Point::of)
                 .map_err(|e| crate::Error::usage(e.to_string()))
         };
         // One flywheel for the whole sweep: sized at the engine file's speed
@@ -42,25 +44,25 @@ impl Session {
                 "the middle of the sweep (no speed in the engine file or diagram)",
             ),
         };
-        let mut results: Vec<Analysis> = rpms
+        let mut points: Vec<Point> = rpms
             .par_iter()
             .map(|&rpm| analyse(rpm))
             .collect::<Result<_>>()?;
         // The sizing speed's own run when it is one of the sweep's.
-        let part = match results
+        let part = match points
             .iter()
-            .find(|an| an.summary.rpm.to_bits() == sized_at.to_bits())
+            .find(|p| p.summary.rpm.to_bits() == sized_at.to_bits())
         {
-            Some(an) => an.flywheel.clone(),
+            Some(p) => p.flywheel.clone(),
             None => analyse(sized_at)?.flywheel,
         };
         let file_rpm = engine.operating().rpm;
-        for an in &mut results {
+        for p in &mut points {
             if let Some(part) = &part {
-                enginedyn_pipeline::with_flywheel(an, part);
+                p.with_flywheel(part);
             }
-            let rpm = an.summary.rpm;
-            let notes = &mut an.summary.notes;
+            let rpm = p.summary.rpm;
+            let notes = &mut p.summary.notes;
             if file_rpm.is_none_or(|f| f.to_bits() != rpm.to_bits()) {
                 notes.push(format!(
                     "speed {} rpm from --rpm {}{}",
@@ -80,7 +82,7 @@ impl Session {
             }
         }
         Ok(Sweep {
-            results,
+            points,
             sized_at,
             source,
             flywheel: part.is_some(),

@@ -910,8 +910,9 @@ class Session:
         multiprocessing workers). A failed file is a row with ``error``,
         never an exception. A file named twice (``a.csv``, ``./a.csv``) is
         one row, by its canonical path, with a warning naming the names.
-        Each distinct warning is issued once, with the number of files that
-        gave it."""
+        Each kind of warning (what it says, not its numbers) is issued
+        once, with the number of files that gave it and the range of its
+        numbers, as the CLI's log groups them (``_native.grouped``)."""
         if isinstance(paths, (str, bytes, _os.PathLike)):
             raise TypeError(
                 f"paths=: a list of files is needed, not one path ({paths!r}): "
@@ -931,11 +932,7 @@ class Session:
         native = self._summary_only.batch([_os.fspath(p) for p in paths], jobs)
         _warn(native.listed())
         b = Batch(native)
-        counts: Dict[str, int] = {}
-        for w in b.warnings:
-            for line in dict.fromkeys(w):
-                counts[line] = counts.get(line, 0) + 1
-        _warn((f"{c} of {len(b)} files: {line}" if len(b) > 1 else line) for line, c in counts.items())
+        _warn(line for _, line in _native.grouped(list(zip(b.files, b.warnings)), "files"))
         return b
 
     def torsion(
