@@ -220,7 +220,10 @@ pub struct BurnArgs {
     /// With --wall-heat: mean wall temperature (K, 250 to 1000) [default: 450].
     #[arg(long, value_name = "K", value_parser = enginedyn_session::burn::parse_wall_temp_k)]
     pub wall_temp_k: Option<f64>,
-    /// Knock band, kHz (MAPO and IMPO of the band-passed pressure) [default: 4:20].
+    /// Measure knock: MAPO and IMPO of each cycle's band-passed pressure (an FFT a cycle; also on with any --knock-… value).
+    #[arg(long)]
+    pub knock: bool,
+    /// Knock band, kHz [default: 4:20].
     #[arg(long, value_name = "LO:HI", value_parser = enginedyn_session::burn::parse_knock_band)]
     pub knock_band: Option<(f64, f64)>,
     /// Knock window (deg from firing TDC) [default: -10:70].
@@ -246,6 +249,7 @@ impl BurnArgs {
             ivc_deg: self.ivc_deg,
             wall_heat: self.wall_heat,
             wall_temp_k: self.wall_temp_k,
+            knock: self.knock,
             knock_band_hz: self.knock_band,
             knock_window_deg: self.knock_window,
             knock_threshold_pa: self.knock_threshold,

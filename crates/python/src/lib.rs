@@ -387,6 +387,7 @@ fn burn(d: &Bound<'_, PyDict>) -> PyResult<enginedyn_session::burn::BurnMethod> 
         wall_temp_k: read("wall_temp_k", "")?
             .map(|s| b::parse_wall_temp_k(&s).map_err(fail("wall_temp_k")))
             .transpose()?,
+        knock: get::<bool>(d, "knock")?.unwrap_or(false),
         knock_band_hz: read("knock_band", ":")?
             .map(|s| b::parse_knock_band(&s).map_err(fail("knock_band")))
             .transpose()?,

@@ -99,6 +99,9 @@ pub struct BurnMethod {
     pub wall_heat: Option<WallSetting>,
     /// `--wall-temp-k`.
     pub wall_temp_k: Option<f64>,
+    /// `--knock`: measure knock (also when any `--knock-…` value is
+    /// given); off by default, as it costs an FFT of every cycle.
+    pub knock: bool,
     /// `--knock-band LO:HI` (Hz).
     pub knock_band_hz: Option<(f64, f64)>,
     /// `--knock-window A:B` (deg).
@@ -270,7 +273,7 @@ impl BurnMethod {
                 .levels
                 .map_or(DEFAULT_LEVELS.to_vec(), |l| l.as_slice().to_vec()),
             wall_heat: None,
-            knock: Some(enginedyn_combustion::Knock {
+            knock: self.knock_on().then(|| enginedyn_combustion::Knock {
                 band_hz: self
                     .knock_band_hz
                     .unwrap_or(enginedyn_combustion::knock::DEFAULT_BAND_HZ),
@@ -283,6 +286,14 @@ impl BurnMethod {
             }),
             rpm: None,
         }
+    }
+
+    /// Knock is measured: `--knock`, or a `--knock-…` value given.
+    pub fn knock_on(&self) -> bool {
+        self.knock
+            || self.knock_band_hz.is_some()
+            || self.knock_window_deg.is_some()
+            || self.knock_threshold_pa.is_some()
     }
 
     /// [`Self::options`] for `engine`: the wall heat's chamber and the
@@ -404,6 +415,9 @@ impl BurnMethod {
         }
         if let Some(t) = self.wall_temp_k {
             o.insert("wall_temp_k".into(), t.into());
+        }
+        if self.knock {
+            o.insert("knock".into(), true.into());
         }
         if let Some((a, b)) = self.knock_band_hz {
             o.insert("knock_band".into(), vec![a / 1e3, b / 1e3].into());

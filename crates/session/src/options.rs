@@ -502,6 +502,7 @@ pub const METHOD_KEYS: &[&str] = &[
     "ivc_deg",
     "wall_heat",
     "wall_temp_k",
+    "knock",
     "knock_band",
     "knock_window",
     "knock_threshold",
@@ -657,6 +658,8 @@ pub const FLAG_KEYWORDS: &[(&str, &str)] = &[
     ("--knock-band", "knock_band="),
     ("--knock-window", "knock_window="),
     ("--knock-threshold", "knock_threshold="),
+    // After the `--knock-…` flags, of which it is the start.
+    ("--knock", "knock=True"),
     ("--pv-start", "pv_start="),
 ];
 

@@ -189,7 +189,8 @@ class Method(_Options):
     or ``"brunt"``), ``smooth`` (``"SG:2"`` or ``"off"``),
     ``intake_temp_k`` and ``ivc_deg`` (with ``gamma="brunt"`` or a wall-heat
     model), ``wall_heat`` (``"woschni"``, ``"hohenberg"`` or ``"off"``),
-    ``wall_temp_k``, ``knock_band`` (kHz, ``(4, 20)`` or ``"4:20"``),
+    ``wall_temp_k``, ``knock`` (``True`` measures knock; so does any of the
+    next three), ``knock_band`` (kHz, ``(4, 20)`` or ``"4:20"``),
     ``knock_window`` (``(-10, 70)``) and ``knock_threshold`` (bar)."""
 
     __slots__ = ()
@@ -211,6 +212,7 @@ class Method(_Options):
         ivc_deg: Optional[float] = None,
         wall_heat: Optional[str] = None,
         wall_temp_k: Optional[float] = None,
+        knock: Optional[bool] = None,
         knock_band: Optional[Union[Sequence[float], str]] = None,
         knock_window: Optional[Union[Sequence[float], str]] = None,
         knock_threshold: Optional[float] = None,
@@ -230,6 +232,7 @@ class Method(_Options):
             ivc_deg=ivc_deg,
             wall_heat=wall_heat,
             wall_temp_k=wall_temp_k,
+            knock=knock,
             knock_band=knock_band if knock_band is None or isinstance(knock_band, str) else list(knock_band),
             knock_window=knock_window if knock_window is None or isinstance(knock_window, str) else list(knock_window),
             knock_threshold=knock_threshold,
