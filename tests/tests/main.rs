@@ -12,6 +12,7 @@ mod docs;
 mod firing_orders;
 mod fuzz_paths;
 mod hostile;
+mod hostile44;
 mod hostile_input2;
 mod inputs;
 mod layout;

@@ -41,8 +41,8 @@ pub use firing::{FIRING_FILES, crank_end_view, firing_csv, firing_json, firing_t
 pub use html::{esc, percent_encode, report_html, table as html_table};
 pub use kinematics::{KINEMATICS_FILES, kinematics_csv, kinematics_svg, kinematics_table};
 pub use out::{
-    LOCK_WAIT, MANIFEST, OutDir, STAGING_PREFIX, Staged, blake3_file, blake3_hex, injected_failure,
-    replace_file, sha256_file, sha256_hex,
+    LOCK_WAIT, MANIFEST, OutDir, STAGING_PREFIX, Staged, blake3_file, blake3_hex, check_marked,
+    injected_failure, replace_file, replace_marked_file, sha256_file, sha256_hex,
 };
 pub use tables::{
     KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_heading, key_table,

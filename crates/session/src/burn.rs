@@ -213,6 +213,52 @@ impl BurnMethod {
         })
     }
 
+    /// The bounds that depend on the engine and the grid, checked before
+    /// any work (the front end's own [`BurnMethod::check`] has run):
+    /// `--ivc-deg` within the engine's cycle's range (the engine file's
+    /// `ivc_deg` bound, [`enginedyn_engine::combustion::check_ivc`]), and
+    /// the burn window holding enough points of the grid at `step_deg`
+    /// (the analysis' own rule, asked of it on a flat cycle). Messages
+    /// name the command line's flags; the Python package rewrites them as
+    /// its keywords.
+    pub fn check_engine(&self, engine: &enginedyn_engine::Engine, step_deg: f64) -> Result<()> {
+        if self.off {
+            return Ok(());
+        }
+        let two = engine.stroke_kind() == enginedyn_engine::Stroke::Two;
+        if let Some(a) = self.ivc_deg {
+            enginedyn_engine::combustion::check_ivc(a, two).map_err(|why| {
+                Error::usage(format!(
+                    "--ivc-deg {}: expected {why} (as the engine file's ivc_deg)",
+                    enginedyn_numerics::format::human(a)
+                ))
+            })?;
+        }
+        let n = (engine.cycle().to_degrees() / step_deg).round() as usize;
+        let (flat, volume, dvolume) = (vec![1e5; n], vec![1e-4; n], vec![0.0; n]);
+        let probe = enginedyn_combustion::CycleGrid {
+            pressure: &flat,
+            volume: &volume,
+            dvolume: &dvolume,
+            step_deg,
+        };
+        // Smoothing off: the window's fit is all that is asked.
+        let opts = Options {
+            smoothing: Smoothing::Off,
+            gamma: GammaModel::Constant(enginedyn_combustion::DEFAULT_GAMMA),
+            ..self.options()
+        };
+        match enginedyn_combustion::analyse(&probe, &opts) {
+            Err(enginedyn_combustion::CombustionError::Input(why)) => {
+                let (a, b) = opts.window_deg;
+                Err(Error::usage(format!(
+                    "--burn-window {a}:{b} with --step {step_deg}: {why}; give a longer window or a finer step"
+                )))
+            }
+            _ => Ok(()),
+        }
+    }
+
     /// The options given, by their names (a campaign's `options`).
     pub fn json(&self, o: &mut serde_json::Map<String, serde_json::Value>) {
         if let Some(l) = self.levels {

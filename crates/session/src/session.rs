@@ -58,8 +58,12 @@ impl Session {
     /// A session for `loaded` with these options; `scope` says whether the
     /// report curves are wanted. The step and every bound are checked here.
     pub fn new(loaded: Loaded, reader: Reader, method: Method, scope: Scope) -> Result<Self> {
+        // The front end's parser bounded each flag alone; their
+        // combinations are checked here, for every command alike.
+        method.check(crate::options::flag)?;
         let step = method.step();
         check_step(&loaded.engine, step)?;
+        method.burn.check_engine(&loaded.engine, step)?;
         let opts = Options {
             scope,
             ..method.options()
