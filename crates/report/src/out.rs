@@ -649,6 +649,62 @@ pub fn check_marked(dir: &Path, name: &str, marker: &'static str) -> Result<(), 
     replaceable(dir.join(name), Target::Marked(marker)).map(|_| ())
 }
 
+/// The largest file [`read_output`] reads back (bytes).
+pub const MAX_OUTPUT_READ: u64 = 1 << 30;
+
+/// One file of an output folder read back (Python's `Result.load`): `name`
+/// must be one of ours, a plain file name inside `dir` (never a path, `..`
+/// or a hidden name), and a regular file there of at most
+/// [`MAX_OUTPUT_READ`] bytes, never read through a link (a link planted in
+/// the folder would give another file's bytes) nor from a FIFO or device.
+pub fn read_output(dir: &Path, name: &str) -> Result<Vec<u8>, ReportError> {
+    let path = dir.join(name);
+    let read = |source| ReportError::Read {
+        path: path.clone(),
+        source,
+    };
+    let refuse = |why: &str| {
+        read(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            why.to_string(),
+        ))
+    };
+    if check_name(name).is_err() {
+        return Err(refuse(
+            "not a plain file name inside the folder (a result's folder names only its own files)",
+        ));
+    }
+    let meta = std::fs::symlink_metadata(&path).map_err(read)?;
+    let kind = meta.file_type();
+    if !kind.is_file() {
+        let what = if kind.is_symlink() {
+            "a symbolic link"
+        } else if kind.is_dir() {
+            "a folder"
+        } else {
+            special(&kind)
+        };
+        return Err(refuse(&format!(
+            "{what}, not a regular file of the folder (a result's files are read from the folder itself)"
+        )));
+    }
+    if meta.len() > MAX_OUTPUT_READ {
+        return Err(refuse(&format!(
+            "larger than {} MiB",
+            MAX_OUTPUT_READ >> 20
+        )));
+    }
+    let f = File::open(&path).map_err(read)?;
+    if !f.metadata().map_err(read)?.is_file() {
+        return Err(refuse("not a regular file"));
+    }
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    f.take(MAX_OUTPUT_READ)
+        .read_to_end(&mut bytes)
+        .map_err(read)?;
+    Ok(bytes)
+}
+
 /// What a name of ours is written as.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Target {
