@@ -424,7 +424,7 @@ def test_a_result_saves_and_loads(tmp_path):
     r = session().analyse("data/single.csv")
     folder = r.to_folder(tmp_path / "run")
     assert sorted(os.listdir(folder)) == sorted(
-        [n for n, _ in r.files()] + ["enginedyn-result.json", "enginedyn-summary.parquet"]
+        [n for n, _ in r.files()] + ["enginedyn-result.json", "enginedyn-summary.parquet", ".enginedyn-manifest"]
     )
     same_result(r, ed.Result.load(folder))
     with pytest.raises(FileNotFoundError):

@@ -14,6 +14,7 @@ mod firing_orders;
 mod fuzz_paths;
 mod glitch;
 mod hostile;
+mod hostile44;
 mod hostile_input2;
 mod inputs;
 mod layout;

@@ -121,11 +121,17 @@ pub fn write_out(
     files: &[(String, Vec<u8>)],
     quiet: bool,
 ) -> Result<(), Failure> {
-    write_out_to(
-        &enginedyn_report::OutDir::open(dir)?.for_command("run"),
-        files,
-        quiet,
-    )
+    for note in enginedyn_report::write_run(dir, files)? {
+        say(None, &note);
+    }
+    if !quiet {
+        emit(&format!(
+            "wrote {} files to {}\n",
+            files.len(),
+            dir.display()
+        ));
+    }
+    Ok(())
 }
 
 /// [`write_out`] into a folder already open ([`open_out`]).

@@ -11,6 +11,9 @@ use enginedyn_session::options::DEFAULT_SYNTH_STEP_DEG;
 /// and says what it gives.
 pub fn run(a: &SynthArgs) -> Result<(), Failure> {
     let loaded = Loaded::from_file(&a.engine)?;
+    if a.out.as_os_str() != "-" {
+        enginedyn_session::synth::check_out(&a.out)?;
+    }
     let step = a.step.unwrap_or(DEFAULT_SYNTH_STEP_DEG);
     let s = enginedyn_session::synth::synthesise(&loaded, a.rpm, a.imep, step)?;
     if a.out.as_os_str() == "-" {

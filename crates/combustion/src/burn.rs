@@ -91,15 +91,19 @@ impl Options {
         Ok(())
     }
 
-    /// Checks what depends on the grid: the filter spans at most
-    /// [`MAX_FILTER_POINTS`] points, and the window holds at least 5 grid
-    /// points and less than the cycle.
+    /// Checks what depends on the grid: [`Self::check_filter`] and
+    /// [`Self::check_window`].
     pub fn check_grid(&self, step_deg: f64, cycle_deg: f64) -> Result<(), CombustionError> {
+        self.check_filter(step_deg)?;
+        self.check_window(step_deg, cycle_deg)
+    }
+
+    /// The filter spans at most [`MAX_FILTER_POINTS`] points at `step_deg`.
+    pub fn check_filter(&self, step_deg: f64) -> Result<(), CombustionError> {
         let points = 2 * self.smoothing.half_points(step_deg) + 1;
-        if points > MAX_FILTER_POINTS {
-            let Smoothing::SavitzkyGolay { width_deg } = self.smoothing else {
-                unreachable!("the filter off spans one point")
-            };
+        if let (true, Smoothing::SavitzkyGolay { width_deg }) =
+            (points > MAX_FILTER_POINTS, self.smoothing)
+        {
             return Err(CombustionError::Input(format!(
                 "--smooth SG:{} at a {}° step spans {points} points, over the {MAX_FILTER_POINTS} the analysis takes: \
                  a width up to {}° at this step, or a coarser --step",
@@ -108,6 +112,12 @@ impl Options {
                 enginedyn_numerics::format::human((MAX_FILTER_POINTS - 1) as f64 * step_deg)
             )));
         }
+        Ok(())
+    }
+
+    /// The window holds at least 5 grid points of `step_deg` and less
+    /// than the cycle.
+    pub fn check_window(&self, step_deg: f64, cycle_deg: f64) -> Result<(), CombustionError> {
         let (i0, i1) = window_indices(step_deg, self.window_deg);
         if i1 - i0 < 4 || (i1 - i0) as f64 * step_deg >= cycle_deg {
             return Err(CombustionError::Input(format!(

@@ -234,8 +234,20 @@ fn raw_builder(
     let defaults = taken_defaults(&raw);
     let burn = raw.combustion.take();
     let b = builder(raw, stem)?;
-    let burn = burn.map(|c| combustion::spec(c, b.stroke)).transpose()?;
+    let burn = burn
+        .map(|c| combustion::spec(c, b.stroke, bdc_volume(&b)))
+        .transpose()?;
     Ok((b, defaults, burn))
+}
+
+/// The cylinder's whole volume at BDC (m³: swept plus clearance), from
+/// the keys as given (`None` when they cannot give one: `build` refuses
+/// the geometry then).
+fn bdc_volume(b: &EngineBuilder) -> Option<f64> {
+    let swept = std::f64::consts::FRAC_PI_4 * b.bore * b.bore * b.mechanism.stroke();
+    let r = b.compression_ratio;
+    let v = swept * r / (r - 1.0);
+    (r > 1.0 && v.is_finite() && v > 0.0).then_some(v)
 }
 
 /// The keys left out whose defaults shape the results (issue 30, item 11):

@@ -804,7 +804,7 @@ pub const KEYS: &[KeyDoc] = &[
         "none: give it, heat_released_j or --imep",
         false,
         "the load: the net IMEP the synthesised cycle gives (the heat released is solved for it, to 1e-6)",
-        "above 0, up to 500 bar; not with heat_released_j",
+        "above 0, up to 40 bar; not with heat_released_j",
         "9.0"
     ),
     key!(
@@ -814,7 +814,7 @@ pub const KEYS: &[KeyDoc] = &[
         "none",
         false,
         "the load as the net heat released into the gas per cylinder and cycle, instead of imep_bar (0: a motored cycle)",
-        "0 to 1e7 J; not with imep_bar",
+        "0 up to what the cylinder's trapped air can burn (3.5 MJ per kg of air, the whole cylinder full of air at the intake state); not with imep_bar",
         "600.0"
     ),
     key!(
@@ -824,7 +824,7 @@ pub const KEYS: &[KeyDoc] = &[
         "1.0",
         false,
         "the absolute intake pressure, the cylinder's at intake valve closing (the boost pressure of a charged engine)",
-        "0.1 to 100 bar",
+        "0.2 to 6 bar",
         "1.0"
     ),
     key!(

@@ -79,18 +79,31 @@ fn py_err(e: Error) -> PyErr {
     })
 }
 
+/// How many times [`interrupt_all`] was called: a call computing in any
+/// thread stops once it has changed since the call began.
+static INTERRUPTS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
 /// Runs `work` on its own thread with the GIL released, polling Python's
 /// signal handlers every 20 ms: Ctrl-C sets `cancel` (the session's loops
 /// stop at their next check), waits for the work to stop, and raises
-/// `KeyboardInterrupt`.
+/// `KeyboardInterrupt`. Python runs its signal handlers in the main thread
+/// only: a call in another thread is stopped by [`interrupt_all`] (the
+/// package's SIGINT handler), seen here at the same poll.
 fn interruptible<T: Send>(
     py: Python<'_>,
     cancel: &enginedyn_ingest::Cancel,
     work: impl FnOnce() -> Result<T, Error> + Send,
 ) -> PyResult<T> {
+    use std::sync::atomic::Ordering;
+    let began = INTERRUPTS.load(Ordering::SeqCst);
     std::thread::scope(|scope| {
         let handle = scope.spawn(work);
         loop {
+            if INTERRUPTS.load(Ordering::SeqCst) != began {
+                cancel.cancel();
+                let _ = py.detach(|| handle.join());
+                return Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(()));
+            }
             py.detach(|| {
                 for _ in 0..4 {
                     if handle.is_finished() {
@@ -637,6 +650,9 @@ impl NativeSession {
             let mut rows = Vec::with_capacity(items.len());
             let mut summaries = Vec::with_capacity(items.len());
             for item in items {
+                token
+                    .check()
+                    .map_err(|e| Error::from(e).in_file(item.file.display()))?;
                 match item.result {
                     Ok((json, row)) => {
                         summaries.push(Some(json));
@@ -778,6 +794,66 @@ fn shard(paths: Vec<PathBuf>, part: usize, parts: usize) -> PyResult<Vec<PathBuf
     let s = enginedyn_session::batch::Shard::new(part, parts)
         .map_err(|e| UsageError::new_err(format!("part/parts: {e}")))?;
     Ok(s.take(&paths))
+}
+
+/// `Result.to_folder`: the files written into `dir` as `run --out DIR`
+/// writes its own (`enginedyn_report::write_run`, the one function):
+/// checked, staged, then moved into place, a link or anything else in the
+/// way refused. Returns the notes on earlier outputs kept.
+#[pyfunction]
+fn write_run_folder(
+    py: Python<'_>,
+    dir: PathBuf,
+    files: Vec<(String, Vec<u8>)>,
+) -> PyResult<Vec<String>> {
+    py.detach(|| enginedyn_report::write_run(&dir, &files).map_err(Error::from))
+        .py()
+}
+
+/// `Result.load`: the files `names` of the folder `dir`, each a plain name
+/// of a regular file inside it, never read through a link
+/// (`enginedyn_report::read_output`).
+#[pyfunction]
+fn read_run_folder<'py>(
+    py: Python<'py>,
+    dir: PathBuf,
+    names: Vec<String>,
+) -> PyResult<Bound<'py, PyList>> {
+    let read = py
+        .detach(|| {
+            names
+                .iter()
+                .map(|n| enginedyn_report::read_output(&dir, n).map(|b| (n.clone(), b)))
+                .collect::<Result<Vec<_>, _>>()
+        })
+        .map_err(|e| {
+            // Not the folder `to_folder` wrote: an enginedyn error naming
+            // the file.
+            let (path, why) = match &e {
+                enginedyn_report::ReportError::Read { path, source } => {
+                    (path.display().to_string(), source.to_string())
+                }
+                other => (dir.display().to_string(), other.to_string()),
+            };
+            let err = EnginedynError::new_err(format!(
+                "{path}: not a result Result.to_folder wrote: {why}"
+            ));
+            let _ = err.value(py).setattr("path", path);
+            err
+        })?;
+    let list = PyList::empty(py);
+    for (name, bytes) in read {
+        list.append((name, pyo3::types::PyBytes::new(py, &bytes)))?;
+    }
+    Ok(list)
+}
+
+/// Cancels every call of this process that is computing now (the
+/// package's SIGINT handler calls it, so that a batch running in another
+/// thread stops with the main thread's `KeyboardInterrupt`).
+#[pyfunction]
+fn interrupt_all() {
+    INTERRUPTS.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
 }
 
 /// `enginedyn merge DIR [--parts N]`: checks the campaign and writes
@@ -1088,6 +1164,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(shard, m)?)?;
     m.add_function(wrap_pyfunction!(list_plan, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
+    m.add_function(wrap_pyfunction!(write_run_folder, m)?)?;
+    m.add_function(wrap_pyfunction!(read_run_folder, m)?)?;
+    m.add_function(wrap_pyfunction!(interrupt_all, m)?)?;
     m.add_function(wrap_pyfunction!(severity, m)?)?;
     m.add_function(wrap_pyfunction!(grouped, m)?)?;
     m.add_function(wrap_pyfunction!(in_keywords, m)?)?;

@@ -41,8 +41,9 @@ pub use firing::{FIRING_FILES, crank_end_view, firing_csv, firing_json, firing_t
 pub use html::{esc, percent_encode, report_html, table as html_table};
 pub use kinematics::{KINEMATICS_FILES, kinematics_csv, kinematics_svg, kinematics_table};
 pub use out::{
-    LOCK_WAIT, MANIFEST, OutDir, STAGING_PREFIX, Staged, blake3_file, blake3_hex, injected_failure,
-    replace_file, sha256_file, sha256_hex,
+    LOCK_WAIT, MANIFEST, MAX_OUTPUT_READ, OutDir, STAGING_PREFIX, Staged, blake3_file, blake3_hex,
+    check_marked, injected_failure, read_output, replace_file, replace_marked_file, sha256_file,
+    sha256_hex,
 };
 pub use tables::{
     KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_heading, key_table,
@@ -645,6 +646,15 @@ pub fn run_files_with(
         files.push((name, svg.into_bytes()));
     }
     Ok(files)
+}
+
+/// Writes the files of one operating point into `dir` as `run --out DIR`
+/// does (and Python's `Result.to_folder`, the same function): through an
+/// [`OutDir`] of the command `run`, every file checked, staged, then moved
+/// into place, nothing in the way (a link, a folder, a read-only file)
+/// ever replaced. Returns the notes [`OutDir::write`] returns.
+pub fn write_run(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<String>, ReportError> {
+    OutDir::open(dir)?.for_command("run").write(files)
 }
 
 /// Writes `files` (name, bytes) into `dir` through an [`OutDir`]: locked,

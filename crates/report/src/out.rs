@@ -81,13 +81,25 @@ pub fn blake3_hex(bytes: &[u8]) -> String {
     blake3::hash(bytes).to_hex().to_string()
 }
 
-/// The BLAKE3 of a file's bytes, read in blocks (a file an analysis did
-/// not read: a failed one, an engine file).
+/// The BLAKE3 of a regular file's bytes, read in blocks (a file an
+/// analysis did not read: an engine file). A FIFO or a device is refused
+/// before it is opened, and no more than the size it had is read.
 pub fn blake3_file(path: &Path) -> Result<String, ReportError> {
+    let read = |source| ReportError::Read {
+        path: path.to_path_buf(),
+        source,
+    };
+    let meta = std::fs::metadata(path).map_err(read)?;
+    if !meta.is_file() {
+        return Err(read(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file",
+        )));
+    }
     let mut h = blake3::Hasher::new();
     let file = File::open(path).map_err(io(path))?;
     std::io::copy(
-        &mut std::io::BufReader::with_capacity(1 << 16, file),
+        &mut std::io::BufReader::with_capacity(1 << 16, file).take(meta.len()),
         &mut h,
     )
     .map_err(io(path))?;
@@ -537,16 +549,31 @@ pub struct Staged {
     staged: PathBuf,
     file: std::io::BufWriter<File>,
     target: PathBuf,
+    /// What may be replaced there.
+    kind: Target,
 }
 
 impl Staged {
     /// Starts writing `name` (a plain file name) in `dir`, which is made
     /// when missing.
     pub fn new(dir: &Path, name: &str) -> Result<Self, ReportError> {
+        Self::replacing(dir, name, Target::File)
+    }
+
+    /// [`Staged::new`] of a file whose name the user chose (`synth --out
+    /// P.csv`): what is there is replaced only when enginedyn wrote it,
+    /// a regular, writable file that begins with `marker` (the first line
+    /// enginedyn writes in such a file); anything else, a measured diagram
+    /// of that name too, is [`ReportError::InTheWay`].
+    pub fn new_marked(dir: &Path, name: &str, marker: &'static str) -> Result<Self, ReportError> {
+        Self::replacing(dir, name, Target::Marked(marker))
+    }
+
+    fn replacing(dir: &Path, name: &str, kind: Target) -> Result<Self, ReportError> {
         check_name(name)?;
         std::fs::create_dir_all(dir).map_err(io(dir))?;
         let target = dir.join(name);
-        replaceable(target.clone(), Target::File)?;
+        replaceable(target.clone(), kind)?;
         let stage = tempfile::Builder::new()
             .prefix(STAGING_PREFIX)
             .tempdir_in(dir)
@@ -561,6 +588,7 @@ impl Staged {
             file: std::io::BufWriter::with_capacity(1 << 16, file),
             staged,
             target,
+            kind,
         })
     }
 
@@ -577,7 +605,7 @@ impl Staged {
             .map_err(|e| io(&self.staged)(e.into_error()))?;
         file.sync_all().map_err(io(&self.staged))?;
         drop(file);
-        replaceable(self.target.clone(), Target::File)?;
+        replaceable(self.target.clone(), self.kind)?;
         std::fs::rename(&self.staged, &self.target).map_err(io(&self.target))?;
         drop(self.stage);
         Ok(())
@@ -600,11 +628,91 @@ pub fn replace_file(dir: &Path, name: &str, bytes: &[u8]) -> Result<(), ReportEr
     s.commit()
 }
 
+/// [`replace_file`] of a name the user chose, replacing only a file
+/// enginedyn wrote, one that begins with `marker` ([`Staged::new_marked`]).
+pub fn replace_marked_file(
+    dir: &Path,
+    name: &str,
+    bytes: &[u8],
+    marker: &'static str,
+) -> Result<(), ReportError> {
+    let mut s = Staged::new_marked(dir, name, marker)?;
+    s.write_all(bytes).map_err(io(&s.staged))?;
+    s.commit()
+}
+
+/// Whether `dir/name` may be written by [`replace_marked_file`]: absent,
+/// or a regular, writable file that begins with `marker`; checked before
+/// any work, and again when the file is moved into place.
+pub fn check_marked(dir: &Path, name: &str, marker: &'static str) -> Result<(), ReportError> {
+    check_name(name)?;
+    replaceable(dir.join(name), Target::Marked(marker)).map(|_| ())
+}
+
+/// The largest file [`read_output`] reads back (bytes).
+pub const MAX_OUTPUT_READ: u64 = 1 << 30;
+
+/// One file of an output folder read back (Python's `Result.load`): `name`
+/// must be one of ours, a plain file name inside `dir` (never a path, `..`
+/// or a hidden name), and a regular file there of at most
+/// [`MAX_OUTPUT_READ`] bytes, never read through a link (a link planted in
+/// the folder would give another file's bytes) nor from a FIFO or device.
+pub fn read_output(dir: &Path, name: &str) -> Result<Vec<u8>, ReportError> {
+    let path = dir.join(name);
+    let read = |source| ReportError::Read {
+        path: path.clone(),
+        source,
+    };
+    let refuse = |why: &str| {
+        read(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            why.to_string(),
+        ))
+    };
+    if check_name(name).is_err() {
+        return Err(refuse(
+            "not a plain file name inside the folder (a result's folder names only its own files)",
+        ));
+    }
+    let meta = std::fs::symlink_metadata(&path).map_err(read)?;
+    let kind = meta.file_type();
+    if !kind.is_file() {
+        let what = if kind.is_symlink() {
+            "a symbolic link"
+        } else if kind.is_dir() {
+            "a folder"
+        } else {
+            special(&kind)
+        };
+        return Err(refuse(&format!(
+            "{what}, not a regular file of the folder (a result's files are read from the folder itself)"
+        )));
+    }
+    if meta.len() > MAX_OUTPUT_READ {
+        return Err(refuse(&format!(
+            "larger than {} MiB",
+            MAX_OUTPUT_READ >> 20
+        )));
+    }
+    let f = File::open(&path).map_err(read)?;
+    if !f.metadata().map_err(read)?.is_file() {
+        return Err(refuse("not a regular file"));
+    }
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    f.take(MAX_OUTPUT_READ)
+        .read_to_end(&mut bytes)
+        .map_err(read)?;
+    Ok(bytes)
+}
+
 /// What a name of ours is written as.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Target {
     /// A file (`summary.csv`, `report.html`).
     File,
+    /// A file of a name the user chose: enginedyn's only when it begins
+    /// with this marker.
+    Marked(&'static str),
     /// A batch's run folder (`NNNN_STEM`).
     RunFolder,
 }
@@ -620,7 +728,11 @@ fn in_the_way(path: &Path, meta: &std::fs::Metadata, target: Target) -> Option<&
     }
     match target {
         Target::File if kind.is_file() => read_only(meta).then_some("a read-only file"),
-        Target::File if kind.is_dir() => Some("a folder"),
+        Target::Marked(_) if kind.is_file() && read_only(meta) => Some("a read-only file"),
+        Target::Marked(marker) if kind.is_file() => {
+            (!begins_with(path, marker)).then_some("a file enginedyn did not write")
+        }
+        Target::File | Target::Marked(_) if kind.is_dir() => Some("a folder"),
         Target::RunFolder if kind.is_dir() => {
             let ours = std::fs::symlink_metadata(path.join("summary.json"))
                 .is_ok_and(|m| m.file_type().is_file());
@@ -635,6 +747,20 @@ fn in_the_way(path: &Path, meta: &std::fs::Metadata, target: Target) -> Option<&
         Target::RunFolder if kind.is_file() => Some("a file"),
         _ => Some(special(&kind)),
     }
+}
+
+/// Whether the regular file at `path` begins with `marker` (its first
+/// bytes read, no more; never through a link or from anything but a
+/// regular file).
+fn begins_with(path: &Path, marker: &str) -> bool {
+    let Ok(f) = File::open(path) else {
+        return false;
+    };
+    if !f.metadata().is_ok_and(|m| m.is_file()) {
+        return false;
+    }
+    let mut head = Vec::with_capacity(marker.len());
+    f.take(marker.len() as u64).read_to_end(&mut head).is_ok() && head == marker.as_bytes()
 }
 
 /// Whether the owner may not write it: enginedyn writes its files

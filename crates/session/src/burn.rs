@@ -372,6 +372,44 @@ impl BurnMethod {
         })
     }
 
+    /// The bounds that depend on the engine and the grid, checked before
+    /// any work (the front end's own [`BurnMethod::check`] has run):
+    /// `--ivc-deg` within the engine's cycle's range (the engine file's
+    /// `ivc_deg` bound, [`enginedyn_engine::combustion::check_ivc`]), and
+    /// the burn window holding enough points of the grid at `step_deg`
+    /// (the analysis' own rule, asked of it on a flat cycle). Messages
+    /// name the command line's flags; the Python package rewrites them as
+    /// its keywords.
+    pub fn check_engine(
+        &self,
+        engine: &enginedyn_engine::Engine,
+        step_deg: f64,
+        rpm: Option<f64>,
+    ) -> Result<()> {
+        if self.off {
+            return Ok(());
+        }
+        let two = engine.stroke_kind() == enginedyn_engine::Stroke::Two;
+        if let Some(a) = self.ivc_deg {
+            enginedyn_engine::combustion::check_ivc(a, two).map_err(|why| {
+                Error::usage(format!(
+                    "--ivc-deg {}: expected {why} (as the engine file's ivc_deg)",
+                    enginedyn_numerics::format::human(a)
+                ))
+            })?;
+        }
+        let o = self.options_for(engine, rpm);
+        o.check_filter(step_deg)
+            .map_err(|e| Error::usage(e.to_string()))?;
+        o.check_window(step_deg, engine.cycle().to_degrees())
+            .map_err(|why| {
+                let (a, b) = o.window_deg;
+                Error::usage(format!(
+                    "--burn-window {a}:{b} with --step {step_deg}: {why}; give a longer window or a finer step"
+                ))
+            })
+    }
+
     /// The options given, by their names (a campaign's `options`).
     pub fn json(&self, o: &mut serde_json::Map<String, serde_json::Value>) {
         if let Some(l) = self.levels {

@@ -72,18 +72,40 @@ pub struct Row {
     pub resampled: Option<Resampled>,
 }
 
+/// The largest failed file hashed for its row (bytes): 1 GiB, the largest
+/// file a reader holds whole (an MDF4 file); a larger one's row has no
+/// hash, so that a failed file costs no more than its reading would have.
+pub const MAX_FAILED_HASHED: u64 = 1 << 30;
+
 impl Row {
-    /// A failed file's row (the file hashed when it can be read).
+    /// A failed file's row, the file hashed when it is a regular file of
+    /// at most [`MAX_FAILED_HASHED`] bytes. It is opened as a diagram is
+    /// ([`crate::diagram::open_diagram`]): a FIFO, a device or a folder is
+    /// refused at once, never waited on or read; and no more than the
+    /// size it had when opened is read.
     pub fn failed(file: &Path, error: &Error) -> Self {
         Self {
             file: shown(file),
             key: canonical_key(file),
             error: Some(error.message.clone()),
-            diagram_blake3: enginedyn_report::blake3_file(file).ok(),
+            diagram_blake3: failed_blake3(file),
             summary: None,
             resampled: None,
         }
     }
+}
+
+/// The BLAKE3 of a failed file for its row (see [`Row::failed`]).
+fn failed_blake3(file: &Path) -> Option<String> {
+    let f = crate::diagram::open_diagram(file).ok()?;
+    let len = f.metadata().ok()?.len();
+    if len > MAX_FAILED_HASHED {
+        return None;
+    }
+    let mut h = blake3::Hasher::new();
+    let mut bounded = std::io::Read::take(f, len);
+    std::io::copy(&mut bounded, &mut h).ok()?;
+    Some(h.finalize().to_hex().to_string())
 }
 
 /// A tables error with its class: a campaign that is incomplete or

@@ -546,11 +546,11 @@ pub const PV_STARTS: &[(&str, bool)] = &[("tdc", false), ("bdc", true)];
 
 // ---- synthesis for design (issue 35, section 3): `synth`, `sweep --imep` ----
 
-/// `--imep`: a net IMEP target (bar), above 0 up to 500 bar (the engine
-/// file's `[combustion].imep_bar` bound).
+/// `--imep`: a net IMEP target (bar), above 0 up to 40 bar (the engine
+/// file's `[combustion].imep_bar` bound, [`enginedyn_engine::combustion::MAX_IMEP_BAR`]).
 pub const IMEP_BAR: Bound = Bound {
     lo: 0.0,
-    hi: 500.0,
+    hi: enginedyn_engine::combustion::MAX_IMEP_BAR,
     unit: " bar",
     above_lo: Some("an IMEP above 0 bar is needed"),
 };
@@ -662,6 +662,18 @@ pub const FLAG_KEYWORDS: &[(&str, &str)] = &[
     ("--knock", "knock=True"),
     ("--pv-start", "pv_start="),
 ];
+
+/// The command line's flag of an option named as the library names it
+/// (`step_deg` → `--step`, `ivc_deg` → `--ivc-deg`): the reverse of
+/// [`FLAG_KEYWORDS`], for the checks the command line shares with the
+/// Python package (`Method::check`).
+pub fn flag(key: &str) -> String {
+    let kw = format!("{key}=");
+    FLAG_KEYWORDS.iter().find(|(_, k)| *k == kw).map_or_else(
+        || format!("--{}", key.replace('_', "-")),
+        |(f, _)| f.to_string(),
+    )
+}
 
 /// `message` with each flag of [`FLAG_KEYWORDS`] as its keyword: `--step
 /// 0.1: …` reads `step_deg=0.1: …`, `give --diagram` reads `give

@@ -58,18 +58,12 @@ impl Session {
     /// A session for `loaded` with these options; `scope` says whether the
     /// report curves are wanted. The step and every bound are checked here.
     pub fn new(loaded: Loaded, reader: Reader, method: Method, scope: Scope) -> Result<Self> {
+        // The front end's parser bounded each flag alone; their
+        // combinations are checked here, for every command alike.
+        method.check(crate::options::flag)?;
         let step = method.step();
         check_step(&loaded.engine, step)?;
-        if !method.burn.off {
-            // What the analysis' options need of the grid (the filter's
-            // points, the window's): the command line's, before any work.
-            let cycle_deg = loaded.engine.cycle().to_degrees();
-            method
-                .burn
-                .options_for(&loaded.engine, reader.rpm)
-                .check_grid(step, cycle_deg)
-                .map_err(|e| Error::usage(format!("--step {step}: {e}")))?;
-        }
+        method.burn.check_engine(&loaded.engine, step, reader.rpm)?;
         let opts = Options {
             scope,
             ..method.options()

@@ -19,6 +19,13 @@ use std::path::{Path, PathBuf};
 /// `pipeline::notes::DECIDED`).
 pub const NOTE_PREFIX: &str = "diagram synthesised from [combustion]";
 
+/// The first line of every diagram `enginedyn synth` writes: the mark by
+/// which it knows a file of its own, the only kind `synth --out` replaces,
+/// and by which the reader knows a synthetic diagram
+/// ([`enginedyn_ingest::SYNTHETIC_MARK`] is its start: a test holds it).
+pub const MARKER: &str =
+    "# synthetic indicator diagram, not measured: enginedyn synth, the design cycle";
+
 /// A synthesised diagram: its text (`crank_deg,pressure_bar` with `#`
 /// lines giving every parameter), how messages name it, and what it gives.
 #[derive(Debug, Clone)]
@@ -237,8 +244,8 @@ fn header(
     };
     let mut lines = vec![
         format!(
-            "{}, the design cycle of the engine file's [combustion] (single-zone first law from IVC to EVO with a Wiebe heat release, no wall heat; docs/combustion.md, Synthesis for design)",
-            enginedyn_ingest::SYNTHETIC_MARK
+            "{} of the engine file's [combustion] (single-zone first law from IVC to EVO with a Wiebe heat release, no wall heat; docs/combustion.md, Synthesis for design)",
+            &MARKER[2..]
         ),
         format!(
             "engine: {file} ({}): bore {} mm, stroke {} mm, {geometry}, compression ratio {}, {}",
@@ -337,9 +344,8 @@ pub fn default_diagram(loaded: &Loaded, rpm: Option<f64>, step_deg: f64) -> Resu
     crate::diagram::diagram_path(None, loaded).map(DefaultDiagram::File)
 }
 
-/// Writes a synthesised diagram to `out` (its folder made when missing,
-/// the file whole or not at all; `-`: standard output is the caller's).
-pub fn write(s: &Synthesised, out: &Path) -> Result<()> {
+/// `--out P.csv` as the folder and the file name written.
+fn out_parts(out: &Path) -> Result<(&Path, &str)> {
     let dir = match out.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
@@ -348,6 +354,34 @@ pub fn write(s: &Synthesised, out: &Path) -> Result<()> {
         .file_name()
         .and_then(|n| n.to_str())
         .ok_or_else(|| Error::usage(format!("--out {}: not a file name", out.display())))?;
-    enginedyn_report::replace_file(dir, name, s.text.as_bytes())?;
+    Ok((dir, name))
+}
+
+/// Before any work: whether `out` may be written, absent or a diagram
+/// `enginedyn synth` wrote (it begins with [`MARKER`]); a measured file
+/// or anything else there is refused (exit 2), never replaced.
+pub fn check_out(out: &Path) -> Result<()> {
+    let (dir, name) = out_parts(out)?;
+    enginedyn_report::check_marked(dir, name, MARKER)?;
     Ok(())
+}
+
+/// Writes a synthesised diagram to `out` (its folder made when missing,
+/// the file whole or not at all, replacing only a diagram `enginedyn
+/// synth` wrote: [`check_out`]; `-`: standard output is the caller's).
+pub fn write(s: &Synthesised, out: &Path) -> Result<()> {
+    let (dir, name) = out_parts(out)?;
+    enginedyn_report::replace_marked_file(dir, name, s.text.as_bytes(), MARKER)?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    /// The reader's mark of a synthetic diagram is the start of the line
+    /// `synth` writes first.
+    #[test]
+    fn the_reader_knows_the_marker() {
+        let line = super::MARKER.strip_prefix("# ").unwrap();
+        assert!(line.starts_with(enginedyn_ingest::SYNTHETIC_MARK), "{line}");
+    }
 }

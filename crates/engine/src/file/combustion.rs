@@ -8,6 +8,7 @@ use super::EngineError;
 use crate::Stroke;
 use crate::combustion::*;
 use enginedyn_combustion::{CombustionError, DEFAULT_A};
+use enginedyn_numerics::format::human;
 use serde::Deserialize;
 
 #[derive(Deserialize)]
@@ -196,8 +197,71 @@ fn need_m(k: &BurnKeys, second: bool) -> Result<f64, EngineError> {
     })
 }
 
-/// The checked section for an engine of `stroke`.
-pub(super) fn spec(raw: RawCombustion, stroke: Stroke) -> Result<CombustionSpec, EngineError> {
+/// The load (`imep_bar`, `heat_released_j`: one of them): an IMEP up to
+/// [`MAX_IMEP_BAR`], a heat up to what the cylinder's trapped air can
+/// burn ([`max_heat_released_j`] of its whole volume `bdc_volume_m3` at
+/// the intake state; when the geometry is not known, the geometry's own
+/// check refuses the file).
+fn load(
+    given: (Option<f64>, Option<f64>),
+    bdc_volume_m3: Option<f64>,
+    intake_pressure_pa: f64,
+    intake_temp_k: f64,
+) -> Result<Option<CombustionLoad>, EngineError> {
+    Ok(match given {
+        (Some(_), Some(_)) => {
+            return Err(invalid(
+                "combustion.heat_released_j".into(),
+                "given with imep_bar",
+                "one load: imep_bar or heat_released_j",
+            ));
+        }
+        (Some(i), None) => {
+            if !(i.is_finite() && i > 0.0 && i <= MAX_IMEP_BAR) {
+                return Err(invalid(
+                    "combustion.imep_bar".into(),
+                    i,
+                    format!(
+                        "above 0, up to {MAX_IMEP_BAR} bar (a high-boost engine at full load reaches 30–35 bar: is the unit bar?)"
+                    ),
+                ));
+            }
+            Some(CombustionLoad::Imep(i * 1e5))
+        }
+        (None, Some(q)) => {
+            let volume = bdc_volume_m3.filter(|v| v.is_finite() && *v > 0.0);
+            let (hi, why) = match volume {
+                Some(v) => (
+                    max_heat_released_j(v, intake_pressure_pa, intake_temp_k),
+                    format!(
+                        " J per cylinder and cycle, what its trapped air can burn ({} MJ per kg of air; the whole cylinder, {} cm³, full of air at intake_pressure_bar and intake_temp_k)",
+                        MAX_HEAT_PER_KG_AIR / 1e6,
+                        human((v * 1e7).round() / 10.0)
+                    ),
+                ),
+                None => (f64::MAX, " J".to_string()),
+            };
+            if !(q.is_finite() && (0.0..=hi).contains(&q)) {
+                return Err(invalid(
+                    "combustion.heat_released_j".into(),
+                    q,
+                    format!("0 to {}{why}", human(hi.floor())),
+                ));
+            }
+            Some(CombustionLoad::Heat(q))
+        }
+        (None, None) => None,
+    })
+}
+
+/// The checked section for an engine of `stroke` whose cylinder holds
+/// `bdc_volume_m3` at BDC (swept plus clearance; `None` when the geometry
+/// is not known).
+pub(super) fn spec(
+    raw: RawCombustion,
+    stroke: Stroke,
+    bdc_volume_m3: Option<f64>,
+) -> Result<CombustionSpec, EngineError> {
     const S: &str = "combustion";
     let two = stroke == Stroke::Two;
     let first = wiebe(
@@ -238,41 +302,13 @@ pub(super) fn spec(raw: RawCombustion, stroke: Stroke) -> Result<CombustionSpec,
                 .map_err(|e| from_law("combustion.second", e, false))?
         }
     };
-    let load = match (raw.imep_bar, raw.heat_released_j) {
-        (Some(_), Some(_)) => {
-            return Err(invalid(
-                "combustion.heat_released_j".into(),
-                "given with imep_bar",
-                "one load: imep_bar or heat_released_j",
-            ));
-        }
-        (Some(i), None) => {
-            if !(i.is_finite() && i > 0.0 && i <= 500.0) {
-                return Err(invalid(
-                    "combustion.imep_bar".into(),
-                    i,
-                    "above 0, up to 500 bar",
-                ));
-            }
-            Some(CombustionLoad::Imep(i * 1e5))
-        }
-        (None, Some(q)) => Some(CombustionLoad::Heat(within(
-            S,
-            "heat_released_j",
-            q,
-            0.0,
-            1e7,
-            " J",
-        )?)),
-        (None, None) => None,
-    };
     let intake_pressure_pa = within(
         S,
         "intake_pressure_bar",
         raw.intake_pressure_bar.unwrap_or(DEFAULT_INTAKE_PA / 1e5),
-        0.1,
-        100.0,
-        " bar",
+        MIN_INTAKE_BAR,
+        MAX_INTAKE_BAR,
+        " bar absolute (a throttled engine at idle to a two-stage charged one)",
     )? * 1e5;
     let intake_temp_k = within(
         S,
@@ -282,6 +318,12 @@ pub(super) fn spec(raw: RawCombustion, stroke: Stroke) -> Result<CombustionSpec,
         200.0,
         1000.0,
         " K",
+    )?;
+    let load = load(
+        (raw.imep_bar, raw.heat_released_j),
+        bdc_volume_m3,
+        intake_pressure_pa,
+        intake_temp_k,
     )?;
     let (ivc_deg, evo_deg) = valves(raw.ivc_deg, raw.evo_deg, two)?;
     check_start(&burn, raw.ca50_deg.is_some(), ivc_deg, evo_deg)?;
@@ -314,26 +356,13 @@ pub(super) fn spec(raw: RawCombustion, stroke: Stroke) -> Result<CombustionSpec,
 /// `ivc_deg` and `evo_deg` (their defaults for the cycle), within the
 /// cycle model's range.
 fn valves(ivc: Option<f64>, evo: Option<f64>, two: bool) -> Result<(f64, f64), EngineError> {
-    let (ivc_lo, evo_hi) = if two {
-        (-155.0, 164.0)
-    } else {
-        (-270.0, 344.0)
-    };
+    let evo_hi = if two { 164.0 } else { 344.0 };
     let ivc_deg = ivc.unwrap_or(if two {
         DEFAULT_IVC_DEG_TWO_STROKE
     } else {
         DEFAULT_IVC_DEG
     });
-    if !(ivc_deg.is_finite() && ivc_deg >= ivc_lo && ivc_deg < 0.0) {
-        return Err(invalid(
-            "combustion.ivc_deg".into(),
-            ivc_deg,
-            format!(
-                "{ivc_lo} to below 0° for a {}",
-                if two { "two-stroke" } else { "four-stroke" }
-            ),
-        ));
-    }
+    check_ivc(ivc_deg, two).map_err(|why| invalid("combustion.ivc_deg".into(), ivc_deg, why))?;
     let evo_deg = evo.unwrap_or(if two {
         DEFAULT_EVO_DEG_TWO_STROKE
     } else {

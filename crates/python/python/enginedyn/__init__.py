@@ -49,6 +49,33 @@ __all__ = [
     "__version__",
 ]
 
+def _install_sigint() -> None:
+    """Ctrl-C stops a call computing in any thread, not only the main
+    thread's: Python runs its SIGINT handler in the main thread alone, so
+    the package's handler (installed over Python's default, and only over
+    it) asks the library to stop every call, then raises
+    ``KeyboardInterrupt`` as the default does."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return
+    try:
+        if signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
+            return
+        default = signal.default_int_handler
+
+        def _on_sigint(signum: int, frame: Any) -> Any:
+            _native.interrupt_all()
+            return default(signum, frame)
+
+        signal.signal(signal.SIGINT, _on_sigint)
+    except (ValueError, OSError):
+        pass
+
+
+_install_sigint()
+
 # ``enginedyn.io`` and ``enginedyn.dask`` load on first use.
 _LAZY = ("io", "dask")
 
@@ -504,41 +531,45 @@ class Result:
     def to_folder(self, path: PathLike) -> str:
         """Writes the files of ``run --out`` into the folder ``path`` (made
         when missing), and what ``Result.load`` needs to give this result
-        back (``enginedyn-result.json``, ``enginedyn-summary.parquet``)."""
+        back (``enginedyn-result.json``, ``enginedyn-summary.parquet``).
+        The folder is written as ``run --out`` writes it, by the same
+        function: every file staged, then moved into place; a link, a
+        folder or a read-only file in the way is refused (``UsageError``),
+        never written through."""
         state = _state_of(self._native)
         folder = _os.fspath(path)
-        _os.makedirs(folder, exist_ok=True)
-        for name, data in state["files"]:
-            target = _os.path.join(folder, name)
-            _os.makedirs(_os.path.dirname(target) or folder, exist_ok=True)
-            with open(target, "wb") as f:
-                f.write(data)
         kept = {k: v for k, v in state.items() if k not in ("files", "summary_parquet")}
         for arrays in ("curves", "harmonics"):
             kept[arrays] = {k: np.asarray(v).tolist() for k, v in state[arrays].items()}
         kept["files"] = [n for n, _ in state["files"]]
-        with open(_os.path.join(folder, _SAVED), "w", encoding="utf-8") as f:
-            _json.dump(kept, f)
-        with open(_os.path.join(folder, _SAVED_PARQUET), "wb") as f:
-            f.write(state["summary_parquet"])
+        files = [(str(n), bytes(b)) for n, b in state["files"]]
+        files.append((_SAVED, _json.dumps(kept).encode("utf-8")))
+        files.append((_SAVED_PARQUET, bytes(state["summary_parquet"])))
+        _warn(_native.write_run_folder(folder, files))
         return folder
 
     @classmethod
     def load(cls, path: PathLike) -> "Result":
-        """A result saved by ``to_folder``."""
+        """A result saved by ``to_folder``. The folder's
+        ``enginedyn-result.json`` names only plain files of the folder
+        itself, each a regular file (never a link), and its
+        ``summary.json`` holds the saved summary; otherwise an
+        ``EnginedynError`` naming the file (``path``) says what is wrong."""
         folder = _os.fspath(path)
         saved = _os.path.join(folder, _SAVED)
-        if not _os.path.exists(saved):
+        if not _os.path.lexists(saved):
             raise FileNotFoundError(2, f"not a folder Result.to_folder wrote (no {_SAVED})", saved)
-        with open(saved, encoding="utf-8") as f:
-            state = _json.load(f)
-        files = []
-        for name in state["files"]:
-            with open(_os.path.join(folder, name), "rb") as f:
-                files.append((name, f.read()))
-        state["files"] = files
-        with open(_os.path.join(folder, _SAVED_PARQUET), "rb") as f:
-            state["summary_parquet"] = f.read()
+        raw = _native.read_run_folder(folder, [_SAVED, _SAVED_PARQUET])
+        state = _saved_state(saved, raw[0][1])
+        names = state["files"]
+        state["files"] = [(n, b) for n, b in _native.read_run_folder(folder, names)]
+        state["summary_parquet"] = raw[1][1]
+        summary = dict(state["files"]).get("summary.json")
+        if summary is not None and summary != state["summary_json"].encode("utf-8"):
+            raise _malformed(
+                _os.path.join(folder, "summary.json"),
+                f"it is not the summary {_SAVED} holds (changed since the folder was written)",
+            )
         return cls(_Frozen(state))
 
     def _repr_html_(self) -> str:
@@ -559,6 +590,60 @@ class Result:
             f"Result(rpm={s.get('rpm')}, imep_bar={s.get('imep_bar')}, "
             f"warnings={len(self.warnings)}, notes={len(self.notes)})"
         )
+
+
+def _malformed(path: str, why: str) -> EnginedynError:
+    e = EnginedynError(f"{path}: not a result Result.to_folder wrote: {why}")
+    e.path = path  # type: ignore[attr-defined]
+    return e
+
+
+# The keys of ``enginedyn-result.json`` and the type each holds.
+_SAVED_KEYS = {
+    "summary_json": str,
+    "notes": list,
+    "curves": dict,
+    "harmonics": dict,
+    "cycles": dict,
+    "charts": list,
+    "files": list,
+}
+
+
+def _saved_state(path: str, data: bytes) -> Dict[str, Any]:
+    """``enginedyn-result.json`` read and checked: every key, each of its
+    type, the names of the files plain strings (the folder's own files are
+    checked by the library as they are read)."""
+    try:
+        state = _json.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, ValueError) as e:
+        raise _malformed(path, f"not JSON ({e})") from None
+    if not isinstance(state, dict):
+        raise _malformed(path, "not a JSON object")
+    for key, kind in _SAVED_KEYS.items():
+        if key not in state:
+            raise _malformed(path, f"no `{key}`")
+        if not isinstance(state[key], kind):
+            raise _malformed(path, f"`{key}` is not a {kind.__name__}")
+    if not all(isinstance(n, str) for n in state["files"] + state["notes"] + state["charts"]):
+        raise _malformed(path, "`files`, `notes` and `charts` hold strings only")
+    for arrays in ("curves", "harmonics"):
+        for k, v in state[arrays].items():
+            if not (isinstance(v, list) and all(isinstance(x, (int, float)) or x is None for x in v)):
+                raise _malformed(path, f"`{arrays}.{k}` is not a list of numbers")
+    for k, v in state["cycles"].items():
+        ok = isinstance(v, list) or (
+            isinstance(v, dict) and isinstance(v.get("dtype"), str) and isinstance(v.get("values"), list)
+        )
+        if not ok:
+            raise _malformed(path, f"`cycles.{k}` is neither a list nor a dtype with values")
+    try:
+        for k, v in state["cycles"].items():
+            if isinstance(v, dict):
+                np.array(v["values"], dtype=v["dtype"])
+    except (TypeError, ValueError) as e:
+        raise _malformed(path, f"`cycles`: {e}") from None
+    return state
 
 
 def _result_from_state(state: Dict[str, Any]) -> Result:
