@@ -22,7 +22,8 @@ fn petrol_engine(dir: &Path) -> PathBuf {
 }
 
 /// The map: 1,000 speeds × 100 loads, each axis within its own
-/// cap, 100,000 points. Refused before any work (it took 2 GB and
+/// cap, 100,000 points (its loads 0.4–40 bar: the 1–100 bar now
+/// stops at the IMEP bound of 40 bar). Refused before any work (it took 2 GB and
 /// aborted), exit 2, naming both flags and the cap.
 #[test]
 fn a_map_past_the_cap_of_its_points_is_refused_naming_both_flags() {
@@ -36,13 +37,13 @@ fn a_map_past_the_cap_of_its_points_is_refused_naming_both_flags() {
         "--rpm",
         "1000:10999:10",
         "--imep",
-        "1:100:1",
+        "0.4:40:0.4",
     ]);
     let err = text(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(
         err.contains("--rpm 1000:10999:10")
-            && err.contains("--imep 1:100:1")
+            && err.contains("--imep 0.4:40:0.4")
             && err.contains("100000 points")
             && err.contains("at most 10000"),
         "{err}"
@@ -58,7 +59,7 @@ fn a_map_past_the_cap_of_its_points_is_refused_naming_both_flags() {
         "--rpm",
         "1000:1100:1",
         "--imep",
-        "1:100:1",
+        "0.4:40:0.4",
     ]);
     assert_eq!(out.status.code(), Some(2));
     assert!(text(&out.stderr).contains("10100 points"));
