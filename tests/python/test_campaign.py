@@ -72,7 +72,10 @@ def test_parts_read_back_with_schema_nulls_and_metadata(cli, tmp_path):
     assert names[:4] == ["file", "error", "engine", "diagram_blake3"]
     assert t.schema.field("journal_most_loaded").type == pa.int32()
     assert t.schema.field("cycles").type == pa.int64()
-    assert names[-1] == "imep_lnv" and "ca50_deg" in names and "models.grid_step_deg" in names and "pegging.method" in names
+    # summary/3 appends the peak pressure, wall heat, knock and the level lists.
+    assert names[-2:] == ["burn_levels_pct", "burn_levels_deg"] and "imep_lnv" in names and "p_max_bar" in names
+    assert t.schema.field("burn_levels_deg").type == pa.list_(pa.float64())
+    assert "ca50_deg" in names and "models.grid_step_deg" in names and "pegging.method" in names
     rows = {r["file"]: r for r in t.to_pylist()}
     failed = rows["no/such.csv"]
     assert failed["error"].startswith("cannot open") and failed["imep_bar"] is None

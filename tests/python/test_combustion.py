@@ -78,3 +78,23 @@ def test_result_cycles_carry_each_cycles_burn(cli, tmp_path):
     table = pq.read_table(out / "cycles")
     for col in ["ca5_deg", "ca10_deg", "ca50_deg", "ca90_deg", "burn_10_90_deg", "dp_dphi_max_bar_deg", "imep_gross_bar"]:
         assert table.column(col).to_pylist() == list(c[col]), col
+
+
+def test_wall_heat_and_knock_from_python_are_the_clis(cli):
+    """The wall heat and knock keywords (the CLI's --wall-heat, --knock…)
+    give the CLI's figures; the keywords are checked by the library."""
+    with pytest.raises(ed.UsageError, match="wall_heat"):
+        ed.Method(wall_heat="newton")
+    with pytest.raises(ed.UsageError, match="knock_band"):
+        ed.Method(knock_band=(20, 4))
+    with pytest.raises(ed.UsageError, match="wall_heat"):
+        ed.Method(wall_temp_k=500)
+    flags = ["--wall-heat", "woschni", "--knock-band", "4:12"]
+    r = subprocess.run([cli, "run", "--engine", "data/vaz2108.toml", "--json", *flags], capture_output=True, text=True, check=True)
+    want = json.loads(r.stdout)
+    s = ed.Session(ed.Engine.from_toml("data/vaz2108.toml"), method=ed.Method(wall_heat="woschni", knock_band=(4, 12)))
+    got = s.analyse("data/vaz2108.csv").summary
+    for k in ["ca50_deg", "heat_released_j", "heat_released_gross_j", "wall_heat_j", "mapo_max_bar", "knock_share"]:
+        assert got[k] == want[k], k
+    assert got["heat_released_gross_j"] > got["heat_released_j"] > 0
+    assert got["models"]["wall_heat"].startswith("woschni")

@@ -619,18 +619,8 @@ pub fn analyse_with(
     let mut analysis = complete(engine, parts, rpm, opts)?;
     if pressure.quantity == Quantity::Pressure {
         // The mean trace's peak (cylinder 1's), the first a reviewer checks.
-        if let Some((k, p)) = traces[0]
-            .iter()
-            .enumerate()
-            .max_by(|a, b| a.1.total_cmp(b.1))
-        {
-            let n = traces[0].len();
-            let deg = k as f64 * pressure.step_deg;
-            let cycle = n as f64 * pressure.step_deg;
-            analysis.summary.p_max_bar = p.is_finite().then_some(p / 1e5);
-            analysis.summary.p_max_angle_deg =
-                Some(if deg >= cycle / 2.0 { deg - cycle } else { deg });
-        }
+        (analysis.summary.p_max_bar, analysis.summary.p_max_angle_deg) =
+            peak_of(traces[0], pressure.step_deg);
         let imep_pa = analysis.summary.imep_bar.map(|i| i * 1e5);
         let swept = engine.cylinder().swept_volume();
         let with_curves = opts.scope == Scope::Full;
@@ -649,6 +639,19 @@ pub fn analyse_with(
         }
     }
     Ok(analysis)
+}
+
+/// The peak of a periodic trace (Pa) on the grid of `step_deg`, in bar,
+/// and its angle from firing TDC in `[-cycle/2, cycle/2)`.
+fn peak_of(trace: &[f64], step_deg: f64) -> (Option<f64>, Option<f64>) {
+    let Some((k, p)) = trace.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)) else {
+        return (None, None);
+    };
+    let (deg, cycle) = (k as f64 * step_deg, trace.len() as f64 * step_deg);
+    (
+        p.is_finite().then_some(p / 1e5),
+        Some(if deg >= cycle / 2.0 { deg - cycle } else { deg }),
+    )
 }
 
 /// Analyses one operating point from a turning-moment diagram (torque of one
