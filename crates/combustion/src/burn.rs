@@ -263,6 +263,9 @@ struct Window<'a> {
     dv2: f64,
     /// The largest volume in the window (m³).
     v_max: f64,
+    /// The window's pressure with the filter's reach either side
+    /// ([`Filter::reach`]): window index `j` is `pw[j + reach]`.
+    pw: Vec<f64>,
 }
 
 /// The one pass over the window: the trapezoidal work `∫ p dV`, the
@@ -273,23 +276,29 @@ fn pass(
     f: &Filter,
     (i0, i1): (i64, i64),
     energy: impl Fn(f64) -> f64,
-) -> (Vec<f64>, (f64, usize), f64, f64, f64) {
+) -> (Vec<f64>, Vec<f64>, (f64, usize), [f64; 3]) {
     let h = g.step_deg.to_radians();
     let len = (i1 - i0 + 1) as usize;
+    // The window's pressure with the filter's reach either side, copied
+    // out once: every weight sum then reads one contiguous slice.
+    let m = f.reach();
+    let pw: Vec<f64> = (i0 - m as i64..=i1 + m as i64)
+        .map(|k| g.at(g.pressure, k))
+        .collect();
     let mut qs = Vec::with_capacity(len);
     let (mut work, mut prev) = (0.0, g.at(g.pressure, i0) * g.at(g.dvolume, i0));
     let mut peak = (f64::NEG_INFINITY, 0);
     let (mut res2, mut dv2, mut v_max) = (0.0, 0.0, 0.0f64);
     for j in 0..len {
         let k = i0 + j as i64;
-        let (p, v, dv) = (g.at(g.pressure, k), g.at(g.volume, k), g.at(g.dvolume, k));
+        let (p, v, dv) = (pw[j + m], g.at(g.volume, k), g.at(g.dvolume, k));
         let pdv = p * dv;
         if j > 0 {
             work += 0.5 * h * (prev + pdv);
         }
         prev = pdv;
-        let ps = f.value(g.pressure, k);
-        let r = p - f.fit(g.pressure, k, ps);
+        let ps = f.value_in(&pw, j + m);
+        let r = p - f.fit_in(&pw, j + m, ps);
         res2 += r * r;
         dv2 += (h * dv) * (h * dv);
         v_max = v_max.max(v);
@@ -298,7 +307,7 @@ fn pass(
         }
         qs.push(work + energy(ps * v));
     }
-    (qs, peak, res2, dv2, v_max)
+    (qs, pw, peak, [res2, dv2, v_max])
 }
 
 impl Window<'_> {
@@ -451,7 +460,7 @@ fn cumulative<'a>(
     let ivc = pv_ivc(g, opts, f)?;
     let gamma = opts.gamma;
     // A constant γ takes the product form (no call, no division).
-    let (qs, peak, residual2, dv2, v_max) = match gamma {
+    let (qs, pw, peak, [residual2, dv2, v_max]) = match gamma {
         GammaModel::Constant(c) => {
             let inv = 1.0 / (c - 1.0);
             pass(g, f, (i0, i1), |pv| pv * inv)
@@ -467,6 +476,7 @@ fn cumulative<'a>(
         residual2,
         dv2,
         v_max,
+        pw,
     })
 }
 
@@ -563,7 +573,8 @@ fn wall_cumulative(
     for j in 0..win.qs.len() {
         let k = win.i0 + j as i64;
         let burning = soc_deg.is_some_and(|soc| k as f64 * g.step_deg >= soc);
-        let r = wall.rate(&s, f.value(g.pressure, k), g.at(g.volume, k), burning);
+        let p = f.value_in(&win.pw, j + f.reach());
+        let r = wall.rate(&s, p, g.at(g.volume, k), burning);
         if j > 0 {
             total += half * (prev + r);
         }
@@ -658,8 +669,8 @@ fn rule(win: &Window, g: &CycleGrid, opts: &Options, f: &Filter) -> CycleBurn {
 /// diesel's premixed spike), refined by the parabola through the largest
 /// and its neighbours.
 fn pressure_rise(win: &Window, soc: usize, eoc: usize) -> (f64, f64) {
-    let g = win.g;
-    let slope = |j: usize| win.f.slope(g.pressure, win.i0 + j as i64);
+    let m = win.f.reach();
+    let slope = |j: usize| win.f.slope_in(&win.pw, j + m);
     let (mut top, mut j_top) = (f64::NEG_INFINITY, soc);
     for j in soc..=eoc.max(soc) {
         let s = slope(j);

@@ -107,6 +107,42 @@ impl Filter {
         }
     }
 
+    /// How far the weights reach either side of their centre (points): the
+    /// margin a slice needs for [`Self::value_in`], [`Self::slope_in`] and
+    /// [`Self::fit_in`].
+    pub fn reach(&self) -> usize {
+        let fit = self.fit.as_ref().map_or(0, |w| w.len() / 2);
+        (self.value.len() / 2).max(self.slope.len() / 2).max(fit)
+    }
+
+    /// [`Self::value`] at index `c` of a slice that holds [`Self::reach`]
+    /// points either side of it (no wrapping: the fast path of a window
+    /// copied out once).
+    #[inline]
+    pub fn value_in(&self, s: &[f64], c: usize) -> f64 {
+        let m = self.value.len() / 2;
+        dot(&self.value, &s[c - m..=c + m])
+    }
+
+    /// [`Self::slope`] at index `c` of such a slice.
+    #[inline]
+    pub fn slope_in(&self, s: &[f64], c: usize) -> f64 {
+        let m = self.slope.len() / 2;
+        dot(&self.slope, &s[c - m..=c + m]) / self.step_deg
+    }
+
+    /// [`Self::fit`] at index `c` of such a slice.
+    #[inline]
+    pub fn fit_in(&self, s: &[f64], c: usize, smoothed: f64) -> f64 {
+        match &self.fit {
+            None => smoothed,
+            Some(w) => {
+                let m = w.len() / 2;
+                dot(w, &s[c - m..=c + m])
+            }
+        }
+    }
+
     /// The noise fit's value at `k`, given the smoothed value `smoothed`
     /// there (the same, unless the filter is off).
     #[inline]
@@ -155,8 +191,7 @@ fn apply(w: &[f64], p: &[f64], k: i64) -> f64 {
     let m = (w.len() / 2) as i64;
     let start = k - m;
     if start >= 0 && k + m < n {
-        let s = &p[start as usize..(k + m + 1) as usize];
-        return w.iter().zip(s).map(|(a, b)| a * b).sum();
+        return dot(w, &p[start as usize..(k + m + 1) as usize]);
     }
     w.iter()
         .enumerate()
@@ -176,6 +211,23 @@ fn apply(w: &[f64], p: &[f64], k: i64) -> f64 {
             } as usize]
         })
         .sum()
+}
+
+/// `Σ w_i s_i` in four interleaved partial sums (the compiler keeps them
+/// in one vector register; a single running sum is a chain of dependent
+/// additions).
+#[inline]
+fn dot(w: &[f64], s: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 4];
+    let (wc, sc) = (w.chunks_exact(4), s.chunks_exact(4));
+    let (wr, sr) = (wc.remainder(), sc.remainder());
+    for (a, b) in wc.zip(sc) {
+        for j in 0..4 {
+            acc[j] += a[j] * b[j];
+        }
+    }
+    let tail: f64 = wr.iter().zip(sr).map(|(a, b)| a * b).sum();
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
 /// Weights of a cubic least-squares fit over `-m..=m` that give the fit's

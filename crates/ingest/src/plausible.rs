@@ -201,6 +201,15 @@ pub(crate) fn glitches(tr: &Trace, cycle: f64, quantity: Quantity, absolute: boo
     let cubic = |i: usize| -> f64 {
         let x = a[i];
         let pts = [at(i, -2), at(i, -1), at(i, 1), at(i, 2)];
+        // Evenly spaced samples (the usual case): the weights are fixed,
+        // (−1, 4, 4, −1)/6, no divisions.
+        let h = x - pts[1].0;
+        let even = [pts[1].0 - pts[0].0, pts[2].0 - x, pts[3].0 - pts[2].0]
+            .iter()
+            .all(|d| (d - h).abs() <= 1e-9 * h.abs());
+        if even {
+            return (4.0 * (pts[1].1 + pts[2].1) - (pts[0].1 + pts[3].1)) / 6.0;
+        }
         let mut sum = 0.0;
         for (m, &(xm, ym)) in pts.iter().enumerate() {
             let mut w = 1.0;
@@ -214,9 +223,32 @@ pub(crate) fn glitches(tr: &Trace, cycle: f64, quantity: Quantity, absolute: boo
         sum
     };
     let off = |i: usize| (p[i] - cubic(i)).abs();
-    let candidates: Vec<usize> = (0..n)
-        .filter(|&i| p[i].is_finite() && off(i) > GLITCH_PA)
-        .collect();
+    // Evenly spaced samples: the interior in one tight pass with the fixed
+    // weights (the same number `cubic` gives there), the ends by `off`.
+    let h = (a[n - 1] - a[0]) / (n - 1) as f64;
+    let even = a
+        .windows(2)
+        .all(|w| ((w[1] - w[0]) - h).abs() <= 1e-9 * h.abs());
+    let candidates: Vec<usize> = if even {
+        let mut c: Vec<usize> = [0, 1]
+            .into_iter()
+            .filter(|&i| p[i].is_finite() && off(i) > GLITCH_PA)
+            .collect();
+        c.extend(p.windows(5).enumerate().filter_map(|(j, w)| {
+            let fit = (4.0 * (w[1] + w[3]) - (w[0] + w[4])) / 6.0;
+            (w[2].is_finite() && (w[2] - fit).abs() > GLITCH_PA).then_some(j + 2)
+        }));
+        c.extend(
+            [n - 2, n - 1]
+                .into_iter()
+                .filter(|&i| p[i].is_finite() && off(i) > GLITCH_PA),
+        );
+        c
+    } else {
+        (0..n)
+            .filter(|&i| p[i].is_finite() && off(i) > GLITCH_PA)
+            .collect()
+    };
     if candidates.is_empty() {
         return Vec::new();
     }
