@@ -885,6 +885,46 @@ mod tests {
     use super::*;
     use enginedyn_kinematics::{CrankSlider, Cylinder, Mechanism};
 
+    /// The glitch rule's fast path (evenly spaced samples, fixed weights)
+    /// finds what the plain definition (Lagrange's cubic at each sample's
+    /// own angle, taken when the spacing is uneven by a hair) finds, with
+    /// the same cubic, on data shaped to test it: glitches at both ends of
+    /// the cycle (the wrap), a narrow peak that is no glitch, a flat
+    /// stretch.
+    #[test]
+    fn the_even_spacing_shortcut_is_the_plain_rule() {
+        let n = 720;
+        let step = 1.0;
+        let mut p: Vec<f64> = (0..n)
+            .map(|k| {
+                let deg = k as f64 * step - 360.0;
+                1e5 + 50e5 * (-(deg / 15.0).powi(2)).exp()
+            })
+            .collect();
+        for (k, v) in [(0, 40e5), (1, 1e5), (355, 200e5), (718, 60e5), (400, 1e5)] {
+            p[k] += v;
+        }
+        let even: Vec<f64> = (0..n).map(|k| k as f64 * step - 360.0).collect();
+        // The same angles, one nudged by a hair: the general path.
+        let mut uneven = even.clone();
+        uneven[500] += 1e-7;
+        let tr = |a: Vec<f64>| Trace {
+            cycle: 1,
+            cylinder: 0,
+            angle_deg: a,
+            values: p.clone(),
+            rpm: None,
+        };
+        let fast = glitches(&tr(even), 720.0, Quantity::Pressure, true);
+        let plain = glitches(&tr(uneven), 720.0, Quantity::Pressure, true);
+        assert!(!fast.is_empty());
+        assert_eq!(fast.len(), plain.len(), "{fast:?} {plain:?}");
+        for (f, q) in fast.iter().zip(&plain) {
+            assert_eq!(f.at, q.at);
+            assert!((f.cubic - q.cubic).abs() < 1e-3, "{f:?} {q:?}");
+        }
+    }
+
     /// The bundled single's geometry (R 27 mm, L 84 mm, bore 68 mm).
     fn cylinder(eps: f64) -> Cylinder {
         let crank = CrankSlider::new(0.027, 0.084, 0.0).unwrap();
