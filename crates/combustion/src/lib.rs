@@ -11,7 +11,7 @@
 //! - [`wiebe`]: the single and double Wiebe law and its CA50 + 10–90
 //!   duration form;
 //! - [`smooth`]: the Savitzky–Golay filter applied before any derivative;
-//! - [`knock`]: MAPO and IMPO of the band-passed pressure, cycle by cycle;
+//! - [`mod@knock`]: MAPO and IMPO of the band-passed pressure, cycle by cycle;
 //! - [`wall`]: the heat lost to the walls (Woschni, Hohenberg), for the
 //!   gross heat release;
 //! - [`burn`]: one cycle's heat release (cumulative without a derivative
