@@ -331,6 +331,14 @@ fn a_synthesised_diagram_keeps_its_tdc_and_its_whole_burn() {
         "--json",
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // Read as a file, with the default window: EOC on its edge is said,
+    // naming the flag (it was silent, the heat 11 % low).
+    assert!(
+        stderr(&o).contains("runs past the burn window's end (120°)")
+            && stderr(&o).contains("--burn-window"),
+        "{}",
+        stderr(&o)
+    );
     // A light load: no TDC advice for a TDC exact by construction.
     let light = template(t.path(), "light.toml", &[]);
     let csv = t.path().join("light.csv");
