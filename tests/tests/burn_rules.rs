@@ -362,3 +362,44 @@ fn a_synthesised_diagram_keeps_its_tdc_and_its_whole_burn() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(!stderr(&o).contains("--tdc-deg"), "{}", stderr(&o));
 }
+
+/// `models.interpolation` says what every cycle took: where `auto` chose
+/// the spline for some cycles and pchip for others, each with its count
+/// (it named the first trace's choice alone).
+#[test]
+fn the_interpolation_counts_each_choice() {
+    let t = tempfile::tempdir().unwrap();
+    let rows = data_rows("vaz2108.csv");
+    let mut text = String::from("cycle,crank_deg,pressure_bar\n");
+    for cycle in 1..=6 {
+        for (k, (a, p)) in rows.iter().enumerate() {
+            // Cycles 5 and 6: a sharp step in the gas exchange, which the
+            // spline overshoots (auto takes pchip there).
+            let step = if cycle > 4 && (400..440).contains(&k) {
+                8.0
+            } else {
+                0.0
+            };
+            text.push_str(&format!("{cycle},{a},{}\n", p + step));
+        }
+    }
+    let f = t.path().join("mixed.csv");
+    std::fs::write(&f, text).unwrap();
+    let o = run(&[
+        "run",
+        "--engine",
+        &data("vaz2108.toml"),
+        "--diagram",
+        f.to_str().unwrap(),
+        "--json",
+        "--no-compression-check",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(
+        s["models"]["interpolation"],
+        "spline (4 traces), pchip (2)",
+        "{}",
+        stderr(&o)
+    );
+}

@@ -153,6 +153,9 @@ pub struct Resampled {
     pub cylinders: Vec<Vec<f64>>,
     /// Interpolant used (for `auto`, the one it chose).
     pub interp: InterpKind,
+    /// How many traces each interpolant took, the most used first where
+    /// `auto` chose trace by trace (empty for data made on the grid).
+    pub interp_counts: Vec<(InterpKind, usize)>,
     /// Number of cycles averaged (per cylinder).
     pub cycles: usize,
     /// Per-cycle figures.
@@ -189,6 +192,7 @@ impl Resampled {
             pressure: values,
             cylinders: Vec::new(),
             interp: InterpKind::Linear,
+            interp_counts: Vec::new(),
             cycles: 1,
             stats: Vec::new(),
             pegging: None,
@@ -317,6 +321,8 @@ pub struct Accumulator {
     per_cylinder: Vec<(Vec<f64>, usize)>,
     stats: Vec<CycleStats>,
     interp: Option<InterpKind>,
+    /// How many traces each interpolant took (by `InterpKind as usize`).
+    interp_counts: [usize; 3],
     /// The volume law on the grid, when the cylinder is known.
     law: Option<Arc<VolumeGrid>>,
     /// The grid's angles `k step` (deg), for the on-grid test.
@@ -363,6 +369,7 @@ impl Accumulator {
             per_cylinder: Vec::new(),
             stats: Vec::new(),
             interp: None,
+            interp_counts: [0; 3],
             law,
             angles: (0..n).map(|k| k as f64 * step).collect(),
             notes: Vec::new(),
@@ -484,6 +491,7 @@ impl Accumulator {
             *c += 1;
         }
         self.interp.get_or_insert(kind);
+        self.interp_counts[kind as usize] += 1;
         Ok(())
     }
 
@@ -686,6 +694,13 @@ impl Accumulator {
             pressure,
             cylinders,
             interp: self.interp.unwrap_or(InterpKind::Linear),
+            interp_counts: [InterpKind::Linear, InterpKind::Spline, InterpKind::Pchip]
+                .into_iter()
+                .filter_map(|k| {
+                    let n = self.interp_counts[k as usize];
+                    (n > 0).then_some((k, n))
+                })
+                .collect(),
             cycles,
             stats: self.stats,
             pegging,

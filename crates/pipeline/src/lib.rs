@@ -157,7 +157,7 @@ struct Parts {
     /// Force extremes over every cylinder, when pressure is known.
     force_max: Option<ForceMax>,
     notes: Vec<String>,
-    interpolation: &'static str,
+    interpolation: String,
     cycles: usize,
     /// Measured cycles left out of the averages (a gap in the data).
     cycles_skipped: usize,
@@ -374,10 +374,25 @@ fn prepare(
     Ok((engine, h, notes))
 }
 
-fn interp_name(opts: &Options, chosen: &Resampled) -> &'static str {
+/// `models.interpolation`: the interpolant named, or, where `auto` chose
+/// differently trace by trace, each with its count (`spline (32 traces),
+/// pchip (28)`), the most used first.
+fn interp_name(opts: &Options, chosen: &Resampled) -> String {
     match opts.interp {
-        Interp::Auto => chosen.interp.name(),
-        other => other.name(),
+        Interp::Auto if chosen.interp_counts.len() > 1 => {
+            let mut c = chosen.interp_counts.clone();
+            c.sort_by(|a, b| b.1.cmp(&a.1));
+            c.iter()
+                .enumerate()
+                .map(|(i, (k, n))| {
+                    let unit = if i == 0 { " traces" } else { "" };
+                    format!("{} ({n}{unit})", k.name())
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        }
+        Interp::Auto => chosen.interp.name().to_string(),
+        other => other.name().to_string(),
     }
 }
 

@@ -44,8 +44,9 @@ pub struct Summary {
     pub kinematics: &'static str,
     /// `models.rod_model`.
     pub rod_model: &'static str,
-    /// `models.interpolation`.
-    pub interpolation: &'static str,
+    /// `models.interpolation`: the interpolant, or each with its count
+    /// where `auto` chose trace by trace.
+    pub interpolation: String,
     /// `models.grid_step_deg`.
     pub grid_step_deg: f64,
     /// `models.integration`.
@@ -158,7 +159,7 @@ impl Summary {
             energy_balance_error: None,
             kinematics: "",
             rod_model: "",
-            interpolation: "",
+            interpolation: String::new(),
             grid_step_deg: 0.0,
             integration: "",
             cycles: None,
@@ -295,8 +296,8 @@ macro_rules! field {
 const MODELS: &[Field] = &[
     field!("models"."kinematics", Utf8, ModelsText, |s| Some(Value::Text(s.kinematics))),
     field!("models"."rod_model", Utf8, ModelsText, |s| Some(Value::Text(s.rod_model))),
-    field!("models"."interpolation", Utf8, ModelsText, |s| Some(Value::Text(
-        s.interpolation
+    field!("models"."interpolation", Utf8, ModelsText, |s| Some(Value::Str(
+        s.interpolation.clone()
     ))),
     field!("models"."grid_step_deg", Float64, ModelsNumber, |s| Some(
         Value::Num(Some(s.grid_step_deg))
