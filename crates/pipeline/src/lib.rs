@@ -381,7 +381,7 @@ fn interp_name(opts: &Options, chosen: &Resampled) -> String {
     match opts.interp {
         Interp::Auto if chosen.interp_counts.len() > 1 => {
             let mut c = chosen.interp_counts.clone();
-            c.sort_by(|a, b| b.1.cmp(&a.1));
+            c.sort_by_key(|k| std::cmp::Reverse(k.1));
             c.iter()
                 .enumerate()
                 .map(|(i, (k, n))| {
