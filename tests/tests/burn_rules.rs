@@ -403,3 +403,35 @@ fn the_interpolation_counts_each_choice() {
         stderr(&o)
     );
 }
+
+/// `ca50_imep.svg` draws each cycle as a marker (it drew a short dash,
+/// its legend a line), with the mean and the ±σ box named in the legend.
+#[test]
+fn the_ca50_imep_scatter_has_a_marker_a_cycle() {
+    let t = tempfile::tempdir().unwrap();
+    let rows = data_rows("vaz2108.csv");
+    let mut text = String::from("cycle,crank_deg,pressure_bar\n");
+    for cycle in 1..=7 {
+        let scale = 1.0 + 0.01 * cycle as f64;
+        for (a, p) in &rows {
+            text.push_str(&format!("{cycle},{a},{}\n", p * scale));
+        }
+    }
+    let f = t.path().join("seven.csv");
+    std::fs::write(&f, text).unwrap();
+    let out = t.path().join("r");
+    let o = run(&[
+        "run",
+        "--engine",
+        &data("vaz2108.toml"),
+        "--diagram",
+        f.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let svg = std::fs::read_to_string(out.join("ca50_imep.svg")).unwrap();
+    // Seven cycles and one legend key.
+    assert_eq!(svg.matches("<circle").count(), 7 + 1, "{svg}");
+    assert!(svg.contains("±σ box"));
+}

@@ -716,20 +716,8 @@ impl Accumulator {
     }
 }
 
-/// Mean, standard deviation (sample, n - 1) of values.
-pub fn mean_std(v: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
-    let n = v.clone().count() as f64;
-    if n == 0.0 {
-        return (f64::NAN, f64::NAN);
-    }
-    let mean = v.clone().sum::<f64>() / n;
-    let var = if n > 1.0 {
-        v.map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
-    } else {
-        0.0
-    };
-    (mean, var.sqrt())
-}
+/// Mean and sample standard deviation (numerics' one home of them).
+pub use enginedyn_numerics::mean_std;
 
 /// The mean of `samples` (angle from firing TDC in `[0, cycle)`, value)
 /// over ±5° around intake BDC, 540° four-stroke or 180° two-stroke: where

@@ -46,3 +46,19 @@ pub mod scan;
 
 pub use error::NumericsError;
 pub use interp::{InterpKind, Periodic};
+
+/// Mean, standard deviation (sample, n − 1) of values; NaN for none, a
+/// deviation of 0 for one.
+pub fn mean_std(v: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
+    let n = v.clone().count() as f64;
+    if n == 0.0 {
+        return (f64::NAN, f64::NAN);
+    }
+    let mean = v.clone().sum::<f64>() / n;
+    let var = if n > 1.0 {
+        v.map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
+    } else {
+        0.0
+    };
+    (mean, var.sqrt())
+}

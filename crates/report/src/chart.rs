@@ -35,6 +35,8 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
     /// Drawn dashed and grey (reference lines such as a mean or a target).
     pub dashed: bool,
+    /// Drawn as a marker at each point, no line (a scatter's points).
+    pub marker: bool,
 }
 
 impl Series {
@@ -60,6 +62,7 @@ impl Series {
             name: name.into(),
             points,
             dashed: false,
+            marker: false,
         }
     }
     /// A dashed horizontal line at `y` over `[x0, x1]`.
@@ -68,6 +71,7 @@ impl Series {
             name: name.into(),
             points: vec![(x0, y), (x1, y)],
             dashed: true,
+            marker: false,
         }
     }
 }
@@ -149,6 +153,10 @@ fn bounds(series: &[Series], log: bool) -> ((f64, f64), (f64, f64)) {
         };
         (a - d, b + d)
     };
+    // A scatter's points never sit on the frame: both axes padded.
+    if series.iter().any(|s| s.marker) {
+        return (widen(xr, 0.06), widen(yr, 0.08));
+    }
     let x = if xr.1 > xr.0 { xr } else { widen(xr, 0.0) };
     (x, widen(yr, 0.06))
 }
@@ -578,7 +586,14 @@ fn series_keys(series: &[Series]) -> Vec<(String, Key)> {
     series
         .iter()
         .map(|s| {
-            let key = if s.dashed {
+            let key = if s.marker {
+                solid += 1;
+                Key::Marker {
+                    shape: 0,
+                    color: PALETTE[(solid - 1) % PALETTE.len()],
+                    filled: true,
+                }
+            } else if s.dashed {
                 dashed += 1;
                 if dashed == 1 {
                     Key::Line {
@@ -660,6 +675,20 @@ pub(crate) fn fine_pixel(chart: &Plot, (x, y): (f64, f64)) -> (f64, f64) {
 /// attribute order plotters writes (`fill`, `opacity`, `stroke`,
 /// `stroke-width`, `points`), with round joins and an optional dash
 /// pattern (on, off, …; px).
+/// A filled circle of radius `r` (px) at pixel `c`, with a white rim so
+/// that points on one another stay apart.
+pub(crate) fn svg_circle(c: (f64, f64), r: f64, color: RGBColor) -> String {
+    format!(
+        "<circle cx=\"{}\" cy=\"{}\" r=\"{}\" fill=\"#{:02X}{:02X}{:02X}\" stroke=\"#FFFFFF\" stroke-width=\"0.8\"/>\n",
+        trimmed(c.0, 2),
+        trimmed(c.1, 2),
+        trimmed(r, 2),
+        color.0,
+        color.1,
+        color.2
+    )
+}
+
 pub(crate) fn svg_polyline(
     pts: &[(f64, f64)],
     color: RGBColor,
@@ -844,7 +873,17 @@ impl Chart {
                     width,
                     pattern,
                 } => (*color, *width, Some(&pattern[..])),
-                Key::Marker { .. } => continue,
+                Key::Marker { color, .. } => {
+                    for &(x, y) in s
+                        .points
+                        .iter()
+                        .filter(|(x, y)| x.is_finite() && y.is_finite())
+                    {
+                        let (px, py) = fine_pixel(&chart, (x, y));
+                        out.push(svg_circle((px, py), 3.5, *color));
+                    }
+                    continue;
+                }
             };
             // A point that is not finite lifts the pen: one polyline per run.
             let shown = |&(x, y): &(f64, f64)| {
@@ -1233,6 +1272,7 @@ fn flywheel_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
                         (hi, slow),
                     ],
                     dashed: true,
+                    marker: false,
                 },
             ],
         ));
@@ -1271,11 +1311,13 @@ fn harmonics_figure(name: &str, a: &Analysis) -> Figure {
                     name: "cylinder 1".into(),
                     points: cyl,
                     dashed: false,
+                    marker: false,
                 },
                 Series {
                     name: "engine".into(),
                     points: eng,
                     dashed: false,
+                    marker: false,
                 },
             ],
             log: false,

@@ -9,10 +9,6 @@ use enginedyn_engine::Engine;
 use enginedyn_pipeline::Analysis;
 use std::fmt::Write as _;
 
-/// Half the size of a scatter cross (in the axes' own units, as a share of
-/// their span).
-const CROSS: f64 = 0.006;
-
 /// The angle (deg, from firing TDC in `[-cycle/2, cycle/2)`) of grid
 /// index `k`.
 fn angle(k: usize, n: usize, step_deg: f64) -> f64 {
@@ -70,6 +66,7 @@ pub fn combustion_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
                         name: format!("{label} {:.1}°", x),
                         points: vec![(x, 0.0), (x, pct / 100.0), (w.0, pct / 100.0)],
                         dashed: true,
+                        marker: false,
                     });
                 }
             }
@@ -101,48 +98,53 @@ pub fn combustion_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
     figs
 }
 
-/// CA50 against IMEP, one cross per cycle (a cylinder a series).
+/// CA50 against IMEP, a marker per cycle (a cylinder a series), with the
+/// mean and the ±σ box of both (the axes padded: no cycle on the frame).
 fn scatter(name: &str, a: &Analysis) -> Chart {
     let pts = &a.burn_cycles;
-    let span = |f: fn(&(i64, i64, f64, f64)) -> f64| {
-        let (lo, hi) = pts
-            .iter()
-            .map(f)
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
-                (l.min(v), h.max(v))
-            });
-        (hi - lo).max(1e-6)
-    };
-    let (dx, dy) = (CROSS * span(|p| p.3), CROSS * span(|p| p.2));
     let mut cylinders: Vec<i64> = pts.iter().map(|p| p.0).collect();
     cylinders.sort_unstable();
     cylinders.dedup();
-    let series = cylinders
+    let mut series: Vec<Series> = cylinders
         .iter()
-        .map(|&cyl| {
-            let mut points = Vec::new();
-            for p in pts.iter().filter(|p| p.0 == cyl) {
-                let (x, y) = (p.3, p.2);
-                points.extend([
-                    (x - dx, y),
-                    (x + dx, y),
-                    (f64::NAN, f64::NAN),
-                    (x, y - dy),
-                    (x, y + dy),
-                    (f64::NAN, f64::NAN),
-                ]);
-            }
-            Series {
-                name: if cyl > 0 {
-                    format!("cylinder {cyl}")
-                } else {
-                    "each cycle".into()
-                },
-                points,
-                dashed: false,
-            }
+        .map(|&cyl| Series {
+            name: if cyl > 0 {
+                format!("cylinder {cyl}")
+            } else {
+                "each cycle".into()
+            },
+            points: pts
+                .iter()
+                .filter(|p| p.0 == cyl)
+                .map(|p| (p.3, p.2))
+                .collect(),
+            dashed: false,
+            marker: true,
         })
         .collect();
+    let (mx, sx) = enginedyn_numerics::mean_std(pts.iter().map(|p| p.3));
+    let (my, sy) = enginedyn_numerics::mean_std(pts.iter().map(|p| p.2));
+    if sx.is_finite() && sy.is_finite() {
+        let (x0, x1, y0, y1) = (mx - sx, mx + sx, my - sy, my + sy);
+        series.push(Series {
+            name: format!("mean CA50 {mx:.1}° ± {sx:.1}°, IMEP {my:.2} ± {sy:.2} bar (±σ box)"),
+            points: vec![
+                (x0, y0),
+                (x1, y0),
+                (x1, y1),
+                (x0, y1),
+                (x0, y0),
+                (f64::NAN, f64::NAN),
+                (x0, my),
+                (x1, my),
+                (f64::NAN, f64::NAN),
+                (mx, y0),
+                (mx, y1),
+            ],
+            dashed: true,
+            marker: false,
+        });
+    }
     Chart {
         title: format!("{name} — CA50 against IMEP, {} cycles", pts.len()),
         x_label: "CA50 (deg from firing TDC)".into(),

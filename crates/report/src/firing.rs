@@ -367,6 +367,7 @@ pub fn crank_end_view(engine: &Engine, s: &Study) -> Figure {
             .map(|k| ((k as f64 * 5.0 * deg).cos(), (k as f64 * 5.0 * deg).sin()))
             .collect(),
         dashed: true,
+        marker: false,
     }];
     let bank_axes: Vec<f64> = if gamma > 0.0 {
         vec![axis1, axis1 - gamma]
@@ -378,6 +379,7 @@ pub fn crank_end_view(engine: &Engine, s: &Study) -> Figure {
             name: format!("bank {} axis", b + 1),
             points: vec![(0.0, 0.0), (1.3 * (a * deg).cos(), 1.3 * (a * deg).sin())],
             dashed: true,
+            marker: false,
         });
     }
     let title;
@@ -404,6 +406,7 @@ pub fn crank_end_view(engine: &Engine, s: &Study) -> Figure {
                 name,
                 points: vec![(0.0, 0.0), (a.cos(), a.sin())],
                 dashed: false,
+                marker: false,
             });
         };
         for k in 0..engine.throws() {

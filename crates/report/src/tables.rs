@@ -248,6 +248,7 @@ pub fn sweep_figure(engine_name: &str, summaries: &[&Summary]) -> Figure {
         name: name.into(),
         points: pts,
         dashed: false,
+        marker: false,
     };
     let eta = summaries.first().map_or(1.0, |s| s.mechanical_efficiency);
     Figure {
@@ -300,6 +301,7 @@ pub fn sweep_map_figure(engine_name: &str, loads: &[(f64, Vec<&Summary>)]) -> Fi
                 name: format!("IMEP {} bar", enginedyn_numerics::format::human(*imep)),
                 points: ss.iter().filter_map(|s| f(s).map(|v| (s.rpm, v))).collect(),
                 dashed: false,
+                marker: false,
             })
             .collect()
     };
