@@ -106,6 +106,22 @@ fn band_pass(p: &[f64], fs: f64, (lo, hi): (f64, f64)) -> Vec<f64> {
     buf.iter().map(|c| c.re * scale).collect()
 }
 
+/// The band-passed pressure (Pa) over the knock window of `k`, with its
+/// angles (deg from firing TDC): what the chart of the most knocking cycle
+/// shows. Call it where [`knock`] resolved the band.
+pub fn band_passed_window(p: &[f64], step_deg: f64, rpm: f64, k: &Knock) -> Vec<(f64, f64)> {
+    if p.len() < 8 || !(rpm > 0.0) {
+        return Vec::new();
+    }
+    let n = p.len() as i64;
+    let bp = band_pass(p, 6.0 * rpm / step_deg, k.band_hz);
+    let i0 = (k.window_deg.0 / step_deg).ceil() as i64;
+    let i1 = (k.window_deg.1 / step_deg).floor() as i64;
+    (i0..=i1)
+        .map(|i| (i as f64 * step_deg, bp[i.rem_euclid(n) as usize]))
+        .collect()
+}
+
 /// The knock figures of one cycle's pressure `p` (Pa, periodic, one
 /// cycle on the grid `k step_deg` from firing TDC) at `rpm`, or why the
 /// data do not resolve the band. `sample_step_deg` is the spacing of the

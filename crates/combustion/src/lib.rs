@@ -39,7 +39,7 @@ pub use burn::{
     analyse_with, curves, gross_work,
 };
 pub use gamma::{DEFAULT_GAMMA, DEFAULT_INTAKE_TEMP_K, DEFAULT_IVC_DEG, GammaModel, brunt};
-pub use knock::{Knock, KnockFigures, knock};
+pub use knock::{Knock, KnockFigures, band_passed_window, knock};
 pub use smooth::{Filter, Smoothing};
 pub use wall::{DEFAULT_WALL_TEMP_K, WallHeat, WallModel};
 pub use wiebe::{BurnLaw, DEFAULT_A, Wiebe};

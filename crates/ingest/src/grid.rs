@@ -181,6 +181,47 @@ pub struct Resampled {
     /// The file says it was synthesised (`enginedyn synth`): its firing
     /// TDC is exact, so no rule questions it.
     pub synthetic: bool,
+    /// With knock measured: the cycle of the largest MAPO (cylinder,
+    /// cycle, MAPO in Pa) and its band-passed pressure over the knock
+    /// window (deg, Pa), for the chart.
+    pub most_knocking: Option<MostKnocking>,
+}
+
+/// A cycle's band-passed pressure when its MAPO is the largest so far
+/// (`kept`), else `None`: computed again only then (a new largest is
+/// rare).
+fn most_knocking(
+    opts: &GridOptions,
+    kept: Option<&MostKnocking>,
+    p: &[f64],
+    tr: &Trace,
+    c: Option<&CycleCombustion>,
+) -> Option<MostKnocking> {
+    let f = c?.knock.as_ref()?.as_ref().ok()?;
+    if kept.is_some_and(|m| m.mapo_pa >= f.mapo_pa) {
+        return None;
+    }
+    let o = opts.combustion.as_deref()?;
+    let (k, rpm) = (o.knock.as_ref()?, tr.rpm.or(o.rpm)?);
+    Some(MostKnocking {
+        cylinder: tr.cylinder,
+        cycle: tr.cycle,
+        mapo_pa: f.mapo_pa,
+        trace: enginedyn_combustion::band_passed_window(p, opts.step_deg, rpm, k),
+    })
+}
+
+/// The cycle of the largest MAPO and its band-passed pressure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MostKnocking {
+    /// Cylinder number (0: one trace for all).
+    pub cylinder: i64,
+    /// Cycle number.
+    pub cycle: i64,
+    /// Its MAPO (Pa).
+    pub mapo_pa: f64,
+    /// The band-passed pressure over the knock window: (deg, Pa).
+    pub trace: Vec<(f64, f64)>,
 }
 
 impl Resampled {
@@ -204,6 +245,7 @@ impl Resampled {
             notes: Vec::new(),
             combustion: None,
             synthetic: false,
+            most_knocking: None,
         }
     }
 }
@@ -323,6 +365,8 @@ pub struct Accumulator {
     interp: Option<InterpKind>,
     /// How many traces each interpolant took (by `InterpKind as usize`).
     interp_counts: [usize; 3],
+    /// The most knocking cycle so far, for the chart.
+    most_knocking: Option<MostKnocking>,
     /// The volume law on the grid, when the cylinder is known.
     law: Option<Arc<VolumeGrid>>,
     /// The grid's angles `k step` (deg), for the on-grid test.
@@ -370,6 +414,7 @@ impl Accumulator {
             stats: Vec::new(),
             interp: None,
             interp_counts: [0; 3],
+            most_knocking: None,
             law,
             angles: (0..n).map(|k| k as f64 * step).collect(),
             notes: Vec::new(),
@@ -464,6 +509,15 @@ impl Accumulator {
                 .map(|c| pass.p_dv * self.opts.step_deg.to_radians() / c.swept_volume());
             let spacing = (!on_grid).then(|| self.cycle_deg / tr.angle_deg.len() as f64);
             let combustion = self.combustion(src, tr.rpm, spacing)?;
+            if let Some(m) = most_knocking(
+                &self.opts,
+                self.most_knocking.as_ref(),
+                src,
+                tr,
+                combustion.as_ref(),
+            ) {
+                self.most_knocking = Some(m);
+            }
             self.stats.push(CycleStats {
                 cylinder: tr.cylinder,
                 cycle: tr.cycle,
@@ -712,6 +766,7 @@ impl Accumulator {
             notes,
             combustion: self.opts.combustion.clone(),
             synthetic: false,
+            most_knocking: self.most_knocking,
         })
     }
 }

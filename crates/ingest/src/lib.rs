@@ -47,8 +47,8 @@ pub use cancel::{CANCELLED, Cancel, Cancellable, cancel_error};
 pub use columns::{canonical, pressure_unit};
 pub use error::IngestError;
 pub use grid::{
-    Accumulator, CycleCombustion, CycleStats, GridOptions, Peg, PegReport, Resampled, SkippedCycle,
-    mean_std,
+    Accumulator, CycleCombustion, CycleStats, GridOptions, MostKnocking, Peg, PegReport, Resampled,
+    SkippedCycle, mean_std,
 };
 pub use mdf::{MAX_MDF, MAX_MDF_BLOCK, MAX_MDF_CHANNELS, MAX_MDF_DECODED, MAX_MDF_GROUPS};
 pub use number::{NumberError, SpeedError, check_rpm, read_number, read_rpm};

@@ -28,6 +28,7 @@ mod summary;
 pub mod tdc;
 pub mod torsion;
 pub use combustion::CombustionSummary;
+pub use enginedyn_ingest::MostKnocking;
 pub use summary::{
     Basis, Columns, CycleSummary, Field, KEYS, Key, Pegging, Shown, Summary, Value, key,
 };
@@ -132,6 +133,9 @@ pub struct Analysis {
     /// Each used cycle that burns: `(cylinder, cycle, IMEP bar, CA50 deg)`
     /// (the CA50–IMEP scatter).
     pub burn_cycles: Vec<(i64, i64, f64, f64)>,
+    /// With knock measured: the most knocking cycle's band-passed pressure
+    /// and the threshold (Pa), for `knock.svg`.
+    pub most_knocking: Option<(enginedyn_ingest::MostKnocking, f64)>,
 }
 
 /// Below this IMEP (Pa) an engine runs near idle: idle IMEP is about
@@ -651,6 +655,13 @@ pub fn analyse_with(
             analysis.summary.combustion = Some(found.summary);
             analysis.heat_release = found.curves;
             analysis.burn_cycles = found.scatter;
+            analysis.most_knocking = pressure.most_knocking.clone().zip(
+                pressure
+                    .combustion
+                    .as_deref()
+                    .and_then(|o| o.knock.as_ref())
+                    .map(|k| k.threshold_pa),
+            );
         }
     }
     Ok(analysis)
@@ -921,6 +932,7 @@ fn complete(
         summary,
         heat_release: None,
         burn_cycles: Vec::new(),
+        most_knocking: None,
     })
 }
 

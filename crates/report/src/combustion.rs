@@ -95,7 +95,58 @@ pub fn combustion_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
     if a.burn_cycles.len() > 1 {
         figs.push(Figure::single("ca50_imep.svg", scatter(name, a)));
     }
+    if let Some((m, threshold)) = &a.most_knocking {
+        figs.push(Figure::single(
+            "knock.svg",
+            knock_chart(name, m, *threshold),
+        ));
+    }
     figs
+}
+
+/// The band-passed pressure of the most knocking cycle over the knock
+/// window, beside ± the threshold.
+fn knock_chart(name: &str, m: &enginedyn_pipeline::MostKnocking, threshold: f64) -> Chart {
+    let (x0, x1) = (
+        m.trace.first().map_or(0.0, |p| p.0),
+        m.trace.last().map_or(0.0, |p| p.0),
+    );
+    let which = if m.cylinder > 0 {
+        format!("cycle {} of cylinder {}", m.cycle, m.cylinder)
+    } else {
+        format!("cycle {}", m.cycle)
+    };
+    let bar = threshold / 1e5;
+    let mut over = Series::hline(
+        format!("± threshold {bar} bar (--knock-threshold)"),
+        bar,
+        x0,
+        x1,
+    );
+    over.points
+        .extend([(f64::NAN, f64::NAN), (x0, -bar), (x1, -bar)]);
+    Chart {
+        title: format!(
+            "{name} — knock: the band-passed pressure of {which}, MAPO {:.3} bar",
+            m.mapo_pa / 1e5
+        ),
+        x_label: "crank angle from firing TDC (deg)".into(),
+        y_label: "band-passed pressure (bar)".into(),
+        series: vec![
+            Series::from_points(
+                format!("band-passed pressure, {which}"),
+                m.trace
+                    .iter()
+                    .map(|&(x, p)| (x, p / 1e5))
+                    .collect::<Vec<_>>()
+                    .into_iter(),
+            ),
+            over,
+        ],
+        log: false,
+        equal: false,
+        angle_ticks: None,
+    }
 }
 
 /// CA50 against IMEP, a marker per cycle (a cylinder a series), with the
