@@ -25,6 +25,31 @@ fn template(dir: &std::path::Path, name: &str, edit: &[(&str, &str)]) -> String 
     p.to_str().unwrap().to_string()
 }
 
+/// Writes `text` as `name` in `dir` and runs the bundled engine on it
+/// with `--json` and `flags`: the summary, and the output (exit 0).
+fn vaz_json(
+    dir: &std::path::Path,
+    name: &str,
+    text: String,
+    flags: &[&str],
+) -> (serde_json::Value, std::process::Output) {
+    let f = dir.join(name);
+    std::fs::write(&f, text).unwrap();
+    let engine = data("vaz2108.toml");
+    let mut args = vec![
+        "run",
+        "--engine",
+        &engine,
+        "--diagram",
+        f.to_str().unwrap(),
+        "--json",
+    ];
+    args.extend(flags);
+    let o = run(&args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    (serde_json::from_slice(&o.stdout).unwrap(), o)
+}
+
 fn json(args: &[&str]) -> serde_json::Value {
     let o = run(args);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
@@ -91,19 +116,7 @@ fn heavy_noise_gives_null_burn_points_with_a_warning() {
         let e = 5.0 * (-2.0 * u().ln()).sqrt() * (2.0 * std::f64::consts::PI * u()).cos();
         text.push_str(&format!("{a},{}\n", p + e));
     }
-    let f = t.path().join("noisy.csv");
-    std::fs::write(&f, text).unwrap();
-    let o = run(&[
-        "run",
-        "--engine",
-        &data("vaz2108.toml"),
-        "--diagram",
-        f.to_str().unwrap(),
-        "--json",
-        "--no-compression-check",
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let (s, o) = vaz_json(t.path(), "noisy.csv", text, &["--no-compression-check"]);
     assert!(s["ca50_deg"].is_null(), "CA50 {}", s["ca50_deg"]);
     let err = stderr(&o);
     assert!(
@@ -383,19 +396,7 @@ fn the_interpolation_counts_each_choice() {
             text.push_str(&format!("{cycle},{a},{}\n", p + step));
         }
     }
-    let f = t.path().join("mixed.csv");
-    std::fs::write(&f, text).unwrap();
-    let o = run(&[
-        "run",
-        "--engine",
-        &data("vaz2108.toml"),
-        "--diagram",
-        f.to_str().unwrap(),
-        "--json",
-        "--no-compression-check",
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let (s, o) = vaz_json(t.path(), "mixed.csv", text, &["--no-compression-check"]);
     assert_eq!(
         s["models"]["interpolation"],
         "spline (4 traces), pchip (2)",
