@@ -717,10 +717,18 @@ fn sweep_over_speed() {
         assert!(svg.contains(label), "sweep.svg lacks {label:?}");
     }
     // One flywheel for the sweep: its keys equal on every row, sized at the
-    // engine file's 4900 rpm; δ is what it gives at each speed.
+    // engine file's 4900 rpm; δ is what it gives at each speed. The
+    // inertia each speed needs is its own (issue 41: the sizing point's
+    // stood on every row): ΔE / (δ ω²) with the file's δ of 0.01.
     let col = |k: &str| header.iter().position(|h| *h == k).unwrap();
+    let num = |r: &Vec<&str>, k: &str| r[col(k)].parse::<f64>().unwrap();
+    for r in &rows {
+        let w = num(r, "omega_rad_s");
+        let want = num(r, "excess_work_j") / (0.01 * w * w);
+        let got = num(r, "required_inertia_kg_m2");
+        assert!((got / want - 1.0).abs() < 1e-9, "{got} for {want}");
+    }
     for k in [
-        "required_inertia_kg_m2",
         "flywheel_inertia_kg_m2",
         "flywheel_outer_diameter_m",
         "flywheel_mass_kg",
@@ -753,13 +761,14 @@ fn sweep_over_speed() {
         .unwrap();
     let i0 = head
         .iter()
-        .position(|h| *h == "required_inertia_kg_m2")
+        .position(|h| *h == "flywheel_inertia_kg_m2")
         .unwrap();
     assert!(
         (row[k].parse::<f64>().unwrap() - 0.01).abs() < 1e-9,
         "{text}"
     );
-    assert_eq!(row[i0], rows[0][col("required_inertia_kg_m2")]);
+    // The part of the sweep is the one sized at 4900 rpm.
+    assert_eq!(row[i0], rows[0][col("flywheel_inertia_kg_m2")]);
     // Without --out and --csv: a readable table, one row per speed.
     let out = run(&["sweep", "--engine", engine, "--rpm", "1000:3000:1000"]);
     let text = String::from_utf8_lossy(&out.stdout);

@@ -950,12 +950,15 @@ pub fn with_flywheel(a: &mut Analysis, part: &Flywheel) {
 }
 
 /// The summary of a point that sized `here` once `part` stands in its
-/// place (`f`: the part at this point).
+/// place (`f`: the part at this point): the part's figures and the δ it
+/// gives here, beside the inertia this point itself needs.
 fn put_part(s: &mut Summary, here: &Flywheel, part: &Flywheel, f: &Flywheel) {
     // The notes about the flywheel sized here are about another part.
     s.notes.retain(|n| !here.notes.contains(n));
     s.notes.extend(part.notes.iter().cloned());
-    s.required_inertia_kg_m2 = Some(f.required_inertia);
+    // The inertia this point needs is its own (`here`), whatever part
+    // stands in its place: the part's is the sizing point's.
+    s.required_inertia_kg_m2 = Some(here.required_inertia);
     s.flywheel_inertia_kg_m2 = Some(f.inertia);
     s.flywheel_gd2_n_m2 = f.gd2;
     s.flywheel_outer_diameter_m = f.outer_diameter;
