@@ -42,7 +42,8 @@ pub struct Options {
     /// The wall-heat model: with one, the burn points come from the gross
     /// cumulative (`None`: the net figures).
     pub wall_heat: Option<WallHeat>,
-    /// Knock: MAPO and IMPO of each cycle (`None`: not measured).
+    /// Knock: MAPO and IMPO of each cycle (`None`, the default: not
+    /// measured; it costs an FFT pair a cycle).
     pub knock: Option<Knock>,
     /// The speed (rpm) of a cycle whose grid gives none
     /// ([`CycleGrid::rpm`]): the command line's or the engine file's. The
@@ -58,7 +59,7 @@ impl Default for Options {
             window_deg: DEFAULT_WINDOW,
             levels_pct: DEFAULT_LEVELS.to_vec(),
             wall_heat: None,
-            knock: Some(Knock::default()),
+            knock: None,
             rpm: None,
         }
     }
@@ -419,13 +420,23 @@ fn ivc_state(
 ) -> Result<(f64, f64), CombustionError> {
     let k = (ivc_deg / g.step_deg).round() as i64;
     let p = f.value(g.pressure, k);
-    // Intake BDC: 180° before firing TDC (both strokes), ±10°.
-    let half = (10.0 / g.step_deg).round().max(1.0) as i64;
-    let bdc = (-180.0 / g.step_deg).round() as i64;
-    let mean = (bdc - half..=bdc + half)
-        .map(|k| g.at(g.pressure, k))
-        .sum::<f64>()
-        / (2 * half + 1) as f64;
+    // Intake BDC lies 180° before firing TDC (both strokes): the grid's
+    // samples within 6° of it, for the one rule of the mean there.
+    let (half, bdc) = (
+        (6.0 / g.step_deg).ceil() as i64,
+        (-180.0 / g.step_deg).round() as i64,
+    );
+    let cycle = g.cycle_deg();
+    let mean = enginedyn_numerics::intake_bdc_mean(
+        (bdc - half..=bdc + half).map(|k| {
+            (
+                (k as f64 * g.step_deg).rem_euclid(cycle),
+                g.at(g.pressure, k),
+            )
+        }),
+        cycle,
+    )
+    .unwrap_or(0.0);
     let plausible = p >= MIN_IVC_PRESSURE_PA
         && (mean <= 0.0 || (p / mean <= IVC_PRESSURE_RATIO && mean / p <= IVC_PRESSURE_RATIO));
     if !plausible {

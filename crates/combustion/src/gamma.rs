@@ -7,6 +7,11 @@ use crate::CombustionError;
 pub const DEFAULT_GAMMA: f64 = 1.32;
 /// Default intake valve closing for γ(T) (deg from firing TDC).
 pub const DEFAULT_IVC_DEG: f64 = -140.0;
+/// The bounds of an IVC angle (deg from firing TDC) and of the charge
+/// temperature there (K): γ(T)'s and the wall heat's state alike.
+pub const IVC_RANGE_DEG: (f64, f64) = (-270.0, 0.0);
+/// See [`IVC_RANGE_DEG`].
+pub const INTAKE_TEMP_RANGE_K: (f64, f64) = (200.0, 1000.0);
 /// Default charge temperature at intake valve closing for γ(T) (K).
 pub const DEFAULT_INTAKE_TEMP_K: f64 = 320.0;
 
@@ -56,8 +61,9 @@ impl GammaModel {
                 ivc_deg,
                 intake_temp_k,
             } => {
-                crate::check_range("ivc_deg", ivc_deg, -270.0, 0.0)?;
-                crate::check_range("intake_temp_k", intake_temp_k, 200.0, 1000.0)?;
+                crate::check_range("ivc_deg", ivc_deg, IVC_RANGE_DEG.0, IVC_RANGE_DEG.1)?;
+                let (lo, hi) = INTAKE_TEMP_RANGE_K;
+                crate::check_range("intake_temp_k", intake_temp_k, lo, hi)?;
             }
         }
         Ok(())

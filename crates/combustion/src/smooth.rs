@@ -131,7 +131,8 @@ impl Filter {
         dot(&self.slope, &s[c - m..=c + m]) / self.step_deg
     }
 
-    /// [`Self::fit`] at index `c` of such a slice.
+    /// The noise fit (the filter's own, or the five-point cubic when the
+    /// filter is off) at index `c` of such a slice, given the smoothed value.
     #[inline]
     pub fn fit_in(&self, s: &[f64], c: usize, smoothed: f64) -> f64 {
         match &self.fit {
@@ -140,16 +141,6 @@ impl Filter {
                 let m = w.len() / 2;
                 dot(w, &s[c - m..=c + m])
             }
-        }
-    }
-
-    /// The noise fit's value at `k`, given the smoothed value `smoothed`
-    /// there (the same, unless the filter is off).
-    #[inline]
-    pub fn fit(&self, p: &[f64], k: i64, smoothed: f64) -> f64 {
-        match &self.fit {
-            None => smoothed,
-            Some(w) => apply(w, p, k),
         }
     }
 

@@ -9,6 +9,8 @@ use crate::{CombustionError, check_range};
 
 /// Default mean wall temperature (K).
 pub const DEFAULT_WALL_TEMP_K: f64 = 450.0;
+/// The bounds of the mean wall temperature (K).
+pub const WALL_TEMP_RANGE_K: (f64, f64) = (250.0, 1000.0);
 
 /// Woschni's `C1` (gas exchange excluded: compression and combustion).
 pub const WOSCHNI_C1: f64 = 2.28;
@@ -59,9 +61,14 @@ impl WallHeat {
     /// Checks the temperatures (wall 250–1000 K, intake 200–1000 K), IVC
     /// (−270…0°) and the chamber (positive).
     pub fn check(&self) -> Result<(), CombustionError> {
-        check_range("wall_temp_k", self.wall_temp_k, 250.0, 1000.0)?;
-        check_range("intake_temp_k", self.intake_temp_k, 200.0, 1000.0)?;
-        check_range("ivc_deg", self.ivc_deg, -270.0, 0.0)?;
+        let (w, t, a) = (
+            WALL_TEMP_RANGE_K,
+            crate::gamma::INTAKE_TEMP_RANGE_K,
+            crate::gamma::IVC_RANGE_DEG,
+        );
+        check_range("wall_temp_k", self.wall_temp_k, w.0, w.1)?;
+        check_range("intake_temp_k", self.intake_temp_k, t.0, t.1)?;
+        check_range("ivc_deg", self.ivc_deg, a.0, a.1)?;
         for (name, v) in [
             ("bore", self.bore_m),
             ("stroke", self.stroke_m),

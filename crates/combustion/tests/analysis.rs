@@ -590,9 +590,10 @@ fn the_pressure_rise_finds_a_premixed_spike() {
         b.dp_max_angle_deg,
         want / 1e5
     );
-    // The parabola refines the grid point's value upwards, by little.
+    // The parabola refines the grid point's value upwards, by little
+    // (measured 0.03 %).
     assert!(
-        b.dp_max_pa_deg >= want * (1.0 - 1e-9) && b.dp_max_pa_deg < want * 1.02,
+        b.dp_max_pa_deg >= want * (1.0 - 1e-9) && b.dp_max_pa_deg < want * 1.005,
         "{} against {want}",
         b.dp_max_pa_deg
     );
@@ -894,7 +895,8 @@ fn a_fired_trace_with_a_known_wall_loss_gives_back_its_gross_burn() {
             "CA{pct}: gross {got:.3}°, net {:.3}°, law {want:.3}°",
             nb.level(&opts, pct).unwrap()
         );
-        assert!((got - want).abs() < 0.2, "CA{pct}: {got} for {want}");
+        // PHYSICS asks 0.2°; measured under 0.001°.
+        assert!((got - want).abs() < 0.01, "CA{pct}: {got} for {want}");
     }
     let wall_j = r.wall_heat_j.unwrap();
     eprintln!(

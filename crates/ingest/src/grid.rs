@@ -774,24 +774,8 @@ impl Accumulator {
 /// Mean and sample standard deviation (numerics' one home of them).
 pub use enginedyn_numerics::mean_std;
 
-/// The mean of `samples` (angle from firing TDC in `[0, cycle)`, value)
-/// over ±5° around intake BDC, 540° four-stroke or 180° two-stroke: where
-/// `--peg-bar` pegs and the gauge warning looks. `None` without a sample
-/// there.
-pub(crate) fn intake_bdc_mean(
-    samples: impl Iterator<Item = (f64, f64)>,
-    cycle_deg: f64,
-) -> Option<f64> {
-    let bdc = if cycle_deg > 400.0 { 540.0 } else { 180.0 };
-    let (mut sum, mut n) = (0.0, 0usize);
-    for (a, p) in samples {
-        if (a - bdc).abs() <= 5.0 + 1e-9 {
-            sum += p;
-            n += 1;
-        }
-    }
-    (n > 0).then(|| sum / n as f64)
-}
+/// The mean over ±5° around intake BDC (numerics' one home of it).
+pub(crate) use enginedyn_numerics::intake_bdc_mean;
 
 #[cfg(test)]
 mod tests {

@@ -134,7 +134,21 @@ pub(crate) fn analyse(
         rpm: Some(rpm),
         sample_step_deg: Some(pressure.sample_step_deg),
     };
-    let mean = enginedyn_combustion::analyse(&grid(traces[0]), opts).ok()?;
+    // Knock is each cycle's: the mean trace's (its oscillations averaged
+    // away) is wanted only where no cycle was analysed for it.
+    let cycles_knock = pressure
+        .stats
+        .iter()
+        .any(|c| c.combustion.as_ref().is_some_and(|b| b.knock.is_some()));
+    let mean_opts = if cycles_knock && opts.knock.is_some() {
+        std::borrow::Cow::Owned(Options {
+            knock: None,
+            ..opts.clone()
+        })
+    } else {
+        std::borrow::Cow::Borrowed(opts)
+    };
+    let mean = enginedyn_combustion::analyse(&grid(traces[0]), &mean_opts).ok()?;
     let curves = if with_curves {
         Some(enginedyn_combustion::curves(&grid(traces[0]), opts, &mean).ok()?)
     } else {

@@ -187,8 +187,9 @@ pub fn parse_wall_heat(s: &str) -> std::result::Result<WallSetting, String> {
 /// The mean wall temperature (K), 250–1000.
 pub fn parse_wall_temp_k(s: &str) -> std::result::Result<f64, String> {
     let t = read_number(s.trim(), false).map_err(|e| format!("`{s}` {e}"))?;
-    if !(250.0..=1000.0).contains(&t) {
-        return Err(format!("{t} K: expected 250 to 1000"));
+    let (lo, hi) = enginedyn_combustion::wall::WALL_TEMP_RANGE_K;
+    if !(lo..=hi).contains(&t) {
+        return Err(format!("{t} K: expected {lo} to {hi}"));
     }
     Ok(t)
 }
