@@ -59,7 +59,7 @@ def test_parts_read_back_with_schema_nulls_and_metadata(cli, tmp_path):
     path = tmp_path / "c" / "summary" / "part-00000-of-00001.parquet"
     t = pq.read_table(path)
     meta = {k.decode(): v.decode() for k, v in t.schema.metadata.items() if not k.startswith(b"ARROW")}
-    assert meta["enginedyn.schema"] == "summary/3"
+    assert meta["enginedyn.schema"] == "summary/4"
     assert meta["enginedyn.version"] == ed.__version__
     options = json.loads(meta["options"])
     assert len(meta["engine.blake3"]) == 64 and len(meta["engine.parsed_blake3"]) == 64
@@ -72,8 +72,10 @@ def test_parts_read_back_with_schema_nulls_and_metadata(cli, tmp_path):
     assert names[:4] == ["file", "error", "engine", "diagram_blake3"]
     assert t.schema.field("journal_most_loaded").type == pa.int32()
     assert t.schema.field("cycles").type == pa.int64()
-    # summary/3 appends the peak pressure, wall heat, knock and the level lists.
-    assert names[-2:] == ["burn_levels_pct", "burn_levels_deg"] and "imep_lnv" in names and "p_max_bar" in names
+    # summary/3 appends the peak pressure, wall heat, knock and the level
+    # lists; summary/4 the brake figures and design.*.
+    assert names[-10:-8] == ["burn_levels_pct", "burn_levels_deg"] and "imep_lnv" in names and "p_max_bar" in names
+    assert names[-8:] == ["fmep_bar", "bmep_bar", "brake_torque_nm", "brake_power_kw", "mechanical_efficiency", "design.charge", "design.intake_pressure_bar", "design.lambda"]
     assert t.schema.field("burn_levels_deg").type == pa.list_(pa.float64())
     assert "ca50_deg" in names and "models.grid_step_deg" in names and "pegging.method" in names
     rows = {r["file"]: r for r in t.to_pylist()}

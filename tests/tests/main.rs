@@ -9,6 +9,7 @@ mod campaign;
 mod charts_tables;
 mod combustion;
 mod defaults;
+mod design_model;
 mod docs;
 mod firing_orders;
 mod fuzz_paths;

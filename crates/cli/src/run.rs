@@ -47,6 +47,14 @@ pub fn run(a: &RunArgs) -> Result<(), Failure> {
     if let Some(note) = fallback.as_ref().and_then(|d| d.note()) {
         outcome.analysis.summary.notes.insert(0, note.to_string());
     }
+    if let Some(d) = &fallback {
+        outcome.analysis.summary.design = d.design_summary();
+        outcome
+            .analysis
+            .summary
+            .notes
+            .extend(d.warnings().iter().cloned());
+    }
     finish(a, &session, &shown_of(&inputs), &inputs, &outcome)
 }
 

@@ -12,6 +12,9 @@
 //!   duration form;
 //! - [`smooth`]: the Savitzky–Golay filter applied before any derivative;
 //! - [`mod@knock`]: MAPO and IMPO of the band-passed pressure, cycle by cycle;
+//! - [`charge`]: the air a cylinder traps and the heat its fuel gives
+//!   (the design model's load by the intake);
+//! - [`friction`]: Chen–Flynn FMEP and the brake figures;
 //! - [`wall`]: the heat lost to the walls (Woschni, Hohenberg), for the
 //!   gross heat release;
 //! - [`burn`]: one cycle's heat release (cumulative without a derivative
@@ -28,6 +31,8 @@
 //! ```
 
 pub mod burn;
+pub mod charge;
+pub mod friction;
 pub mod gamma;
 pub mod knock;
 pub mod smooth;

@@ -53,6 +53,7 @@ struct Raw {
     tolerances: toml::Table,
     torsion: Option<torsion::RawTorsion>,
     combustion: Option<combustion::RawCombustion>,
+    friction: Option<combustion::RawFriction>,
 }
 
 #[derive(Deserialize, Default)]
@@ -185,7 +186,7 @@ fn parse_with(
     let (builder, defaults, burn) = raw_builder(text, &stem)?;
     let mut engine = build(builder)?;
     engine.defaults_taken = defaults;
-    engine.combustion = burn;
+    (engine.combustion, engine.friction) = burn;
     if let Some(d) = &engine.diagram
         && d.is_relative()
     {
@@ -203,7 +204,7 @@ pub fn parse(text: &str, stem: &str) -> Result<Engine, EngineError> {
     let (builder, defaults, burn) = raw_builder(text, stem)?;
     let mut engine = builder.build()?;
     engine.defaults_taken = defaults;
-    engine.combustion = burn;
+    (engine.combustion, engine.friction) = burn;
     Ok(engine)
 }
 
@@ -213,12 +214,16 @@ pub fn parse_for_crank_search(text: &str, stem: &str) -> Result<Engine, EngineEr
     let (builder, defaults, burn) = raw_builder(text, stem)?;
     let mut engine = builder.build_for_crank_search()?;
     engine.defaults_taken = defaults;
-    engine.combustion = burn;
+    (engine.combustion, engine.friction) = burn;
     Ok(engine)
 }
 
-/// The checked `[combustion]` section, when the file has one.
-type Burn = Option<crate::combustion::CombustionSpec>;
+/// The checked `[combustion]` and `[friction]` sections, when the file
+/// has them.
+type Burn = (
+    Option<crate::combustion::CombustionSpec>,
+    Option<enginedyn_combustion::friction::ChenFlynn>,
+);
 
 /// The keys of an engine file as an unchecked builder (known keys, types,
 /// units and per-key bounds checked; the rest is `build`'s), the
@@ -233,11 +238,25 @@ fn raw_builder(
     let mut raw: Raw = toml::from_str(text).map_err(|e| EngineError::Toml(e.to_string()))?;
     let defaults = taken_defaults(&raw);
     let burn = raw.combustion.take();
+    let friction = raw.friction.take();
     let b = builder(raw, stem)?;
     let burn = burn
         .map(|c| combustion::spec(c, b.stroke, bdc_volume(&b)))
         .transpose()?;
-    Ok((b, defaults, burn))
+    let kind = burn.as_ref().and_then(|c| c.charge).map(|c| c.kind);
+    let friction = friction
+        .map(|f| combustion::friction(f, kind))
+        .transpose()?;
+    if let Some(c) = &burn
+        && c.full_load.as_ref().is_some_and(|f| f.brake)
+        && friction.is_none()
+    {
+        return Err(EngineError::Missing {
+            key: "friction",
+            why: "[combustion.full_load] gives bmep_bar: the FMEP of [friction] turns it into the IMEP a cycle is made for (or give imep_bar)",
+        });
+    }
+    Ok((b, defaults, (burn, friction)))
 }
 
 /// The cylinder's whole volume at BDC (m³: swept plus clearance), from
@@ -256,7 +275,8 @@ fn bdc_volume(b: &EngineBuilder) -> Option<f64> {
 fn taken_defaults(raw: &Raw) -> Vec<TakenDefault> {
     let fw = raw.flywheel.as_ref();
     let mut taken = Vec::new();
-    if raw.operating.mechanical_efficiency.is_none() {
+    // With [friction] the brake figures come from it, not from η_m.
+    if raw.operating.mechanical_efficiency.is_none() && raw.friction.is_none() {
         taken.push(TakenDefault::MechanicalEfficiency);
     }
     if fw.and_then(|f| f.speed_fluctuation).is_none() {
@@ -317,6 +337,7 @@ fn check_keys(table: &toml::Table, text: &str) -> Result<(), EngineError> {
                 let inner = match (section, k.as_str()) {
                     ("torsion", "damper") => Some("torsion.damper"),
                     ("combustion", "second") => Some("combustion.second"),
+                    ("combustion", "full_load") => Some("combustion.full_load"),
                     _ => None,
                 };
                 if let Some(name) = inner
@@ -786,6 +807,11 @@ mod tests {
             fields::<combustion::RawSecond>(),
             documented("combustion.second")
         );
+        assert_eq!(
+            fields::<combustion::RawFullLoad>(),
+            documented("combustion.full_load")
+        );
+        assert_eq!(fields::<combustion::RawFriction>(), documented("friction"));
         let mut tol = TOLERANCE_KEYS.to_vec();
         tol.sort_unstable();
         assert_eq!(tol, documented("tolerances"));

@@ -97,6 +97,7 @@ pub const SECTIONS: &[&str] = &[
     "tolerances",
     "torsion",
     "combustion",
+    "friction",
 ];
 
 macro_rules! key {
@@ -744,7 +745,7 @@ pub const KEYS: &[KeyDoc] = &[
         "required unless start_deg",
         false,
         "the burn law as design tools take it: the angle where half the heat is released (CA50), with duration_10_90_deg and wiebe_m",
-        "-90 to 120°",
+        "-30 to 60° (the law's CA50, in either form: a running engine's)",
         "8.0"
     ),
     key!(
@@ -753,8 +754,8 @@ pub const KEYS: &[KeyDoc] = &[
         "deg",
         "required with ca50_deg",
         false,
-        "the 10–90 % burn duration (CA90 − CA10), with ca50_deg",
-        "0.5 to 240°",
+        "the 10–90 % burn duration (CA90 − CA10), with ca50_deg; one value, or a curve over speed `{ rpm = [...], deg = [...] }` (linear between its points, held at its ends)",
+        "0.5 to 240°; a curve's speeds rising, 1 to 100,000 rpm, at most 1,000 points",
         "20.0"
     ),
     key!(
@@ -823,8 +824,8 @@ pub const KEYS: &[KeyDoc] = &[
         "bar",
         "1.0",
         false,
-        "the absolute intake pressure, the cylinder's at intake valve closing (the boost pressure of a charged engine)",
-        "0.2 to 6 bar",
+        "the absolute intake pressure at full load, the cylinder's at intake valve closing (the boost pressure of a charged engine); one value, or a curve over speed `{ rpm = [...], bar = [...] }` (a boost curve). With charge = \"si\" the throttle lowers it to meet a part load",
+        "0.2 to 6 bar; a curve's speeds rising, 1 to 100,000 rpm, at most 1,000 points",
         "1.0"
     ),
     key!(
@@ -866,6 +867,76 @@ pub const KEYS: &[KeyDoc] = &[
         "exhaust valve (or port) opening, where the blow-down starts",
         "four-stroke above 0 to 344°, two-stroke above 0 to 164°",
         "130.0"
+    ),
+    key!(
+        "combustion",
+        "charge",
+        "text",
+        "none: the intake pressure stays and the fuel follows the load (the template writes \"si\" or \"ci\")",
+        false,
+        "how the engine makes its load: \"si\" (spark ignition: the throttle sets the air, the fuel follows at lambda) or \"ci\" (compression ignition: the boost sets the air, the load sets the fuel, never richer than lambda_min); either way the trapped air bounds the load",
+        "\"si\" or \"ci\"",
+        "\"si\""
+    ),
+    key!(
+        "combustion",
+        "lambda",
+        "",
+        "1.0",
+        false,
+        "the air ratio a spark-ignition engine runs at (charge = \"si\")",
+        "0.6 to 2.0",
+        "1.0"
+    ),
+    key!(
+        "combustion",
+        "lambda_min",
+        "",
+        "1.2",
+        false,
+        "the richest air ratio a compression-ignition engine burns (charge = \"ci\"): it bounds the fuel, and so the load",
+        "1.0 to 3.0",
+        "1.2"
+    ),
+    key!(
+        "combustion",
+        "fuel_lhv_mj_kg",
+        "MJ/kg",
+        "43.4 (si), 42.7 (ci)",
+        false,
+        "the fuel's lower heating value",
+        "10 to 130 MJ/kg",
+        "43.4"
+    ),
+    key!(
+        "combustion",
+        "afr_stoich",
+        "",
+        "14.7 (si), 14.5 (ci)",
+        false,
+        "the fuel's stoichiometric air-fuel ratio (kg of air per kg of fuel)",
+        "1 to 40",
+        "14.7"
+    ),
+    key!(
+        "combustion",
+        "combustion_efficiency",
+        "",
+        "0.98",
+        false,
+        "the share of the fuel's energy released in the cylinder",
+        "0.5 to 1",
+        "0.98"
+    ),
+    key!(
+        "combustion",
+        "full_load",
+        "table",
+        "none",
+        false,
+        "the full-load line: `[combustion.full_load]` with rpm and imep_bar (or bmep_bar); `sweep --load` takes percent of it",
+        "its keys below",
+        "{ rpm = [1000.0, 3000.0, 5000.0], imep_bar = [10.0, 11.5, 10.5] }"
     ),
     key!(
         "combustion",
@@ -946,6 +1017,77 @@ pub const KEYS: &[KeyDoc] = &[
         "the second burn's Wiebe shape m",
         "0 to 10",
         "0.8"
+    ),
+    key!(
+        "combustion.full_load",
+        "rpm",
+        "list",
+        "required in the full-load line",
+        false,
+        "the speeds of the full-load line (rpm), rising",
+        "1 to 100,000 rpm, at most 1,000 points",
+        "[1000.0, 3000.0, 5000.0]"
+    ),
+    key!(
+        "combustion.full_load",
+        "imep_bar",
+        "list",
+        "one of imep_bar or bmep_bar",
+        false,
+        "the net IMEP at full load at each speed",
+        "above 0, up to 40 bar each",
+        "[10.0, 11.5, 10.5]"
+    ),
+    key!(
+        "combustion.full_load",
+        "bmep_bar",
+        "list",
+        "one of imep_bar or bmep_bar",
+        false,
+        "the BMEP at full load at each speed, instead of imep_bar (needs [friction]: IMEP = BMEP + FMEP)",
+        "above 0, up to 40 bar each",
+        "[8.5, 10.0, 8.8]"
+    ),
+    // ---- [friction] ----
+    key!(
+        "friction",
+        "a_bar",
+        "bar",
+        "0.4",
+        false,
+        "Chen–Flynn FMEP = a + b p_max + c c_m + d c_m²: the constant part",
+        "0 to 5 bar",
+        "0.4"
+    ),
+    key!(
+        "friction",
+        "b",
+        "",
+        "0.005 (si), 0.004 (ci)",
+        false,
+        "Chen–Flynn: the share of the peak cylinder pressure (bar per bar)",
+        "0 to 0.05",
+        "0.005"
+    ),
+    key!(
+        "friction",
+        "c_bar_s_m",
+        "bar s/m",
+        "0.09 (si), 0.08 (ci)",
+        false,
+        "Chen–Flynn: the part linear in the mean piston speed c_m (m/s)",
+        "0 to 1 bar s/m",
+        "0.09"
+    ),
+    key!(
+        "friction",
+        "d_bar_s2_m2",
+        "bar s²/m²",
+        "0.0009",
+        false,
+        "Chen–Flynn: the part quadratic in the mean piston speed",
+        "0 to 0.1 bar s²/m²",
+        "0.0009"
     ),
 ];
 

@@ -283,6 +283,7 @@ pub struct Engine {
     pub(crate) notes: Vec<String>,
     pub(crate) defaults_taken: Vec<TakenDefault>,
     pub(crate) combustion: Option<crate::combustion::CombustionSpec>,
+    pub(crate) friction: Option<enginedyn_combustion::friction::ChenFlynn>,
 }
 
 /// A default that shapes the results, taken because the engine file left
@@ -654,6 +655,7 @@ impl EngineBuilder {
             notes,
             defaults_taken: Vec::new(),
             combustion: None,
+            friction: None,
         })
     }
 
@@ -1288,6 +1290,13 @@ impl Engine {
     /// synthesised diagram, when it has one.
     pub fn combustion(&self) -> Option<&crate::combustion::CombustionSpec> {
         self.combustion.as_ref()
+    }
+
+    /// The engine file's `[friction]` (Chen–Flynn), when it has one:
+    /// FMEP, BMEP and the brake figures replace the constant
+    /// `operating.mechanical_efficiency`.
+    pub fn friction(&self) -> Option<&enginedyn_combustion::friction::ChenFlynn> {
+        self.friction.as_ref()
     }
     /// Diagram path from the file (already resolved against the file's folder).
     pub fn diagram(&self) -> Option<&std::path::Path> {

@@ -353,7 +353,64 @@ fn value(k: &KeyDoc, o: &TemplateOptions, p: &Plan, engine: Option<&Engine>) -> 
             false,
         ),
         ("masses", "crank_unbalanced_kg") => ("0.0".to_string(), false),
+        (section, key) if o.combustion == Some(CombustionKind::Diesel) => {
+            match diesel_value(section, key) {
+                Some((v, set)) => (v.to_string(), set),
+                None => (k.example.to_string(), k.required),
+            }
+        }
         _ => (k.example.to_string(), k.required),
+    }
+}
+
+/// The cylinder of the diesel template: a heavy-duty truck engine's
+/// (bore 130 mm, stroke 160 mm: 2.12 l a cylinder, 12.7 l as a six; CR
+/// 17; rated at 1,900 rpm), the masses of the bundled inline-6 diesel.
+fn diesel_value(section: &str, key: &str) -> Option<(&'static str, bool)> {
+    Some(match (section, key) {
+        ("", "bore_mm") => ("130.0", true),
+        ("", "stroke_mm") => ("160.0", true),
+        ("", "rod_length_mm") => ("265.0", true),
+        ("", "cylinder_spacing_mm") => ("160.0", false),
+        ("", "compression_ratio") => ("17.0", true),
+        ("masses", "piston_group_kg") => ("3.9", true),
+        ("masses", "rod_kg") => ("4.2", true),
+        ("masses", "rod_inertia_kg_m2") => ("0.047", false),
+        ("operating", "rpm") => ("1900.0", true),
+        _ => return None,
+    })
+}
+
+/// `[friction]` (Chen–Flynn) for a template with `[combustion]`: the
+/// defaults of its kind, set, so a design run gives its brake figures.
+fn friction_section(out: &mut String, kind: Option<CombustionKind>) {
+    let Some(kind) = kind else {
+        out.push('\n');
+        comment(
+            out,
+            "",
+            "[friction]: Chen–Flynn friction, FMEP = a + b p_max + c c_m + d c_m², for the brake figures (FMEP, BMEP, brake torque and power) in place of operating.mechanical_efficiency; `enginedyn template --combustion petrol|diesel` writes its keys.",
+        );
+        return;
+    };
+    let f = match kind {
+        CombustionKind::Petrol => enginedyn_combustion::friction::ChenFlynn::PETROL,
+        CombustionKind::Diesel => enginedyn_combustion::friction::ChenFlynn::DIESEL,
+    };
+    section_header(
+        out,
+        "friction",
+        "Chen–Flynn friction: FMEP = a + b p_max + c c_m + d c_m² (bar; p_max the peak cylinder pressure in bar, c_m the mean piston speed in m/s). With it every run gives FMEP, BMEP = IMEP − FMEP, brake torque and power and the mechanical efficiency, in place of operating.mechanical_efficiency. The values are enginedyn's defaults for this kind of engine (docs/design.md).",
+    );
+    for k in KEYS.iter().filter(|k| k.section == "friction") {
+        let v = match k.key {
+            "a_bar" => f.a_pa / 1e5,
+            "b" => f.b,
+            "c_bar_s_m" => f.c_pa_s_m / 1e5,
+            _ => f.d_pa_s2_m2 / 1e5,
+        };
+        out.push('\n');
+        entry(out, k, &format!("{v:?}"), true);
     }
 }
 
@@ -442,9 +499,19 @@ fn render(o: &TemplateOptions, p: &Plan, engine: Option<&Engine>) -> String {
     comment(
         &mut out,
         "",
-        "The numbers are one cylinder of the bundled example (VAZ-2108 type, 1.3 l petrol, 4900 rpm), so the file runs as it is:",
+        if o.combustion == Some(CombustionKind::Diesel) {
+            "The numbers are a heavy-duty diesel's cylinder (bore 130 mm, stroke 160 mm, 2.12 l, compression ratio 17, rated at 1900 rpm; the masses of the bundled inline-6 diesel), and [combustion] makes its diagram, so the file runs as it is:"
+        } else if o.combustion.is_some() {
+            "The numbers are one cylinder of the bundled example (VAZ-2108 type, 1.3 l petrol, 4900 rpm), and [combustion] makes its diagram, so the file runs as it is:"
+        } else {
+            "The numbers are one cylinder of the bundled example (VAZ-2108 type, 1.3 l petrol, 4900 rpm), so the file runs as it is:"
+        },
     );
-    out.push_str("#     enginedyn run --engine THIS_FILE.toml --diagram data/vaz2108.csv\n");
+    out.push_str(if o.combustion.is_some() {
+        "#     enginedyn run --engine THIS_FILE.toml\n"
+    } else {
+        "#     enginedyn run --engine THIS_FILE.toml --diagram data/vaz2108.csv\n"
+    });
     comment(
         &mut out,
         "",
@@ -493,7 +560,10 @@ fn render(o: &TemplateOptions, p: &Plan, engine: Option<&Engine>) -> String {
         );
     }
     match o.combustion {
-        Some(kind) => combustion_section(&mut out, kind),
+        Some(kind) => {
+            combustion_section(&mut out, kind);
+            friction_section(&mut out, Some(kind));
+        }
         None => {
             out.push('\n');
             comment(
@@ -501,6 +571,7 @@ fn render(o: &TemplateOptions, p: &Plan, engine: Option<&Engine>) -> String {
                 "",
                 "[combustion]: a burn law that makes the diagram for an engine that has none yet (`enginedyn synth`); `enginedyn template --combustion petrol|diesel` writes its keys.",
             );
+            friction_section(&mut out, None);
         }
     }
     out
@@ -522,6 +593,15 @@ fn combustion_value(
         ("combustion", "intake_pressure_bar") => (if diesel { "2.2" } else { "1.0" }, diesel),
         ("combustion", "ivc_deg") => (if diesel { "-145.0" } else { "-140.0" }, diesel),
         ("combustion", "evo_deg") => (if diesel { "125.0" } else { "130.0" }, diesel),
+        ("combustion", "charge") => (if diesel { "\"ci\"" } else { "\"si\"" }, true),
+        ("combustion", "full_load") => (
+            if diesel {
+                "{ rpm = [800.0, 1000.0, 1200.0, 1400.0, 1600.0, 1900.0, 2100.0], imep_bar = [15.0, 20.0, 23.0, 23.0, 22.0, 20.0, 17.0] }"
+            } else {
+                "{ rpm = [1000.0, 2000.0, 3000.0, 4000.0, 5000.0, 6000.0], imep_bar = [11.5, 12.5, 13.5, 14.0, 13.5, 12.5] }"
+            },
+            true,
+        ),
         ("combustion", "second") => return None,
         ("combustion.second", "fraction") => ("0.8", diesel),
         ("combustion.second", "ca50_deg") => ("18.0", diesel),

@@ -171,3 +171,83 @@ fn template_sections_read_back() {
     assert!(!plain.contains("\n[combustion]"));
     assert!(plain.contains("--combustion petrol|diesel"));
 }
+
+/// The design model's keys: `charge` and its defaults, curves over speed
+/// (linear between points, held at the ends), the full-load line and
+/// `[friction]` (each key left out the kind's default).
+#[test]
+fn design_model_keys() {
+    use enginedyn_engine::combustion::OverSpeed;
+    let e = with(
+        "[combustion]\nca50_deg = 8.0\nwiebe_m = 2\nimep_bar = 9\ncharge = \"ci\"\n\
+         duration_10_90_deg = { rpm = [1000.0, 3000.0], deg = [20.0, 30.0] }\n\
+         intake_pressure_bar = { rpm = [1000, 2000, 3000], bar = [1.5, 2.5, 2.0] }\n\
+         full_load = { rpm = [1000.0, 3000.0], bmep_bar = [12.0, 14.0] }\n\
+         [friction]\na_bar = 0.5\n",
+    )
+    .unwrap();
+    let c = e.combustion().unwrap();
+    let charge = c.charge.unwrap();
+    assert_eq!(charge.kind.name(), "ci");
+    assert_eq!(
+        (charge.lambda_min, charge.lhv_j_kg, charge.afr_stoich),
+        (1.2, 42.7e6, 14.5)
+    );
+    assert!(matches!(c.intake, OverSpeed::Curve(_)));
+    assert!((c.intake_at(Some(1500.0)) - 2.0e5).abs() < 1e-6);
+    assert!((c.intake_at(Some(500.0)) - 1.5e5).abs() < 1e-6);
+    assert!((c.intake_at(Some(9000.0)) - 2.0e5).abs() < 1e-6);
+    let law = c.burn_at(Some(2000.0)).unwrap();
+    assert!((law.angle_of(0.9) - law.angle_of(0.1) - 25.0).abs() < 1e-9);
+    assert!((law.angle_of(0.5) - 8.0).abs() < 1e-9);
+    assert!(c.varies_with_speed());
+    let fl = c.full_load.as_ref().unwrap();
+    assert!(fl.brake && (fl.curve.at(2000.0) - 13.0e5).abs() < 1e-6);
+    let f = e.friction().unwrap();
+    // a given; the rest the diesel's.
+    assert_eq!((f.a_pa, f.b, f.c_pa_s_m), (0.5e5, 0.004, 0.08e5));
+}
+
+#[test]
+fn design_model_keys_are_checked() {
+    let base =
+        "[combustion]\nca50_deg = 8.0\nduration_10_90_deg = 20.0\nwiebe_m = 2\nimep_bar = 9\n";
+    for (extra, want) in [
+        ("charge = \"otto\"\n", "combustion.charge"),
+        ("lambda = 1.0\n", "combustion.charge"),
+        ("charge = \"si\"\nlambda = 5.0\n", "combustion.lambda"),
+        (
+            "intake_pressure_bar = { rpm = [2000.0, 1000.0], bar = [1.0, 1.0] }\n",
+            "rising speeds",
+        ),
+        (
+            "intake_pressure_bar = { rpm = [1000.0, 2000.0], bar = [1.0] }\n",
+            "one value for each speed",
+        ),
+        (
+            "intake_pressure_bar = { rpm = [1000.0], boost = [1.0] }\n",
+            "combustion.intake_pressure_bar.boost",
+        ),
+        (
+            "full_load = { rpm = [1000.0], bmep_bar = [10.0] }\n",
+            "friction",
+        ),
+        (
+            "full_load = { rpm = [1000.0], imep_bar = [90.0] }\n",
+            "combustion.full_load.imep_bar",
+        ),
+    ] {
+        let e = error(&format!("{base}{extra}"));
+        assert!(e.contains(want), "{extra}: {e}");
+    }
+    let e = error(&format!("{base}[friction]\nb = 2.0\n"));
+    assert!(e.contains("friction.b"), "{e}");
+    // A CA50 outside a running engine's, in the Wiebe form too.
+    let e = error(
+        "[combustion]\nstart_deg = 40.0\nduration_deg = 60.0\nwiebe_a = 6.908\nwiebe_m = 2\nimep_bar = 9\n",
+    );
+    assert!(
+        e.contains("combustion.start_deg") && e.contains("-30 to 60"),
+        "{e}"
+    );
+}

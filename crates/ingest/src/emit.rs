@@ -49,6 +49,10 @@ pub(crate) struct Emitter<'o, F> {
     aligner: crate::axis::Aligner,
     /// A headerless file being probed for the readings that fit.
     pub probe: Option<Probe>,
+    /// A diagram `enginedyn synth` wrote: exact by construction, so the
+    /// plausibility rules of measured data (the compression check, the
+    /// intake level) do not question it.
+    pub synthetic: bool,
 }
 
 impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
@@ -73,6 +77,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             time: false,
             aligner: crate::axis::Aligner::new(opts),
             probe: None,
+            synthetic: false,
         }
     }
 
@@ -140,7 +145,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             compression_ratio: opts
                 .cylinder
                 .as_ref()
-                .filter(|_| opts.compression_check)
+                .filter(|_| opts.compression_check && !self.synthetic)
                 .map(|c| c.compression_ratio()),
             despike: opts.despike,
             coverage_first: self.probe.is_none(),
@@ -178,6 +183,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             c.steps = None;
         }
         if self.absolute
+            && !self.synthetic
             && q == Quantity::Pressure
             && !pv
             && let Some(m) = crate::grid::intake_bdc_mean(

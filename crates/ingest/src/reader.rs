@@ -72,6 +72,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
     pub(crate) fn comment(&mut self, line: usize, text: &str) -> Result<(), IngestError> {
         if is_synthetic(text) {
             self.head.synthetic = true;
+            self.out.synthetic = true;
         }
         match parse_rpm(text) {
             Some(Ok(r))

@@ -30,7 +30,8 @@ pub mod torsion;
 pub use combustion::CombustionSummary;
 pub use enginedyn_ingest::MostKnocking;
 pub use summary::{
-    Basis, Columns, CycleSummary, Field, KEYS, Key, Pegging, Shown, Summary, Value, key,
+    Basis, BrakeSummary, Columns, CycleSummary, DesignSummary, Field, KEYS, Key, Pegging, Shown,
+    Summary, Value, key,
 };
 
 /// Why an operating point cannot be analysed.
@@ -637,34 +638,89 @@ pub fn analyse_with(
     };
     let mut analysis = complete(engine, parts, rpm, opts)?;
     if pressure.quantity == Quantity::Pressure {
-        // The mean trace's peak (cylinder 1's), the first a reviewer checks.
-        (analysis.summary.p_max_bar, analysis.summary.p_max_angle_deg) =
-            peak_of(traces[0], pressure.step_deg);
-        let imep_pa = analysis.summary.imep_bar.map(|i| i * 1e5);
-        let swept = engine.cylinder().swept_volume();
-        let with_curves = opts.scope == Scope::Full;
-        if let Some(found) = combustion::analyse(
+        pressure_figures(
+            &mut analysis,
+            engine,
             pressure,
             &traces,
-            (volume, dvolume),
-            swept,
-            (imep_pa, rpm),
-            with_curves,
-        ) {
-            analysis.summary.notes.extend(found.notes);
-            analysis.summary.combustion = Some(found.summary);
-            analysis.heat_release = found.curves;
-            analysis.burn_cycles = found.scatter;
-            analysis.most_knocking = pressure.most_knocking.clone().zip(
-                pressure
-                    .combustion
-                    .as_deref()
-                    .and_then(|o| o.knock.as_ref())
-                    .map(|k| k.threshold_pa),
-            );
-        }
+            tables,
+            (rpm, opts),
+        );
     }
     Ok(analysis)
+}
+
+/// What a pressure trace adds to an analysis: the mean trace's peak, the
+/// brake figures from it (with `[friction]`), and the combustion analysis.
+fn pressure_figures(
+    analysis: &mut Analysis,
+    engine: &Engine,
+    pressure: &Resampled,
+    traces: &[&[f64]],
+    tables: &Tables,
+    (rpm, opts): (f64, &Options),
+) {
+    // The mean trace's peak (cylinder 1's), the first a reviewer checks.
+    (analysis.summary.p_max_bar, analysis.summary.p_max_angle_deg) =
+        peak_of(traces[0], pressure.step_deg);
+    brake_figures(engine, &mut analysis.summary);
+    let imep_pa = analysis.summary.imep_bar.map(|i| i * 1e5);
+    let swept = engine.cylinder().swept_volume();
+    let with_curves = opts.scope == Scope::Full;
+    if let Some(found) = combustion::analyse(
+        pressure,
+        traces,
+        (&tables.volume, &tables.dvolume),
+        swept,
+        (imep_pa, rpm),
+        with_curves,
+    ) {
+        analysis.summary.notes.extend(found.notes);
+        analysis.summary.combustion = Some(found.summary);
+        analysis.heat_release = found.curves;
+        analysis.burn_cycles = found.scatter;
+        analysis.most_knocking = pressure.most_knocking.clone().zip(
+            pressure
+                .combustion
+                .as_deref()
+                .and_then(|o| o.knock.as_ref())
+                .map(|k| k.threshold_pa),
+        );
+    }
+}
+
+/// The brake figures of `s` by the engine file's `[friction]` (Chen–Flynn
+/// on the mean trace's peak and the mean piston speed): FMEP, BMEP = IMEP
+/// − FMEP, the brake torque `BMEP z V_d / Φ` (Φ the cycle, rad) and power,
+/// and BMEP/IMEP, which the effective torque and power then carry in place
+/// of `operating.mechanical_efficiency`. Nothing without `[friction]`, an
+/// IMEP or a peak.
+pub fn brake_figures(engine: &Engine, s: &mut Summary) {
+    let (Some(f), Some(imep), Some(p_max)) = (engine.friction(), s.imep_bar, s.p_max_bar) else {
+        return;
+    };
+    let b = f.brake(imep * 1e5, p_max * 1e5, s.piston_speed_mean_m_s);
+    let displacement = engine.cylinders() as f64 * engine.cylinder().swept_volume();
+    let torque = b.bmep_pa * displacement / engine.cycle();
+    let power_kw = torque * s.omega_rad_s / 1e3;
+    s.brake = Some(summary::BrakeSummary {
+        fmep_bar: b.fmep_pa / 1e5,
+        bmep_bar: b.bmep_pa / 1e5,
+        brake_torque_nm: torque,
+        brake_power_kw: power_kw,
+        mechanical_efficiency: b.mechanical_efficiency,
+    });
+    s.mean_torque_nm = Some(torque);
+    s.power_kw = Some(power_kw);
+    if let Some(eta) = b.mechanical_efficiency {
+        s.mechanical_efficiency = eta;
+    }
+    if b.bmep_pa <= 0.0 {
+        s.notes.push(format!(
+            "the engine does not overcome its friction here: FMEP {:.3} bar (Chen–Flynn, [friction]) against IMEP {imep:.3} bar, so BMEP and the brake torque are negative",
+            b.fmep_pa / 1e5
+        ));
+    }
 }
 
 /// The peak of a periodic trace (Pa) on the grid of `step_deg`, in bar,
@@ -914,6 +970,8 @@ fn complete(
         combustion: None,
         p_max_bar: None,
         p_max_angle_deg: None,
+        brake: None,
+        design: None,
         notes,
     };
     Ok(Analysis {

@@ -1,5 +1,5 @@
 //! The fixed, typed tables of a campaign (INTERFACE.md, "Parquet tables"):
-//! `summary/3`, `cycles/3` and `traces/1`, each column's name, logical type
+//! `summary/4`, `cycles/3` and `traces/1`, each column's name, logical type
 //! and how to get its value. **The one definition**: the Parquet writers
 //! (`enginedyn-tables`) and `summary.csv` (`report::summary_csv`,
 //! `report::flatten`) are built from it; the summary's values come from
@@ -9,7 +9,7 @@
 //! `summary.csv`); each column's [`Group`] places it in the Parquet table
 //! ([`summary_columns`]: the fixed keys, then the optional ones, then
 //! `models.*` and `notes`). A new column is appended to its table and bumps
-//! the table's number (`summary/3`).
+//! the table's number (`summary/4`).
 
 use crate::KEYS;
 use crate::summary::{Columns, Field, Key, Summary, Value};
@@ -19,7 +19,7 @@ use std::borrow::Cow;
 use std::sync::LazyLock;
 
 /// The schema names and versions written as `enginedyn.schema`.
-pub const SUMMARY_SCHEMA: &str = "summary/3";
+pub const SUMMARY_SCHEMA: &str = "summary/4";
 /// See [`SUMMARY_SCHEMA`].
 pub const CYCLES_SCHEMA: &str = "cycles/3";
 /// See [`SUMMARY_SCHEMA`].
@@ -139,6 +139,9 @@ pub enum Group {
     /// angle (optional), and the burn levels asked for and their angles as
     /// lists (Parquet only: `summary.csv` has a `caK_deg` column a level).
     Appended3,
+    /// Appended in `summary/4`: the brake figures (`[friction]`) and the
+    /// design model's `design.*` (optional).
+    Appended4,
 }
 
 impl Group {
@@ -146,7 +149,11 @@ impl Group {
     pub fn optional(self) -> bool {
         matches!(
             self,
-            Group::Optional | Group::Pegging | Group::Combustion | Group::Appended3
+            Group::Optional
+                | Group::Pegging
+                | Group::Combustion
+                | Group::Appended3
+                | Group::Appended4
         )
     }
 
@@ -188,7 +195,7 @@ pub type CycleGet = for<'r, 'a> fn(&'r CycleRow<'a>) -> Cell<'r>;
 /// How a [`TRACES`] column gets its value.
 pub type TraceGet = for<'r, 'a> fn(&'r TracePoint<'a>) -> Cell<'r>;
 
-/// One row of `summary/3`: a diagram file and its summary, or its error.
+/// One row of `summary/4`: a diagram file and its summary, or its error.
 #[derive(Debug, Clone, Copy)]
 pub struct SummaryRecord<'a> {
     /// The path as given.
@@ -225,7 +232,7 @@ fn opt_text<'r>(s: Option<&'r str>) -> Cell<'r> {
     s.map_or(Cell::Null, text)
 }
 
-/// `summary/3`, in `summary.json`'s order (that of `summary.csv`): the
+/// `summary/4`, in `summary.json`'s order (that of `summary.csv`): the
 /// row's own columns and the provenance, then one column per key of
 /// [`KEYS`] (an object's field by field, as its
 /// [`Columns`] say). The Parquet table's order is [`summary_columns`].
@@ -247,23 +254,33 @@ pub static SUMMARY: LazyLock<Vec<Column<SummaryGet>>> = LazyLock::new(|| {
             opt_text(r.diagram_blake3)
         }),
     ];
-    for k in KEYS {
+    let key_columns = |k: &'static Key| -> Vec<Column<SummaryGet>> {
         match k.columns {
-            Columns::One(ty, group) => c.push(Column {
+            Columns::One(ty, group) => vec![Column {
                 name: k.key,
                 ty,
                 nullable: true,
                 group,
                 get: SummaryGet::Key(k),
-            }),
-            Columns::Object(fields) => c.extend(fields.iter().map(|f| Column {
-                name: f.column,
-                ty: f.ty,
-                nullable: true,
-                group: f.group,
-                get: SummaryGet::Field(f),
-            })),
+            }],
+            Columns::Object(fields) => fields
+                .iter()
+                .map(|f| Column {
+                    name: f.column,
+                    ty: f.ty,
+                    nullable: true,
+                    group: f.group,
+                    get: SummaryGet::Field(f),
+                })
+                .collect(),
         }
+    };
+    let appended_4 = |k: &Key| match k.columns {
+        Columns::One(_, group) => group == Group::Appended4,
+        Columns::Object(fields) => fields.iter().all(|f| f.group == Group::Appended4),
+    };
+    for k in KEYS.iter().filter(|k| !appended_4(k)) {
+        c.extend(key_columns(k));
     }
     // summary/3: every burn level asked for, and its angle (the mean
     // trace's), as lists: a level beyond the four fixed ones has no
@@ -281,6 +298,10 @@ pub static SUMMARY: LazyLock<Vec<Column<SummaryGet>>> = LazyLock::new(|| {
     c.push(list("burn_levels_deg", |r| {
         levels_cell(r.summary, |(_, deg)| *deg)
     }));
+    // summary/4: the brake figures and `design.*`, after the lists.
+    for k in KEYS.iter().filter(|k| appended_4(k)) {
+        c.extend(key_columns(k));
+    }
     c
 });
 
@@ -344,7 +365,7 @@ impl Column<TraceGet> {
     }
 }
 
-/// The columns of `summary/3` in the Parquet table's order: `file`,
+/// The columns of `summary/4` in the Parquet table's order: `file`,
 /// `error`, `engine`, `diagram_blake3`, the fixed keys, the optional keys,
 /// `pegging.*`, the text of `models.*`, `models.grid_step_deg`, `notes`.
 pub fn summary_columns() -> Vec<&'static Column<SummaryGet>> {
@@ -679,6 +700,18 @@ mod tests {
             p_max_angle_mean_deg: 12.0,
             p_max_angle_std_deg: 1.0,
         });
+        s.brake = Some(crate::BrakeSummary {
+            fmep_bar: 1.2,
+            bmep_bar: 8.8,
+            brake_torque_nm: 90.0,
+            brake_power_kw: 40.0,
+            mechanical_efficiency: Some(0.88),
+        });
+        s.design = Some(crate::DesignSummary {
+            charge: Some("si"),
+            intake_pressure_bar: 0.7,
+            lambda: Some(1.0),
+        });
         s.pegging = Some(crate::Pegging {
             method: "bar",
             offset_bar: 1.0,
@@ -732,15 +765,25 @@ mod tests {
             .into_iter()
             .map(String::from)
             .collect::<Vec<_>>();
+        let mut appended = Vec::new();
         for (k, v) in s.fields() {
+            let into = if Summary::key(k).is_some_and(|key| match key.columns {
+                Columns::One(_, g) => g == Group::Appended4,
+                Columns::Object(f) => f[0].group == Group::Appended4,
+            }) {
+                &mut appended
+            } else {
+                &mut expected
+            };
             match v {
-                Value::Map(m) => expected.extend(m.iter().map(|(f, _)| format!("{k}.{f}"))),
-                _ => expected.push(k.to_string()),
+                Value::Map(m) => into.extend(m.iter().map(|(f, _)| format!("{k}.{f}"))),
+                _ => into.push(k.to_string()),
             }
         }
-        // summary/3: the level lists, after every key (the peak pressure
-        // among them).
+        // summary/3: the level lists, after every key of before (the peak
+        // pressure among them); summary/4's keys after them.
         expected.extend(["burn_levels_pct".to_string(), "burn_levels_deg".to_string()]);
+        expected.extend(appended);
         let names: Vec<String> = SUMMARY.iter().map(|c| c.name.to_string()).collect();
         assert_eq!(names, expected);
         // And every one has a value in a full summary.
@@ -779,8 +822,22 @@ mod tests {
             names[at("notes") + 1..at("notes") + 3],
             ["models.gamma", "models.smoothing"]
         );
+        // summary/4: the brake figures and `design.*` after the lists.
         assert_eq!(
-            names[names.len() - 12..],
+            names[names.len() - 8..],
+            [
+                "fmep_bar",
+                "bmep_bar",
+                "brake_torque_nm",
+                "brake_power_kw",
+                "mechanical_efficiency",
+                "design.charge",
+                "design.intake_pressure_bar",
+                "design.lambda"
+            ]
+        );
+        assert_eq!(
+            names[names.len() - 20..names.len() - 8],
             [
                 "dp_dphi_max_std_bar_deg",
                 "imep_lnv",

@@ -74,7 +74,33 @@ pub struct Summary {
     pub p_max_bar: Option<f64>,
     /// Its angle (deg from firing TDC, in `[-cycle/2, cycle/2)`).
     pub p_max_angle_deg: Option<f64>,
+    /// The brake figures, with the engine file's `[friction]`.
+    pub brake: Option<BrakeSummary>,
+    /// How a synthesised diagram met its load (the design model).
+    pub design: Option<DesignSummary>,
     pub notes: Vec<String>,
+}
+
+/// The brake figures of a point (PHYSICS "Friction and brake figures").
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[allow(missing_docs)] // each field is the summary.json key of the same name
+pub struct BrakeSummary {
+    pub fmep_bar: f64,
+    pub bmep_bar: f64,
+    pub brake_torque_nm: f64,
+    pub brake_power_kw: f64,
+    pub mechanical_efficiency: Option<f64>,
+}
+
+/// The design model's figures of a synthesised diagram: `design.*`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DesignSummary {
+    /// `"si"` or `"ci"`; `None` without `charge` in the engine file.
+    pub charge: Option<&'static str>,
+    /// The intake pressure of the cycle (bar).
+    pub intake_pressure_bar: f64,
+    /// The air ratio (with `charge`).
+    pub lambda: Option<f64>,
 }
 
 /// Cycle-to-cycle statistics (INTERFACE.md's keys of the same names).
@@ -172,6 +198,8 @@ impl Summary {
             combustion: None,
             p_max_bar: None,
             p_max_angle_deg: None,
+            brake: None,
+            design: None,
             notes: Vec::new(),
         }
     }
@@ -236,11 +264,11 @@ pub struct Key {
     pub shown: Option<Shown>,
     /// The value; `None` when the key is absent from this summary.
     pub get: fn(&Summary) -> Option<Value>,
-    /// Its columns in `summary/3` and `summary.csv`.
+    /// Its columns in `summary/4` and `summary.csv`.
     pub columns: Columns,
 }
 
-/// The columns a summary key makes in the tables (`summary/3`,
+/// The columns a summary key makes in the tables (`summary/4`,
 /// `summary.csv`): [`schema::SUMMARY`](crate::schema::SUMMARY) is built
 /// from these, so a key and its column cannot drift apart.
 #[derive(Debug, Clone, Copy)]
@@ -344,6 +372,26 @@ const OPTIONAL: Columns = Columns::One(ColumnType::Float64, Group::Optional);
 const COMBUSTION: Columns = Columns::One(ColumnType::Float64, Group::Combustion);
 /// A number key's column appended in `summary/3`.
 const APPENDED_3: Columns = Columns::One(ColumnType::Float64, Group::Appended3);
+/// A number key's column appended in `summary/4`.
+const APPENDED_4: Columns = Columns::One(ColumnType::Float64, Group::Appended4);
+
+/// `design`: how a synthesised diagram met its load.
+const DESIGN: &[Field] = &[
+    field!("design"."charge", Utf8, Appended4, |s| s
+        .design
+        .and_then(|d| d.charge.map(Value::Text))),
+    field!("design"."intake_pressure_bar", Float64, Appended4, |s| s
+        .design
+        .map(|d| Value::Num(Some(d.intake_pressure_bar)))),
+    field!("design"."lambda", Float64, Appended4, |s| s
+        .design
+        .map(|d| Value::Num(d.lambda))),
+];
+
+/// A brake figure, present with `[friction]`.
+fn brake(s: &Summary, get: fn(&BrakeSummary) -> Option<f64>) -> Option<Value> {
+    s.brake.as_ref().map(|b| Value::Num(get(b)))
+}
 
 /// The summary key named `name`, found when the program is compiled: for
 /// the lists of figures other crates choose (`report::KEY_FIGURES`,
@@ -1032,5 +1080,48 @@ pub const KEYS: &[Key] = &[
         ),
         get: |s| s.p_max_angle_deg.map(|x| Value::Num(Some(x))),
         columns: APPENDED_3,
+    },
+    Key {
+        key: "fmep_bar",
+        shown: shown(WORK, "FMEP (Chen–Flynn)", "bar", 1.0, 3, Basis::None),
+        get: |s| brake(s, |b| Some(b.fmep_bar)),
+        columns: APPENDED_4,
+    },
+    Key {
+        key: "bmep_bar",
+        shown: shown(WORK, "BMEP (IMEP − FMEP)", "bar", 1.0, 3, Basis::None),
+        get: |s| brake(s, |b| Some(b.bmep_bar)),
+        columns: APPENDED_4,
+    },
+    Key {
+        key: "brake_torque_nm",
+        shown: shown(WORK, "brake torque", "N m", 1.0, 1, Basis::None),
+        get: |s| brake(s, |b| Some(b.brake_torque_nm)),
+        columns: APPENDED_4,
+    },
+    Key {
+        key: "brake_power_kw",
+        shown: shown(WORK, "brake power", "kW", 1.0, 2, Basis::None),
+        get: |s| brake(s, |b| Some(b.brake_power_kw)),
+        columns: APPENDED_4,
+    },
+    Key {
+        key: "mechanical_efficiency",
+        shown: shown(
+            WORK,
+            "mechanical efficiency (BMEP/IMEP)",
+            "",
+            1.0,
+            3,
+            Basis::None,
+        ),
+        get: |s| brake(s, |b| b.mechanical_efficiency),
+        columns: APPENDED_4,
+    },
+    Key {
+        key: "design",
+        shown: None,
+        get: |s| object(s, DESIGN),
+        columns: Columns::Object(DESIGN),
     },
 ];

@@ -69,6 +69,7 @@ impl Session {
     fn map_load(&self, rpms: &[f64], imep: f64) -> Result<(MapLoad, Vec<Point>)> {
         let d = synthesise(&self.loaded, None, Some(imep), self.method.step())?;
         let grid = load_diagram(d.input(), &self.parse, &self.grid)?;
+        let design = d.design_summary();
         let points = rpms
             .par_iter()
             .map(|&rpm| {
@@ -79,7 +80,11 @@ impl Session {
                     rpm,
                     &self.opts,
                 )
-                .map(Point::of)
+                .map(|mut a| {
+                    a.summary.design = Some(design);
+                    a.summary.notes.extend(d.warnings.iter().cloned());
+                    Point::of(a)
+                })
                 .map_err(|e| crate::Error::usage(e.to_string()))
             })
             .collect::<Result<Vec<_>>>()?;

@@ -10,7 +10,7 @@ use crate::diagram::Input;
 use crate::engine::Loaded;
 use crate::error::{Error, Result};
 use enginedyn_engine::Engine;
-use enginedyn_engine::combustion::{CombustionLoad, CombustionSpec};
+use enginedyn_engine::combustion::{CombustionLoad, CombustionSpec, MAX_PRESSURE_RISE_BAR_DEG};
 use enginedyn_numerics::format::human;
 use enginedyn_synth::{Design, DesignModel, GammaModel, Load, SynthError};
 use std::path::{Path, PathBuf};
@@ -44,8 +44,18 @@ pub struct Synthesised {
     pub imep_bar: f64,
     /// The heat released per cylinder and cycle (J): given, or solved for.
     pub heat_released_j: f64,
+    /// The intake pressure of the cycle (bar): the file's at this speed,
+    /// or what a spark-ignition engine's throttle gives for the load.
+    pub intake_pressure_bar: f64,
+    /// The air ratio, when the file says how the engine makes its load.
+    pub lambda: Option<f64>,
+    /// How the engine makes its load (`charge`), when the file says.
+    pub charge: Option<enginedyn_combustion::charge::ChargeKind>,
     /// The note a command says when it runs on it.
     pub note: String,
+    /// What may make its figures wrong (a throttle below a running
+    /// engine's idle): warnings a command says beside the note.
+    pub warnings: Vec<String>,
     /// The γ model it was made with (the analysis reads it back with the
     /// same, PHYSICS "Combustion").
     pub gamma: GammaModel,
@@ -56,6 +66,15 @@ pub struct Synthesised {
 }
 
 impl Synthesised {
+    /// How the cycle met its load, as `summary.json`'s `design` gives it.
+    pub fn design_summary(&self) -> enginedyn_pipeline::DesignSummary {
+        enginedyn_pipeline::DesignSummary {
+            charge: self.charge.map(|c| c.name()),
+            intake_pressure_bar: self.intake_pressure_bar,
+            lambda: self.lambda,
+        }
+    }
+
     /// The diagram as a command's input.
     pub fn input(&self) -> Input<'_> {
         Input::Synthesised(self)
@@ -91,7 +110,7 @@ fn burn_window(m: &DesignModel) -> (f64, f64) {
 
 /// The `[combustion]` section of `loaded`, or a usage error naming the file.
 pub fn spec(loaded: &Loaded) -> Result<CombustionSpec> {
-    loaded.engine.combustion().copied().ok_or_else(|| {
+    loaded.engine.combustion().cloned().ok_or_else(|| {
         Error::usage(format!(
             "{}: no [combustion] section: give the burn law (`enginedyn template --combustion petrol` writes one)",
             loaded.shown()
@@ -99,14 +118,15 @@ pub fn spec(loaded: &Loaded) -> Result<CombustionSpec> {
     })
 }
 
-/// The design cycle of `engine`'s `[combustion]` section, its load the
-/// file's unless `imep_bar` is given (`--imep`). `file` names the engine
-/// file in errors.
+/// The design cycle of `engine`'s `[combustion]` section at `rpm` (its
+/// curves over speed taken there), its load the file's unless `imep_bar`
+/// is given (`--imep`). `file` names the engine file in errors.
 pub fn design_model(
     file: &str,
     engine: &Engine,
     spec: &CombustionSpec,
     imep_bar: Option<f64>,
+    rpm: Option<f64>,
 ) -> Result<DesignModel> {
     let load = match (imep_bar, spec.load) {
         (Some(i), _) => Load::Imep { pa: i * 1e5 },
@@ -119,9 +139,17 @@ pub fn design_model(
         }
     };
     let two = engine.stroke_kind() == enginedyn_engine::Stroke::Two;
-    let mut m = DesignModel::new(spec.burn, load, spec.gamma, two);
-    m.intake_pressure_pa = spec.intake_pressure_pa;
-    m.exhaust_pressure_pa = enginedyn_synth::exhaust_pressure_for(spec.intake_pressure_pa);
+    let burn = spec
+        .burn_at(rpm)
+        .map_err(|e| Error::engine(format!("{file}: [combustion]: {e}")))?;
+    let mut m = DesignModel::new(burn, load, spec.gamma, two);
+    let intake = spec.intake_at(rpm);
+    m.intake_pressure_pa = intake;
+    m.exhaust_pressure_pa = enginedyn_synth::exhaust_pressure_for(intake);
+    m.air = spec.charge.map(|charge| enginedyn_synth::Air {
+        charge,
+        intake_temp_k: spec.intake_temp_k,
+    });
     m.ivc_deg = spec.ivc_deg;
     m.evo_deg = spec.evo_deg;
     m.fit_blowdown();
@@ -150,13 +178,14 @@ pub fn synthesise(
     let spec = spec(loaded)?;
     let engine = &loaded.engine;
     crate::diagram::check_step(engine, step_deg)?;
-    let model = design_model(&file, engine, &spec, imep_bar)?;
+    let rpm = rpm.or(engine.operating().rpm);
+    let model = design_model(&file, engine, &spec, imep_bar, rpm)?;
     let cyl = engine.cylinder();
     let design =
         enginedyn_synth::design(cyl, &model).map_err(|e| failure(&file, imep_bar.is_some(), e))?;
+    plausible(&file, imep_bar.is_some(), engine, &spec, &model, &design)?;
     let n = (model.cycle_deg() / step_deg).round() as usize;
     let trace = design.sample(n, step_deg);
-    let rpm = rpm.or(engine.operating().rpm);
     let lines = header(&file, engine, &model, &design, step_deg, &trace);
     let refs: Vec<&str> = lines.iter().map(String::as_str).collect();
     let mut buf = Vec::new();
@@ -168,6 +197,7 @@ pub fn synthesise(
         Load::Heat { .. } => None,
     };
     let law = describe_burn(&model);
+    let charge = describe_charge(&model, &design);
     let load = match imep_target_bar {
         Some(i) => format!(
             "IMEP {} bar (heat released {} J per cylinder)",
@@ -180,11 +210,34 @@ pub fn synthesise(
             human(design.imep_pa / 1e5)
         ),
     };
+    let mut warnings = Vec::new();
+    if spec.charge.is_some()
+        && design.intake_pressure_pa < enginedyn_engine::combustion::MIN_INTAKE_BAR * 1e5
+    {
+        warnings.push(format!(
+            "the design cycle meets IMEP {} bar with the throttle at {} bar intake, below the {} bar of a running engine at idle: the lossless cycle (no wall heat, no residual gas) needs less air than an engine, so its pumping loss here is an upper bound",
+            human((design.imep_pa / 1e4).round() / 10.0),
+            human((design.intake_pressure_pa / 1e3).round() / 100.0),
+            enginedyn_engine::combustion::MIN_INTAKE_BAR
+        ));
+    }
     Ok(Synthesised {
+        warnings,
         name: format!("synthesised from {file} [combustion]"),
         note: format!(
-            "{NOTE_PREFIX} of {file}: no diagram given and no `diagram` in the engine file, so the design cycle at {load}, {law}, γ {}; the lossless cycle is the same at every speed",
-            model.gamma.describe()
+            "{NOTE_PREFIX} of {file}: no diagram given and no `diagram` in the engine file, so the design cycle at {load}, {law}, γ {}{charge}; {}",
+            model.gamma.describe(),
+            if spec.varies_with_speed() {
+                format!(
+                    "its curves over speed taken at {}",
+                    rpm.map_or("their first speed".to_string(), |r| format!(
+                        "{} rpm",
+                        human(r)
+                    ))
+                )
+            } else {
+                "the lossless cycle is the same at every speed".to_string()
+            }
         ),
         text,
         rpm,
@@ -192,9 +245,82 @@ pub fn synthesise(
         imep_target_bar,
         imep_bar: design.imep_pa / 1e5,
         heat_released_j: design.heat_released_j,
+        intake_pressure_bar: design.intake_pressure_pa / 1e5,
+        lambda: design.lambda,
+        charge: spec.charge.map(|c| c.kind),
         gamma: model.gamma,
         burn_window_deg: burn_window(&model),
     })
+}
+
+/// A design cycle no engine runs is refused (INTERFACE "The design
+/// model"): a heat released beyond what the cylinder's air can burn (for
+/// a file without `charge`; with one, the design model bounds the fuel),
+/// a pressure rise over [`MAX_PRESSURE_RISE_BAR_DEG`].
+fn plausible(
+    file: &str,
+    from_flag: bool,
+    engine: &Engine,
+    spec: &CombustionSpec,
+    m: &DesignModel,
+    d: &Design,
+) -> Result<()> {
+    let load_key = match (from_flag, m.load) {
+        (true, _) => "--imep",
+        (false, Load::Imep { .. }) => "imep_bar",
+        (false, Load::Heat { .. }) => "heat_released_j",
+    };
+    let refuse = |m: String| {
+        if from_flag {
+            Error::usage(m)
+        } else {
+            Error::engine(format!("{file}: [combustion]: {m}"))
+        }
+    };
+    let cyl = engine.cylinder();
+    let bdc = cyl.swept_volume() * cyl.compression_ratio() / (cyl.compression_ratio() - 1.0);
+    let most = enginedyn_engine::combustion::max_heat_released_j(
+        bdc,
+        d.intake_pressure_pa,
+        spec.intake_temp_k,
+    );
+    if spec.charge.is_none() && d.heat_released_j > most {
+        return Err(refuse(format!(
+            "{load_key}: the cycle needs {} J of heat per cylinder, more than its trapped air can burn ({} J: the whole cylinder full of air at {} bar and {} K, {} MJ per kg of air); lower the load, raise intake_pressure_bar, or set charge = \"si\" or \"ci\" for the design model's own bound",
+            human(d.heat_released_j.round()),
+            human(most.floor()),
+            human(d.intake_pressure_pa / 1e5),
+            human(spec.intake_temp_k),
+            enginedyn_engine::combustion::MAX_HEAT_PER_KG_AIR / 1e6
+        )));
+    }
+    let (rise, at) = d.solution.max_rise();
+    if rise > MAX_PRESSURE_RISE_BAR_DEG * 1e5 {
+        return Err(refuse(format!(
+            "{load_key}: the burn law gives a pressure rise of {} bar/° at {}°, over the {MAX_PRESSURE_RISE_BAR_DEG} bar/° of a running engine (a knocking one's); lengthen combustion.duration_10_90_deg, split the burn ([combustion.second]) or lower the load",
+            human((rise / 1e5 * 100.0).round() / 100.0),
+            human((at * 10.0).round() / 10.0)
+        )));
+    }
+    Ok(())
+}
+
+/// The charge in a few words (empty without `charge`): `, spark ignition
+/// throttled to 0.43 bar intake at λ 1`.
+fn describe_charge(m: &DesignModel, d: &Design) -> String {
+    use enginedyn_combustion::charge::ChargeKind;
+    let (Some(air), Some(lambda)) = (m.air, d.lambda) else {
+        return String::new();
+    };
+    let p = human((d.intake_pressure_pa / 1e5 * 1e4).round() / 1e4);
+    let l = human((lambda * 1e3).round() / 1e3);
+    match air.charge.kind {
+        ChargeKind::Si if d.intake_pressure_pa < m.intake_pressure_pa * (1.0 - 1e-9) => {
+            format!(", spark ignition throttled to {p} bar intake at λ {l}")
+        }
+        ChargeKind::Si => format!(", spark ignition at full load ({p} bar intake, λ {l})"),
+        ChargeKind::Ci => format!(", compression ignition at {p} bar intake, λ {l}"),
+    }
 }
 
 /// The burn law in a few words: `Wiebe CA10 −1.6°, CA50 8°, CA90 18.4°`.
@@ -280,18 +406,30 @@ fn header(
             GammaModel::Constant(g) => format!("{g}"),
             GammaModel::Brunt { .. } => "brunt".to_string(),
         },
-        m.intake_pressure_pa / 1e5,
+        d.intake_pressure_pa / 1e5,
         match m.gamma {
             GammaModel::Brunt { intake_temp_k, .. } => intake_temp_k,
             GammaModel::Constant(_) => engine
                 .combustion()
                 .map_or(enginedyn_synth::DEFAULT_INTAKE_TEMP_K, |c| c.intake_temp_k),
         },
-        m.exhaust_pressure_pa / 1e5,
+        enginedyn_synth::exhaust_pressure_for(d.intake_pressure_pa) / 1e5,
         m.ivc_deg,
         m.evo_deg,
         m.blowdown_deg
     ));
+    if let (Some(air), Some(lambda)) = (m.air, d.lambda) {
+        let c = air.charge;
+        lines.push(format!(
+            "charge: {} (full-load intake_pressure_bar = {}), lambda = {lambda}, lambda_min = {}, fuel_lhv_mj_kg = {}, afr_stoich = {}, combustion_efficiency = {}",
+            c.kind.name(),
+            m.intake_pressure_pa / 1e5,
+            c.lambda_min,
+            c.lhv_j_kg / 1e6,
+            c.afr_stoich,
+            c.combustion_efficiency
+        ));
+    }
     let (peak_deg, peak) = enginedyn_synth::peak_pressure(trace).unwrap_or((0.0, 0.0));
     lines.push(format!(
         "result: step_deg = {step_deg}, IMEP {:.4} bar net, peak {:.2} bar at {peak_deg:.1} deg after firing TDC",
@@ -322,6 +460,22 @@ impl DefaultDiagram {
             DefaultDiagram::Synthesised(s) => s.input(),
         }
     }
+    /// A synthesised diagram's `design` figures.
+    pub fn design_summary(&self) -> Option<enginedyn_pipeline::DesignSummary> {
+        match self {
+            DefaultDiagram::File(_) => None,
+            DefaultDiagram::Synthesised(s) => Some(s.design_summary()),
+        }
+    }
+
+    /// The warnings to say beside the note (a synthesised diagram's).
+    pub fn warnings(&self) -> &[String] {
+        match self {
+            DefaultDiagram::File(_) => &[],
+            DefaultDiagram::Synthesised(s) => &s.warnings,
+        }
+    }
+
     /// The note to say (a synthesised diagram's).
     pub fn note(&self) -> Option<&str> {
         match self {

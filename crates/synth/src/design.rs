@@ -24,6 +24,7 @@
 //! ```
 
 use crate::{BurnLaw, CycleModel, CycleSolution, GammaModel, Gas, Losses, SynthError};
+use enginedyn_combustion::charge::{Charge, ChargeKind};
 use enginedyn_kinematics::Cylinder;
 
 /// Exhaust valve opening of a design four-stroke without `evo_deg` (deg
@@ -91,6 +92,22 @@ pub struct DesignModel {
     pub blowdown_deg: f64,
     /// A two-stroke (360°) cycle.
     pub two_stroke: bool,
+    /// The air and fuel (PHYSICS "Load by the intake"): a spark-ignition
+    /// engine meets an IMEP target by its intake pressure (at most
+    /// [`Self::intake_pressure_pa`]), a compression-ignition one by its
+    /// fuel, never richer than `λ_min`. `None`: the intake pressure stays
+    /// and the heat released follows the load, unbounded but by the
+    /// engine file's own check.
+    pub air: Option<Air>,
+}
+
+/// The charge of a design cycle and the temperature its air is trapped at.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Air {
+    /// SI or CI, λ, the fuel.
+    pub charge: Charge,
+    /// The charge temperature at IVC (K).
+    pub intake_temp_k: f64,
 }
 
 impl DesignModel {
@@ -119,6 +136,7 @@ impl DesignModel {
             evo_deg,
             blowdown_deg: DESIGN_BLOWDOWN_DEG,
             two_stroke,
+            air: None,
         };
         m.fit_blowdown();
         m
@@ -169,6 +187,11 @@ pub struct Design {
     pub imep_pa: f64,
     /// Cycles integrated to find it (1 for a heat given).
     pub evaluations: usize,
+    /// The intake pressure of the cycle (Pa): the model's, or the one a
+    /// spark-ignition engine's throttle gives for the load.
+    pub intake_pressure_pa: f64,
+    /// The air ratio of the cycle, with [`DesignModel::air`].
+    pub lambda: Option<f64>,
 }
 
 /// The net IMEP (Pa) of a solved cycle: `∮ p dV / V_d`, the trapezoid on
@@ -198,7 +221,6 @@ struct Grid {
     rate: Vec<f64>,
     open: Vec<(f64, f64)>,
     open_h: f64,
-    pv_ivc: f64,
 }
 
 impl Grid {
@@ -229,7 +251,6 @@ impl Grid {
             })
             .collect();
         Ok(Self {
-            pv_ivc: model.intake_pressure_pa * v[0],
             h,
             n,
             v,
@@ -249,7 +270,7 @@ impl Grid {
         q: f64,
     ) -> Result<(CycleSolution, f64), SynthError> {
         let g = model.gamma;
-        let pv_ivc = self.pv_ivc;
+        let pv_ivc = model.intake_pressure_pa * self.v[0];
         let f = |k: usize, p: f64| {
             let v = self.v[k];
             let gam = g.gamma(p * v, pv_ivc);
@@ -334,19 +355,122 @@ fn solve_at(
             heat_released_j: heat_j,
             imep_pa: imep,
             evaluations: 1,
+            intake_pressure_pa: model.intake_pressure_pa,
+            lambda: model.air.map(|a| {
+                let air =
+                    a.charge
+                        .trapped_air_kg(model.intake_pressure_pa, grid.v[0], a.intake_temp_k);
+                a.charge.lambda_of(air, heat_j)
+            }),
         },
         imep,
     ))
 }
 
-/// Solves the design cycle of `model` on `cyl`: for an IMEP target, the
-/// heat released that meets it (secant on IMEP(Q_f) from the motored cycle
-/// and a first guess at 35 % indicated efficiency, to 1e-9 relative;
-/// refused when the target is at or below the motored cycle's IMEP).
+/// Solves the design cycle of `model` on `cyl`. Without
+/// [`DesignModel::air`], or for a compression-ignition engine, the load
+/// sets the heat released (for an IMEP target a secant on IMEP(Q_f) from
+/// the motored cycle and a first guess at 35 % indicated efficiency, to
+/// 1e-9 relative; refused at or below the motored cycle's IMEP); the
+/// compression-ignition engine's trapped air bounds it (`λ ≥ λ_min`). A
+/// spark-ignition engine's load sets its intake pressure instead, the
+/// fuel following the air at λ ([`Air`]); a load beyond what the
+/// full-load intake pressure gives is refused, naming the most it gives.
 pub fn design(cyl: &Cylinder, model: &DesignModel) -> Result<Design, SynthError> {
     let grid = Grid::new(cyl, model)?;
+    match model.air {
+        Some(air) if air.charge.kind == ChargeKind::Si => by_throttle(cyl, model, &grid, air),
+        Some(air) => {
+            let d = by_fuel(cyl, model, &grid)?;
+            within_air(cyl, model, &grid, air, d)
+        }
+        None => by_fuel(cyl, model, &grid),
+    }
+}
+
+/// The heat the trapped air of `model` (at its intake pressure) burns at
+/// the richest λ the charge allows (J).
+fn air_heat(model: &DesignModel, grid: &Grid, air: Air) -> f64 {
+    let m = air
+        .charge
+        .trapped_air_kg(model.intake_pressure_pa, grid.v[0], air.intake_temp_k);
+    air.charge.heat_j(m, air.charge.richest())
+}
+
+/// What a load beyond the trapped air is told: the most it gives and the
+/// keys that raise it.
+fn beyond_air(model: &DesignModel, most_imep_pa: f64, air: Air, asked: &str) -> SynthError {
+    let (lambda, raise) = match air.charge.kind {
+        ChargeKind::Si => (
+            format!("λ {}", air.charge.lambda),
+            "raise intake_pressure_bar (a charged engine) or lower lambda",
+        ),
+        ChargeKind::Ci => (
+            format!("λ_min {}", air.charge.lambda_min),
+            "raise intake_pressure_bar (the boost) or lower lambda_min",
+        ),
+    };
+    SynthError::Load(format!(
+        "{asked}: beyond what the trapped air burns: the air of intake_pressure_bar = {} at intake_temp_k = {} burnt at {lambda} gives at most IMEP {:.2} bar; {raise}",
+        model.intake_pressure_pa / 1e5,
+        air.intake_temp_k,
+        most_imep_pa / 1e5
+    ))
+}
+
+/// A compression-ignition cycle `d` whose fuel its air must burn: refused
+/// when the heat released needs more fuel than `λ_min` allows.
+fn within_air(
+    cyl: &Cylinder,
+    model: &DesignModel,
+    grid: &Grid,
+    air: Air,
+    d: Design,
+) -> Result<Design, SynthError> {
+    let q_max = air_heat(model, grid, air);
+    if d.heat_released_j <= q_max * (1.0 + 1e-9) {
+        return Ok(d);
+    }
+    let (_, most) = solve_at(cyl, model, grid, q_max)?;
+    let asked = match model.load {
+        Load::Imep { pa } => format!("imep_bar = {}", pa / 1e5),
+        Load::Heat { j } => format!("heat_released_j = {j}"),
+    };
+    Err(beyond_air(model, most, air, &asked))
+}
+
+/// A spark-ignition cycle: the intake pressure (the throttle) that meets
+/// the load, the fuel following the air at λ. A heat released gives it
+/// in closed form; an IMEP target by a secant on IMEP(p_intake) (nearly
+/// affine: the closed part scales with p, the pumping loop is affine in
+/// it) from the full-load intake pressure, to 1e-9 relative.
+fn by_throttle(
+    cyl: &Cylinder,
+    model: &DesignModel,
+    grid: &Grid,
+    air: Air,
+) -> Result<Design, SynthError> {
+    let full = model.intake_pressure_pa;
+    let q_full = air_heat(model, grid, air);
+    let at = |p: f64| -> Result<(Design, f64), SynthError> {
+        let mut m = *model;
+        m.intake_pressure_pa = p;
+        m.exhaust_pressure_pa = exhaust_pressure_for(p);
+        solve_at(cyl, &m, grid, q_full * p / full)
+    };
     let target = match model.load {
-        Load::Heat { j } => return Ok(solve_at(cyl, model, &grid, j)?.0),
+        Load::Heat { j } => {
+            if j > q_full * (1.0 + 1e-9) {
+                let (_, most) = at(full)?;
+                return Err(beyond_air(
+                    model,
+                    most,
+                    air,
+                    &format!("heat_released_j = {j}"),
+                ));
+            }
+            return Ok(at(full * j / q_full)?.0);
+        }
         Load::Imep { pa } => pa,
     };
     if !(target.is_finite() && target > 0.0) {
@@ -356,7 +480,64 @@ pub fn design(cyl: &Cylinder, model: &DesignModel) -> Result<Design, SynthError>
             expected: "above 0".into(),
         });
     }
-    let (_, i0) = solve_at(cyl, model, &grid, 0.0)?;
+    let (mut best, i_full) = at(full)?;
+    if target > i_full * (1.0 + 1e-9) {
+        return Err(beyond_air(
+            model,
+            i_full,
+            air,
+            &format!("imep_bar = {}", target / 1e5),
+        ));
+    }
+    let (mut p0, mut f0) = (full, i_full - target);
+    let mut evaluations = 1;
+    let mut p1 = full * target / i_full;
+    while (f0 / target).abs() > 1e-9 {
+        if !(p1.is_finite() && p1 > 0.0) {
+            return Err(SynthError::Load(format!(
+                "imep_bar = {}: below what the throttled engine gives at any intake pressure (its pumping loop costs more)",
+                target / 1e5
+            )));
+        }
+        let (d, i1) = at(p1)?;
+        evaluations += 1;
+        best = d;
+        let f1 = i1 - target;
+        if (f1 / target).abs() <= 1e-9 {
+            break;
+        }
+        if evaluations >= 40 || (f1 - f0).abs() <= f64::EPSILON * target {
+            return Err(SynthError::Load(format!(
+                "imep_bar = {}: the intake pressure was not found (IMEP {} bar after {evaluations} cycles)",
+                target / 1e5,
+                best.imep_pa / 1e5
+            )));
+        }
+        let p2 = p1 - f1 * (p1 - p0) / (f1 - f0);
+        (p0, f0) = (p1, f1);
+        p1 = p2;
+    }
+    best.evaluations = evaluations;
+    Ok(best)
+}
+
+/// The cycle whose heat released meets the load: for an IMEP target, the
+/// heat released that meets it (secant on IMEP(Q_f) from the motored cycle
+/// and a first guess at 35 % indicated efficiency, to 1e-9 relative;
+/// refused when the target is at or below the motored cycle's IMEP).
+fn by_fuel(cyl: &Cylinder, model: &DesignModel, grid: &Grid) -> Result<Design, SynthError> {
+    let target = match model.load {
+        Load::Heat { j } => return Ok(solve_at(cyl, model, grid, j)?.0),
+        Load::Imep { pa } => pa,
+    };
+    if !(target.is_finite() && target > 0.0) {
+        return Err(SynthError::Parameter {
+            name: "imep_bar",
+            value: target / 1e5,
+            expected: "above 0".into(),
+        });
+    }
+    let (_, i0) = solve_at(cyl, model, grid, 0.0)?;
     if target <= i0 {
         return Err(SynthError::Load(format!(
             "imep_bar = {}: at or below the motored cycle's {:.4} bar (no heat release gives it)",
@@ -366,7 +547,7 @@ pub fn design(cyl: &Cylinder, model: &DesignModel) -> Result<Design, SynthError>
     }
     let (mut q0, mut f0) = (0.0, i0 - target);
     let mut q1 = (target - i0) * cyl.swept_volume() / 0.35;
-    let (mut best, mut f1) = solve_at(cyl, model, &grid, q1)?;
+    let (mut best, mut f1) = solve_at(cyl, model, grid, q1)?;
     f1 -= target;
     let mut evaluations = 2;
     while (f1 / target).abs() > 1e-9 {
@@ -384,7 +565,7 @@ pub fn design(cyl: &Cylinder, model: &DesignModel) -> Result<Design, SynthError>
                 target / 1e5
             )));
         }
-        let (d, i2) = solve_at(cyl, model, &grid, q2)?;
+        let (d, i2) = solve_at(cyl, model, grid, q2)?;
         evaluations += 1;
         (q0, f0) = (q1, f1);
         (q1, f1) = (q2, i2 - target);

@@ -50,9 +50,9 @@ use std::f64::consts::PI;
 
 mod design;
 pub use design::{
-    DEFAULT_EVO_DEG, DEFAULT_EVO_DEG_TWO_STROKE, DEFAULT_IVC_DEG_TWO_STROKE, DESIGN_BLOWDOWN_DEG,
-    DESIGN_STEP_DEG, Design, DesignModel, IMEP_WORK_STEP_DEG, Load, design, design_trace,
-    exhaust_pressure_for, imep_of,
+    Air, DEFAULT_EVO_DEG, DEFAULT_EVO_DEG_TWO_STROKE, DEFAULT_IVC_DEG_TWO_STROKE,
+    DESIGN_BLOWDOWN_DEG, DESIGN_STEP_DEG, Design, DesignModel, IMEP_WORK_STEP_DEG, Load, design,
+    design_trace, exhaust_pressure_for, imep_of,
 };
 pub use enginedyn_combustion::{
     BurnLaw, CombustionError, DEFAULT_A, DEFAULT_GAMMA, DEFAULT_INTAKE_TEMP_K, DEFAULT_IVC_DEG,
@@ -763,6 +763,17 @@ impl CycleSolution {
     /// The model solved.
     pub fn model(&self) -> &CycleModel {
         &self.model
+    }
+
+    /// The steepest pressure rise of the closed part (Pa/deg) and its
+    /// angle (deg), from the integration's own derivative at its nodes.
+    pub fn max_rise(&self) -> (f64, f64) {
+        let (k, r) = self
+            .dp
+            .iter()
+            .enumerate()
+            .fold((0, f64::MIN), |a, (k, &r)| if r > a.1 { (k, r) } else { a });
+        (r, self.model.ivc_deg + k as f64 * self.h)
     }
 
     /// The fraction of the trapped mass lost by blow-by from IVC to EVO

@@ -1,5 +1,5 @@
 //! A campaign's fixed, typed tables as Parquet (INTERFACE.md, "Campaigns:
-//! shards and Parquet" and "Parquet tables"): `summary/3`, `cycles/3` and
+//! shards and Parquet" and "Parquet tables"): `summary/4`, `cycles/3` and
 //! `traces/1`, built from the one definition in
 //! [`enginedyn_pipeline::schema`], each part a file
 //! `DIR/TABLE/part-IIIII-of-NNNNN.parquet` written whole or not at all; and
@@ -177,7 +177,7 @@ pub enum TablesError {
 /// One of a campaign's tables.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Table {
-    /// `summary/3`: one row per diagram file.
+    /// `summary/4`: one row per diagram file.
     Summary,
     /// `cycles/3`: one row per file × cylinder × measured cycle.
     Cycles,
@@ -619,7 +619,7 @@ pub fn parquet_bytes<R: Rows>(rows: &[R], meta: &Meta) -> Result<Vec<u8>, Tables
     w.finish()
 }
 
-/// A `summary/3` part holding `rows` (in the shard's order), as bytes.
+/// A `summary/4` part holding `rows` (in the shard's order), as bytes.
 pub fn summary_parquet(rows: &[SummaryRecord<'_>], meta: &Meta) -> Result<Vec<u8>, TablesError> {
     parquet_bytes(rows, meta)
 }

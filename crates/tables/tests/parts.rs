@@ -177,7 +177,8 @@ fn summary_part_reads_back() {
     assert_eq!(ty("models.grid_step_deg"), DataType::Float64);
     // summary/2: the combustion columns after `notes`; summary/3: the
     // level lists after them.
-    let n = fields.len();
+    // summary/4: the brake figures and `design.*` after them.
+    let n = fields.len() - 8;
     assert_eq!(fields[n - 11].0, "imep_lnv");
     assert_eq!(fields[n - 10].0, "models.wall_heat");
     assert_eq!(fields[n - 5].0, "knock_share");
@@ -185,11 +186,13 @@ fn summary_part_reads_back() {
     assert_eq!(fields[n - 3].0, "p_max_angle_deg");
     assert_eq!(fields[n - 2].0, "burn_levels_pct");
     assert_eq!(fields[n - 1].0, "burn_levels_deg");
+    assert_eq!(fields[n].0, "fmep_bar");
+    assert_eq!(fields[n + 7].0, "design.lambda");
     assert!(matches!(ty("burn_levels_deg"), DataType::List(_)));
     assert_eq!(ty("ca50_deg"), DataType::Float64);
     assert_eq!(ty("models.gamma"), DataType::Utf8);
     // Metadata.
-    assert_eq!(kv["enginedyn.schema"], "summary/3");
+    assert_eq!(kv["enginedyn.schema"], "summary/4");
     assert_eq!(kv["enginedyn.version"], env!("CARGO_PKG_VERSION"));
     assert_eq!(kv["engine.blake3"].len(), 64);
     assert_eq!(kv["engine.parsed_blake3"].len(), 64);
@@ -506,7 +509,7 @@ fn merge_names_a_missing_or_different_part() {
         "{err}"
     );
     assert!(
-        err.contains("`enginedyn.schema` is `summary/3` here"),
+        err.contains("`enginedyn.schema` is `summary/4` here"),
         "{err}"
     );
     std::fs::write(&gone, &kept).unwrap();

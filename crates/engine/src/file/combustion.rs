@@ -7,6 +7,8 @@
 use super::EngineError;
 use crate::Stroke;
 use crate::combustion::*;
+use enginedyn_combustion::charge::{Charge, ChargeKind};
+use enginedyn_combustion::friction::ChenFlynn;
 use enginedyn_combustion::{CombustionError, DEFAULT_A};
 use enginedyn_numerics::format::human;
 use serde::Deserialize;
@@ -22,19 +24,43 @@ pub(super) enum RawGamma {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawCombustion {
     ca50_deg: Option<f64>,
-    duration_10_90_deg: Option<f64>,
+    duration_10_90_deg: Option<toml::Value>,
     start_deg: Option<f64>,
     duration_deg: Option<f64>,
     wiebe_a: Option<f64>,
     wiebe_m: Option<f64>,
     imep_bar: Option<f64>,
     heat_released_j: Option<f64>,
-    intake_pressure_bar: Option<f64>,
+    intake_pressure_bar: Option<toml::Value>,
     intake_temp_k: Option<f64>,
     gamma: Option<RawGamma>,
     ivc_deg: Option<f64>,
     evo_deg: Option<f64>,
+    charge: Option<String>,
+    lambda: Option<f64>,
+    lambda_min: Option<f64>,
+    fuel_lhv_mj_kg: Option<f64>,
+    afr_stoich: Option<f64>,
+    combustion_efficiency: Option<f64>,
+    full_load: Option<RawFullLoad>,
     second: Option<RawSecond>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawFullLoad {
+    rpm: Option<Vec<f64>>,
+    imep_bar: Option<Vec<f64>>,
+    bmep_bar: Option<Vec<f64>>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawFriction {
+    a_bar: Option<f64>,
+    b: Option<f64>,
+    c_bar_s_m: Option<f64>,
+    d_bar_s2_m2: Option<f64>,
 }
 
 #[derive(Deserialize, Default)]
@@ -254,21 +280,301 @@ fn load(
     })
 }
 
+/// The most points of a curve over speed.
+pub const MAX_CURVE_POINTS: usize = 1000;
+
+/// A number of a TOML value (an integer too).
+fn number(v: &toml::Value) -> Option<f64> {
+    match v {
+        toml::Value::Float(x) => Some(*x),
+        toml::Value::Integer(i) => Some(*i as f64),
+        _ => None,
+    }
+}
+
+/// A list of numbers, or an error naming `key`.
+fn numbers(key: &str, v: &toml::Value) -> Result<Vec<f64>, EngineError> {
+    let list = v
+        .as_array()
+        .ok_or_else(|| invalid(key.into(), v, "a list of numbers"))?;
+    if list.is_empty() || list.len() > MAX_CURVE_POINTS {
+        return Err(invalid(
+            key.into(),
+            format!("{} values", list.len()),
+            format!("1 to {MAX_CURVE_POINTS} values"),
+        ));
+    }
+    list.iter()
+        .map(|x| number(x).ok_or_else(|| invalid(key.into(), x, "a number")))
+        .collect()
+}
+
+/// A curve's speeds: rising, 1 to 100,000 rpm.
+fn speeds(key: &str, rpm: &[f64]) -> Result<(), EngineError> {
+    for (k, &r) in rpm.iter().enumerate() {
+        if !(r.is_finite() && (1.0..=1e5).contains(&r)) {
+            return Err(invalid(key.into(), r, "speeds of 1 to 100,000 rpm"));
+        }
+        if k > 0 && r <= rpm[k - 1] {
+            return Err(invalid(
+                key.into(),
+                format!("{} after {}", human(r), human(rpm[k - 1])),
+                "rising speeds, each once",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A curve `{ rpm = [...], <field> = [...] }` of `key`, each value within
+/// `lo..=hi` (`unit`), times `scale` into SI.
+fn curve(
+    key: &str,
+    t: &toml::Table,
+    field: &str,
+    (lo, hi, unit): (f64, f64, &str),
+    scale: f64,
+) -> Result<Curve, EngineError> {
+    for k in t.keys() {
+        if k != "rpm" && k != field {
+            return Err(invalid(
+                format!("{key}.{k}"),
+                "an unknown key",
+                format!("a curve over speed: {{ rpm = [...], {field} = [...] }}"),
+            ));
+        }
+    }
+    let get = |name: &str| {
+        t.get(name).ok_or_else(|| {
+            invalid(
+                key.into(),
+                format!("a table without `{name}`"),
+                format!("a curve over speed: {{ rpm = [...], {field} = [...] }}"),
+            )
+        })
+    };
+    let rpm = numbers(&format!("{key}.rpm"), get("rpm")?)?;
+    speeds(&format!("{key}.rpm"), &rpm)?;
+    let values = numbers(&format!("{key}.{field}"), get(field)?)?;
+    if values.len() != rpm.len() {
+        return Err(invalid(
+            format!("{key}.{field}"),
+            format!("{} values for {} speeds", values.len(), rpm.len()),
+            "one value for each speed of rpm",
+        ));
+    }
+    for &v in &values {
+        if !(v.is_finite() && (lo..=hi).contains(&v)) {
+            return Err(invalid(
+                format!("{key}.{field}"),
+                v,
+                format!("{lo} to {hi}{unit} each"),
+            ));
+        }
+    }
+    Ok(Curve {
+        rpm,
+        values: values.iter().map(|v| v * scale).collect(),
+    })
+}
+
+/// One value or a curve over speed, as [`curve`] takes it.
+fn over_speed(
+    key: &str,
+    v: &toml::Value,
+    field: &str,
+    bounds: (f64, f64, &str),
+    scale: f64,
+) -> Result<OverSpeed, EngineError> {
+    match (number(v), v.as_table()) {
+        (Some(x), _) => {
+            let (lo, hi, unit) = bounds;
+            if x.is_finite() && (lo..=hi).contains(&x) {
+                Ok(OverSpeed::Fixed(x * scale))
+            } else {
+                Err(invalid(key.into(), x, format!("{lo} to {hi}{unit}")))
+            }
+        }
+        (None, Some(t)) => Ok(OverSpeed::Curve(curve(key, t, field, bounds, scale)?)),
+        (None, None) => Err(invalid(
+            key.into(),
+            v,
+            format!("a number, or a curve over speed {{ rpm = [...], {field} = [...] }}"),
+        )),
+    }
+}
+
+/// The air and fuel keys: `None` without `charge` (the other keys then
+/// refused, as they would do nothing).
+fn charge(raw: &RawCombustion) -> Result<Option<Charge>, EngineError> {
+    const S: &str = "combustion";
+    let kind = match raw.charge.as_deref() {
+        None => {
+            let given = [
+                ("lambda", raw.lambda),
+                ("lambda_min", raw.lambda_min),
+                ("fuel_lhv_mj_kg", raw.fuel_lhv_mj_kg),
+                ("afr_stoich", raw.afr_stoich),
+                ("combustion_efficiency", raw.combustion_efficiency),
+            ];
+            if let Some((k, _)) = given.iter().find(|(_, v)| v.is_some()) {
+                return Err(missing("combustion.charge", leak_why(k)));
+            }
+            return Ok(None);
+        }
+        Some("si") => ChargeKind::Si,
+        Some("ci") => ChargeKind::Ci,
+        Some(other) => {
+            return Err(invalid(
+                "combustion.charge".into(),
+                format!("\"{}\"", enginedyn_numerics::format::quote(other)),
+                "\"si\" (spark ignition) or \"ci\" (compression ignition)",
+            ));
+        }
+    };
+    let mut c = Charge::default_for(kind);
+    if let Some(l) = raw.lambda {
+        c.lambda = within(S, "lambda", l, 0.6, 2.0, "")?;
+    }
+    if let Some(l) = raw.lambda_min {
+        c.lambda_min = within(S, "lambda_min", l, 1.0, 3.0, "")?;
+    }
+    if let Some(q) = raw.fuel_lhv_mj_kg {
+        c.lhv_j_kg = within(S, "fuel_lhv_mj_kg", q, 10.0, 130.0, " MJ/kg")? * 1e6;
+    }
+    if let Some(a) = raw.afr_stoich {
+        c.afr_stoich = within(S, "afr_stoich", a, 1.0, 40.0, "")?;
+    }
+    if let Some(e) = raw.combustion_efficiency {
+        c.combustion_efficiency = within(S, "combustion_efficiency", e, 0.5, 1.0, "")?;
+    }
+    Ok(Some(c))
+}
+
+/// Why `charge` is needed when `key` is given.
+fn leak_why(key: &str) -> &'static str {
+    match key {
+        "lambda" => "how the engine makes its load (\"si\" or \"ci\"), which lambda is for",
+        "lambda_min" => "how the engine makes its load (\"si\" or \"ci\"), which lambda_min is for",
+        _ => "how the engine makes its load (\"si\" or \"ci\"), which the fuel keys are for",
+    }
+}
+
+/// `[combustion.full_load]`: speeds and IMEP (or BMEP) at each.
+fn full_load(raw: RawFullLoad) -> Result<FullLoad, EngineError> {
+    const K: &str = "combustion.full_load";
+    let rpm = raw.rpm.ok_or_else(|| {
+        missing(
+            "combustion.full_load.rpm",
+            "the speeds of the full-load line",
+        )
+    })?;
+    let (values, brake, key) = match (raw.imep_bar, raw.bmep_bar) {
+        (Some(i), None) => (i, false, "imep_bar"),
+        (None, Some(b)) => (b, true, "bmep_bar"),
+        (Some(_), Some(_)) => {
+            return Err(invalid(
+                format!("{K}.bmep_bar"),
+                "given with imep_bar",
+                "one of imep_bar or bmep_bar",
+            ));
+        }
+        (None, None) => {
+            return Err(missing(
+                "combustion.full_load.imep_bar",
+                "the full load at each speed: imep_bar (or bmep_bar)",
+            ));
+        }
+    };
+    let mut t = toml::Table::new();
+    t.insert(
+        "rpm".into(),
+        toml::Value::Array(rpm.into_iter().map(toml::Value::Float).collect()),
+    );
+    t.insert(
+        key.into(),
+        toml::Value::Array(values.into_iter().map(toml::Value::Float).collect()),
+    );
+    let bounds = (f64::MIN_POSITIVE, MAX_IMEP_BAR, " bar (above 0)");
+    Ok(FullLoad {
+        curve: curve(K, &t, key, bounds, 1e5)?,
+        brake,
+    })
+}
+
+/// `[friction]`: the Chen–Flynn constants, each left out taking the
+/// default of the engine's kind (`charge`; spark ignition without one).
+pub(super) fn friction(
+    raw: RawFriction,
+    kind: Option<ChargeKind>,
+) -> Result<ChenFlynn, EngineError> {
+    const S: &str = "friction";
+    let d = match kind {
+        Some(ChargeKind::Ci) => ChenFlynn::DIESEL,
+        _ => ChenFlynn::PETROL,
+    };
+    let get = |v: Option<f64>, key: &str, hi: f64, unit: &str, default: f64, scale: f64| {
+        v.map_or(Ok(default), |x| {
+            within(S, key, x, 0.0, hi, unit).map(|x| x * scale)
+        })
+    };
+    Ok(ChenFlynn {
+        a_pa: get(raw.a_bar, "a_bar", 5.0, " bar", d.a_pa, 1e5)?,
+        b: get(raw.b, "b", 0.05, "", d.b, 1.0)?,
+        c_pa_s_m: get(raw.c_bar_s_m, "c_bar_s_m", 1.0, " bar s/m", d.c_pa_s_m, 1e5)?,
+        d_pa_s2_m2: get(
+            raw.d_bar_s2_m2,
+            "d_bar_s2_m2",
+            0.1,
+            " bar s²/m²",
+            d.d_pa_s2_m2,
+            1e5,
+        )?,
+    })
+}
+
+/// The 10–90 duration: one value, or a curve (each speed's law checked).
+fn duration(raw: &RawCombustion) -> Result<(Option<f64>, Option<Curve>), EngineError> {
+    let Some(v) = &raw.duration_10_90_deg else {
+        return Ok((None, None));
+    };
+    match over_speed(
+        "combustion.duration_10_90_deg",
+        v,
+        "deg",
+        (0.5, 240.0, "°"),
+        1.0,
+    )? {
+        OverSpeed::Fixed(d) => Ok((Some(d), None)),
+        OverSpeed::Curve(c) => {
+            if raw.start_deg.is_some() {
+                return Err(invalid(
+                    "combustion.duration_10_90_deg".into(),
+                    "given with start_deg",
+                    "duration_deg with start_deg (duration_10_90_deg goes with ca50_deg)",
+                ));
+            }
+            Ok((Some(c.values[0]), Some(c)))
+        }
+    }
+}
+
 /// The checked section for an engine of `stroke` whose cylinder holds
 /// `bdc_volume_m3` at BDC (swept plus clearance; `None` when the geometry
 /// is not known).
 pub(super) fn spec(
-    raw: RawCombustion,
+    mut raw: RawCombustion,
     stroke: Stroke,
     bdc_volume_m3: Option<f64>,
 ) -> Result<CombustionSpec, EngineError> {
     const S: &str = "combustion";
     let two = stroke == Stroke::Two;
+    let (duration_10_90_deg, duration_curve) = duration(&raw)?;
     let first = wiebe(
         S,
         &BurnKeys {
             ca50_deg: raw.ca50_deg,
-            duration_10_90_deg: raw.duration_10_90_deg,
+            duration_10_90_deg,
             start_deg: raw.start_deg,
             duration_deg: raw.duration_deg,
             wiebe_a: raw.wiebe_a,
@@ -276,40 +582,25 @@ pub(super) fn spec(
         },
         false,
     )?;
-    let burn = match raw.second {
+    let burn = match raw.second.take() {
         None => BurnLaw::single(first),
-        Some(s) => {
-            let fraction = s.fraction.ok_or_else(|| {
-                missing(
-                    "combustion.second.fraction",
-                    "the second burn's share of the heat, 0 to 1",
-                )
-            })?;
-            let fraction = within("combustion.second", "fraction", fraction, 0.0, 1.0, "")?;
-            let w = wiebe(
-                "combustion.second",
-                &BurnKeys {
-                    ca50_deg: s.ca50_deg,
-                    duration_10_90_deg: s.duration_10_90_deg,
-                    start_deg: s.start_deg,
-                    duration_deg: s.duration_deg,
-                    wiebe_a: s.wiebe_a,
-                    wiebe_m: s.wiebe_m,
-                },
-                true,
-            )?;
-            BurnLaw::double(first, w, fraction)
-                .map_err(|e| from_law("combustion.second", e, false))?
-        }
+        Some(s) => second(s, first)?,
     };
-    let intake_pressure_pa = within(
-        S,
-        "intake_pressure_bar",
-        raw.intake_pressure_bar.unwrap_or(DEFAULT_INTAKE_PA / 1e5),
-        MIN_INTAKE_BAR,
-        MAX_INTAKE_BAR,
-        " bar absolute (a throttled engine at idle to a two-stage charged one)",
-    )? * 1e5;
+    check_ca50(&burn, raw.ca50_deg.is_some())?;
+    let intake = over_speed(
+        "combustion.intake_pressure_bar",
+        raw.intake_pressure_bar
+            .as_ref()
+            .unwrap_or(&toml::Value::Float(DEFAULT_INTAKE_PA / 1e5)),
+        "bar",
+        (
+            MIN_INTAKE_BAR,
+            MAX_INTAKE_BAR,
+            " bar absolute (a throttled engine at idle to a two-stage charged one)",
+        ),
+        1e5,
+    )?;
+    let intake_pressure_pa = intake.at(None);
     let intake_temp_k = within(
         S,
         "intake_temp_k",
@@ -322,12 +613,24 @@ pub(super) fn spec(
     let load = load(
         (raw.imep_bar, raw.heat_released_j),
         bdc_volume_m3,
-        intake_pressure_pa,
+        intake.max(),
         intake_temp_k,
     )?;
     let (ivc_deg, evo_deg) = valves(raw.ivc_deg, raw.evo_deg, two)?;
     check_start(&burn, raw.ca50_deg.is_some(), ivc_deg, evo_deg)?;
-    let gamma = match raw.gamma {
+    let duration_curve = match duration_curve {
+        None => None,
+        Some(c) => Some(speed_laws(
+            &burn,
+            raw.ca50_deg,
+            raw.wiebe_m,
+            raw.wiebe_a,
+            c,
+            ivc_deg,
+            evo_deg,
+        )?),
+    };
+    let gamma = match raw.gamma.take() {
         None => GammaModel::Constant(enginedyn_combustion::DEFAULT_GAMMA),
         Some(RawGamma::Value(g)) => GammaModel::Constant(within(S, "gamma", g, 1.01, 1.67, "")?),
         Some(RawGamma::Name(n)) if n == "brunt" => GammaModel::Brunt {
@@ -342,8 +645,14 @@ pub(super) fn spec(
             ));
         }
     };
+    let charge = charge(&raw)?;
+    let full_load = raw.full_load.take().map(full_load).transpose()?;
     Ok(CombustionSpec {
         burn,
+        duration_curve,
+        charge,
+        intake,
+        full_load,
         load,
         intake_pressure_pa,
         intake_temp_k,
@@ -351,6 +660,94 @@ pub(super) fn spec(
         ivc_deg,
         evo_deg,
     })
+}
+
+/// The law's CA50 within [`CA50_RANGE_DEG`], or an error naming the key
+/// that sets it.
+fn check_ca50(burn: &BurnLaw, ca50_form: bool) -> Result<(), EngineError> {
+    let ca50 = burn.angle_of(0.5);
+    let (lo, hi) = CA50_RANGE_DEG;
+    if (lo..=hi).contains(&ca50) {
+        return Ok(());
+    }
+    let key = if ca50_form { "ca50_deg" } else { "start_deg" };
+    Err(invalid(
+        format!("combustion.{key}"),
+        human((ca50 * 1e3).round() / 1e3),
+        format!(
+            "a burn law whose CA50 lies {lo} to {hi}° after firing TDC{}: earlier, the charge burns against the rising piston; later, most of it burns in the exhaust",
+            if ca50_form {
+                ""
+            } else {
+                " (this law's CA50, from start_deg and duration_deg)"
+            }
+        ),
+    ))
+}
+
+/// `[combustion.second]` beside the first burn.
+fn second(s: RawSecond, first: Wiebe) -> Result<BurnLaw, EngineError> {
+    let fraction = s.fraction.ok_or_else(|| {
+        missing(
+            "combustion.second.fraction",
+            "the second burn's share of the heat, 0 to 1",
+        )
+    })?;
+    let fraction = within("combustion.second", "fraction", fraction, 0.0, 1.0, "")?;
+    let w = wiebe(
+        "combustion.second",
+        &BurnKeys {
+            ca50_deg: s.ca50_deg,
+            duration_10_90_deg: s.duration_10_90_deg,
+            start_deg: s.start_deg,
+            duration_deg: s.duration_deg,
+            wiebe_a: s.wiebe_a,
+            wiebe_m: s.wiebe_m,
+        },
+        true,
+    )?;
+    BurnLaw::double(first, w, fraction).map_err(|e| from_law("combustion.second", e, false))
+}
+
+/// The duration curve's law at each of its speeds, each checked as the
+/// file's law is (inside IVC … EVO).
+fn speed_laws(
+    burn: &BurnLaw,
+    ca50: Option<f64>,
+    m: Option<f64>,
+    a: Option<f64>,
+    c: Curve,
+    ivc: f64,
+    evo: f64,
+) -> Result<DurationCurve, EngineError> {
+    let d = DurationCurve {
+        ca50_deg: ca50.unwrap_or_default(),
+        duration_deg: c,
+        m: m.unwrap_or_default(),
+        a: a.unwrap_or(DEFAULT_A),
+    };
+    for (&rpm, &dur) in d.duration_deg.rpm.iter().zip(&d.duration_deg.values) {
+        let w = Wiebe::from_ca50(d.ca50_deg, dur, d.m, d.a).map_err(|e| {
+            let at = from_law("combustion", e, true);
+            EngineError::Toml(format!(
+                "combustion.duration_10_90_deg at {} rpm: {at}",
+                human(rpm)
+            ))
+        })?;
+        let law = match burn.second() {
+            Some(&(s, f)) => {
+                BurnLaw::double(w, s, f).map_err(|e| from_law("combustion.second", e, false))?
+            }
+            None => BurnLaw::single(w),
+        };
+        check_start(&law, true, ivc, evo).map_err(|e| {
+            EngineError::Toml(format!(
+                "combustion.duration_10_90_deg at {} rpm: {e}",
+                human(rpm)
+            ))
+        })?;
+    }
+    Ok(d)
 }
 
 /// `ivc_deg` and `evo_deg` (their defaults for the cycle), within the

@@ -511,16 +511,16 @@ class Result:
         return list(self._native.files(centered))
 
     def to_arrow(self) -> Any:
-        """This run as the ``summary/3`` table's one row (``pyarrow.Table``):
+        """This run as the ``summary/4`` table's one row (``pyarrow.Table``):
         the columns, types and metadata of a campaign's parts."""
         return _read_parquet(self._native.summary_parquet())
 
     def to_pandas(self) -> Any:
-        """This run as a one-row pandas DataFrame (the ``summary/3`` columns)."""
+        """This run as a one-row pandas DataFrame (the ``summary/4`` columns)."""
         return self.to_arrow().to_pandas()
 
     def to_polars(self) -> Any:
-        """This run as a one-row polars DataFrame (the ``summary/3`` columns)."""
+        """This run as a one-row polars DataFrame (the ``summary/4`` columns)."""
         import polars as pl
 
         return pl.read_parquet(_io.BytesIO(self._native.summary_parquet()))
@@ -781,7 +781,7 @@ class _FrozenBatch:
 
 class Batch:
     """Many files: one row per file; a failed file is a row with ``error``.
-    Its tables are the campaign's (``summary/3``, ``cycles/3``): the same
+    Its tables are the campaign's (``summary/4``, ``cycles/3``): the same
     columns, types and metadata ``enginedyn batch --parquet`` writes. It
     pickles (its tables and summaries; ``write_parquet`` stays with the
     batch that ran)."""
@@ -817,7 +817,7 @@ class Batch:
         return [list(n) for n, _ in self._native.notes()]
 
     def to_arrow(self) -> Any:
-        """The ``summary/3`` table as a ``pyarrow.Table`` (one row per file)."""
+        """The ``summary/4`` table as a ``pyarrow.Table`` (one row per file)."""
         return _read_parquet(self._native.summary_parquet())
 
     def cycles_arrow(self) -> Any:
@@ -825,11 +825,11 @@ class Batch:
         return _read_parquet(self._native.cycles_parquet())
 
     def to_pandas(self) -> Any:
-        """The ``summary/3`` table as a pandas DataFrame."""
+        """The ``summary/4`` table as a pandas DataFrame."""
         return self.to_arrow().to_pandas()
 
     def to_polars(self) -> Any:
-        """The ``summary/3`` table as a polars DataFrame."""
+        """The ``summary/4`` table as a polars DataFrame."""
         import polars as pl
 
         return pl.read_parquet(_io.BytesIO(self._native.summary_parquet()))
