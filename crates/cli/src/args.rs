@@ -716,12 +716,15 @@ pub struct SynthArgs {
     pub out: PathBuf,
 }
 
-/// `sweep --imep`: a speed × load map from the engine file's `[combustion]`.
+/// `sweep --imep` or `--load`: a speed × load map from the engine file's `[combustion]`.
 #[derive(Debug, Clone, Args)]
 pub struct SweepMapArgs {
     /// Loads FROM:TO:STEP (net IMEP, bar): a speed × load map synthesised from `[combustion]`; at most 10,000 points (speeds × loads).
-    #[arg(long, value_name = "FROM:TO:STEP", conflicts_with = "diagram")]
+    #[arg(long, value_name = "FROM:TO:STEP", conflicts_with_all = ["diagram", "load"])]
     pub imep: Option<String>,
+    /// Loads FROM:TO:STEP in percent of the full-load line (`[combustion.full_load]`) at each speed: a speed × load map; the highest load's row names the rated-power and peak-torque points.
+    #[arg(long, value_name = "FROM:TO:STEP", conflicts_with = "diagram")]
+    pub load: Option<String>,
 }
 
 /// `template --combustion`.

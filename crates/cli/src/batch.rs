@@ -393,7 +393,7 @@ fn print_outputs(
         .map(|r| (r.file.clone(), r.error.clone(), r.cells.clone()))
         .collect();
     let csv = enginedyn_report::summary_csv(&table);
-    let eta = engine.operating().mechanical_efficiency;
+    let eta = enginedyn_report::effective_of(engine);
     let key_rows: Vec<enginedyn_report::KeyRow> = rows
         .iter()
         .map(|r| enginedyn_report::KeyRow {
@@ -583,7 +583,7 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
                 "rpm",
                 &enginedyn_report::SWEEP_FIGURES,
                 &rows,
-                engine.operating().mechanical_efficiency,
+                enginedyn_report::effective_of(engine),
             ));
             crate::emit(&text);
         }

@@ -186,7 +186,9 @@ fn main() -> ExitCode {
     let result = match command {
         args::Command::Run(a) => run::run(&a),
         args::Command::Batch(a) => batch::run(&a),
-        args::Command::Sweep(a) if a.map.imep.is_some() => sweep_map::run(&a),
+        args::Command::Sweep(a) if a.map.imep.is_some() || a.map.load.is_some() => {
+            sweep_map::run(&a)
+        }
         args::Command::Sweep(a) => batch::sweep(&a),
         args::Command::Kinematics(a) => kinematics::run(&a),
         args::Command::FiringOrders(a) => firing::run(&a),

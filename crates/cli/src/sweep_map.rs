@@ -4,6 +4,7 @@
 
 use crate::Failure;
 use crate::args::SweepArgs;
+use enginedyn_session::map::{Loads, MapPoint, SweepMap};
 use enginedyn_session::{Loaded, Session};
 
 const FILES: [&str; 2] = ["sweep.csv", "sweep.svg"];
@@ -21,7 +22,12 @@ fn json_array(objects: &[String]) -> String {
 
 /// Runs the map and prints or writes it.
 pub fn run(a: &SweepArgs) -> Result<(), Failure> {
-    let shown_loads = a.map.imep.as_deref().unwrap_or_default();
+    let shown_loads = a
+        .map
+        .imep
+        .as_deref()
+        .or(a.map.load.as_deref())
+        .unwrap_or_default();
     let loaded = Loaded::from_file(&a.engine)?;
     enginedyn_session::synth::spec(&loaded)?;
     let out = crate::open_out(a.out.as_deref(), &FILES, "sweep")?;
@@ -32,7 +38,10 @@ pub fn run(a: &SweepArgs) -> Result<(), Failure> {
         enginedyn_pipeline::Scope::Summary,
     )?;
     let rpms = enginedyn_session::speed::speeds(&a.rpm)?;
-    let loads = enginedyn_session::options::imep_range(shown_loads)?;
+    let loads = match &a.map.load {
+        Some(l) => Loads::Percent(enginedyn_session::options::load_range(l)?),
+        None => Loads::Imep(enginedyn_session::options::imep_range(shown_loads)?),
+    };
     let map = session.sweep_map(&rpms, &loads, &a.rpm, shown_loads)?;
     crate::say_all(&map.notes);
     // The points' notes grouped by kind, one line a kind.
@@ -41,8 +50,8 @@ pub fn run(a: &SweepArgs) -> Result<(), Failure> {
         .iter()
         .map(|p| {
             format!(
-                "IMEP {} bar, {} rpm",
-                crate::human(p.imep_target_bar),
+                "{}, {} rpm",
+                load_name(p),
                 crate::human(p.point.summary.rpm)
             )
         })
@@ -61,10 +70,9 @@ pub fn run(a: &SweepArgs) -> Result<(), Failure> {
         .iter()
         .map(|p| {
             let mut cells = enginedyn_report::flatten(&p.point.summary);
-            cells.push((
-                "imep_target_bar".to_string(),
-                enginedyn_numerics::format::csv(p.imep_target_bar),
-            ));
+            for (k, v) in point_keys(&map, p) {
+                cells.push((k.to_string(), enginedyn_numerics::format::csv(v)));
+            }
             (map.diagrams[p.load].name.clone(), String::new(), cells)
         })
         .collect();
@@ -77,7 +85,9 @@ pub fn run(a: &SweepArgs) -> Result<(), Failure> {
             .map(|(p, d)| {
                 let mut doc = enginedyn_report::summary_json(&p.point.summary, &d.inputs);
                 if let Some(o) = doc.as_object_mut() {
-                    o.insert("imep_target_bar".into(), p.imep_target_bar.into());
+                    for (k, v) in point_keys(&map, p) {
+                        o.insert(k.into(), v.into());
+                    }
                 }
                 serde_json::to_string(&doc).unwrap_or_default()
             })
@@ -90,15 +100,17 @@ pub fn run(a: &SweepArgs) -> Result<(), Failure> {
         Some(dir) => {
             let per_load: Vec<(f64, Vec<&enginedyn_pipeline::Summary>)> = map
                 .loads
+                .values()
                 .iter()
-                .map(|&l| {
+                .enumerate()
+                .map(|(l, &v)| {
                     let ss = map
                         .points
                         .iter()
-                        .filter(|p| map.loads[p.load].to_bits() == l.to_bits())
+                        .filter(|p| p.load == l)
                         .map(|p| &p.point.summary)
                         .collect();
-                    (l, ss)
+                    (v, ss)
                 })
                 .collect();
             let fig = enginedyn_report::sweep_map_figure(engine.name(), &per_load);
@@ -110,7 +122,7 @@ pub fn run(a: &SweepArgs) -> Result<(), Failure> {
             eprintln!(
                 "{} speeds × {} loads; wrote sweep.csv and sweep.svg to {}",
                 map.rpms.len(),
-                map.loads.len(),
+                map.loads.values().len(),
                 dir.path().display()
             );
             if let Some(json) = &json {
@@ -124,15 +136,43 @@ pub fn run(a: &SweepArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// How a point's load is named: `IMEP 9 bar` or `75 % load (IMEP 9.4 bar)`.
+fn load_name(p: &MapPoint) -> String {
+    match p.load_pct {
+        Some(pct) => format!(
+            "{} % load (IMEP {} bar)",
+            crate::human(pct),
+            crate::human((p.imep_target_bar * 1e3).round() / 1e3)
+        ),
+        None => format!("IMEP {} bar", crate::human(p.imep_target_bar)),
+    }
+}
+
+/// The columns a map's row adds to the summary's (INTERFACE "sweep
+/// --load"): the IMEP asked for, the load in percent of the full-load line
+/// (with `--load`), and the point the one flywheel was sized at, named
+/// apart from each point's own `required_inertia_kg_m2`.
+fn point_keys(map: &SweepMap, p: &MapPoint) -> Vec<(&'static str, f64)> {
+    let mut keys = vec![("imep_target_bar", p.imep_target_bar)];
+    if let Some(pct) = p.load_pct {
+        keys.push(("load_pct", pct));
+    }
+    if let Some((rpm, imep)) = map.sized_at {
+        keys.push(("flywheel_sized_at_rpm", rpm));
+        keys.push(("flywheel_sized_at_imep_bar", imep));
+    }
+    keys
+}
+
 /// The readable table: a row per load and speed.
-fn table_text(engine: &enginedyn_engine::Engine, map: &enginedyn_session::map::SweepMap) -> String {
+fn table_text(engine: &enginedyn_engine::Engine, map: &SweepMap) -> String {
     let rows: Vec<enginedyn_report::KeyRow> = map
         .points
         .iter()
         .map(|p| enginedyn_report::KeyRow {
             name: format!(
-                "{} bar, {} rpm",
-                crate::human(p.imep_target_bar),
+                "{}, {} rpm",
+                load_name(p),
                 crate::human(p.point.summary.rpm)
             ),
             figures: Some(enginedyn_report::key_figures(
@@ -161,7 +201,7 @@ fn table_text(engine: &enginedyn_engine::Engine, map: &enginedyn_session::map::S
         "IMEP target, speed",
         &enginedyn_report::SWEEP_FIGURES,
         &rows,
-        engine.operating().mechanical_efficiency,
+        enginedyn_report::effective_of(engine),
     ));
     text
 }

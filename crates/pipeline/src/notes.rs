@@ -47,6 +47,7 @@ pub const DECIDED: &[&str] = &[
     "cylinder traces ",
     "one trace per cylinder",
     "no TDC offset estimate",
+    "at the highest load (",
     "the periodic spline overshoots",
     "--despike replaced ",
     // The engine file's defaults and estimates.

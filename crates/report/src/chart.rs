@@ -1168,7 +1168,8 @@ fn torque_figure(engine: &Engine, a: &Analysis, axis: &RunAxis) -> Figure {
     if (eta - 1.0).abs() > 1e-12 {
         torque.push(Series::hline(
             format!(
-                "mean, effective (η_m = {eta:.2}) {} N m",
+                "mean, {} {} N m",
+                crate::effective(&a.summary),
                 crate::fixed(mean * eta, 1)
             ),
             mean * eta,

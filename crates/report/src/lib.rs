@@ -361,17 +361,36 @@ impl Row {
 
 pub use enginedyn_numerics::format::{fixed, human};
 
-/// The label of a shown key: "mean torque, effective (η_m = 0.80)" and
-/// "mean torque, indicated" for torque and power, the plain label else.
+/// The label of a shown key: "mean torque, effective (η_m = 0.80)" (or
+/// "…, brake (Chen–Flynn friction)" with `[friction]`) and "mean torque,
+/// indicated" for torque and power, the plain label else.
 pub fn label(shown: &enginedyn_pipeline::Shown, s: &Summary) -> String {
     use enginedyn_pipeline::Basis;
     match shown.basis {
         Basis::None => shown.label.to_string(),
         Basis::Indicated => format!("{}, indicated", shown.label),
-        Basis::Effective => format!(
-            "{}, effective (η_m = {:.2})",
-            shown.label, s.mechanical_efficiency
-        ),
+        Basis::Effective => format!("{}, {}", shown.label, effective(s)),
+    }
+}
+
+/// What the effective torque and power of `s` are: "brake (Chen–Flynn
+/// friction)" with the engine file's `[friction]`, else "effective (η_m =
+/// 0.80)".
+pub fn effective(s: &Summary) -> String {
+    if s.brake.is_some() {
+        "brake (Chen–Flynn friction)".to_string()
+    } else {
+        format!("effective (η_m = {:.2})", s.mechanical_efficiency)
+    }
+}
+
+/// The basis of the effective figures of `engine`'s runs, as the readable
+/// tables take it: `None` with `[friction]` (the brake figures), else
+/// `operating.mechanical_efficiency`.
+pub fn effective_of(engine: &Engine) -> Option<f64> {
+    match engine.friction() {
+        Some(_) => None,
+        None => Some(engine.operating().mechanical_efficiency),
     }
 }
 

@@ -111,9 +111,8 @@ pub fn count(n: usize, what: &str) -> String {
 /// `--out`): one row per diagram or speed, the figures of `keys` (numbered
 /// columns, their labels and units listed below), failed rows with their
 /// error; names and errors on one line, control characters escaped. `eta` is the mechanical efficiency the effective figures carry.
-pub fn key_table(first: &str, keys: &[&Key], rows: &[KeyRow], eta: f64) -> String {
-    let mut s = Summary::empty();
-    s.mechanical_efficiency = eta;
+pub fn key_table(first: &str, keys: &[&Key], rows: &[KeyRow], eta: Option<f64>) -> String {
+    let s = basis(eta);
     let cols = columns(keys, &s);
     let head: Vec<String> = std::iter::once(first.to_string())
         .chain(cols.iter().map(|c| c.with_unit()))
@@ -172,11 +171,29 @@ pub fn key_table(first: &str, keys: &[&Key], rows: &[KeyRow], eta: f64) -> Strin
     o
 }
 
+/// A summary standing for the rows' basis in the labels: `eta` the
+/// mechanical efficiency, `None` the brake figures of `[friction]`.
+fn basis(eta: Option<f64>) -> Summary {
+    let mut s = Summary::empty();
+    match eta {
+        Some(e) => s.mechanical_efficiency = e,
+        None => {
+            s.brake = Some(enginedyn_pipeline::BrakeSummary {
+                fmep_bar: f64::NAN,
+                bmep_bar: f64::NAN,
+                brake_torque_nm: f64::NAN,
+                brake_power_kw: f64::NAN,
+                mechanical_efficiency: None,
+            })
+        }
+    }
+    s
+}
+
 /// Batch's `index.html`: every diagram with its key figures, linking to its
 /// report (links percent-encoded), failed rows with their error.
-pub fn index_html(title: &str, rows: &[KeyRow], eta: f64) -> String {
-    let mut s = Summary::empty();
-    s.mechanical_efficiency = eta;
+pub fn index_html(title: &str, rows: &[KeyRow], eta: Option<f64>) -> String {
+    let s = basis(eta);
     let cols = columns(&KEY_FIGURES, &s);
     let mut o = String::new();
     let _ = write!(
@@ -250,7 +267,9 @@ pub fn sweep_figure(engine_name: &str, summaries: &[&Summary]) -> Figure {
         dashed: false,
         marker: false,
     };
-    let eta = summaries.first().map_or(1.0, |s| s.mechanical_efficiency);
+    let eta = summaries
+        .first()
+        .map_or_else(|| "effective".to_string(), |s| crate::effective(s));
     Figure {
         file: "sweep.svg".into(),
         panels: vec![
@@ -258,10 +277,7 @@ pub fn sweep_figure(engine_name: &str, summaries: &[&Summary]) -> Figure {
                 &format!("{engine_name} — torque, the same pressures at every speed"),
                 "torque (N m)",
                 vec![
-                    s(
-                        &format!("mean, effective (η_m = {eta:.2})"),
-                        get(|x| x.mean_torque_nm),
-                    ),
+                    s(&format!("mean, {eta}"), get(|x| x.mean_torque_nm)),
                     s("mean, indicated", get(|x| x.indicated_mean_torque_nm)),
                     s("max, indicated", get(|x| x.torque_max_nm)),
                     s("min, indicated", get(|x| x.torque_min_nm)),
@@ -317,13 +333,13 @@ pub fn sweep_map_figure(engine_name: &str, loads: &[(f64, Vec<&Summary>)]) -> Fi
     let eta = loads
         .first()
         .and_then(|(_, ss)| ss.first())
-        .map_or(1.0, |s| s.mechanical_efficiency);
+        .map_or_else(|| "effective".to_string(), |s| crate::effective(s));
     Figure {
         file: "sweep.svg".into(),
         panels: vec![
             panel(
                 format!(
-                    "{engine_name} — mean torque over speed, a line per load (synthesised diagrams; η_m = {eta:.2})"
+                    "{engine_name} — mean torque over speed, a line per load (synthesised diagrams; {eta})"
                 ),
                 "mean torque, effective (N m)",
                 lines(|x| x.mean_torque_nm),
@@ -368,7 +384,7 @@ mod tests {
                 folder: None,
             },
         ];
-        let t = key_table("diagram", &KEY_FIGURES, &rows, 0.8);
+        let t = key_table("diagram", &KEY_FIGURES, &rows, Some(0.8));
         assert!(t.contains("[2] IMEP (bar)"), "{t}");
         assert!(
             t.contains("[3] mean torque, effective (η_m = 0.80) (N m)"),
@@ -397,7 +413,7 @@ mod tests {
             row("plain.csv", ""),
             row("bad\u{1b}[31m.csv", "line 1:\nbad"),
         ];
-        let t = key_table("diagram", &KEY_FIGURES, &rows, 0.8);
+        let t = key_table("diagram", &KEY_FIGURES, &rows, Some(0.8));
         let lines: Vec<&str> = t.lines().collect();
         assert!(lines[1].starts_with("new\\nline.csv "), "{t}");
         assert!(lines[2].starts_with("plain.csv "), "{t}");
@@ -416,7 +432,7 @@ mod tests {
             error: String::new(),
             folder: Some("0001_run#1 a?b".into()),
         }];
-        let html = index_html("E", &rows, 1.0);
+        let html = index_html("E", &rows, Some(1.0));
         assert!(
             html.contains("href=\"0001_run%231%20a%3Fb/report.html\""),
             "{html}"

@@ -1,8 +1,10 @@
-//! A speed × load map (`enginedyn sweep --rpm A:B:S --imep X:Y:Z`, an
-//! engine file with `[combustion]`): at each load the design cycle is
-//! synthesised once (the lossless cycle is the same at every speed) and
-//! analysed at every speed; one flywheel for the whole map, sized at the
-//! point that needs the most inertia, which is named.
+//! A speed × load map (`enginedyn sweep --rpm A:B:S --imep X:Y:Z`, or
+//! `--load P:Q:R` in percent of the full-load line; an engine file with
+//! `[combustion]`): at each load the design cycle is synthesised once when
+//! it is the same at every speed (a fixed IMEP, no curve over speed), else
+//! at each point; each is analysed at its speed. One flywheel for the whole
+//! map, sized at the point that needs the most inertia, which is named;
+//! the full-load row names the rated-power and peak-torque points.
 
 use crate::diagram::load_diagram;
 use crate::error::Result;
@@ -12,11 +14,39 @@ use enginedyn_numerics::format::human;
 use enginedyn_pipeline::Point;
 use rayon::prelude::*;
 
+/// The loads of a map.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Loads {
+    /// Net IMEP targets (bar), `--imep`.
+    Imep(Vec<f64>),
+    /// Percent of the full-load line at each speed, `--load`.
+    Percent(Vec<f64>),
+}
+
+impl Loads {
+    /// The loads as given (bar or percent).
+    pub fn values(&self) -> &[f64] {
+        match self {
+            Loads::Imep(v) | Loads::Percent(v) => v,
+        }
+    }
+
+    /// The flag that gave them.
+    pub fn flag(&self) -> &'static str {
+        match self {
+            Loads::Imep(_) => "--imep",
+            Loads::Percent(_) => "--load",
+        }
+    }
+}
+
 /// One point of a map.
 #[derive(Debug)]
 pub struct MapPoint {
     /// The IMEP asked for (bar).
     pub imep_target_bar: f64,
+    /// Its load in percent of the full-load line (`--load`).
+    pub load_pct: Option<f64>,
     /// Its load's place in [`SweepMap::loads`] and [`SweepMap::diagrams`].
     pub load: usize,
     /// What the map keeps of the analysis at this speed and load (its
@@ -42,15 +72,22 @@ pub struct MapLoad {
 pub struct SweepMap {
     /// Load by load (in the order of `--imep`), speed by speed.
     pub points: Vec<MapPoint>,
-    /// The loads (bar).
-    pub loads: Vec<f64>,
+    /// The loads as given.
+    pub loads: Loads,
     /// The speeds (rpm).
     pub rpms: Vec<f64>,
     /// The point the flywheel was sized at: (rpm, IMEP target in bar), when
     /// one was sized.
     pub sized_at: Option<(f64, f64)>,
-    /// The diagram synthesised at each load.
+    /// The diagram synthesised at each load (at the first speed, when
+    /// each point has its own).
     pub diagrams: Vec<MapLoad>,
+    /// At the highest load: the speed of the most power and that power
+    /// (kW, brake with `[friction]`, else effective).
+    pub rated_power: Option<(f64, f64)>,
+    /// At the highest load: the speed of the most torque and that torque
+    /// (N m, brake with `[friction]`, else effective).
+    pub peak_torque: Option<(f64, f64)>,
     /// What the map says once: how the diagrams were made, where the
     /// flywheel was sized.
     pub notes: Vec<String>,
@@ -64,36 +101,96 @@ impl SweepMap {
 }
 
 impl Session {
-    /// One load of a map: its diagram synthesised and put on the grid, then
-    /// analysed at every speed, each analysis kept as its [`Point`].
-    fn map_load(&self, rpms: &[f64], imep: f64) -> Result<(MapLoad, Vec<Point>)> {
-        let d = synthesise(&self.loaded, None, Some(imep), self.method.step())?;
-        let grid = load_diagram(d.input(), &self.parse, &self.grid)?;
-        let design = d.design_summary();
-        let points = rpms
-            .par_iter()
-            .map(|&rpm| {
-                enginedyn_pipeline::analyse_with(
-                    self.tables(),
-                    self.engine(),
-                    &grid,
-                    rpm,
-                    &self.opts,
-                )
-                .map(|mut a| {
-                    a.summary.design = Some(design);
-                    a.summary.notes.extend(d.warnings.iter().cloned());
-                    Point::of(a)
+    /// One synthesised diagram analysed at each of `rpms` (IMEP targets
+    /// `targets`, bar, one a speed, or one for all): its [`MapLoad`] (the
+    /// first speed's) and each speed's [`Point`].
+    fn map_load(
+        &self,
+        rpms: &[f64],
+        targets: &[f64],
+        per_point: bool,
+    ) -> Result<(MapLoad, Vec<Point>)> {
+        let step = self.method.step();
+        let analyse = |d: &crate::synth::Synthesised, rpm: f64| -> Result<Point> {
+            let grid = load_diagram(d.input(), &self.parse, &self.grid)?;
+            let mut a = enginedyn_pipeline::analyse_with(
+                self.tables(),
+                self.engine(),
+                &grid,
+                rpm,
+                &self.opts,
+            )
+            .map_err(|e| crate::Error::usage(e.to_string()))?;
+            a.summary.design = Some(d.design_summary());
+            a.summary.notes.extend(d.warnings.iter().cloned());
+            Ok(Point::of(a))
+        };
+        let (first, points) = if per_point {
+            let ran: Vec<(crate::synth::Synthesised, Point)> = rpms
+                .par_iter()
+                .zip(targets)
+                .map(|(&rpm, &imep)| {
+                    let d = synthesise(&self.loaded, Some(rpm), Some(imep), step)?;
+                    let p = analyse(&d, rpm)?;
+                    Ok((d, p))
                 })
-                .map_err(|e| crate::Error::usage(e.to_string()))
-            })
-            .collect::<Result<Vec<_>>>()?;
+                .collect::<Result<Vec<_>>>()?;
+            let mut ran = ran.into_iter();
+            let (d0, p0) = ran
+                .next()
+                .ok_or_else(|| crate::Error::usage("a map without speeds".to_string()))?;
+            let mut points = vec![p0];
+            points.extend(ran.map(|(_, p)| p));
+            (d0, points)
+        } else {
+            let d = synthesise(&self.loaded, None, Some(targets[0]), step)?;
+            let points = rpms
+                .par_iter()
+                .map(|&rpm| analyse(&d, rpm))
+                .collect::<Result<Vec<_>>>()?;
+            (d, points)
+        };
         let load = MapLoad {
-            inputs: crate::inputs::of(&self.loaded, &[d.input()])?,
-            name: d.name,
-            heat_released_j: d.heat_released_j,
+            inputs: crate::inputs::of(&self.loaded, &[first.input()])?,
+            name: first.name,
+            heat_released_j: first.heat_released_j,
         };
         Ok((load, points))
+    }
+
+    /// The IMEP (bar) of `pct` percent of the full-load line at `rpm`: the
+    /// line's IMEP, or for a BMEP line the IMEP whose BMEP (IMEP − FMEP by
+    /// `[friction]` on the design cycle's peak) is it, by fixed-point
+    /// iteration to 1e-9 (FMEP changes with the peak by b ≈ 0.005 of it).
+    fn full_load_imep(&self, pct: f64, rpm: f64) -> Result<f64> {
+        let file = self.loaded.shown();
+        let spec = crate::synth::spec(&self.loaded)?;
+        let Some(fl) = &spec.full_load else {
+            return Err(crate::Error::usage(format!(
+                "--load: {file} has no full-load line: give [combustion.full_load] (rpm and imep_bar or bmep_bar), or loads as --imep"
+            )));
+        };
+        let target = pct / 100.0 * fl.curve.at(rpm);
+        let engine = self.engine();
+        let friction = match (fl.brake, engine.friction()) {
+            (false, _) | (true, None) => return Ok(target / 1e5),
+            (true, Some(f)) => f,
+        };
+        let c_m = engine.mechanism().stroke() * rpm / 30.0;
+        let mut imep = target + friction.fmep_pa(0.0, c_m);
+        for _ in 0..20 {
+            let m = crate::synth::design_model(&file, engine, &spec, Some(imep / 1e5), Some(rpm))?;
+            let d = enginedyn_synth::design(engine.cylinder(), &m).map_err(|e| {
+                crate::Error::usage(format!("--load {pct} at {} rpm: {e}", human(rpm)))
+            })?;
+            let p_max = d.solution.max_pressure();
+            let next = target + friction.fmep_pa(p_max, c_m);
+            if (next - imep).abs() <= 1e-9 * next {
+                return Ok(next / 1e5);
+            }
+            imep = next;
+        }
+        Ok(imep / 1e5)
     }
 
     /// The analyses at every speed of `rpms` and load of `loads` (IMEP
@@ -105,24 +202,41 @@ impl Session {
     pub fn sweep_map(
         &self,
         rpms: &[f64],
-        loads: &[f64],
+        loads: &Loads,
         shown: &str,
         shown_loads: &str,
     ) -> Result<SweepMap> {
-        crate::options::check_map_size(rpms.len(), loads.len(), shown, shown_loads)?;
+        let values = loads.values();
+        crate::options::check_map_size(
+            rpms.len(),
+            values.len(),
+            shown,
+            (loads.flag(), shown_loads),
+        )?;
         let engine = self.engine();
-        // Every load runs; the first failure in the order of --imep is said.
-        let ran: Vec<Result<(MapLoad, Vec<Point>)>> = loads
+        let spec = crate::synth::spec(&self.loaded)?;
+        let per_point = matches!(loads, Loads::Percent(_)) || spec.varies_with_speed();
+        // Each load's IMEP at each speed.
+        let targets: Vec<Vec<f64>> = values
             .par_iter()
-            .map(|&imep| self.map_load(rpms, imep))
+            .map(|&l| match loads {
+                Loads::Imep(_) => Ok(vec![l; rpms.len()]),
+                Loads::Percent(_) => rpms.iter().map(|&r| self.full_load_imep(l, r)).collect(),
+            })
+            .collect::<Result<_>>()?;
+        // Every load runs; the first failure in the order of the loads is said.
+        let ran: Vec<Result<(MapLoad, Vec<Point>)>> = targets
+            .par_iter()
+            .map(|t| self.map_load(rpms, t, per_point))
             .collect();
-        let mut diagrams = Vec::with_capacity(loads.len());
-        let mut points = Vec::with_capacity(loads.len() * rpms.len());
+        let mut diagrams = Vec::with_capacity(values.len());
+        let mut points = Vec::with_capacity(values.len() * rpms.len());
         for (l, r) in ran.into_iter().enumerate() {
             let (d, ps) = r?;
             diagrams.push(d);
-            points.extend(ps.into_iter().map(|point| MapPoint {
-                imep_target_bar: loads[l],
+            points.extend(ps.into_iter().enumerate().map(|(k, point)| MapPoint {
+                imep_target_bar: targets[l][k],
+                load_pct: matches!(loads, Loads::Percent(_)).then_some(values[l]),
                 load: l,
                 point,
             }));
@@ -151,10 +265,31 @@ impl Session {
         let mut notes = Vec::new();
         if let (Some(first), Some(last)) = (diagrams.first(), diagrams.last()) {
             notes.push(format!(
-                "{NOTE_PREFIX} of {} at each load of --imep {shown_loads} (heat released {} to {} J per cylinder): the lossless cycle is the same at every speed",
+                "{NOTE_PREFIX} of {} at each load of {} {shown_loads} (heat released {} to {} J per cylinder{}): {}",
                 self.loaded.shown(),
+                loads.flag(),
                 human(first.heat_released_j),
-                human(last.heat_released_j)
+                human(last.heat_released_j),
+                if per_point { ", at the first speed" } else { "" },
+                if per_point {
+                    "each point's cycle made at its own speed and load"
+                } else {
+                    "the lossless cycle is the same at every speed"
+                }
+            ));
+        }
+        let (rated_power, peak_torque) = full_load_points(&points, values.len());
+        if let (Some((r_p, p)), Some((r_t, t))) = (rated_power, peak_torque) {
+            let brake = engine.friction().is_some();
+            notes.push(format!(
+                "at the highest load ({} {}): rated power {} kW at {} rpm, peak torque {} N m at {} rpm ({})",
+                human(values[values.len() - 1]),
+                if matches!(loads, Loads::Percent(_)) { "% of the full-load line" } else { "bar IMEP" },
+                human((p * 100.0).round() / 100.0),
+                human(r_p),
+                human((t * 10.0).round() / 10.0),
+                human(r_t),
+                if brake { "brake figures, Chen–Flynn friction" } else { "effective: indicated × operating.mechanical_efficiency" }
             ));
         }
         if let (Some((rpm, imep)), Some(part)) = (sized_at, &part) {
@@ -167,11 +302,29 @@ impl Session {
         }
         Ok(SweepMap {
             points,
-            loads: loads.to_vec(),
+            loads: loads.clone(),
             rpms: rpms.to_vec(),
             sized_at,
             diagrams,
+            rated_power,
+            peak_torque,
             notes,
         })
     }
+}
+
+/// The rated-power and peak-torque points of the highest load's row (the
+/// last of `loads` loads): (rpm, kW) and (rpm, N m), effective (brake with
+/// `[friction]`).
+fn full_load_points(points: &[MapPoint], loads: usize) -> (Option<(f64, f64)>, Option<(f64, f64)>) {
+    let row = points
+        .iter()
+        .filter(|p| p.load + 1 == loads)
+        .map(|p| &p.point.summary);
+    let best = |get: fn(&enginedyn_pipeline::Summary) -> Option<f64>| {
+        row.clone()
+            .filter_map(|s| get(s).map(|v| (s.rpm, v)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+    };
+    (best(|s| s.power_kw), best(|s| s.mean_torque_nm))
 }

@@ -569,12 +569,18 @@ pub const MAX_LOADS: usize = 1_000;
 pub const MAX_MAP_POINTS: usize = 10_000;
 
 /// A map of `speeds` × `loads` points within [`MAX_MAP_POINTS`]; past it a
-/// usage error naming both flags (`rpm`, `imep`: as given) and the cap.
-pub fn check_map_size(speeds: usize, loads: usize, rpm: &str, imep: &str) -> Result<()> {
+/// usage error naming both flags (`rpm`, and the loads' flag and value as
+/// given) and the cap.
+pub fn check_map_size(
+    speeds: usize,
+    loads: usize,
+    rpm: &str,
+    (flag, imep): (&str, &str),
+) -> Result<()> {
     let points = speeds.saturating_mul(loads);
     if points > MAX_MAP_POINTS {
         return Err(Error::usage(format!(
-            "--rpm {} × --imep {}: {speeds} speeds × {loads} loads = {points} points; a map computes at most {MAX_MAP_POINTS} (fewer speeds or loads, or a coarser step of either)",
+            "--rpm {} × {flag} {}: {speeds} speeds × {loads} loads = {points} points; a map computes at most {MAX_MAP_POINTS} (fewer speeds or loads, or a coarser step of either)",
             quote(rpm),
             quote(imep)
         )));
@@ -597,6 +603,41 @@ pub fn imep_range(spec: &str) -> Result<Vec<f64>> {
     };
     for v in [from, to] {
         IMEP_BAR.check(v).map_err(bad)?;
+    }
+    if !(to >= from && step > 0.0 && step.is_finite()) {
+        return Err(bad("expected FROM <= TO and STEP > 0".into()));
+    }
+    let n = ((to - from) / step + 1e-9).floor();
+    if n + 1.0 > MAX_LOADS as f64 {
+        return Err(bad(format!(
+            "{} loads; a map takes at most {MAX_LOADS}",
+            n + 1.0
+        )));
+    }
+    Ok((0..=n as usize).map(|k| from + k as f64 * step).collect())
+}
+/// `--load FROM:TO:STEP` (percent of the full-load line): FROM, FROM +
+/// STEP, … up to TO (included when it falls on the step), each above 0
+/// and at most 100, at most [`MAX_LOADS`].
+pub fn load_range(spec: &str) -> Result<Vec<f64>> {
+    let bad = |why: String| Error::usage(format!("--load {}: {why}", quote(spec)));
+    let parts: Vec<f64> = spec
+        .split(':')
+        .map(|x| enginedyn_ingest::read_number(x, false))
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|_| bad("expected FROM:TO:STEP in percent of the full-load line".into()))?;
+    let [from, to, step] = parts[..] else {
+        return Err(bad(
+            "expected FROM:TO:STEP in percent of the full-load line".into(),
+        ));
+    };
+    for v in [from, to] {
+        if !(v > 0.0 && v <= 100.0) {
+            return Err(bad(format!(
+                "{} %: expected above 0, up to 100 %",
+                human(v)
+            )));
+        }
     }
     if !(to >= from && step > 0.0 && step.is_finite()) {
         return Err(bad("expected FROM <= TO and STEP > 0".into()));

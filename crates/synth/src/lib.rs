@@ -765,6 +765,12 @@ impl CycleSolution {
         &self.model
     }
 
+    /// The highest pressure of the closed part at its integration nodes
+    /// (Pa): the cycle's peak, to the node step.
+    pub fn max_pressure(&self) -> f64 {
+        self.p.iter().copied().fold(f64::MIN, f64::max)
+    }
+
     /// The steepest pressure rise of the closed part (Pa/deg) and its
     /// angle (deg), from the integration's own derivative at its nodes.
     pub fn max_rise(&self) -> (f64, f64) {
