@@ -108,52 +108,10 @@ pub fn cylinders_on(engine: &Engine, rod_model: RodModel, crank_deg: &[f64]) -> 
 pub fn study(setup: &Setup, all_cranks: bool) -> Result<Study, BalanceError> {
     let engine = setup.engine;
     let train = Train::of_engine(engine);
-    // Degrees to 1e-9, so that 240° reads 240 and not 239.99999999999997.
-    // An engine without a firing order of its own has no crank of its own.
-    let own: Option<Vec<f64>> = engine.firing_order_given().then(|| {
-        engine
-            .crank_angles()
-            .iter()
-            .map(|a| (a.to_degrees() * 1e9).round() / 1e9)
-            .collect()
-    });
+    let own = own_crank(engine);
     let mut notes = Vec::new();
     let (cranks, set) = if all_cranks {
-        let (mut c, set) = crank_arrangements(&train)?;
-        if set == CrankSet::MirrorSymmetric {
-            notes.push(format!(
-                "--all-cranks: more than {} throw sequences for {} cylinders; only the {} mirror-symmetric cranks are ranked",
-                crate::crank::FULL_ENUMERATION_LIMIT,
-                train.cylinders(),
-                c.len()
-            ));
-        }
-        if c.is_empty() {
-            let shared = format!(
-                "no crank of this layout fires evenly every {}° with shared pins (the bank angle must be a multiple of {}°)",
-                enginedyn_numerics::format::human(train.interval_deg()),
-                enginedyn_numerics::format::human(grid_unit(&train))
-            );
-            match split_pin_cranks(&train)? {
-                Some((split, delta, effective)) => {
-                    let (by, way) = if delta < 0.0 {
-                        (-delta, "ahead of")
-                    } else {
-                        (delta, "behind")
-                    };
-                    notes.push(format!(
-                        "{shared}; ranked instead: split crank pins, each bank-2 pin {}° {way} its bank-1 partner \
-                         (the smallest split that fires evenly: bank angle + split = {}°), \
-                         written per cylinder as `crank_angles_deg` takes them",
-                        (by * 1e6).round() / 1e6,
-                        (effective * 1e6).round() / 1e6,
-                    ));
-                    c = split;
-                }
-                None => notes.push(shared),
-            }
-        }
-        (c, set)
+        every_crank(&train, &mut notes)?
     } else {
         match &own {
             Some(own) => (vec![own.clone()], CrankSet::All),
@@ -165,21 +123,113 @@ pub fn study(setup: &Setup, all_cranks: bool) -> Result<Study, BalanceError> {
             }
         }
     };
-    let unit = grid_unit(&train);
-    let own_key = own.as_deref().and_then(|own| crank_key(&train, own, unit));
-    // Diagram-free pass over every crank.
+    let mut studies = diagram_free(setup, &train, own.as_deref(), cranks, all_cranks)?;
+    if !all_cranks && studies.first().is_some_and(|c| c.orders.is_empty()) {
+        notes.push(format!(
+            "the crank {:?} admits no even firing order (every {}°)",
+            own.as_deref().unwrap_or_default(),
+            enginedyn_numerics::format::human(train.interval_deg())
+        ));
+    }
+    keep_best(&mut studies, &mut notes);
+    match setup.torque {
+        Some(t) => add_journals(setup, t, &mut studies)?,
+        None => notes.push(
+            "no indicator diagram: the main-journal torques are null and take no part in the score"
+                .to_string(),
+        ),
+    }
+    sort(&mut studies);
+    Ok(Study {
+        cranks: studies,
+        set,
+        notes,
+    })
+}
+
+/// The engine's own crank (throw lags, deg), `None` for an engine without
+/// a firing order of its own. Degrees to 1e-9, so that 240° reads 240 and
+/// not 239.99999999999997.
+fn own_crank(engine: &Engine) -> Option<Vec<f64>> {
+    engine.firing_order_given().then(|| {
+        engine
+            .crank_angles()
+            .iter()
+            .map(|a| (a.to_degrees() * 1e9).round() / 1e9)
+            .collect()
+    })
+}
+
+/// Every crank arrangement of `train` (`--all-cranks`) and which set they
+/// are, with notes: only the mirror-symmetric ones past the enumeration
+/// limit; split crank pins when no shared-pin crank fires evenly.
+fn every_crank(
+    train: &Train,
+    notes: &mut Vec<String>,
+) -> Result<(Vec<Vec<f64>>, CrankSet), BalanceError> {
+    let (mut c, set) = crank_arrangements(train)?;
+    if set == CrankSet::MirrorSymmetric {
+        notes.push(format!(
+            "--all-cranks: more than {} throw sequences for {} cylinders; only the {} mirror-symmetric cranks are ranked",
+            crate::crank::FULL_ENUMERATION_LIMIT,
+            train.cylinders(),
+            c.len()
+        ));
+    }
+    if c.is_empty() {
+        let shared = format!(
+            "no crank of this layout fires evenly every {}° with shared pins (the bank angle must be a multiple of {}°)",
+            enginedyn_numerics::format::human(train.interval_deg()),
+            enginedyn_numerics::format::human(grid_unit(train))
+        );
+        match split_pin_cranks(train)? {
+            Some((split, delta, effective)) => {
+                let (by, way) = if delta < 0.0 {
+                    (-delta, "ahead of")
+                } else {
+                    (delta, "behind")
+                };
+                notes.push(format!(
+                    "{shared}; ranked instead: split crank pins, each bank-2 pin {}° {way} its bank-1 partner \
+                     (the smallest split that fires evenly: bank angle + split = {}°), \
+                     written per cylinder as `crank_angles_deg` takes them",
+                    (by * 1e6).round() / 1e6,
+                    (effective * 1e6).round() / 1e6,
+                ));
+                c = split;
+            }
+            None => notes.push(shared),
+        }
+    }
+    Ok((c, set))
+}
+
+/// The diagram-free pass over every crank: its even firing orders with
+/// their criteria and scores, and its free forces. With `all_cranks` a
+/// crank without orders is left out; the engine's `own` crank is studied
+/// as the engine file has it.
+fn diagram_free(
+    setup: &Setup,
+    train: &Train,
+    own: Option<&[f64]>,
+    cranks: Vec<Vec<f64>>,
+    all_cranks: bool,
+) -> Result<Vec<CrankStudy>, BalanceError> {
+    let engine = setup.engine;
+    let unit = grid_unit(train);
+    let own_key = own.and_then(|own| crank_key(train, own, unit));
     let mut studies = Vec::with_capacity(cranks.len());
     for crank in cranks {
-        let engine_crank = own_key.is_some() && crank_key(&train, &crank, unit) == own_key;
+        let engine_crank = own_key.is_some() && crank_key(train, &crank, unit) == own_key;
         // The engine's own crank as the engine file has it, not its
         // canonical form, so that its orders read in the engine's numbering.
-        let crank = match &own {
-            Some(own) if engine_crank && all_cranks && !firing_orders(&train, own)?.is_empty() => {
-                own.clone()
+        let crank = match own {
+            Some(own) if engine_crank && all_cranks && !firing_orders(train, own)?.is_empty() => {
+                own.to_vec()
             }
             _ => crank,
         };
-        let orders = firing_orders(&train, &crank)?;
+        let orders = firing_orders(train, &crank)?;
         if orders.is_empty() && all_cranks {
             continue;
         }
@@ -190,25 +240,9 @@ pub fn study(setup: &Setup, all_cranks: bool) -> Result<Study, BalanceError> {
             setup.omega,
         );
         let balance = balance_term(engine, setup, &free);
-        let z = train.cylinders() as f64;
-        let orders: Vec<OrderStudy> = orders
+        let orders = orders
             .into_iter()
-            .map(|o| {
-                let criteria = criteria(&train, &o);
-                let terms = Terms {
-                    intervals: round_score(criteria.interval_spread),
-                    neighbours: round_score(criteria.neighbour_consecutive as f64 / z),
-                    journal: 0.0,
-                    balance: round_score(balance),
-                };
-                OrderStudy {
-                    score: round_score(terms.score(&setup.weights)),
-                    order: o,
-                    criteria,
-                    journal: None,
-                    terms,
-                }
-            })
+            .map(|o| order_study(setup, train, balance, o))
             .collect();
         studies.push(CrankStudy {
             engine_crank,
@@ -218,19 +252,38 @@ pub fn study(setup: &Setup, all_cranks: bool) -> Result<Study, BalanceError> {
             orders,
         });
     }
-    if !all_cranks && studies.first().is_some_and(|c| c.orders.is_empty()) {
-        notes.push(format!(
-            "the crank {:?} admits no even firing order (every {}°)",
-            own.as_deref().unwrap_or_default(),
-            enginedyn_numerics::format::human(train.interval_deg())
-        ));
+    Ok(studies)
+}
+
+/// One firing order's diagram-free criteria and score, its crank's
+/// balance term given; the journal term 0 until a diagram adds it.
+fn order_study(setup: &Setup, train: &Train, balance: f64, o: FiringOrder) -> OrderStudy {
+    let z = train.cylinders() as f64;
+    let criteria = criteria(train, &o);
+    let terms = Terms {
+        intervals: round_score(criteria.interval_spread),
+        neighbours: round_score(criteria.neighbour_consecutive as f64 / z),
+        journal: 0.0,
+        balance: round_score(balance),
+    };
+    OrderStudy {
+        score: round_score(terms.score(&setup.weights)),
+        order: o,
+        criteria,
+        journal: None,
+        terms,
     }
+}
+
+/// Past [`MAX_RANKED_ORDERS`] orders, only the best cranks by the
+/// diagram-free score whose orders fit (at least one), with a note.
+fn keep_best(studies: &mut Vec<CrankStudy>, notes: &mut Vec<String>) {
     let total: usize = studies.iter().map(|c| c.orders.len()).sum();
     if total > MAX_RANKED_ORDERS {
-        sort(&mut studies);
+        sort(studies);
         let mut kept = 0;
         let mut orders = 0;
-        for c in &studies {
+        for c in studies.iter() {
             if kept > 0 && orders + c.orders.len() > MAX_RANKED_ORDERS {
                 break;
             }
@@ -243,29 +296,25 @@ pub fn study(setup: &Setup, all_cranks: bool) -> Result<Study, BalanceError> {
         ));
         studies.truncate(kept);
     }
-    match setup.torque {
-        Some(t) => {
-            studies.par_iter_mut().try_for_each(|c| {
-                c.orders.par_iter_mut().try_for_each(|o| {
-                    let e = engine_with(engine, &c.crank_angles_deg, &o.order.order)?;
-                    let j = journal_criteria(&e, t.step, t.torque)?;
-                    o.terms.journal = round_score(journal_term(&j));
-                    o.score = round_score(o.terms.score(&setup.weights));
-                    o.journal = Some(j);
-                    Ok::<(), BalanceError>(())
-                })
-            })?;
-        }
-        None => notes.push(
-            "no indicator diagram: the main-journal torques are null and take no part in the score"
-                .to_string(),
-        ),
-    }
-    sort(&mut studies);
-    Ok(Study {
-        cranks: studies,
-        set,
-        notes,
+}
+
+/// Each order's main-journal torques from the cylinder torque `t`, and
+/// its score with the journal term.
+fn add_journals(
+    setup: &Setup,
+    t: CylinderTorque,
+    studies: &mut [CrankStudy],
+) -> Result<(), BalanceError> {
+    let engine = setup.engine;
+    studies.par_iter_mut().try_for_each(|c| {
+        c.orders.par_iter_mut().try_for_each(|o| {
+            let e = engine_with(engine, &c.crank_angles_deg, &o.order.order)?;
+            let j = journal_criteria(&e, t.step, t.torque)?;
+            o.terms.journal = round_score(journal_term(&j));
+            o.score = round_score(o.terms.score(&setup.weights));
+            o.journal = Some(j);
+            Ok::<(), BalanceError>(())
+        })
     })
 }
 

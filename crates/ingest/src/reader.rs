@@ -185,40 +185,43 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                 ),
             ));
         }
-        let (roles, header_at) = match &self.opts.columns {
-            Some(given) => {
-                let names = expand(given, k);
-                if let Some(extra) = (k..names.len()).find(|&i| names[i].trim() != "_") {
-                    return Err(at(
-                        line,
-                        Some(extra + 1),
-                        format!(
-                            "--columns names {} columns, this file's rows have {k}: `{}` names column {}, which no row has",
-                            names.len(),
-                            enginedyn_numerics::format::quote(&names[extra]),
-                            extra + 1
-                        ),
-                    ));
-                }
-                if names.len() < k {
-                    return Err(at(
-                        line,
-                        Some(names.len() + 1),
-                        format!(
-                            "{k} columns, --columns names {}: name every column (`_` skips one), or end the list with `...` to repeat the last name over the rest (one cycle per column)",
-                            names.len()
-                        ),
-                    ));
-                }
-                let roles = Roles::resolve_with(
-                    &names,
-                    true,
-                    line,
-                    self.opts.torque,
-                    self.opts.angle_step_deg.is_some(),
-                )?;
-                (roles, text.len().checked_sub(1))
-            }
+        let (roles, header_at) = self.resolve_columns(line, k, &text)?;
+        // Lines above the header: titles and banners.
+        let banner = header_at.map_or(0, |h| h);
+        if banner > 0 {
+            self.note_banner(&text[..banner]);
+        }
+        if let Some(h) = header_at.and_then(|h| text.get(h))
+            && let Some(e) = side_table(&h.cells)
+        {
+            self.note_side_table(&h.cells, e);
+        }
+        self.note_columns(&roles);
+        self.keep_roles(&roles);
+        // Volts are relative, so `value_scale` refuses them unless pegged:
+        // `opts.relative` alone says whether traces are checked for sign.
+        Layout::new(
+            roles,
+            self.opts,
+            self.head.rpm.map(|r| (r, self.rpm_source)),
+            line,
+        )
+    }
+
+    /// The roles of the `k` columns of the first data row (on `line`) and
+    /// the header's index among the `text` rows above it (`None`: none):
+    /// from --columns, from the no-header probe, or from the header found.
+    fn resolve_columns(
+        &mut self,
+        line: usize,
+        k: usize,
+        text: &[TextLine],
+    ) -> Result<(Roles, Option<usize>), IngestError> {
+        match &self.opts.columns {
+            Some(given) => Ok((
+                self.given_columns(given, k, line)?,
+                text.len().checked_sub(1),
+            )),
             // No header: the columns read as `crank_deg,pressure_bar...`
             // until each has a verdict, for a hint that offers only the
             // readings that fit (INTERFACE.md, "Plausibility").
@@ -237,83 +240,126 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                     done: false,
                     rows: 1,
                 });
-                (roles, None)
+                Ok((roles, None))
             }
             None => header(
-                &text,
+                text,
                 k,
                 line,
                 self.opts.torque,
                 self.opts.angle_step_deg.is_some(),
-            )?,
-        };
-        // Lines above the header: titles and banners.
-        let banner = header_at.map_or(0, |h| h);
-        if banner > 0 {
-            let first = text[0].raw.clone();
-            let shown: String = first.chars().take(60).collect();
-            self.head.notes.push(format!(
-                "skipped {banner} line{} above the {} (a title or banner: `{}{}`)",
-                if banner > 1 { "s" } else { "" },
-                if self.opts.columns.is_some() {
-                    "data"
-                } else {
-                    "header"
-                },
-                enginedyn_numerics::format::quote(&shown),
-                if first.chars().count() > 60 {
-                    "…"
-                } else {
-                    ""
-                }
+            ),
+        }
+    }
+
+    /// The roles of the `k` columns named by --columns (`given`), which
+    /// must name each column once.
+    fn given_columns(&self, given: &[String], k: usize, line: usize) -> Result<Roles, IngestError> {
+        let names = expand(given, k);
+        if let Some(extra) = (k..names.len()).find(|&i| names[i].trim() != "_") {
+            return Err(at(
+                line,
+                Some(extra + 1),
+                format!(
+                    "--columns names {} columns, this file's rows have {k}: `{}` names column {}, which no row has",
+                    names.len(),
+                    enginedyn_numerics::format::quote(&names[extra]),
+                    extra + 1
+                ),
             ));
-            if self.head.rpm.is_none()
-                && let Some((r, at_line)) = text[..banner]
-                    .iter()
-                    .find_map(|t| banner_rpm(&t.raw).map(|r| (r, t.line)))
-            {
-                match r {
-                    Ok(r) => {
-                        self.head.rpm = Some(r);
-                        self.rpm_source = "the banner";
-                        self.head.notes.push(format!(
-                            "speed {} rpm from the banner on line {at_line}",
-                            enginedyn_numerics::format::human(r)
-                        ));
-                    }
-                    Err((tok, why)) => self.head.notes.push(format!(
-                        "the banner on line {at_line} gives the speed `{}`, which {}: not used (the engine file's or --rpm's speed stands)",
-                        enginedyn_numerics::format::quote(&tok),
-                        match why {
-                            crate::SpeedError::Number(e) => e.to_string(),
-                            e => e.to_string(),
-                        }
-                    )),
+        }
+        if names.len() < k {
+            return Err(at(
+                line,
+                Some(names.len() + 1),
+                format!(
+                    "{k} columns, --columns names {}: name every column (`_` skips one), or end the list with `...` to repeat the last name over the rest (one cycle per column)",
+                    names.len()
+                ),
+            ));
+        }
+        Roles::resolve_with(
+            &names,
+            true,
+            line,
+            self.opts.torque,
+            self.opts.angle_step_deg.is_some(),
+        )
+    }
+
+    /// The note on the lines `above` the header (at least one: titles and
+    /// banners), and the speed a banner gives when no `# rpm` line did.
+    fn note_banner(&mut self, above: &[TextLine]) {
+        let banner = above.len();
+        let first = above[0].raw.clone();
+        let shown: String = first.chars().take(60).collect();
+        self.head.notes.push(format!(
+            "skipped {banner} line{} above the {} (a title or banner: `{}{}`)",
+            if banner > 1 { "s" } else { "" },
+            if self.opts.columns.is_some() {
+                "data"
+            } else {
+                "header"
+            },
+            enginedyn_numerics::format::quote(&shown),
+            if first.chars().count() > 60 {
+                "…"
+            } else {
+                ""
+            }
+        ));
+        if self.head.rpm.is_none()
+            && let Some((r, at_line)) = above
+                .iter()
+                .find_map(|t| banner_rpm(&t.raw).map(|r| (r, t.line)))
+        {
+            match r {
+                Ok(r) => {
+                    self.head.rpm = Some(r);
+                    self.rpm_source = "the banner";
+                    self.head.notes.push(format!(
+                        "speed {} rpm from the banner on line {at_line}",
+                        enginedyn_numerics::format::human(r)
+                    ));
                 }
+                Err((tok, why)) => self.head.notes.push(format!(
+                    "the banner on line {at_line} gives the speed `{}`, which {}: not used (the engine file's or --rpm's speed stands)",
+                    enginedyn_numerics::format::quote(&tok),
+                    match why {
+                        crate::SpeedError::Number(e) => e.to_string(),
+                        e => e.to_string(),
+                    }
+                )),
             }
         }
-        if let Some(h) = header_at.and_then(|h| text.get(h))
-            && let Some(e) = side_table(&h.cells)
-        {
-            let names: Vec<String> = h.cells[e..]
-                .iter()
-                .filter(|c| !c.trim().is_empty())
-                .take(4)
-                .map(|c| format!("`{}`", enginedyn_numerics::format::quote(c)))
-                .collect();
-            self.head.notes.push(format!(
-                "columns {} to {} ({}{}) lie right of the empty column {}: a side table, left out",
-                e + 2,
-                h.cells.len(),
-                names.join(", "),
-                if h.cells[e..].iter().filter(|c| !c.trim().is_empty()).count() > 4 {
-                    ", …"
-                } else {
-                    ""
-                },
-                e + 1
-            ));
-        }
+    }
+
+    /// The note on the header's `cells` right of the empty column `e`: a
+    /// side table, left out.
+    fn note_side_table(&mut self, cells: &[String], e: usize) {
+        let names: Vec<String> = cells[e..]
+            .iter()
+            .filter(|c| !c.trim().is_empty())
+            .take(4)
+            .map(|c| format!("`{}`", enginedyn_numerics::format::quote(c)))
+            .collect();
+        self.head.notes.push(format!(
+            "columns {} to {} ({}{}) lie right of the empty column {}: a side table, left out",
+            e + 2,
+            cells.len(),
+            names.join(", "),
+            if cells[e..].iter().filter(|c| !c.trim().is_empty()).count() > 4 {
+                ", …"
+            } else {
+                ""
+            },
+            e + 1
+        ));
+    }
+
+    /// The notes on how the columns were read (none for names the program
+    /// gave): the resolver's, and how several pressure columns read.
+    fn note_columns(&mut self, roles: &Roles) {
         if let Some(n) = roles.note.as_ref().filter(|_| !self.names_given) {
             self.head.notes.push(n.clone());
         }
@@ -330,6 +376,11 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                 )
             });
         }
+    }
+
+    /// What the emitter, the header and the row reader keep of the
+    /// columns' roles: labels, volts, the axis, the measured columns.
+    fn keep_roles(&mut self, roles: &Roles) {
         self.out.labels = roles.labels.clone();
         self.out.volts = roles.volts;
         self.out.time = matches!(roles.axis, Axis::Time(_));
@@ -341,14 +392,6 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
         {
             self.measured.push(roles.x);
         }
-        // Volts are relative, so `value_scale` refuses them unless pegged:
-        // `opts.relative` alone says whether traces are checked for sign.
-        Layout::new(
-            roles,
-            self.opts,
-            self.head.rpm.map(|r| (r, self.rpm_source)),
-            line,
-        )
     }
 
     /// The end of the source.

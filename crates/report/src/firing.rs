@@ -113,139 +113,16 @@ pub fn firing_table(
         w.intervals, w.neighbours, w.journal, w.balance
     );
     if all {
-        let marked = |c: &CrankStudy| {
-            let mark = match (c.engine_crank, c.mirror_symmetric) {
-                (true, _) => " (engine's)",
-                (false, true) => " (mirror)",
-                _ => "",
-            };
-            format!("{}{mark}", dashed(&c.crank_angles_deg))
-        };
-        let wc = s
-            .cranks
-            .iter()
-            .map(|c| marked(c).chars().count())
-            .chain([23])
-            .max()
-            .unwrap_or(23);
-        let wo = s
-            .cranks
-            .iter()
-            .filter_map(|c| c.orders.first())
-            .map(|b| dashed(&b.order.order).len())
-            .chain([10])
-            .max()
-            .unwrap_or(10);
-        let _ = writeln!(
-            o,
-            "\n{:>4}  {:<wc$} {:>6} {:>10} {:>10} {:>10} {:>10} {:>10}  {:<wo$} {:>8}",
-            "rank",
-            "crank (throw lags, deg)",
-            "orders",
-            "F1 N",
-            "F2 N",
-            "M1 N m",
-            "M2 N m",
-            "M1 cw N m",
-            "best order",
-            "score"
-        );
-        for (k, c) in s.cranks.iter().enumerate() {
-            let f = &c.free;
-            let best = c.orders.first();
-            let _ = writeln!(
-                o,
-                "{:>4}  {:<wc$} {:>6} {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>10.1}  {:<wo$} {:>8.4}",
-                k + 1,
-                marked(c),
-                c.orders.len(),
-                f.free_force_1_n,
-                f.free_force_2_n,
-                f.free_moment_1_nm,
-                f.free_moment_2_nm,
-                f.free_moment_1_residual_nm,
-                best.map_or(String::new(), |b| dashed(&b.order.order)),
-                c.best_score()
-            );
-        }
+        cranks_table(&mut o, &s.cranks);
     } else if let Some(c) = s.cranks.first() {
         let _ = writeln!(
             o,
             "crank: {} (throw lags, deg)",
             dashed(&c.crank_angles_deg)
         );
-        let f = &c.free;
-        let _ = writeln!(
-            o,
-            "\nfree forces of the reciprocating masses (before counterweights; the same for every order)"
-        );
-        for (label, v, unit) in [
-            ("first-order force", f.free_force_1_n, "N"),
-            ("second-order force", f.free_force_2_n, "N"),
-            ("first-order moment", f.free_moment_1_nm, "N m"),
-            ("second-order moment", f.free_moment_2_nm, "N m"),
-            (
-                "first-order moment after counterweights",
-                f.free_moment_1_residual_nm,
-                "N m",
-            ),
-        ] {
-            let _ = writeln!(o, "  {label:<42} {v:>12.2} {unit}");
-        }
+        free_forces_lines(&mut o, &c.free);
         let two_banks = !matches!(engine.layout(), Layout::Inline);
-        let wo = c
-            .orders
-            .iter()
-            .map(|x| dashed(&x.order.order).len())
-            .chain([12])
-            .max()
-            .unwrap_or(12);
-        let wb = c
-            .orders
-            .iter()
-            .map(|x| banks(&x.criteria.bank_intervals_deg).len())
-            .chain([20])
-            .max()
-            .unwrap_or(20);
-        let ws = if two_banks { 17 } else { 0 };
-        // An inline engine's one bank: its intervals are the engine's.
-        let intervals = if two_banks {
-            "bank intervals (deg)"
-        } else {
-            "intervals (deg)"
-        };
-        let _ = writeln!(
-            o,
-            "\n{:>4}  {:<wo$} {:<ws$} {:<wb$} {:>10} {:>12} {:>11} {:>12} {:>6} {:>8}",
-            "rank",
-            "firing order",
-            if two_banks { "scheme" } else { "" },
-            intervals,
-            "neighbours",
-            "journal N m",
-            "after throw",
-            "harmonic N m",
-            "order",
-            "score"
-        );
-        for (k, ord) in c.orders.iter().enumerate() {
-            let cr = &ord.criteria;
-            let j = ord.journal.as_ref();
-            let _ = writeln!(
-                o,
-                "{:>4}  {:<wo$} {:<ws$} {:<wb$} {:>10} {:>12} {:>11} {:>12} {:>6} {:>8.4}",
-                k + 1,
-                dashed(&ord.order.order),
-                cr.scheme.map_or("", |s| s.name()),
-                banks(&cr.bank_intervals_deg),
-                cr.neighbour_consecutive,
-                opt(j.map(|j| j.max_torque_nm), 1),
-                j.map_or_else(|| "null".to_string(), |j| j.max_torque_journal.to_string()),
-                opt(j.map(|j| j.max_harmonic_nm), 1),
-                opt(j.map(|j| j.harmonic_order), 1),
-                ord.score
-            );
-        }
+        orders_table(&mut o, &c.orders, two_banks);
         let journals = c.orders.iter().any(|x| x.journal.is_some());
         let _ = write!(o, "\n{}", legend(two_banks, journals));
     }
@@ -253,6 +130,141 @@ pub fn firing_table(
         let _ = writeln!(o, "note: {n}");
     }
     o
+}
+
+/// `--all-cranks`' table: every crank ranked, marked when it is the
+/// engine's or mirror-symmetric, with its free forces and best order.
+fn cranks_table(o: &mut String, cranks: &[CrankStudy]) {
+    let marked = |c: &CrankStudy| {
+        let mark = match (c.engine_crank, c.mirror_symmetric) {
+            (true, _) => " (engine's)",
+            (false, true) => " (mirror)",
+            _ => "",
+        };
+        format!("{}{mark}", dashed(&c.crank_angles_deg))
+    };
+    let wc = cranks
+        .iter()
+        .map(|c| marked(c).chars().count())
+        .chain([23])
+        .max()
+        .unwrap_or(23);
+    let wo = cranks
+        .iter()
+        .filter_map(|c| c.orders.first())
+        .map(|b| dashed(&b.order.order).len())
+        .chain([10])
+        .max()
+        .unwrap_or(10);
+    let _ = writeln!(
+        o,
+        "\n{:>4}  {:<wc$} {:>6} {:>10} {:>10} {:>10} {:>10} {:>10}  {:<wo$} {:>8}",
+        "rank",
+        "crank (throw lags, deg)",
+        "orders",
+        "F1 N",
+        "F2 N",
+        "M1 N m",
+        "M2 N m",
+        "M1 cw N m",
+        "best order",
+        "score"
+    );
+    for (k, c) in cranks.iter().enumerate() {
+        let f = &c.free;
+        let best = c.orders.first();
+        let _ = writeln!(
+            o,
+            "{:>4}  {:<wc$} {:>6} {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>10.1}  {:<wo$} {:>8.4}",
+            k + 1,
+            marked(c),
+            c.orders.len(),
+            f.free_force_1_n,
+            f.free_force_2_n,
+            f.free_moment_1_nm,
+            f.free_moment_2_nm,
+            f.free_moment_1_residual_nm,
+            best.map_or(String::new(), |b| dashed(&b.order.order)),
+            c.best_score()
+        );
+    }
+}
+
+/// One crank's free forces and moments of the reciprocating masses.
+fn free_forces_lines(o: &mut String, f: &FreeForces) {
+    let _ = writeln!(
+        o,
+        "\nfree forces of the reciprocating masses (before counterweights; the same for every order)"
+    );
+    for (label, v, unit) in [
+        ("first-order force", f.free_force_1_n, "N"),
+        ("second-order force", f.free_force_2_n, "N"),
+        ("first-order moment", f.free_moment_1_nm, "N m"),
+        ("second-order moment", f.free_moment_2_nm, "N m"),
+        (
+            "first-order moment after counterweights",
+            f.free_moment_1_residual_nm,
+            "N m",
+        ),
+    ] {
+        let _ = writeln!(o, "  {label:<42} {v:>12.2} {unit}");
+    }
+}
+
+/// One crank's firing orders ranked: intervals (per bank and the banks'
+/// scheme with `two_banks`), neighbours, journal torques, score.
+fn orders_table(o: &mut String, orders: &[OrderStudy], two_banks: bool) {
+    let wo = orders
+        .iter()
+        .map(|x| dashed(&x.order.order).len())
+        .chain([12])
+        .max()
+        .unwrap_or(12);
+    let wb = orders
+        .iter()
+        .map(|x| banks(&x.criteria.bank_intervals_deg).len())
+        .chain([20])
+        .max()
+        .unwrap_or(20);
+    let ws = if two_banks { 17 } else { 0 };
+    // An inline engine's one bank: its intervals are the engine's.
+    let intervals = if two_banks {
+        "bank intervals (deg)"
+    } else {
+        "intervals (deg)"
+    };
+    let _ = writeln!(
+        o,
+        "\n{:>4}  {:<wo$} {:<ws$} {:<wb$} {:>10} {:>12} {:>11} {:>12} {:>6} {:>8}",
+        "rank",
+        "firing order",
+        if two_banks { "scheme" } else { "" },
+        intervals,
+        "neighbours",
+        "journal N m",
+        "after throw",
+        "harmonic N m",
+        "order",
+        "score"
+    );
+    for (k, ord) in orders.iter().enumerate() {
+        let cr = &ord.criteria;
+        let j = ord.journal.as_ref();
+        let _ = writeln!(
+            o,
+            "{:>4}  {:<wo$} {:<ws$} {:<wb$} {:>10} {:>12} {:>11} {:>12} {:>6} {:>8.4}",
+            k + 1,
+            dashed(&ord.order.order),
+            cr.scheme.map_or("", |s| s.name()),
+            banks(&cr.bank_intervals_deg),
+            cr.neighbour_consecutive,
+            opt(j.map(|j| j.max_torque_nm), 1),
+            j.map_or_else(|| "null".to_string(), |j| j.max_torque_journal.to_string()),
+            opt(j.map(|j| j.max_harmonic_nm), 1),
+            opt(j.map(|j| j.harmonic_order), 1),
+            ord.score
+        );
+    }
 }
 
 /// The lines under the firing-order table that say what its columns hold.

@@ -438,40 +438,51 @@ impl CampbellChart {
         plot: (i32, i32, i32, i32),
         mode_rows: &[i32],
     ) -> Result<(Vec<PlacedLabel>, Vec<Bounds>, Vec<Leader>), Box<dyn std::error::Error>> {
-        let colour = |mode: usize| {
-            self.modes
-                .iter()
-                .position(|&(m, _)| m == mode)
-                .map_or(GREY, |i| PALETTE[i % PALETTE.len()])
-        };
-        // Each marker's box as drawn (the major's ring has a 1 px stroke).
-        let mut markers: Vec<Bounds> = Vec::with_capacity(self.marks.len());
-        let mut at = Vec::with_capacity(self.marks.len());
-        for m in &self.marks {
-            let p = px(m.rpm, m.frequency_hz);
-            let r = if m.major { 6 } else { 4 };
-            markers.push((p.0 - r, p.1 - r, p.0 + r, p.1 + r));
-            at.push(p);
-        }
-        // Majors under the minors' rings, so that none hides one.
+        let space = LabelSpace::new(&self.marks, px, plot, mode_rows);
+        self.draw_markers(root, &space.at)?;
+        let Placement {
+            placed, leaders, ..
+        } = space.place_retrying(&self.label_order());
+        self.draw_resonance_labels(root, &placed, &leaders)?;
+        let placed = placed.into_iter().map(|(_, p)| p).collect();
+        Ok((placed, space.markers, leaders))
+    }
+
+    /// Mode `mode`'s colour: its line's, grey for a mode not drawn.
+    fn mode_colour(&self, mode: usize) -> RGBColor {
+        self.modes
+            .iter()
+            .position(|&(m, _)| m == mode)
+            .map_or(GREY, |i| PALETTE[i % PALETTE.len()])
+    }
+
+    /// The resonance markers at `at` (their centres, in the order of
+    /// [`Self::marks`]): majors under the minors' rings, so that none
+    /// hides one.
+    fn draw_markers(
+        &self,
+        root: &Area,
+        at: &[(i32, i32)],
+    ) -> Result<(), Box<dyn std::error::Error>> {
         for pass in [false, true] {
-            for (m, &p) in self.marks.iter().zip(&at) {
+            for (m, &p) in self.marks.iter().zip(at) {
                 if m.major != pass {
                     continue;
                 }
                 if m.major {
-                    draw_marker(root, p, 0, colour(m.mode), true, 5)?;
+                    draw_marker(root, p, 0, self.mode_colour(m.mode), true, 5)?;
                     root.draw(&Circle::new(p, 5, MAJOR.stroke_width(1)))?;
                 } else {
-                    draw_marker(root, p, 0, colour(m.mode), false, 3)?;
+                    draw_marker(root, p, 0, self.mode_colour(m.mode), false, 3)?;
                 }
             }
         }
-        // Mode lines: a label may cross one, at a cost.
-        let lines: Vec<(i32, i32, i32, i32)> = mode_rows
-            .iter()
-            .map(|&y| (plot.0, y - 1, plot.2, y + 1))
-            .collect();
+        Ok(())
+    }
+
+    /// The order in which the resonances get their labels: the major
+    /// orders' first, then by amplitude, largest first.
+    fn label_order(&self) -> Vec<usize> {
         let mut order: Vec<usize> = (0..self.marks.len()).collect();
         order.sort_by(|&a, &b| {
             let (ma, mb) = (&self.marks[a], &self.marks[b]);
@@ -479,146 +490,26 @@ impl CampbellChart {
                 .cmp(&ma.major)
                 .then(mb.amplitude_deg.total_cmp(&ma.amplitude_deg))
         });
-        let th = text_height(MARK_FONT);
-        // The label's white ground is a pixel wider than its text.
-        let drawn = |b: Bounds| (b.0 - 1, b.1, b.2 + 1, b.3);
-        // The other orders' resonances are labelled only where they matter:
-        // a tenth of the largest resonance's amplitude or more.
-        let floor = 0.1
-            * self
-                .marks
-                .iter()
-                .map(|m| m.amplitude_deg)
-                .fold(0.0, f64::max);
-        // Places the labels in `order`: (labels with their marks, leaders,
-        // the major resonances left without a label).
-        let place = |order: &[usize]| {
-            let mut placed: Vec<(usize, PlacedLabel)> = Vec::new();
-            let mut leaders: Vec<Leader> = Vec::new();
-            let mut missed = Vec::new();
-            for &i in order {
-                let m = &self.marks[i];
-                if !m.major && !(m.amplitude_deg >= floor) {
-                    continue;
-                }
-                let (x, y) = at[i];
-                let text = format!("{} × mode {}", human(m.order), m.mode);
-                let w = text_width(&text, MARK_FONT);
-                let rings = if m.major { 4 } else { 1 };
-                // Where a label's leader ends: on its edge nearest the marker.
-                let leader_end = |b: Bounds| ((x).clamp(b.0, b.2), if b.1 > y { b.1 } else { b.3 });
-                let free = |b: Bounds, ring: i32| {
-                    if !inside(b, plot)
-                        || markers.iter().any(|t| overlap(*t, drawn(b)) > 0)
-                        || placed
-                            .iter()
-                            .any(|(_, p)| overlap(inflate(p.bounds, LABEL_GAP), b) > 0)
-                        || leaders
-                            .iter()
-                            .any(|l| segment_hits(l.from, l.to, inflate(b, 1)))
-                    {
-                        return false;
-                    }
-                    if ring == 1 {
-                        return true;
-                    }
-                    // The leader passes no other marker and no other label.
-                    let end = leader_end(b);
-                    markers
-                        .iter()
-                        .enumerate()
-                        .all(|(k, t)| k == i || !segment_hits((x, y), end, *t))
-                        && placed
-                            .iter()
-                            .all(|(_, p)| !segment_hits((x, y), end, inflate(p.bounds, 1)))
-                };
-                let mut best: Option<(Bounds, i64, i32)> = None;
-                for ring in 1..=rings {
-                    let d = 6 + (ring - 1) * (th + 2);
-                    // Above or below the marker, from beside it on the
-                    // left (the label's right end on the diagonal) to
-                    // beside it on the right, every few pixels: the nearer
-                    // to centred, the cheaper.
-                    let mut shifts: Vec<i32> = (0..)
-                        .map(|k| -w - d + 6 * k)
-                        .take_while(|&dx| dx <= d)
-                        .collect();
-                    shifts.extend([d, -w / 2]);
-                    for (dx, dy) in shifts.iter().flat_map(|&dx| [(dx, -d - th), (dx, d)]) {
-                        let b = (x + dx, y + dy, x + dx + w, y + dy + th);
-                        if !free(b, ring) {
-                            continue;
-                        }
-                        let crossing: i64 = lines.iter().map(|l| overlap(*l, b) as i64).sum();
-                        let off = i64::from((dx + w / 2).abs() / 12);
-                        let cost = crossing + 40 * i64::from(ring) + off;
-                        if best.is_none_or(|(_, c, _)| cost < c) {
-                            best = Some((b, cost, ring));
-                        }
-                    }
-                    // A farther ring cannot beat this one.
-                    if best.is_some_and(|(_, c, _)| c <= 40 * i64::from(ring + 1)) {
-                        break;
-                    }
-                }
-                let Some((b, _, ring)) = best else {
-                    if m.major {
-                        missed.push(i);
-                    }
-                    continue;
-                };
-                if ring > 1 {
-                    leaders.push(Leader {
-                        label: placed.len(),
-                        marker: i,
-                        from: (x, y),
-                        to: leader_end(b),
-                    });
-                }
-                placed.push((
-                    i,
-                    PlacedLabel {
-                        text,
-                        major: m.major,
-                        bounds: b,
-                    },
-                ));
-            }
-            (placed, leaders, missed)
-        };
-        // A major resonance left without a label goes first next time, so
-        // that crowds of markers (the low speeds of a high mode) still get
-        // every major label; the try with the fewest left out is kept.
-        let mut first: Vec<usize> = Vec::new();
-        let mut best = place(&order);
-        for _ in 0..self.marks.len() {
-            let Some(&next) = best.2.first() else {
-                break;
-            };
-            if first.contains(&next) {
-                break;
-            }
-            first.push(next);
-            let tried: Vec<usize> = first
-                .iter()
-                .copied()
-                .chain(order.iter().copied().filter(|i| !first.contains(i)))
-                .collect();
-            let attempt = place(&tried);
-            if attempt.2.len() <= best.2.len() {
-                best = attempt;
-            }
-        }
-        let (placed, leaders, _) = best;
-        for l in &leaders {
+        order
+    }
+
+    /// The leaders, then each placed label on its white ground (the major
+    /// orders' black, the others dark grey).
+    fn draw_resonance_labels(
+        &self,
+        root: &Area,
+        placed: &[(usize, PlacedLabel)],
+        leaders: &[Leader],
+    ) -> Result<(), Box<dyn std::error::Error>> {
+        for l in leaders {
             let mode = self.marks[l.marker].mode;
             root.draw(&PathElement::new(
                 vec![l.from, l.to],
-                colour(mode).mix(0.7).stroke_width(1),
+                self.mode_colour(mode).mix(0.7).stroke_width(1),
             ))?;
         }
-        for (i, p) in &placed {
-            let g = drawn(p.bounds);
+        for (i, p) in placed {
+            let g = ground(p.bounds);
             root.draw(&Rectangle::new(
                 [(g.0, g.1), (g.2, g.3)],
                 WHITE.mix(0.85).filled(),
@@ -637,8 +528,217 @@ impl CampbellChart {
                     .pos(Pos::new(HPos::Left, VPos::Top)),
             ))?;
         }
-        let placed = placed.into_iter().map(|(_, p)| p).collect();
-        Ok((placed, markers, leaders))
+        Ok(())
+    }
+}
+
+/// A resonance label's white ground: a pixel wider than its text.
+fn ground(b: Bounds) -> Bounds {
+    (b.0 - 1, b.1, b.2 + 1, b.3)
+}
+
+/// Where a label's leader from the marker at `(x, y)` ends: on the
+/// label's edge nearest the marker.
+fn leader_end((x, y): (i32, i32), b: Bounds) -> (i32, i32) {
+    (x.clamp(b.0, b.2), if b.1 > y { b.1 } else { b.3 })
+}
+
+/// The resonance labels placed so far.
+#[derive(Default)]
+struct Placement {
+    /// The labels with their marks' indices.
+    placed: Vec<(usize, PlacedLabel)>,
+    /// Leaders to the labels placed further out.
+    leaders: Vec<Leader>,
+    /// The major resonances left without a label.
+    missed: Vec<usize>,
+}
+
+/// What the resonance labels are placed among: the markers, the plot and
+/// the mode lines.
+struct LabelSpace<'a> {
+    marks: &'a [CampbellMark],
+    /// Each marker's centre (pixels).
+    at: Vec<(i32, i32)>,
+    /// Each marker's box as drawn (the major's ring has a 1 px stroke).
+    markers: Vec<Bounds>,
+    plot: Bounds,
+    /// Mode lines: a label may cross one, at a cost.
+    lines: Vec<Bounds>,
+    /// A label's height.
+    th: i32,
+    /// The other orders' resonances are labelled only where they matter:
+    /// a tenth of the largest resonance's amplitude or more.
+    floor: f64,
+}
+
+impl<'a> LabelSpace<'a> {
+    /// The markers of `marks` in pixels (`px`), the mode lines at
+    /// `mode_rows` across `plot`.
+    fn new(
+        marks: &'a [CampbellMark],
+        px: &dyn Fn(f64, f64) -> (i32, i32),
+        plot: Bounds,
+        mode_rows: &[i32],
+    ) -> Self {
+        let mut markers: Vec<Bounds> = Vec::with_capacity(marks.len());
+        let mut at = Vec::with_capacity(marks.len());
+        for m in marks {
+            let p = px(m.rpm, m.frequency_hz);
+            let r = if m.major { 6 } else { 4 };
+            markers.push((p.0 - r, p.1 - r, p.0 + r, p.1 + r));
+            at.push(p);
+        }
+        let lines = mode_rows
+            .iter()
+            .map(|&y| (plot.0, y - 1, plot.2, y + 1))
+            .collect();
+        let floor = 0.1 * marks.iter().map(|m| m.amplitude_deg).fold(0.0, f64::max);
+        LabelSpace {
+            marks,
+            at,
+            markers,
+            plot,
+            lines,
+            th: text_height(MARK_FONT),
+            floor,
+        }
+    }
+
+    /// Places the labels in `order`, then again with each major resonance
+    /// left without a label put first, so that crowds of markers (the low
+    /// speeds of a high mode) still get every major label; the try with
+    /// the fewest left out is kept.
+    fn place_retrying(&self, order: &[usize]) -> Placement {
+        let mut first: Vec<usize> = Vec::new();
+        let mut best = self.place(order);
+        for _ in 0..self.marks.len() {
+            let Some(&next) = best.missed.first() else {
+                break;
+            };
+            if first.contains(&next) {
+                break;
+            }
+            first.push(next);
+            let tried: Vec<usize> = first
+                .iter()
+                .copied()
+                .chain(order.iter().copied().filter(|i| !first.contains(i)))
+                .collect();
+            let attempt = self.place(&tried);
+            if attempt.missed.len() <= best.missed.len() {
+                best = attempt;
+            }
+        }
+        best
+    }
+
+    /// Places the labels in `order`, each at its cheapest free spot.
+    fn place(&self, order: &[usize]) -> Placement {
+        let mut done = Placement::default();
+        for &i in order {
+            let m = &self.marks[i];
+            if !m.major && !(m.amplitude_deg >= self.floor) {
+                continue;
+            }
+            let text = format!("{} × mode {}", human(m.order), m.mode);
+            let w = text_width(&text, MARK_FONT);
+            let Some((b, ring)) = self.best_spot(i, w, &done) else {
+                if m.major {
+                    done.missed.push(i);
+                }
+                continue;
+            };
+            if ring > 1 {
+                done.leaders.push(Leader {
+                    label: done.placed.len(),
+                    marker: i,
+                    from: self.at[i],
+                    to: leader_end(self.at[i], b),
+                });
+            }
+            done.placed.push((
+                i,
+                PlacedLabel {
+                    text,
+                    major: m.major,
+                    bounds: b,
+                },
+            ));
+        }
+        done
+    }
+
+    /// The cheapest free box `w` wide for mark `i`'s label and its ring
+    /// (1: beside the marker; further out, for a major order, with a
+    /// leader). The cost counts the mode lines crossed, the ring and the
+    /// offset from centred.
+    fn best_spot(&self, i: usize, w: i32, done: &Placement) -> Option<(Bounds, i32)> {
+        let (x, y) = self.at[i];
+        let th = self.th;
+        let rings = if self.marks[i].major { 4 } else { 1 };
+        let mut best: Option<(Bounds, i64, i32)> = None;
+        for ring in 1..=rings {
+            let d = 6 + (ring - 1) * (th + 2);
+            // Above or below the marker, from beside it on the left (the
+            // label's right end on the diagonal) to beside it on the right,
+            // every few pixels: the nearer to centred, the cheaper.
+            let mut shifts: Vec<i32> = (0..)
+                .map(|k| -w - d + 6 * k)
+                .take_while(|&dx| dx <= d)
+                .collect();
+            shifts.extend([d, -w / 2]);
+            for (dx, dy) in shifts.iter().flat_map(|&dx| [(dx, -d - th), (dx, d)]) {
+                let b = (x + dx, y + dy, x + dx + w, y + dy + th);
+                if !self.free(i, b, ring, done) {
+                    continue;
+                }
+                let crossing: i64 = self.lines.iter().map(|l| overlap(*l, b) as i64).sum();
+                let off = i64::from((dx + w / 2).abs() / 12);
+                let cost = crossing + 40 * i64::from(ring) + off;
+                if best.is_none_or(|(_, c, _)| cost < c) {
+                    best = Some((b, cost, ring));
+                }
+            }
+            // A farther ring cannot beat this one.
+            if best.is_some_and(|(_, c, _)| c <= 40 * i64::from(ring + 1)) {
+                break;
+            }
+        }
+        best.map(|(b, _, ring)| (b, ring))
+    }
+
+    /// Whether box `b` is free for mark `i`'s label on `ring`: inside the
+    /// plot, on no marker, [`LABEL_GAP`] from every label and on no
+    /// leader; beyond the first ring its leader also passes no other
+    /// marker and no other label.
+    fn free(&self, i: usize, b: Bounds, ring: i32, done: &Placement) -> bool {
+        if !inside(b, self.plot)
+            || self.markers.iter().any(|t| overlap(*t, ground(b)) > 0)
+            || done
+                .placed
+                .iter()
+                .any(|(_, p)| overlap(inflate(p.bounds, LABEL_GAP), b) > 0)
+            || done
+                .leaders
+                .iter()
+                .any(|l| segment_hits(l.from, l.to, inflate(b, 1)))
+        {
+            return false;
+        }
+        if ring == 1 {
+            return true;
+        }
+        let from = self.at[i];
+        let end = leader_end(from, b);
+        self.markers
+            .iter()
+            .enumerate()
+            .all(|(k, t)| k == i || !segment_hits(from, end, *t))
+            && done
+                .placed
+                .iter()
+                .all(|(_, p)| !segment_hits(from, end, inflate(p.bounds, 1)))
     }
 }
 

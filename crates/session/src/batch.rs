@@ -1,6 +1,8 @@
 //! Many diagrams: the files a batch reads (folders, patterns, lists,
-//! shards) and the per-file loop, in parallel, where one file's failure
-//! or panic is that file's error and never the batch's.
+//! shards; a file's identity, `canonical_key`, and its name in a table,
+//! `shown`, which `campaign` re-exports) and the per-file loop, in
+//! parallel, where one file's failure or panic is that file's error and
+//! never the batch's.
 
 use crate::diagram::{load_file_hashed, parse_file_hashed, parse_only};
 use crate::error::{Error, Result};
@@ -306,6 +308,22 @@ pub fn guarded<T>(work: impl FnOnce() -> Result<T>) -> Result<T> {
     })
 }
 
+/// A file's identity in a campaign: its canonical path's bytes (links and
+/// `.`/`..` resolved), else, for a file that cannot be resolved (missing),
+/// its absolute path. `a.csv`, `./a.csv` and `/abs/a.csv` are one file.
+pub fn canonical_key(p: &Path) -> Vec<u8> {
+    let c = std::fs::canonicalize(p)
+        .or_else(|_| std::path::absolute(p))
+        .unwrap_or_else(|_| p.to_path_buf());
+    c.into_os_string().into_encoded_bytes()
+}
+
+/// A path as a table's `file` column holds it: the path as given, a name
+/// that is not UTF-8 escaped as `\xNN` without loss.
+pub fn shown(p: &Path) -> String {
+    enginedyn_tables::escape_name(p.as_os_str().as_encoded_bytes())
+}
+
 /// The most shards of a campaign (INTERFACE.md, "Campaigns").
 pub const MAX_SHARDS: usize = 100_000;
 
@@ -347,13 +365,13 @@ impl Shard {
     }
 
     /// This shard's files of `files`: the files sorted bytewise by their
-    /// identity ([`crate::campaign::canonical_key`]), file k going to
+    /// identity ([`canonical_key`]), file k going to
     /// shard k mod N, so that every shard of one list sees the same order
     /// and the N shards together hold each file once.
     pub fn take(&self, files: &[PathBuf]) -> Vec<PathBuf> {
         let keyed: Vec<(Vec<u8>, PathBuf)> = files
             .iter()
-            .map(|p| (crate::campaign::canonical_key(p), p.clone()))
+            .map(|p| (canonical_key(p), p.clone()))
             .collect();
         self.take_keyed(&keyed)
     }
@@ -443,7 +461,7 @@ pub fn listed(
 const DUPLICATES_SHOWN: usize = 5;
 
 /// A campaign's list: each file once by its identity
-/// ([`crate::campaign::canonical_key`]), in the order first named, with
+/// ([`canonical_key`]), in the order first named, with
 /// a note naming the files named more than once.
 pub fn unique(files: Vec<PathBuf>) -> (Vec<(Vec<u8>, PathBuf)>, Option<String>) {
     let mut seen: std::collections::HashMap<Vec<u8>, usize> = std::collections::HashMap::new();
@@ -451,7 +469,7 @@ pub fn unique(files: Vec<PathBuf>) -> (Vec<(Vec<u8>, PathBuf)>, Option<String>) 
     let mut again: Vec<Vec<PathBuf>> = Vec::new();
     let mut group_of: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
     for p in files {
-        let key = crate::campaign::canonical_key(&p);
+        let key = canonical_key(&p);
         match seen.get(&key) {
             Some(&k) => {
                 let g = *group_of.entry(k).or_insert_with(|| {
@@ -469,15 +487,15 @@ pub fn unique(files: Vec<PathBuf>) -> (Vec<(Vec<u8>, PathBuf)>, Option<String>) 
     if again.is_empty() {
         return (out, None);
     }
-    let shown = |p: &PathBuf| one_line(&crate::campaign::shown(p));
+    let name = |p: &PathBuf| one_line(&shown(p));
     let mut groups: Vec<String> = again
         .iter()
         .take(DUPLICATES_SHOWN)
         .map(|g| {
             format!(
                 "{} as {}",
-                shown(&g[0]),
-                g[1..].iter().map(shown).collect::<Vec<_>>().join(", ")
+                name(&g[0]),
+                g[1..].iter().map(name).collect::<Vec<_>>().join(", ")
             )
         })
         .collect();

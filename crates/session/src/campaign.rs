@@ -5,7 +5,8 @@
 //! `run_shard` and `check_campaign` all come here; the campaign's identity
 //! and its checks live in `enginedyn_tables`.
 
-use crate::batch::Shard;
+use crate::batch::{Shard, shard_order};
+pub use crate::batch::{canonical_key, shown};
 use crate::error::{Class, Error, Result};
 use crate::session::Session;
 use enginedyn_ingest::Resampled;
@@ -13,16 +14,6 @@ use enginedyn_pipeline::Summary;
 use enginedyn_pipeline::schema::{SummaryRecord, cycle_rows, trace_points};
 use enginedyn_tables::{Campaign, Meta, PartSet, Table, TablesError};
 use std::path::{Path, PathBuf};
-
-/// A file's identity in a campaign: its canonical path's bytes (links and
-/// `.`/`..` resolved), else, for a file that cannot be resolved (missing),
-/// its absolute path. `a.csv`, `./a.csv` and `/abs/a.csv` are one file.
-pub fn canonical_key(p: &Path) -> Vec<u8> {
-    let c = std::fs::canonicalize(p)
-        .or_else(|_| std::path::absolute(p))
-        .unwrap_or_else(|_| p.to_path_buf());
-    c.into_os_string().into_encoded_bytes()
-}
 
 /// The identities of a list, each once.
 fn unique_keys(keys: &[Vec<u8>]) -> Vec<&[u8]> {
@@ -40,18 +31,12 @@ pub fn list_plan(list: &[PathBuf], parts: usize) -> Result<(String, Vec<Vec<Path
     Shard::new(0, parts).map_err(|e| Error::usage(format!("parts: {e}")))?;
     let keyed: Vec<(Vec<u8>, PathBuf)> =
         list.iter().map(|p| (canonical_key(p), p.clone())).collect();
-    let unique: Vec<&[u8]> = crate::batch::shard_order(&keyed)
+    let unique: Vec<&[u8]> = shard_order(&keyed)
         .into_iter()
         .map(|(k, _)| k.as_slice())
         .collect();
     let hash = enginedyn_tables::list_blake3(&unique);
     Ok((hash, Shard::split_keyed(&keyed, parts)))
-}
-
-/// A path as a table's `file` column holds it: the path as given, a name
-/// that is not UTF-8 escaped as `\xNN` without loss.
-pub fn shown(p: &Path) -> String {
-    enginedyn_tables::escape_name(p.as_os_str().as_encoded_bytes())
 }
 
 /// One file of a campaign as its tables hold it.
