@@ -313,10 +313,13 @@ impl Session {
     }
 }
 
+/// A speed (rpm) and a figure there.
+type SpeedValue = (f64, f64);
+
 /// The rated-power and peak-torque points of the highest load's row (the
 /// last of `loads` loads): (rpm, kW) and (rpm, N m), effective (brake with
 /// `[friction]`).
-fn full_load_points(points: &[MapPoint], loads: usize) -> (Option<(f64, f64)>, Option<(f64, f64)>) {
+fn full_load_points(points: &[MapPoint], loads: usize) -> (Option<SpeedValue>, Option<SpeedValue>) {
     let row = points
         .iter()
         .filter(|p| p.load + 1 == loads)
