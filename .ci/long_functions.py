@@ -8,7 +8,7 @@ literals and comments are skipped when braces are matched, so a `{` in a
 format string does not count.
 
     python3 .ci/long_functions.py                # list, longest first
-    python3 .ci/long_functions.py --lines 150 --max 10
+    python3 .ci/long_functions.py --lines 150 --max 2
 
 Exits 1 when more than --max functions are over the limit.
 """

@@ -564,39 +564,7 @@ pub fn analyse_with(
         rod: extreme(|f| &f.rod),
         pin: extreme(|f| &f.pin_load),
     };
-    // Measured p–φ data: where the trace puts firing TDC, or why it cannot
-    // tell (a note either way when there is something to say).
-    let tdc_offset = if pressure.synthetic {
-        // A synthesised diagram's TDC is exact by construction.
-        None
-    } else if opts.scope > Scope::Keys && !pressure.pv && pressure.quantity == Quantity::Pressure {
-        // A file sampled coarsely is judged by its own step, not the
-        // interpolant's grid.
-        let estimate = tdc::fine_enough(pressure.sample_step_deg)
-            .and_then(|()| tdc::estimate(traces[0], h, engine.cylinder()))
-            .map_err(|e| e.to_string());
-        match estimate {
-            Ok(e) => {
-                if e.offset_deg.abs() > 0.3 {
-                    let fmt = &enginedyn_numerics::format::fixed;
-                    let sign = if e.offset_deg > 0.0 { "+" } else { "" };
-                    notes.push(format!(
-                        "the trace suggests firing TDC lies {sign}{}° from the declared one (a fit of its compression and expansion with wall heat loss: n = {}, standard error {}°): add it to --tdc-deg; 1° of TDC error moves IMEP by about 4 % at full load",
-                        fmt(e.offset_deg, 2),
-                        fmt(e.exponent, 3),
-                        enginedyn_numerics::format::sig(e.std_error_deg, 1),
-                    ));
-                }
-                Some(e.offset_deg)
-            }
-            Err(why) => {
-                notes.push(format!("no TDC offset estimate: {why}"));
-                None
-            }
-        }
-    } else {
-        None
-    };
+    let tdc_offset = tdc_offset(engine, pressure, traces[0], (h, opts), &mut notes);
     if opts.scope > Scope::Keys {
         notes.extend(spread_note(pressure));
         notes.extend(cycle_notes(pressure));
@@ -648,6 +616,49 @@ pub fn analyse_with(
         );
     }
     Ok(analysis)
+}
+
+/// Measured p–φ data: where the trace puts firing TDC, or why it cannot
+/// tell (a note either way when there is something to say); never for a
+/// synthesised diagram, whose TDC is exact by construction.
+fn tdc_offset(
+    engine: &Engine,
+    pressure: &Resampled,
+    trace: &[f64],
+    (h, opts): (f64, &Options),
+    notes: &mut Vec<String>,
+) -> Option<f64> {
+    if pressure.synthetic {
+        // A synthesised diagram's TDC is exact by construction.
+        None
+    } else if opts.scope > Scope::Keys && !pressure.pv && pressure.quantity == Quantity::Pressure {
+        // A file sampled coarsely is judged by its own step, not the
+        // interpolant's grid.
+        let estimate = tdc::fine_enough(pressure.sample_step_deg)
+            .and_then(|()| tdc::estimate(trace, h, engine.cylinder()))
+            .map_err(|e| e.to_string());
+        match estimate {
+            Ok(e) => {
+                if e.offset_deg.abs() > 0.3 {
+                    let fmt = &enginedyn_numerics::format::fixed;
+                    let sign = if e.offset_deg > 0.0 { "+" } else { "" };
+                    notes.push(format!(
+                        "the trace suggests firing TDC lies {sign}{}° from the declared one (a fit of its compression and expansion with wall heat loss: n = {}, standard error {}°): add it to --tdc-deg; 1° of TDC error moves IMEP by about 4 % at full load",
+                        fmt(e.offset_deg, 2),
+                        fmt(e.exponent, 3),
+                        enginedyn_numerics::format::sig(e.std_error_deg, 1),
+                    ));
+                }
+                Some(e.offset_deg)
+            }
+            Err(why) => {
+                notes.push(format!("no TDC offset estimate: {why}"));
+                None
+            }
+        }
+    } else {
+        None
+    }
 }
 
 /// What a pressure trace adds to an analysis: the mean trace's peak, the
