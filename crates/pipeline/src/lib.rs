@@ -21,6 +21,7 @@ use enginedyn_torque::{EngineTorque, Harmonic};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
+pub mod column;
 pub mod combustion;
 pub mod notes;
 pub mod schema;

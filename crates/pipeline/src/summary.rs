@@ -1,6 +1,6 @@
 //! The summary figures of one operating point, in INTERFACE.md's key order.
 
-use crate::schema::{ColumnType, Group};
+use crate::column::{ColumnType, Group};
 
 /// Summary figures (SI units as named by each key). `None` is JSON `null`.
 #[derive(Debug, Clone, PartialEq)]

@@ -9,6 +9,45 @@ use enginedyn_engine::Engine;
 use enginedyn_ingest::{GridOptions, ParseOptions, Peg, Resampled};
 use std::path::{Path, PathBuf};
 
+/// A synthesised diagram: its text (`crank_deg,pressure_bar` with `#`
+/// lines giving every parameter), how messages name it, and what it gives.
+#[derive(Debug, Clone)]
+pub struct Synthesised {
+    /// How messages name it: `synthesised from FILE [combustion]`.
+    pub name: String,
+    /// The diagram as `enginedyn synth` writes it.
+    pub text: String,
+    /// The speed written in its `# rpm` line, when one was known.
+    pub rpm: Option<f64>,
+    /// The step of its rows (deg).
+    pub step_deg: f64,
+    /// The IMEP asked for (bar), when the load is an IMEP.
+    pub imep_target_bar: Option<f64>,
+    /// The net IMEP of the cycle (bar).
+    pub imep_bar: f64,
+    /// The heat released per cylinder and cycle (J): given, or solved for.
+    pub heat_released_j: f64,
+    /// The intake pressure of the cycle (bar): the file's at this speed,
+    /// or what a spark-ignition engine's throttle gives for the load.
+    pub intake_pressure_bar: f64,
+    /// The air ratio, when the file says how the engine makes its load.
+    pub lambda: Option<f64>,
+    /// How the engine makes its load (`charge`), when the file says.
+    pub charge: Option<enginedyn_combustion::charge::ChargeKind>,
+    /// The note a command says when it runs on it.
+    pub note: String,
+    /// What may make its figures wrong (a throttle below a running
+    /// engine's idle): warnings a command says beside the note.
+    pub warnings: Vec<String>,
+    /// The γ model it was made with (the analysis reads it back with the
+    /// same, PHYSICS "Combustion").
+    pub gamma: enginedyn_combustion::GammaModel,
+    /// The burn window that holds its whole burn (deg): the default
+    /// −90…120°, widened to the law's 0.1 % and 99.9 % points ± 15°,
+    /// within IVC … EVO.
+    pub burn_window_deg: (f64, f64),
+}
+
 /// A diagram to read: a file, or a bundled example's.
 #[derive(Debug, Clone, Copy)]
 pub enum Input<'a> {
@@ -17,7 +56,7 @@ pub enum Input<'a> {
     /// A bundled example's diagram.
     Bundled(&'static Bundled),
     /// A diagram synthesised from the engine file's `[combustion]`.
-    Synthesised(&'a crate::synth::Synthesised),
+    Synthesised(&'a Synthesised),
 }
 
 impl Input<'_> {

@@ -26,44 +26,7 @@ pub const NOTE_PREFIX: &str = "diagram synthesised from [combustion]";
 pub const MARKER: &str =
     "# synthetic indicator diagram, not measured: enginedyn synth, the design cycle";
 
-/// A synthesised diagram: its text (`crank_deg,pressure_bar` with `#`
-/// lines giving every parameter), how messages name it, and what it gives.
-#[derive(Debug, Clone)]
-pub struct Synthesised {
-    /// How messages name it: `synthesised from FILE [combustion]`.
-    pub name: String,
-    /// The diagram as `enginedyn synth` writes it.
-    pub text: String,
-    /// The speed written in its `# rpm` line, when one was known.
-    pub rpm: Option<f64>,
-    /// The step of its rows (deg).
-    pub step_deg: f64,
-    /// The IMEP asked for (bar), when the load is an IMEP.
-    pub imep_target_bar: Option<f64>,
-    /// The net IMEP of the cycle (bar).
-    pub imep_bar: f64,
-    /// The heat released per cylinder and cycle (J): given, or solved for.
-    pub heat_released_j: f64,
-    /// The intake pressure of the cycle (bar): the file's at this speed,
-    /// or what a spark-ignition engine's throttle gives for the load.
-    pub intake_pressure_bar: f64,
-    /// The air ratio, when the file says how the engine makes its load.
-    pub lambda: Option<f64>,
-    /// How the engine makes its load (`charge`), when the file says.
-    pub charge: Option<enginedyn_combustion::charge::ChargeKind>,
-    /// The note a command says when it runs on it.
-    pub note: String,
-    /// What may make its figures wrong (a throttle below a running
-    /// engine's idle): warnings a command says beside the note.
-    pub warnings: Vec<String>,
-    /// The γ model it was made with (the analysis reads it back with the
-    /// same, PHYSICS "Combustion").
-    pub gamma: GammaModel,
-    /// The burn window that holds its whole burn (deg): the default
-    /// −90…120°, widened to the law's 0.1 % and 99.9 % points ± 15°,
-    /// within IVC … EVO.
-    pub burn_window_deg: (f64, f64),
-}
+pub use crate::diagram::Synthesised;
 
 impl Synthesised {
     /// How the cycle met its load, as `summary.json`'s `design` gives it.
