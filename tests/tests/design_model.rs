@@ -213,3 +213,128 @@ fn impossible_design_inputs_are_refused() {
         }
     }
 }
+
+/// `sweep --load`: each point's IMEP is its percent of the full-load line
+/// at its speed (linear between the line's points); a BMEP line gives
+/// BMEP = percent × the line with FMEP on each point's own peak; the
+/// highest load's row names the rated-power and peak-torque points, which
+/// are the largest brake power and torque of that row.
+#[test]
+fn a_map_in_percent_of_the_full_load_line() {
+    let t = tempfile::tempdir().unwrap();
+    let line = |rpm: f64| {
+        let (x, y) = (
+            [
+                1000.0, 2000.0, 3000.0, 3400.0, 4000.0, 5000.0, 5600.0, 6000.0,
+            ],
+            [9.6, 10.3, 10.8, 10.9, 10.8, 10.3, 9.9, 9.5],
+        );
+        let k = x.iter().position(|&r| r >= rpm).unwrap();
+        if x[k] == rpm {
+            return y[k];
+        }
+        y[k - 1] + (rpm - x[k - 1]) / (x[k] - x[k - 1]) * (y[k] - y[k - 1])
+    };
+    let engine = template(t.path(), "petrol", "map.toml", &[]);
+    let o = run(&[
+        "sweep",
+        "--engine",
+        &engine,
+        "--rpm",
+        "1500:6000:1500",
+        "--load",
+        "50:100:50",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let points: Vec<serde_json::Value> = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(points.len(), 8);
+    for p in &points {
+        let (rpm, pct) = (num(p, "rpm"), num(p, "load_pct"));
+        let want = pct / 100.0 * line(rpm);
+        assert!(
+            (num(p, "imep_target_bar") - want).abs() < 1e-9,
+            "{rpm} {pct}"
+        );
+        assert!(
+            (num(p, "imep_bar") / want - 1.0).abs() < 1e-4,
+            "{rpm} {pct}"
+        );
+    }
+    let full: Vec<&serde_json::Value> = points
+        .iter()
+        .filter(|p| num(p, "load_pct") == 100.0)
+        .collect();
+    let best = |k: &str| {
+        full.iter()
+            .max_by(|a, b| num(a, k).total_cmp(&num(b, k)))
+            .map(|p| (num(p, "rpm"), num(p, k)))
+            .unwrap()
+    };
+    let (r_p, p) = best("brake_power_kw");
+    let (r_t, tq) = best("brake_torque_nm");
+    let err = stderr(&o);
+    assert!(
+        err.contains(&format!(
+            "rated power {} kW at {} rpm",
+            (p * 100.0).round() / 100.0,
+            r_p
+        )),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!(
+            "peak torque {} N m at {} rpm",
+            (tq * 10.0).round() / 10.0,
+            r_t
+        )),
+        "{err}"
+    );
+    // A BMEP line: BMEP is the percent of it, FMEP on each point's peak.
+    let engine = template(
+        t.path(),
+        "petrol",
+        "bmep.toml",
+        &[(
+            "imep_bar = [9.6, 10.3, 10.8, 10.9, 10.8, 10.3, 9.9, 9.5]",
+            "bmep_bar = [8.5, 9.0, 9.4, 9.4, 9.2, 8.5, 8.0, 7.5]",
+        )],
+    );
+    let o = run(&[
+        "sweep",
+        "--engine",
+        &engine,
+        "--rpm",
+        "1000:5000:2000",
+        "--load",
+        "80:80:1",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let points: Vec<serde_json::Value> = serde_json::from_slice(&o.stdout).unwrap();
+    for (p, bmep) in points.iter().zip([8.5, 9.4, 8.5]) {
+        assert!((num(p, "bmep_bar") - 0.8 * bmep).abs() < 1e-4, "{p}");
+    }
+    // Without a full-load line, --load says what is missing.
+    let bare = template(
+        t.path(),
+        "petrol",
+        "bare.toml",
+        &[("\nfull_load = {", "\n# full_load = {")],
+    );
+    let o = run(&[
+        "sweep",
+        "--engine",
+        &bare,
+        "--rpm",
+        "1000:2000:1000",
+        "--load",
+        "50:100:50",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("[combustion.full_load]"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -155,12 +155,19 @@ fn sweep_maps_speed_and_load_with_the_worst_point_named() {
     );
     let csv = std::fs::read_to_string(out_dir.join("sweep.csv")).unwrap();
     let mut lines = csv.lines();
-    // The column is appended: the last of each row (notes hold commas).
+    // The columns are appended: the target, then the sizing point named
+    // apart, the last of each row (notes hold commas).
     let header = lines.next().unwrap();
-    assert!(header.ends_with(",imep_target_bar"), "{header}");
+    assert!(
+        header.ends_with(",imep_target_bar,flywheel_sized_at_rpm,flywheel_sized_at_imep_bar"),
+        "{header}"
+    );
     let rows: Vec<&str> = lines.collect();
     assert_eq!(rows.len(), 4 * 3);
-    let loads: Vec<&str> = rows.iter().map(|r| r.rsplit(',').next().unwrap()).collect();
+    for r in &rows {
+        assert!(r.ends_with(",1000,10"), "{r}");
+    }
+    let loads: Vec<&str> = rows.iter().map(|r| r.rsplit(',').nth(2).unwrap()).collect();
     assert_eq!(
         loads,
         [
