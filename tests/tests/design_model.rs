@@ -229,10 +229,7 @@ fn a_map_in_percent_of_the_full_load_line() {
             ],
             [9.6, 10.3, 10.8, 10.9, 10.8, 10.3, 9.9, 9.5],
         );
-        let k = x.iter().position(|&r| r >= rpm).unwrap();
-        if x[k] == rpm {
-            return y[k];
-        }
+        let k = x.iter().position(|&r| r >= rpm).unwrap().max(1);
         y[k - 1] + (rpm - x[k - 1]) / (x[k] - x[k - 1]) * (y[k] - y[k - 1])
     };
     let engine = template(t.path(), "petrol", "map.toml", &[]);
