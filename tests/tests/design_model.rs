@@ -260,7 +260,7 @@ fn a_map_in_percent_of_the_full_load_line() {
     }
     let full: Vec<&serde_json::Value> = points
         .iter()
-        .filter(|p| num(p, "load_pct") == 100.0)
+        .filter(|p| num(p, "load_pct") > 99.0)
         .collect();
     let best = |k: &str| {
         full.iter()
