@@ -37,6 +37,9 @@ pub struct Series {
     pub dashed: bool,
     /// Drawn as a marker at each point, no line (a scatter's points).
     pub marker: bool,
+    /// Its own colour (a sequence of many lines, as a map's loads), in
+    /// place of the palette's next.
+    pub color: Option<RGBColor>,
 }
 
 impl Series {
@@ -63,6 +66,7 @@ impl Series {
             points,
             dashed: false,
             marker: false,
+            color: None,
         }
     }
     /// A dashed horizontal line at `y` over `[x0, x1]`.
@@ -72,6 +76,7 @@ impl Series {
             points: vec![(x0, y), (x1, y)],
             dashed: true,
             marker: false,
+            color: None,
         }
     }
 }
@@ -590,7 +595,7 @@ fn series_keys(series: &[Series]) -> Vec<(String, Key)> {
                 solid += 1;
                 Key::Marker {
                     shape: 0,
-                    color: PALETTE[(solid - 1) % PALETTE.len()],
+                    color: s.color.unwrap_or(PALETTE[(solid - 1) % PALETTE.len()]),
                     filled: true,
                 }
             } else if s.dashed {
@@ -612,7 +617,7 @@ fn series_keys(series: &[Series]) -> Vec<(String, Key)> {
             } else {
                 solid += 1;
                 Key::Line {
-                    color: PALETTE[(solid - 1) % PALETTE.len()],
+                    color: s.color.unwrap_or(PALETTE[(solid - 1) % PALETTE.len()]),
                     width: 2,
                     dashed: false,
                 }
@@ -1274,6 +1279,7 @@ fn flywheel_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
                     ],
                     dashed: true,
                     marker: false,
+                    color: None,
                 },
             ],
         ));
@@ -1313,12 +1319,14 @@ fn harmonics_figure(name: &str, a: &Analysis) -> Figure {
                     points: cyl,
                     dashed: false,
                     marker: false,
+                    color: None,
                 },
                 Series {
                     name: "engine".into(),
                     points: eng,
                     dashed: false,
                     marker: false,
+                    color: None,
                 },
             ],
             log: false,

@@ -67,6 +67,7 @@ pub fn combustion_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
                         points: vec![(x, 0.0), (x, pct / 100.0), (w.0, pct / 100.0)],
                         dashed: true,
                         marker: false,
+                        color: None,
                     });
                 }
             }
@@ -171,6 +172,7 @@ fn scatter(name: &str, a: &Analysis) -> Chart {
                 .collect(),
             dashed: false,
             marker: true,
+            color: None,
         })
         .collect();
     let (mx, sx) = enginedyn_numerics::mean_std(pts.iter().map(|p| p.3));
@@ -194,6 +196,7 @@ fn scatter(name: &str, a: &Analysis) -> Chart {
             ],
             dashed: true,
             marker: false,
+            color: None,
         });
     }
     Chart {

@@ -380,6 +380,7 @@ pub fn crank_end_view(engine: &Engine, s: &Study) -> Figure {
             .collect(),
         dashed: true,
         marker: false,
+        color: None,
     }];
     let bank_axes: Vec<f64> = if gamma > 0.0 {
         vec![axis1, axis1 - gamma]
@@ -392,6 +393,7 @@ pub fn crank_end_view(engine: &Engine, s: &Study) -> Figure {
             points: vec![(0.0, 0.0), (1.3 * (a * deg).cos(), 1.3 * (a * deg).sin())],
             dashed: true,
             marker: false,
+            color: None,
         });
     }
     let title;
@@ -419,6 +421,7 @@ pub fn crank_end_view(engine: &Engine, s: &Study) -> Figure {
                 points: vec![(0.0, 0.0), (a.cos(), a.sin())],
                 dashed: false,
                 marker: false,
+                color: None,
             });
         };
         for k in 0..engine.throws() {

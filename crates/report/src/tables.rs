@@ -266,6 +266,7 @@ pub fn sweep_figure(engine_name: &str, summaries: &[&Summary]) -> Figure {
         points: pts,
         dashed: false,
         marker: false,
+        color: None,
     };
     let eta = summaries
         .first()
@@ -305,19 +306,57 @@ pub fn sweep_figure(engine_name: &str, summaries: &[&Summary]) -> Figure {
     }
 }
 
+/// The most loads a map's legend names.
+const LEGEND_LOADS: usize = 8;
+
+/// The colour of load `l` of `n`: blue (the lowest) through green to red
+/// (the highest), so that no two loads share one.
+fn load_colour(l: usize, n: usize) -> plotters::style::RGBColor {
+    const STOPS: [(f64, f64, f64); 4] = [
+        (31.0, 119.0, 180.0),
+        (44.0, 160.0, 44.0),
+        (255.0, 127.0, 14.0),
+        (214.0, 39.0, 40.0),
+    ];
+    let t = if n > 1 {
+        l as f64 / (n - 1) as f64
+    } else {
+        0.0
+    } * (STOPS.len() - 1) as f64;
+    let k = (t.floor() as usize).min(STOPS.len() - 2);
+    let f = t - k as f64;
+    let mix = |a: f64, b: f64| (a + f * (b - a)).round() as u8;
+    let (a, b) = (STOPS[k], STOPS[k + 1]);
+    plotters::style::RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
 /// `sweep.svg` of a speed × load map (`sweep --imep`): the effective
 /// mean torque, the power and the speed fluctuation against speed, one
 /// line per load (`loads`: each IMEP target in bar with its summaries in
 /// speed order).
 pub fn sweep_map_figure(engine_name: &str, loads: &[(f64, Vec<&Summary>)]) -> Figure {
+    // Many loads: each its colour on a blue-to-red scale, the legend naming
+    // at most eight of them (the first and the last among them), so that
+    // it never covers the plot; one speed: a marker a point.
+    let named = |l: usize| {
+        let n = loads.len();
+        n <= LEGEND_LOADS || l + 1 == n || (l * (LEGEND_LOADS - 1)) % (n - 1) < LEGEND_LOADS - 1
+    };
+    let single = loads.iter().all(|(_, ss)| ss.len() < 2);
     let lines = |f: fn(&Summary) -> Option<f64>| -> Vec<Series> {
         loads
             .iter()
-            .map(|(imep, ss)| Series {
-                name: format!("IMEP {} bar", enginedyn_numerics::format::human(*imep)),
+            .enumerate()
+            .map(|(l, (imep, ss))| Series {
+                name: if named(l) {
+                    format!("IMEP {} bar", enginedyn_numerics::format::human(*imep))
+                } else {
+                    String::new()
+                },
                 points: ss.iter().filter_map(|s| f(s).map(|v| (s.rpm, v))).collect(),
                 dashed: false,
-                marker: false,
+                marker: single,
+                color: (loads.len() > 8).then(|| load_colour(l, loads.len())),
             })
             .collect()
     };
@@ -338,15 +377,13 @@ pub fn sweep_map_figure(engine_name: &str, loads: &[(f64, Vec<&Summary>)]) -> Fi
         file: "sweep.svg".into(),
         panels: vec![
             panel(
-                format!(
-                    "{engine_name} — mean torque over speed, a line per load (synthesised diagrams; {eta})"
-                ),
-                "mean torque, effective (N m)",
+                format!("{engine_name} — mean torque, a line per load"),
+                &format!("mean torque, {eta} (N m)"),
                 lines(|x| x.mean_torque_nm),
             ),
             panel(
-                "power, a line per load".into(),
-                "power, effective (kW)",
+                "power, a line per load (synthesised diagrams)".into(),
+                &format!("power, {eta} (kW)"),
                 lines(|x| x.power_kw),
             ),
             panel(
