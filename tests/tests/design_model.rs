@@ -335,3 +335,50 @@ fn a_map_in_percent_of_the_full_load_line() {
         stderr(&o)
     );
 }
+
+/// A boost curve over speed: each speed's cycle is made at its own intake
+/// pressure, in `run` and in a speed-only `sweep` (linear between the
+/// curve's points, held at its ends).
+#[test]
+fn a_boost_curve_is_taken_at_each_speed() {
+    let t = tempfile::tempdir().unwrap();
+    let engine = template(
+        t.path(),
+        "diesel",
+        "boost.toml",
+        &[(
+            "intake_pressure_bar = 2.2",
+            "intake_pressure_bar = { rpm = [800.0, 1200.0, 1900.0], bar = [1.6, 2.4, 2.2] }",
+        )],
+    );
+    let o = run(&[
+        "sweep",
+        "--engine",
+        &engine,
+        "--rpm",
+        "600:2000:200",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let points: Vec<serde_json::Value> = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(points.len(), 8);
+    let curve = |rpm: f64| match rpm {
+        r if r <= 800.0 => 1.6,
+        r if r <= 1200.0 => 1.6 + (r - 800.0) / 400.0 * 0.8,
+        r if r <= 1900.0 => 2.4 - (r - 1200.0) / 700.0 * 0.2,
+        _ => 2.2,
+    };
+    let mut peaks = Vec::new();
+    for p in &points {
+        let rpm = num(p, "rpm");
+        let p_in = p["design"]["intake_pressure_bar"].as_f64().unwrap();
+        assert!((p_in - curve(rpm)).abs() < 1e-12, "{rpm}: {p_in}");
+        assert!((num(p, "imep_bar") / 18.0 - 1.0).abs() < 1e-4);
+        peaks.push(num(p, "p_max_bar"));
+    }
+    // More boost, more compression: the peak follows the curve.
+    assert!(peaks[3] > peaks[0] + 10.0, "{peaks:?}");
+    let o = run(&["run", "--engine", &engine, "--rpm", "1000", "--json"]);
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!((s["design"]["intake_pressure_bar"].as_f64().unwrap() - 2.0).abs() < 1e-12);
+}

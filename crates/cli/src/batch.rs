@@ -488,6 +488,25 @@ pub fn sweep(a: &SweepArgs) -> Result<(), Failure> {
             enginedyn_session::synth::default_diagram(&session.loaded, None, session.method.step())?
         }
     };
+    // A design cycle that changes with speed (a boost or burn curve) is
+    // made at each speed: the map's path, at the file's load.
+    if let enginedyn_session::synth::DefaultDiagram::Synthesised(s) = &diagram
+        && session
+            .loaded
+            .engine
+            .combustion()
+            .is_some_and(|c| c.varies_with_speed())
+    {
+        let imep = s
+            .imep_target_bar
+            .unwrap_or((s.imep_bar * 1e6).round() / 1e6);
+        let load = format!("{0}:{0}:1", crate::human(imep));
+        return crate::sweep_map::run_loads(
+            a,
+            enginedyn_session::map::Loads::Imep(vec![imep]),
+            &load,
+        );
+    }
     let input = diagram.input();
     let shown = input.shown();
     if let Some(note) = diagram.note() {

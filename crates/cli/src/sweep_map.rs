@@ -28,6 +28,15 @@ pub fn run(a: &SweepArgs) -> Result<(), Failure> {
         .as_deref()
         .or(a.map.load.as_deref())
         .unwrap_or_default();
+    let loads = match &a.map.load {
+        Some(l) => Loads::Percent(enginedyn_session::options::load_range(l)?),
+        None => Loads::Imep(enginedyn_session::options::imep_range(shown_loads)?),
+    };
+    run_loads(a, loads, shown_loads)
+}
+
+/// The map of `loads` (`shown_loads`: as the notes name them).
+pub fn run_loads(a: &SweepArgs, loads: Loads, shown_loads: &str) -> Result<(), Failure> {
     let loaded = Loaded::from_file(&a.engine)?;
     enginedyn_session::synth::spec(&loaded)?;
     let out = crate::open_out(a.out.as_deref(), &FILES, "sweep")?;
@@ -38,10 +47,6 @@ pub fn run(a: &SweepArgs) -> Result<(), Failure> {
         enginedyn_pipeline::Scope::Summary,
     )?;
     let rpms = enginedyn_session::speed::speeds(&a.rpm)?;
-    let loads = match &a.map.load {
-        Some(l) => Loads::Percent(enginedyn_session::options::load_range(l)?),
-        None => Loads::Imep(enginedyn_session::options::imep_range(shown_loads)?),
-    };
     let map = session.sweep_map(&rpms, &loads, &a.rpm, shown_loads)?;
     crate::say_all(&map.notes);
     // The points' notes grouped by kind, one line a kind.
