@@ -77,7 +77,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
             time: false,
             aligner: crate::axis::Aligner::new(opts),
             probe: None,
-            synthetic: false,
+            synthetic: opts.synthetic,
         }
     }
 

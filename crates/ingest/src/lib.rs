@@ -125,6 +125,10 @@ pub struct ParseOptions {
     /// the peak-angle rule) are made; `false` for `--no-compression-check`
     /// (a steam engine, a compressor, a textbook problem).
     pub compression_check: bool,
+    /// The data are a cycle enginedyn synthesised (handed over as arrays,
+    /// without the mark its text carries, [`SYNTHETIC_MARK`]): its TDC is
+    /// exact and it is not held to the plausibility rules of measured data.
+    pub synthetic: bool,
     /// `--despike`: each glitch (a lone sample off the cubic through its
     /// neighbours by more than 10 bar and 20 % of the cycle's peak) is
     /// replaced by that cubic, with a note counting them; without it each
@@ -192,6 +196,7 @@ impl ParseOptions {
             wheel: None,
             wheel_tdc_deg: None,
             compression_check: true,
+            synthetic: false,
             despike: false,
             angle_step_deg: None,
             cancel: Cancel::default(),
@@ -450,7 +455,7 @@ fn load_from(
         Some(a) => {
             let (pv, cycles_skipped) = (h.pv, h.cycles_skipped);
             let placed = h.tdc_placement.clone();
-            let synthetic = h.synthetic;
+            let synthetic = h.synthetic || opts.synthetic;
             a.finish(h.rpm, h.notes)
                 .and_then(|r| {
                     // A synthesised diagram's TDC is exact by construction.

@@ -36,6 +36,9 @@ pub struct Synthesised {
     pub charge: Option<enginedyn_combustion::charge::ChargeKind>,
     /// The note a command says when it runs on it.
     pub note: String,
+    /// Its rows as columns (crank_deg, pressure_bar), when it is kept as
+    /// samples instead of text (`text` empty; [`crate::synth::synthesise_samples`]).
+    pub samples: (Vec<f64>, Vec<f64>),
     /// What may make its figures wrong (a throttle below a running
     /// engine's idle): warnings a command says beside the note.
     pub warnings: Vec<String>,
@@ -124,6 +127,7 @@ pub fn diagram_options(
         wheel: d.wheel,
         wheel_tdc_deg: d.wheel_tdc_deg,
         compression_check: !d.no_compression_check,
+        synthetic: false,
         despike: d.despike,
         angle_step_deg: d.angle_step_deg,
         cancel: enginedyn_ingest::Cancel::default(),
@@ -224,6 +228,22 @@ pub fn load_diagram_timed(
                     .map(|o| std::sync::Arc::new(s.analysis_options(o))),
                 ..grid.clone()
             };
+            if s.text.is_empty() {
+                // Kept as samples: the same rows, handed over as arrays.
+                let parse = ParseOptions {
+                    synthetic: true,
+                    rpm: s.rpm.or(parse.rpm),
+                    ..parse.clone()
+                };
+                let names = ["crank_deg".to_string(), "pressure_bar".to_string()];
+                return enginedyn_ingest::load_columns(
+                    &names,
+                    &[&s.samples.0, &s.samples.1],
+                    &parse,
+                    &own,
+                )
+                .map_err(|e| Error::from(e).in_file(&s.name));
+            }
             enginedyn_ingest::load_timed(s.text.as_bytes(), parse, &own, on_grid)
                 .map_err(|e| Error::from(e).in_file(&s.name))
         }

@@ -30,6 +30,16 @@ pub fn of_hashed(
         (None, Some(b)) => Source::Bundled(b.engine.as_bytes()),
         (None, None) => Source::Text("text", loaded.text.as_bytes()),
     };
+    // A synthesised diagram kept as samples: the hash of its columns.
+    let sampled: Vec<Option<String>> = diagrams
+        .iter()
+        .map(|d| match d {
+            Input::Synthesised(s) if s.text.is_empty() => {
+                Some(arrays_blake3(&[&s.samples.0, &s.samples.1]))
+            }
+            _ => None,
+        })
+        .collect();
     let diagrams: Vec<Source<'_>> = diagrams
         .iter()
         .enumerate()
@@ -38,6 +48,10 @@ pub fn of_hashed(
                 (Input::File(p), Some(h)) => Source::Hashed(p, h),
                 (Input::File(p), None) => Source::File(p),
                 (Input::Bundled(b), _) => Source::Bundled(b.diagram.as_bytes()),
+                (Input::Synthesised(_), _) if sampled[k].is_some() => Source::Hashed(
+                    std::path::Path::new("synthesised"),
+                    sampled[k].as_deref().unwrap_or_default(),
+                ),
                 (Input::Synthesised(s), _) => Source::Text("synthesised", s.text.as_bytes()),
             },
         )

@@ -130,7 +130,12 @@ impl Session {
                 .par_iter()
                 .zip(targets)
                 .map(|(&rpm, &imep)| {
-                    let d = synthesise(&self.loaded, Some(rpm), Some(imep), step)?;
+                    let d = crate::synth::synthesise_samples(
+                        &self.loaded,
+                        Some(rpm),
+                        Some(imep),
+                        step,
+                    )?;
                     let p = analyse(&d, rpm)?;
                     Ok((d, p))
                 })

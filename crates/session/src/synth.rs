@@ -137,6 +137,29 @@ pub fn synthesise(
     imep_bar: Option<f64>,
     step_deg: f64,
 ) -> Result<Synthesised> {
+    synthesise_as(loaded, rpm, imep_bar, step_deg, true)
+}
+
+/// [`synthesise`], the diagram kept as its samples instead of its text
+/// (`text` empty, [`Synthesised::samples`] the rows as the text would give
+/// them, rounded as it writes them): a map's points, which never write
+/// it, skip formatting 7,200 rows and reading them back.
+pub fn synthesise_samples(
+    loaded: &Loaded,
+    rpm: Option<f64>,
+    imep_bar: Option<f64>,
+    step_deg: f64,
+) -> Result<Synthesised> {
+    synthesise_as(loaded, rpm, imep_bar, step_deg, false)
+}
+
+fn synthesise_as(
+    loaded: &Loaded,
+    rpm: Option<f64>,
+    imep_bar: Option<f64>,
+    step_deg: f64,
+    as_text: bool,
+) -> Result<Synthesised> {
     let file = loaded.shown();
     let spec = spec(loaded)?;
     let engine = &loaded.engine;
@@ -149,12 +172,17 @@ pub fn synthesise(
     plausible(&file, imep_bar.is_some(), engine, &spec, &model, &design)?;
     let n = (model.cycle_deg() / step_deg).round() as usize;
     let trace = design.sample(n, step_deg);
-    let lines = header(&file, engine, &model, &design, step_deg, &trace);
-    let refs: Vec<&str> = lines.iter().map(String::as_str).collect();
-    let mut buf = Vec::new();
-    enginedyn_synth::write_csv(&mut buf, &trace, rpm, &refs)
-        .map_err(|e| Error::io(e.to_string()))?;
-    let text = String::from_utf8(buf).map_err(|e| Error::io(e.to_string()))?;
+    let (text, samples) = if as_text {
+        let lines = header(&file, engine, &model, &design, step_deg, &trace);
+        let refs: Vec<&str> = lines.iter().map(String::as_str).collect();
+        let mut buf = Vec::new();
+        enginedyn_synth::write_csv(&mut buf, &trace, rpm, &refs)
+            .map_err(|e| Error::io(e.to_string()))?;
+        let text = String::from_utf8(buf).map_err(|e| Error::io(e.to_string()))?;
+        (text, (Vec::new(), Vec::new()))
+    } else {
+        (String::new(), enginedyn_synth::csv_values(&trace))
+    };
     let imep_target_bar = match model.load {
         Load::Imep { pa } => Some(pa / 1e5),
         Load::Heat { .. } => None,
@@ -185,6 +213,7 @@ pub fn synthesise(
         ));
     }
     Ok(Synthesised {
+        samples,
         warnings,
         name: format!("synthesised from {file} [combustion]"),
         note: format!(

@@ -941,6 +941,17 @@ pub fn write_csv(
     w.flush()
 }
 
+/// The rows [`write_csv`] writes, as the reader reads them back: the angle
+/// to 0.1° and the pressure to 1e-5 bar, each the `f64` nearest the
+/// decimal (an integer over a power of ten, divided once, is that), as
+/// columns `(crank_deg, pressure_bar)`.
+pub fn csv_values(trace: &[(f64, f64)]) -> (Vec<f64>, Vec<f64>) {
+    trace
+        .iter()
+        .map(|&(deg, p)| ((deg * 10.0).round() / 10.0, (p / 1e5 * 1e5).round() / 1e5))
+        .unzip()
+}
+
 /// A closed-form test diagram: a base pressure plus a Gaussian peak,
 /// wrapped periodically over the cycle,
 /// `p(phi) = p0 + A sum_k exp(-((phi - phi_pk + k P)/w)^2)`, `P` the cycle.
