@@ -81,6 +81,53 @@ pub struct Filter {
     /// `√Σ w²` of the value weights: the share of white noise's standard
     /// deviation the smoothed value keeps.
     gain: f64,
+    /// The weights as polynomials in the offset, for the running sums of
+    /// [`Self::values_into`] and [`Self::slopes_into`] (`None`: the plain
+    /// weight sums, for the filter off and for narrow windows).
+    moments: Option<Moments>,
+}
+
+/// Fewest points either side of the centre for which the running sums
+/// replace the plain weight sums (a narrower window's sum costs less than
+/// the sums' update).
+pub const MOMENTS_MIN_HALF: usize = 8;
+
+/// A cubic Savitzky–Golay filter's weights as polynomials in the offset
+/// `i` from the centre: the value's are even, `a + b i²`, the slope's odd,
+/// `c i + d i³` (per index; the fit's coefficients, so the odd part of the
+/// value's and the even part of the slope's are zero but for rounding).
+/// A weight sum is then a combination of the moments `T_j = Σ i^j p_(c+i)`,
+/// which slide one point along in O(1): `T_j(c + 1)` is the binomial
+/// combination of `U_j = T_j(c) − (−m)^j p_(c−m) + (m + 1)^j p_(c+m+1)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Moments {
+    /// Half the window (points).
+    m: usize,
+    /// `a`, `b` of the value's weights.
+    value: [f64; 2],
+    /// `c`, `d` of the slope's weights (per index).
+    slope: [f64; 2],
+    /// The moments are summed afresh every this many points, which bounds
+    /// the rounding the updates carry (it grows as the cube of the points
+    /// since the last fresh sum over the square of `m`).
+    refresh: usize,
+}
+
+impl Moments {
+    fn new(m: usize) -> Option<Self> {
+        if m < MOMENTS_MIN_HALF {
+            return None;
+        }
+        let (v, d) = (savitzky_golay_poly(m, 0), savitzky_golay_poly(m, 1));
+        // Weights in u = i/m: value x0 + x2 u², slope (x1 u + x3 u³)/m.
+        let m2 = (m * m) as f64;
+        Some(Self {
+            m,
+            value: [v[0], v[2] / m2],
+            slope: [d[1] / m2, d[3] / (m2 * m2)],
+            refresh: (3 * m).clamp(24, 128),
+        })
+    }
 }
 
 impl Filter {
@@ -94,6 +141,7 @@ impl Filter {
                 step_deg,
                 fit: Some(savitzky_golay(MIN_POINTS / 2, 0)),
                 gain: 1.0,
+                moments: None,
             };
         }
         let value = savitzky_golay(m, 0);
@@ -104,7 +152,16 @@ impl Filter {
             step_deg,
             fit: None,
             gain,
+            moments: Moments::new(m),
         }
+    }
+
+    /// The same filter with the plain weight sums only (the reference
+    /// the running sums are tested against).
+    #[cfg(test)]
+    pub(crate) fn plain(mut self) -> Self {
+        self.moments = None;
+        self
     }
 
     /// How far the weights reach either side of their centre (points): the
@@ -142,6 +199,56 @@ impl Filter {
                 dot(w, &s[c - m..=c + m])
             }
         }
+    }
+
+    /// [`Self::value_in`] at the centres `from..from + out.len()` of such a
+    /// slice, into `out`: for a wide window, by running sums (O(1) a
+    /// point; equal to the weight sums but for rounding, within 1e-13 of
+    /// the slice's largest change from the first centre of each stretch
+    /// that is summed afresh).
+    pub fn values_into(&self, s: &[f64], from: usize, out: &mut [f64]) {
+        match &self.moments {
+            Some(mo) => mo.values(s, from, out),
+            None => {
+                for (j, y) in out.iter_mut().enumerate() {
+                    *y = self.value_in(s, from + j);
+                }
+            }
+        }
+    }
+
+    /// [`Self::slope_in`] at the centres `from..from + out.len()`, into
+    /// `out` (running sums as [`Self::values_into`]).
+    pub fn slopes_into(&self, s: &[f64], from: usize, out: &mut [f64]) {
+        match &self.moments {
+            Some(mo) => mo.slopes(s, from, out, self.step_deg),
+            None => {
+                for (j, y) in out.iter_mut().enumerate() {
+                    *y = self.slope_in(s, from + j);
+                }
+            }
+        }
+    }
+
+    /// `Σ (p − fit)²` over the centres `from..from + smoothed.len()` of
+    /// such a slice, given the smoothed values there ([`Self::fit_in`]).
+    pub fn residual2_in(&self, s: &[f64], from: usize, smoothed: &[f64]) -> f64 {
+        let mut sum = 0.0;
+        match &self.fit {
+            None => {
+                for (p, ps) in s[from..].iter().zip(smoothed) {
+                    let r = p - ps;
+                    sum += r * r;
+                }
+            }
+            Some(_) => {
+                for (j, &ps) in smoothed.iter().enumerate() {
+                    let r = s[from + j] - self.fit_in(s, from + j, ps);
+                    sum += r * r;
+                }
+            }
+        }
+        sum
     }
 
     /// The noise fit's centre weight `w₀`: white noise keeps `1 − w₀` of
@@ -221,10 +328,109 @@ fn dot(w: &[f64], s: &[f64]) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
+/// `T_j = Σ i^j (p_(c+i) − r)` for `j` in `0..K` over a window `w` of
+/// `2m + 1` points centred on `c`, the plain sums.
+#[inline]
+fn moments<const K: usize>(w: &[f64], r: f64, m: usize) -> [f64; K] {
+    let mut t = [0.0f64; K];
+    let mut x = -(m as f64);
+    for &p in w {
+        let mut term = p - r;
+        for tj in &mut t {
+            *tj += term;
+            term *= x;
+        }
+        x += 1.0;
+    }
+    t
+}
+
+impl Moments {
+    /// The smoothed values at the centres `from..from + out.len()` of `s`
+    /// (which holds `m` points either side of them). Each stretch of
+    /// [`Self::refresh`] centres starts from plain sums, taken about that
+    /// stretch's first sample `r` (the moments of `p − r`, so a flat or
+    /// slow stretch carries little rounding); `Σ w = 1` puts `r` back.
+    fn values(&self, s: &[f64], from: usize, out: &mut [f64]) {
+        let m = self.m;
+        assert!(
+            from >= m && from + out.len() + m <= s.len(),
+            "slice too short"
+        );
+        let [a, b] = self.value;
+        let (mf, mp) = (m as f64, (m + 1) as f64);
+        let (m2, mp2) = (mf * mf, mp * mp);
+        for (block, o) in out.chunks_mut(self.refresh).enumerate() {
+            let c0 = from + block * self.refresh;
+            let r = s[c0];
+            let [mut t0, mut t1, mut t2] = moments(&s[c0 - m..=c0 + m], r, m);
+            o[0] = r + (a * t0 + b * t2);
+            // Centre c0 + k drops s[c0 + k − 1 − m] and takes s[c0 + k + m].
+            let (outs, ins) = (&s[c0 - m..], &s[c0 + m + 1..]);
+            for ((y, &po), &pi) in o[1..].iter_mut().zip(outs).zip(ins) {
+                let (qo, qi) = (po - r, pi - r);
+                let u0 = t0 - qo + qi;
+                let u1 = t1 + mf * qo + mp * qi;
+                let u2 = t2 - m2 * qo + mp2 * qi;
+                t0 = u0;
+                t1 = u1 - u0;
+                t2 = u2 - 2.0 * u1 + u0;
+                *y = r + (a * t0 + b * t2);
+            }
+        }
+    }
+
+    /// The slopes (per degree at `step_deg`) at the centres `from..from +
+    /// out.len()` of `s`, as [`Self::values`] (`Σ w = 0` drops `r`).
+    fn slopes(&self, s: &[f64], from: usize, out: &mut [f64], step_deg: f64) {
+        let m = self.m;
+        assert!(
+            from >= m && from + out.len() + m <= s.len(),
+            "slice too short"
+        );
+        let [c, d] = self.slope;
+        let (mf, mp) = (m as f64, (m + 1) as f64);
+        let (m2, mp2) = (mf * mf, mp * mp);
+        let (m3, mp3) = (m2 * mf, mp2 * mp);
+        for (block, o) in out.chunks_mut(self.refresh).enumerate() {
+            let c0 = from + block * self.refresh;
+            let r = s[c0];
+            let [mut t0, mut t1, mut t2, mut t3] = moments(&s[c0 - m..=c0 + m], r, m);
+            o[0] = (c * t1 + d * t3) / step_deg;
+            let (outs, ins) = (&s[c0 - m..], &s[c0 + m + 1..]);
+            for ((y, &po), &pi) in o[1..].iter_mut().zip(outs).zip(ins) {
+                let (qo, qi) = (po - r, pi - r);
+                let u0 = t0 - qo + qi;
+                let u1 = t1 + mf * qo + mp * qi;
+                let u2 = t2 - m2 * qo + mp2 * qi;
+                let u3 = t3 + m3 * qo + mp3 * qi;
+                t0 = u0;
+                t1 = u1 - u0;
+                t2 = u2 - 2.0 * u1 + u0;
+                t3 = u3 - 3.0 * (u2 - u1) - u0;
+                *y = (c * t1 + d * t3) / step_deg;
+            }
+        }
+    }
+}
+
 /// Weights of a cubic least-squares fit over `-m..=m` that give the fit's
 /// value (`deriv` 0) or its derivative per index (`deriv` 1) at the centre.
-/// The fit is solved in `u = i/m` (well conditioned for any `m`).
 fn savitzky_golay(m: usize, deriv: usize) -> Vec<f64> {
+    let mf = m as f64;
+    let x = savitzky_golay_poly(m, deriv);
+    let scale = if deriv == 1 { 1.0 / mf } else { 1.0 };
+    (-(m as i64)..=m as i64)
+        .map(|i| i as f64 / mf)
+        .map(|u| scale * (x[0] + x[1] * u + x[2] * u * u + x[3] * u * u * u))
+        .collect()
+}
+
+/// The weights of [`savitzky_golay`] as a cubic in `u = i/m`: the weight
+/// at offset `i` is `x0 + x1 u + x2 u² + x3 u³` (the derivative's, per
+/// `u`: divide by `m` for per index). The fit is solved in `u` (well
+/// conditioned for any `m`).
+fn savitzky_golay_poly(m: usize, deriv: usize) -> [f64; 4] {
     let mf = m as f64;
     let us: Vec<f64> = (-(m as i64)..=m as i64).map(|i| i as f64 / mf).collect();
     // Normal equations G x = e_deriv, G_ab = sum u^(a+b).
@@ -250,11 +456,7 @@ fn savitzky_golay(m: usize, deriv: usize) -> Vec<f64> {
             }
         }
     }
-    let x: Vec<f64> = (0..4).map(|r| g[r][4] / g[r][r]).collect();
-    let scale = if deriv == 1 { 1.0 / mf } else { 1.0 };
-    us.iter()
-        .map(|u| scale * (x[0] + x[1] * u + x[2] * u * u + x[3] * u * u * u))
-        .collect()
+    std::array::from_fn(|r| g[r][4] / g[r][r])
 }
 
 #[cfg(test)]
@@ -290,6 +492,171 @@ mod tests {
         // A constant wraps to itself at both ends.
         let c = vec![5.0; 50];
         assert!((f.value(&c, 0) - 5.0).abs() < 1e-12 && (f.value(&c, 49) - 5.0).abs() < 1e-12);
+    }
+
+    /// Signals shaped to defeat running sums: a pressure trace with noise,
+    /// a one-point spike of 100 times the base, a flat stretch, a step of
+    /// 80 times, white noise about zero, and ±1e7 alternating.
+    fn hostile(n: usize, seed: u64) -> Vec<(&'static str, Vec<f64>)> {
+        let mut st = seed | 1;
+        let mut rnd = move || {
+            st ^= st << 13;
+            st ^= st >> 7;
+            st ^= st << 17;
+            (st >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let pressure = (0..n)
+            .map(|k| {
+                let x = (k as f64 - n as f64 / 2.0) / (n as f64 / 10.0);
+                1e5 + 6e6 * (-x * x).exp() + 5e3 * rnd()
+            })
+            .collect();
+        let mut spike = vec![1e5; n];
+        spike[n / 2] = 1e7;
+        let step = (0..n).map(|k| if k < n / 2 { 1e5 } else { 8e6 }).collect();
+        let noise = (0..n).map(|_| 1e6 * rnd()).collect();
+        let alt = (0..n)
+            .map(|k| if k % 2 == 0 { 1e7 } else { -1e7 })
+            .collect();
+        vec![
+            ("pressure", pressure),
+            ("spike", spike),
+            ("flat", vec![3.3e6; n]),
+            ("step", step),
+            ("noise", noise),
+            ("alternating", alt),
+        ]
+    }
+
+    /// The running sums at centres `from..from + len` of `s` against the
+    /// plain weight sums: within `tol` of the slice's largest magnitude
+    /// (the slope's per index).
+    fn check_against_plain(f: &Filter, s: &[f64], from: usize, len: usize, tol: f64, what: &str) {
+        let (mut v, mut d) = (vec![0.0; len], vec![0.0; len]);
+        f.values_into(s, from, &mut v);
+        f.slopes_into(s, from, &mut d);
+        let scale = s.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        for j in 0..len {
+            let (a, b) = (f.value_in(s, from + j), f.slope_in(s, from + j));
+            assert!(
+                (v[j] - a).abs() <= tol * scale,
+                "{what}: value at {j}: {} against {a}",
+                v[j]
+            );
+            assert!(
+                (d[j] - b).abs() * f.step_deg <= tol * scale,
+                "{what}: slope at {j}: {} against {b}",
+                d[j]
+            );
+        }
+    }
+
+    #[test]
+    fn running_sums_match_the_weight_sums_on_hostile_data() {
+        for m in [8usize, 9, 10, 16, 37, 64, 100, 200] {
+            let f = Filter::new(
+                Smoothing::SavitzkyGolay {
+                    width_deg: (2 * m) as f64 * 0.1,
+                },
+                0.1,
+            );
+            assert_eq!(f.half_points(), m);
+            assert!(f.moments.is_some());
+            for (name, s) in hostile(3001, m as u64) {
+                check_against_plain(&f, &s, m, s.len() - 2 * m, 1e-13, name);
+                // A start off the slice's reach, and stretches of one point
+                // and of the refresh length and either side of it.
+                let r = f.moments.unwrap().refresh;
+                for len in [1, 2, r - 1, r, r + 1, 3 * r + 5] {
+                    check_against_plain(&f, &s, m + 7, len, 1e-13, name);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn narrow_and_off_filters_keep_the_weight_sums() {
+        for (smoothing, step) in [
+            (Smoothing::Off, 0.1),
+            (Smoothing::default(), 0.5),
+            (Smoothing::SavitzkyGolay { width_deg: 1.4 }, 0.1),
+        ] {
+            let f = Filter::new(smoothing, step);
+            assert!(f.moments.is_none(), "{smoothing:?}");
+            let m = f.reach();
+            for (_, s) in hostile(400, 3) {
+                let len = s.len() - 2 * m;
+                let (mut v, mut d) = (vec![0.0; len], vec![0.0; len]);
+                f.values_into(&s, m, &mut v);
+                f.slopes_into(&s, m, &mut d);
+                for j in 0..len {
+                    assert_eq!(v[j].to_bits(), f.value_in(&s, m + j).to_bits());
+                    assert_eq!(d[j].to_bits(), f.slope_in(&s, m + j).to_bits());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_moments_are_the_weights_polynomials() {
+        for m in [8usize, 10, 33, 200] {
+            let f = Filter::new(
+                Smoothing::SavitzkyGolay {
+                    width_deg: (2 * m) as f64 * 0.1,
+                },
+                0.1,
+            );
+            let mo = f.moments.unwrap();
+            for (k, (w, d)) in f.value.iter().zip(&f.slope).enumerate() {
+                let i = k as f64 - m as f64;
+                let (a, b) = (
+                    mo.value[0] + mo.value[1] * i * i,
+                    i * (mo.slope[0] + mo.slope[1] * i * i),
+                );
+                assert!((a - w).abs() < 1e-15, "m {m}, i {i}: {a} against {w}");
+                assert!((b - d).abs() < 1e-15, "m {m}, i {i}: {b} against {d}");
+            }
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        #[test]
+        fn running_sums_match_the_weight_sums(
+            m in 8usize..=200,
+            seed in 1u64..u64::MAX,
+            base in -1e6f64..1e7,
+            spikes in proptest::collection::vec((0usize..4000, -1e7f64..1e7), 0..6),
+            steps in proptest::collection::vec((0usize..4000, -1e7f64..1e7), 0..3),
+            amp in 0.0f64..1e6,
+            from_extra in 0usize..50,
+        ) {
+            let f = Filter::new(
+                Smoothing::SavitzkyGolay { width_deg: (2 * m) as f64 * 0.1 },
+                0.1,
+            );
+            let n = 2 * m + 600 + from_extra;
+            let mut st = seed;
+            let mut s: Vec<f64> = (0..n)
+                .map(|k| {
+                    st ^= st << 13;
+                    st ^= st >> 7;
+                    st ^= st << 17;
+                    let x = k as f64 / n as f64;
+                    base + amp * ((st >> 11) as f64 / (1u64 << 53) as f64 - 0.5)
+                        + 3e6 * (-(x - 0.5) * (x - 0.5) * 80.0).exp()
+                })
+                .collect();
+            for (at, h) in spikes {
+                s[at % n] += h;
+            }
+            for (at, h) in steps {
+                for x in &mut s[at % n..] {
+                    *x += h;
+                }
+            }
+            check_against_plain(&f, &s, m + from_extra, n - 2 * m - from_extra, 1e-13, "proptest");
+        }
     }
 
     #[test]
