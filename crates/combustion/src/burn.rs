@@ -255,9 +255,6 @@ struct Scratch {
     pw: Vec<f64>,
     /// The smoothed pressure, one value a window point.
     ps: Vec<f64>,
-    /// The volume (m³) and `dV/dφ` (m³/rad) over the window.
-    vw: Vec<f64>,
-    dvw: Vec<f64>,
     /// The smoothed cumulative (J), one value a window point.
     qs: Vec<f64>,
     /// The smoothed slope over the span the pressure rise searches.
@@ -292,9 +289,15 @@ struct Window<'a> {
     f: &'a Filter,
     /// First grid index of the window (may be negative: it wraps).
     i0: i64,
-    /// The window's pressure, smoothed pressure, volume law and smoothed
-    /// cumulative ([`Scratch`]).
+    /// `i0` wrapped into the cycle: the window starts there in the volume
+    /// law.
+    k0: usize,
+    /// The window's pressure, smoothed pressure and smoothed cumulative
+    /// ([`Scratch`]).
     s: &'a mut Scratch,
+    /// The cumulative's extremes ([`extremes`]) when the pass found them
+    /// (`None` once the cumulative has changed).
+    extremes: Option<(usize, usize)>,
     /// The largest pressure in the window and its index.
     peak: (f64, usize),
     /// The sum of squared residuals `p − p_smooth` of the noise fit.
@@ -305,46 +308,86 @@ struct Window<'a> {
     v_max: f64,
 }
 
+/// What [`pass`] finds besides the cumulative.
+struct Passed {
+    /// The largest pressure in the window and its index.
+    peak: (f64, usize),
+    /// `Σ (p − fit)²`, `Σ (h dV)²` and the largest volume.
+    sums: [f64; 3],
+    /// The cumulative's extremes ([`extremes`]).
+    extremes: (usize, usize),
+}
+
 /// The one pass over the window: the trapezoidal work `∫ p dV`, the
-/// smoothed pressure and with it the energy term, the pressure peak, and
-/// the residuals of the noise fit. The window's pressure (with the
-/// filter's reach either side) and volume law are copied out once, so
-/// every sum reads contiguous slices.
+/// smoothed pressure and with it the energy term, the pressure peak, the
+/// residuals of the noise fit and the cumulative's extremes. The window's
+/// pressure (with the filter's reach either side) is copied out once and
+/// smoothed in one sweep; the volume law is read in its (at most two)
+/// contiguous pieces.
 fn pass(
     g: &CycleGrid,
     f: &Filter,
     (i0, i1): (i64, i64),
     energy: impl Fn(f64) -> f64,
     s: &mut Scratch,
-) -> ((f64, usize), [f64; 3]) {
+) -> Passed {
     let h = g.step_deg.to_radians();
     let len = (i1 - i0 + 1) as usize;
     let m = f.reach();
     copy_periodic(g.pressure, i0 - m as i64, len + 2 * m, &mut s.pw);
-    copy_periodic(g.volume, i0, len, &mut s.vw);
-    copy_periodic(g.dvolume, i0, len, &mut s.dvw);
     s.ps.resize(len, 0.0);
     f.values_into(&s.pw, m, &mut s.ps);
-    let res2 = f.residual2_in(&s.pw, m, &s.ps);
     s.qs.resize(len, 0.0);
-    let (mut work, mut prev) = (0.0, s.pw[m] * s.dvw[0]);
+    let (n, k0) = (g.volume.len(), wrap(i0, g.n()));
+    let (mut work, mut prev) = (0.0, s.pw[m] * g.dvolume[k0]);
     let mut peak = (f64::NEG_INFINITY, 0);
-    let (mut dv2, mut v_max) = (0.0, 0.0f64);
-    let points = s.pw[m..].iter().zip(&s.ps).zip(s.vw.iter().zip(&s.dvw));
-    for (j, (q, ((&p, &ps), (&v, &dv)))) in s.qs.iter_mut().zip(points).enumerate() {
-        let pdv = p * dv;
-        if j > 0 {
-            work += 0.5 * h * (prev + pdv);
+    let (mut res2, mut dv2, mut v_max) = (0.0, 0.0, 0.0f64);
+    let (mut min, mut max, mut soc) = ((f64::INFINITY, 0), (f64::NEG_INFINITY, 0), 0);
+    let (pw, ps, qs) = (&s.pw[m..], &s.ps, &mut s.qs);
+    let mut piece = |from: usize, v: &[f64], dv: &[f64]| {
+        let end = from + v.len();
+        let window = qs[from..end]
+            .iter_mut()
+            .zip(&pw[from..end])
+            .zip(&ps[from..end]);
+        for (j, (((q, &p), &ps), (&v, &dv))) in (from..).zip(window.zip(v.iter().zip(dv))) {
+            let pdv = p * dv;
+            if j > 0 {
+                work += 0.5 * h * (prev + pdv);
+            }
+            prev = pdv;
+            let r = p - ps;
+            res2 += r * r;
+            dv2 += (h * dv) * (h * dv);
+            // As `f64::max` (a NaN volume is passed over), in one compare.
+            if v > v_max {
+                v_max = v;
+            }
+            if p > peak.0 {
+                peak = (p, j);
+            }
+            let qj = work + energy(ps * v);
+            *q = qj;
+            if qj < min.0 {
+                min = (qj, j);
+            }
+            if qj > max.0 {
+                max = (qj, j);
+                soc = min.1;
+            }
         }
-        prev = pdv;
-        dv2 += (h * dv) * (h * dv);
-        v_max = v_max.max(v);
-        if p > peak.0 {
-            peak = (p, j);
-        }
-        *q = work + energy(ps * v);
+    };
+    let first = (n - k0).min(len);
+    piece(0, &g.volume[k0..k0 + first], &g.dvolume[k0..k0 + first]);
+    piece(first, &g.volume[..len - first], &g.dvolume[..len - first]);
+    if !f.fits_by_value() {
+        res2 = f.residual2_in(&s.pw, m, &s.ps);
     }
-    (peak, [res2, dv2, v_max])
+    Passed {
+        peak,
+        sums: [res2, dv2, v_max],
+        extremes: (soc, max.1),
+    }
 }
 
 impl Window<'_> {
@@ -416,6 +459,13 @@ impl Window<'_> {
         } else {
             extreme + one >= last && self.s.qs[last] - self.s.qs[last - two] > band
         }
+    }
+
+    /// The volume (m³) at window index `j`.
+    #[inline]
+    fn vol(&self, j: usize) -> f64 {
+        let (v, k) = (self.g.volume, self.k0 + j);
+        v[if k >= v.len() { k - v.len() } else { k }]
     }
 
     /// The angle (deg) of window index `j` (fractional).
@@ -510,19 +560,22 @@ fn cumulative<'a>(
     let ivc = pv_ivc(g, opts, f)?;
     let gamma = opts.gamma;
     // A constant γ takes the product form (no call, no division).
-    let (peak, [residual2, dv2, v_max]) = match gamma {
+    let passed = match gamma {
         GammaModel::Constant(c) => {
             let inv = 1.0 / (c - 1.0);
             pass(g, f, (i0, i1), |pv| pv * inv, s)
         }
         GammaModel::Brunt { .. } => pass(g, f, (i0, i1), |pv| gamma.energy(pv, ivc), s),
     };
+    let [residual2, dv2, v_max] = passed.sums;
     Ok(Window {
         g,
         f,
         i0,
+        k0: wrap(i0, g.n()),
         s,
-        peak,
+        extremes: Some(passed.extremes),
+        peak: passed.peak,
         residual2,
         dv2,
         v_max,
@@ -604,6 +657,7 @@ fn analyse_window(
     for (q, w) in win.s.qs.iter_mut().zip(w.iter()) {
         *q += w;
     }
+    win.extremes = None;
     let mut gross = rule(&mut win, g, opts, f, gross_work_j);
     let at = |deg: f64| {
         let x = (deg / g.step_deg - win.i0 as f64).clamp(0.0, (w.len() - 1) as f64);
@@ -650,8 +704,8 @@ fn wall_cumulative(
     let half = 0.5 * g.step_deg;
     out.clear();
     let (mut total, mut prev) = (0.0, 0.0);
-    for (j, (&p, &v)) in win.s.ps.iter().zip(&win.s.vw).enumerate() {
-        let k = win.i0 + j as i64;
+    for (j, &p) in win.s.ps.iter().enumerate() {
+        let (k, v) = (win.i0 + j as i64, win.vol(j));
         let burning = soc_deg.is_some_and(|soc| k as f64 * g.step_deg >= soc);
         let r = wall.rate(&s, p, v, burning);
         if j > 0 {
@@ -673,12 +727,12 @@ fn rule(
     f: &Filter,
     gross_work_j: f64,
 ) -> CycleBurn {
-    let (jmin, jmax) = extremes(&win.s.qs);
+    let (jmin, jmax) = win.extremes.unwrap_or_else(|| extremes(&win.s.qs));
     let (q_min, q_max) = (win.s.qs[jmin], win.s.qs[jmax]);
     let released = q_max - q_min;
     let gamma = opts.gamma.nominal();
     let (p_max, at) = win.peak;
-    let bound = NO_COMBUSTION_SHARE * p_max * win.s.vw[at] / (gamma - 1.0);
+    let bound = NO_COMBUSTION_SHARE * p_max * win.vol(at) / (gamma - 1.0);
     let noise = win.noise();
     let mut out = CycleBurn {
         heat_released_j: released,
@@ -721,8 +775,7 @@ fn rule(
     let ((_, ca10), (j50, _), (_, ca90)) = (crossing(0.1), crossing(0.5), crossing(0.9));
     // The noise carried into the smoothed cumulative at window index j:
     // the energy term's (the work integrates the noise away, nearly).
-    let vw = &win.s.vw;
-    let vol = |j: usize| vw[j];
+    let vol = |j: usize| win.vol(j);
     let sigma = |v: f64| v * f.gain() * noise / (gamma - 1.0);
     let sq = |j: usize| sigma(vol(j)).powi(2);
     // CA50's target is the extremes' mean; over the central burn the

@@ -125,7 +125,7 @@ impl Moments {
             m,
             value: [v[0], v[2] / m2],
             slope: [d[1] / m2, d[3] / (m2 * m2)],
-            refresh: (3 * m).clamp(24, 128),
+            refresh: (4 * m).clamp(32, 128),
         })
     }
 }
@@ -228,6 +228,12 @@ impl Filter {
                 }
             }
         }
+    }
+
+    /// The noise fit is the smoothed value itself (the filter on): the
+    /// residual is `p − p_smooth`.
+    pub fn fits_by_value(&self) -> bool {
+        self.fit.is_none()
     }
 
     /// `Σ (p − fit)²` over the centres `from..from + smoothed.len()` of
