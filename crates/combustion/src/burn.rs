@@ -318,6 +318,21 @@ struct Passed {
     extremes: (usize, usize),
 }
 
+/// The running figures of [`pass`], carried from one piece of the volume
+/// law to the next.
+#[derive(Clone, Copy)]
+struct Acc {
+    work: f64,
+    prev: f64,
+    peak: (f64, usize),
+    res2: f64,
+    dv2: f64,
+    v_max: f64,
+    min: (f64, usize),
+    max: (f64, usize),
+    soc: usize,
+}
+
 /// The one pass over the window: the trapezoidal work `∫ p dV`, the
 /// smoothed pressure and with it the energy term, the pressure peak, the
 /// residuals of the noise fit and the cumulative's extremes. The window's
@@ -339,55 +354,73 @@ fn pass(
     f.values_into(&s.pw, m, &mut s.ps);
     s.qs.resize(len, 0.0);
     let (n, k0) = (g.volume.len(), wrap(i0, g.n()));
-    let (mut work, mut prev) = (0.0, s.pw[m] * g.dvolume[k0]);
-    let mut peak = (f64::NEG_INFINITY, 0);
-    let (mut res2, mut dv2, mut v_max) = (0.0, 0.0, 0.0f64);
-    let (mut min, mut max, mut soc) = ((f64::INFINITY, 0), (f64::NEG_INFINITY, 0), 0);
-    let (pw, ps, qs) = (&s.pw[m..], &s.ps, &mut s.qs);
-    let mut piece = |from: usize, v: &[f64], dv: &[f64]| {
-        let end = from + v.len();
-        let window = qs[from..end]
-            .iter_mut()
-            .zip(&pw[from..end])
-            .zip(&ps[from..end]);
-        for (j, (((q, &p), &ps), (&v, &dv))) in (from..).zip(window.zip(v.iter().zip(dv))) {
-            let pdv = p * dv;
-            if j > 0 {
-                work += 0.5 * h * (prev + pdv);
-            }
-            prev = pdv;
-            let r = p - ps;
-            res2 += r * r;
-            dv2 += (h * dv) * (h * dv);
-            // As `f64::max` (a NaN volume is passed over), in one compare.
-            if v > v_max {
-                v_max = v;
-            }
-            if p > peak.0 {
-                peak = (p, j);
-            }
-            let qj = work + energy(ps * v);
-            *q = qj;
-            if qj < min.0 {
-                min = (qj, j);
-            }
-            if qj > max.0 {
-                max = (qj, j);
-                soc = min.1;
-            }
-        }
+    let mut a = Acc {
+        work: 0.0,
+        prev: s.pw[m] * g.dvolume[k0],
+        peak: (f64::NEG_INFINITY, 0),
+        res2: 0.0,
+        dv2: 0.0,
+        v_max: 0.0,
+        min: (f64::INFINITY, 0),
+        max: (f64::NEG_INFINITY, 0),
+        soc: 0,
     };
     let first = (n - k0).min(len);
-    piece(0, &g.volume[k0..k0 + first], &g.dvolume[k0..k0 + first]);
-    piece(first, &g.volume[..len - first], &g.dvolume[..len - first]);
+    let (pw, ps, qs) = (&s.pw[m..m + len], &s.ps[..], &mut s.qs[..]);
+    let (q0, q1) = qs.split_at_mut(first);
+    let law0 = (&g.volume[k0..k0 + first], &g.dvolume[k0..k0 + first]);
+    let law1 = (&g.volume[..len - first], &g.dvolume[..len - first]);
+    a = piece(a, 0, (&pw[..first], &ps[..first], q0), law0, h, &energy);
+    a = piece(a, first, (&pw[first..], &ps[first..], q1), law1, h, &energy);
     if !f.fits_by_value() {
-        res2 = f.residual2_in(&s.pw, m, &s.ps);
+        a.res2 = f.residual2_in(&s.pw, m, &s.ps);
     }
     Passed {
-        peak,
-        sums: [res2, dv2, v_max],
-        extremes: (soc, max.1),
+        peak: a.peak,
+        sums: [a.res2, a.dv2, a.v_max],
+        extremes: (a.soc, a.max.1),
     }
+}
+
+/// [`pass`] over the window points `from..` that lie on one contiguous
+/// piece `(V, dV)` of the volume law.
+#[inline(always)]
+fn piece(
+    mut a: Acc,
+    from: usize,
+    (pw, ps, qs): (&[f64], &[f64], &mut [f64]),
+    (v, dv): (&[f64], &[f64]),
+    h: f64,
+    energy: &impl Fn(f64) -> f64,
+) -> Acc {
+    let points = qs.iter_mut().zip(pw).zip(ps).zip(v.iter().zip(dv));
+    for (j, (((q, &p), &ps), (&v, &dv))) in (from..).zip(points) {
+        let pdv = p * dv;
+        if j > 0 {
+            a.work += 0.5 * h * (a.prev + pdv);
+        }
+        a.prev = pdv;
+        let r = p - ps;
+        a.res2 += r * r;
+        a.dv2 += (h * dv) * (h * dv);
+        // As `f64::max` (a NaN volume is passed over), in one compare.
+        if v > a.v_max {
+            a.v_max = v;
+        }
+        if p > a.peak.0 {
+            a.peak = (p, j);
+        }
+        let qj = a.work + energy(ps * v);
+        *q = qj;
+        if qj < a.min.0 {
+            a.min = (qj, j);
+        }
+        if qj > a.max.0 {
+            a.max = (qj, j);
+            a.soc = a.min.1;
+        }
+    }
+    a
 }
 
 impl Window<'_> {
@@ -402,11 +435,13 @@ impl Window<'_> {
     /// The first index in `from..=to` where the cumulative reaches
     /// `target`, and the angle (deg) where it crosses, linearly
     /// interpolated from the point before.
+    #[inline]
     fn rising(&self, from: usize, to: usize, target: f64) -> (usize, f64) {
         self.rising_by(from, to, |_| target)
     }
 
     /// [`Self::rising`] to a level that may change along the window.
+    #[inline]
     fn rising_by(&self, from: usize, to: usize, target: impl Fn(usize) -> f64) -> (usize, f64) {
         let j = (from..=to)
             .find(|&j| self.s.qs[j] >= target(j))
@@ -427,6 +462,7 @@ impl Window<'_> {
     /// The last index in `to..=from` (searching back from `from`) where
     /// the cumulative is at most `target(j)`, and the angle (deg) where it
     /// leaves that level, interpolated towards the next point.
+    #[inline]
     fn falling_by(&self, from: usize, to: usize, target: impl Fn(usize) -> f64) -> (usize, f64) {
         let j = (to..=from)
             .rev()
@@ -772,6 +808,18 @@ fn rule(
         }
         (j, deg)
     };
+    // All in rising order first: one scan from the smallest cumulative up.
+    let mut fracs = [1.0f64; 19];
+    for (f, l) in fracs.iter_mut().zip(opts.levels_pct.iter().take(16)) {
+        *f = l / 100.0;
+    }
+    let wanted = opts.levels_pct.len().min(16);
+    fracs[wanted..wanted + 3].copy_from_slice(&[0.1, 0.5, 0.9]);
+    let fracs = &mut fracs[..wanted + 3];
+    fracs.sort_by(f64::total_cmp);
+    for &f in fracs.iter() {
+        crossing(f);
+    }
     let ((_, ca10), (j50, _), (_, ca90)) = (crossing(0.1), crossing(0.5), crossing(0.9));
     // The noise carried into the smoothed cumulative at window index j:
     // the energy term's (the work integrates the noise away, nearly).
