@@ -351,21 +351,28 @@ fn moments<const K: usize>(w: &[f64], r: f64, m: usize) -> [f64; K] {
     t
 }
 
-/// One slide of the moments by a point: `qo` leaves at offset `−m`, `qi`
-/// enters at `m + 1`, and the offsets shift by one (`c` holds `m`, `m + 1`,
-/// their squares and cubes). `T3` only when `SLOPE`.
+/// One slide of the moments by a point, in each of `L` lanes (moment-major,
+/// so the compiler keeps a moment's lanes in one vector register): `qo`
+/// leaves at offset `−m`, `qi` enters at `m + 1`, and the offsets shift by
+/// one (`c` holds `m`, `m + 1`, their squares and cubes). `T3` only when
+/// `SLOPE`. Each lane's numbers are those of the same steps alone.
 #[inline(always)]
-fn slide<const SLOPE: bool>(t: &mut [f64; 4], qo: f64, qi: f64, c: &[f64; 6]) {
-    let u0 = t[0] - qo + qi;
-    let u1 = t[1] + c[0] * qo + c[1] * qi;
-    let u2 = t[2] - c[2] * qo + c[3] * qi;
+fn slide<const L: usize, const SLOPE: bool>(
+    t: &mut [[f64; L]; 4],
+    qo: [f64; L],
+    qi: [f64; L],
+    c: &[f64; 6],
+) {
+    let u0: [f64; L] = std::array::from_fn(|l| t[0][l] - qo[l] + qi[l]);
+    let u1: [f64; L] = std::array::from_fn(|l| t[1][l] + c[0] * qo[l] + c[1] * qi[l]);
+    let u2: [f64; L] = std::array::from_fn(|l| t[2][l] - c[2] * qo[l] + c[3] * qi[l]);
     if SLOPE {
-        let u3 = t[3] + c[4] * qo + c[5] * qi;
-        t[3] = u3 - 3.0 * (u2 - u1) - u0;
+        let u3: [f64; L] = std::array::from_fn(|l| t[3][l] + c[4] * qo[l] + c[5] * qi[l]);
+        t[3] = std::array::from_fn(|l| u3[l] - 3.0 * (u2[l] - u1[l]) - u0[l]);
     }
     t[0] = u0;
-    t[1] = u1 - u0;
-    t[2] = u2 - 2.0 * u1 + u0;
+    t[1] = std::array::from_fn(|l| u1[l] - u0[l]);
+    t[2] = std::array::from_fn(|l| u2[l] - 2.0 * u1[l] + u0[l]);
 }
 
 impl Moments {
@@ -419,10 +426,13 @@ impl Moments {
         let step = self.refresh;
         let pairs = out.len() / (2 * step) * (2 * step);
         let (two, one) = out.split_at_mut(pairs);
+        let lane = |t: &[[f64; 2]; 4], l: usize| [t[0][l], t[1][l], t[2][l], t[3][l]];
         for (k, o) in two.chunks_exact_mut(2 * step).enumerate() {
             let (oa, ob) = o.split_at_mut(step);
             let (ca, cb) = (from + 2 * k * step, from + (2 * k + 1) * step);
-            let ((mut ta, ra), (mut tb, rb)) = (start(ca), start(cb));
+            let ((ta, ra), (tb, rb)) = (start(ca), start(cb));
+            let r = [ra, rb];
+            let mut t: [[f64; 2]; 4] = std::array::from_fn(|j| [ta[j], tb[j]]);
             oa[0] = y(&ta, ra);
             ob[0] = y(&tb, rb);
             // Centre c0 + k drops s[c0 + k − 1 − m] and takes s[c0 + k + m].
@@ -430,20 +440,26 @@ impl Moments {
             let outs = s[ca - m..].iter().zip(&s[cb - m..]);
             let ins = s[ca + m + 1..].iter().zip(&s[cb + m + 1..]);
             for (((ya, yb), (&poa, &pob)), (&pia, &pib)) in lanes.zip(outs).zip(ins) {
-                slide::<SLOPE>(&mut ta, poa - ra, pia - ra, &c);
-                slide::<SLOPE>(&mut tb, pob - rb, pib - rb, &c);
-                *ya = y(&ta, ra);
-                *yb = y(&tb, rb);
+                let (po, pi) = ([poa, pob], [pia, pib]);
+                slide::<2, SLOPE>(
+                    &mut t,
+                    std::array::from_fn(|l| po[l] - r[l]),
+                    std::array::from_fn(|l| pi[l] - r[l]),
+                    &c,
+                );
+                *ya = y(&lane(&t, 0), ra);
+                *yb = y(&lane(&t, 1), rb);
             }
         }
         for (k, o) in one.chunks_mut(step).enumerate() {
             let c0 = from + pairs + k * step;
-            let (mut t, r) = start(c0);
-            o[0] = y(&t, r);
+            let (t1, r) = start(c0);
+            let mut t: [[f64; 1]; 4] = std::array::from_fn(|j| [t1[j]]);
+            o[0] = y(&t1, r);
             let points = s[c0 - m..].iter().zip(&s[c0 + m + 1..]);
             for (yk, (&po, &pi)) in o[1..].iter_mut().zip(points) {
-                slide::<SLOPE>(&mut t, po - r, pi - r, &c);
-                *yk = y(&t, r);
+                slide::<1, SLOPE>(&mut t, [po - r], [pi - r], &c);
+                *yk = y(&[t[0][0], t[1][0], t[2][0], t[3][0]], r);
             }
         }
     }
