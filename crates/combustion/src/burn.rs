@@ -306,6 +306,10 @@ struct Window<'a> {
     dv2: f64,
     /// The largest volume in the window (m³).
     v_max: f64,
+    /// The smallest and largest volume in the window (m³), or NaN when
+    /// the band bounds of [`rule`] cannot rest on them (a volume or the
+    /// noise factors below 0).
+    v_range: (f64, f64),
 }
 
 /// What [`pass`] finds besides the cumulative.
@@ -314,6 +318,8 @@ struct Passed {
     peak: (f64, usize),
     /// `Σ (p − fit)²`, `Σ (h dV)²` and the largest volume.
     sums: [f64; 3],
+    /// The smallest volume.
+    v_min: f64,
     /// The cumulative's extremes ([`extremes`]).
     extremes: (usize, usize),
 }
@@ -328,6 +334,7 @@ struct Acc {
     res2: f64,
     dv2: f64,
     v_max: f64,
+    v_min: f64,
     min: (f64, usize),
     max: (f64, usize),
     soc: usize,
@@ -361,6 +368,7 @@ fn pass(
         res2: 0.0,
         dv2: 0.0,
         v_max: 0.0,
+        v_min: f64::INFINITY,
         min: (f64::INFINITY, 0),
         max: (f64::NEG_INFINITY, 0),
         soc: 0,
@@ -378,6 +386,7 @@ fn pass(
     Passed {
         peak: a.peak,
         sums: [a.res2, a.dv2, a.v_max],
+        v_min: a.v_min,
         extremes: (a.soc, a.max.1),
     }
 }
@@ -406,6 +415,9 @@ fn piece(
         // As `f64::max` (a NaN volume is passed over), in one compare.
         if v > a.v_max {
             a.v_max = v;
+        }
+        if !(v >= a.v_min) {
+            a.v_min = v;
         }
         if p > a.peak.0 {
             a.peak = (p, j);
@@ -437,14 +449,26 @@ impl Window<'_> {
     /// interpolated from the point before.
     #[inline]
     fn rising(&self, from: usize, to: usize, target: f64) -> (usize, f64) {
-        self.rising_by(from, to, |_| target)
+        self.rising_by(from, to, |_| target, (target, target))
     }
 
-    /// [`Self::rising`] to a level that may change along the window.
+    /// [`Self::rising`] to a level that may change along the window,
+    /// within `(lo, hi)` over `from..=to` (a value at or over `hi` reaches
+    /// it, one under `lo` does not, without `target` taken there).
     #[inline]
-    fn rising_by(&self, from: usize, to: usize, target: impl Fn(usize) -> f64) -> (usize, f64) {
+    fn rising_by(
+        &self,
+        from: usize,
+        to: usize,
+        target: impl Fn(usize) -> f64,
+        (lo, hi): (f64, f64),
+    ) -> (usize, f64) {
+        let qs = &self.s.qs[..=to];
         let j = (from..=to)
-            .find(|&j| self.s.qs[j] >= target(j))
+            .find(|&j| {
+                let q = qs[j];
+                q >= hi || (!(q < lo) && q >= target(j))
+            })
             .unwrap_or(to);
         let t = if j == 0 {
             0.0
@@ -461,12 +485,23 @@ impl Window<'_> {
 
     /// The last index in `to..=from` (searching back from `from`) where
     /// the cumulative is at most `target(j)`, and the angle (deg) where it
-    /// leaves that level, interpolated towards the next point.
+    /// leaves that level, interpolated towards the next point; `target`
+    /// lies within `(lo, hi)` over the span, as [`Self::rising_by`].
     #[inline]
-    fn falling_by(&self, from: usize, to: usize, target: impl Fn(usize) -> f64) -> (usize, f64) {
+    fn falling_by(
+        &self,
+        from: usize,
+        to: usize,
+        target: impl Fn(usize) -> f64,
+        (lo, hi): (f64, f64),
+    ) -> (usize, f64) {
+        let qs = &self.s.qs[..=from];
         let j = (to..=from)
             .rev()
-            .find(|&j| self.s.qs[j] <= target(j))
+            .find(|&j| {
+                let q = qs[j];
+                q <= lo || (!(q > hi) && q <= target(j))
+            })
             .unwrap_or(to);
         let t = if j + 1 < self.s.qs.len() {
             let (a, b, y) = (self.s.qs[j], self.s.qs[j + 1], target(j));
@@ -604,6 +639,13 @@ fn cumulative<'a>(
         GammaModel::Brunt { .. } => pass(g, f, (i0, i1), |pv| gamma.energy(pv, ivc), s),
     };
     let [residual2, dv2, v_max] = passed.sums;
+    // A NaN volume is kept as the smallest (`!(v >= min)`), which voids
+    // the bounds; so does one below 0.
+    let v_range = if passed.v_min >= 0.0 {
+        (passed.v_min, v_max)
+    } else {
+        (f64::NAN, f64::NAN)
+    };
     Ok(Window {
         g,
         f,
@@ -615,6 +657,7 @@ fn cumulative<'a>(
         residual2,
         dv2,
         v_max,
+        v_range,
     })
 }
 
@@ -737,13 +780,14 @@ fn wall_cumulative(
         gamma_ivc,
         rpm,
     };
+    let rate = wall.in_cycle(&s);
     let half = 0.5 * g.step_deg;
     out.clear();
     let (mut total, mut prev) = (0.0, 0.0);
     for (j, &p) in win.s.ps.iter().enumerate() {
         let (k, v) = (win.i0 + j as i64, win.vol(j));
         let burning = soc_deg.is_some_and(|soc| k as f64 * g.step_deg >= soc);
-        let r = wall.rate(&s, p, v, burning);
+        let r = rate.rate(p, v, burning);
         if j > 0 {
             total += half * (prev + r);
         }
@@ -844,8 +888,28 @@ fn rule(
     // flat cumulative does not cross them; on a clean trace they are the
     // 0.5 % and 99.5 % of PHYSICS.
     let band = |at: usize, j: usize| 3.0 * (sigma(vol(at)) + sigma(vol(j)));
-    let (j_soc, soc) = win.falling_by(j50, jmin, |j| x(SOC_FRACTION) + band(jmin, j));
-    let (j_eoc, eoc) = win.rising_by(j50, jmax, |j| x(EOC_FRACTION) - band(jmax, j));
+    // The bands' bounds over the window: σ rises with the volume (each
+    // factor at least 0, and rounding keeps the order), so the window's
+    // smallest and largest volumes bound every point's band (NaN bounds
+    // leave every point to its own band).
+    let bounds = |at: usize| {
+        let (a, v) = (sigma(vol(at)), win.v_range);
+        (3.0 * (a + sigma(v.0)), 3.0 * (a + sigma(v.1)))
+    };
+    let (soc_band, eoc_band) = (bounds(jmin), bounds(jmax));
+    let (x_soc, x_eoc) = (x(SOC_FRACTION), x(EOC_FRACTION));
+    let (j_soc, soc) = win.falling_by(
+        j50,
+        jmin,
+        |j| x(SOC_FRACTION) + band(jmin, j),
+        (x_soc + soc_band.0, x_soc + soc_band.1),
+    );
+    let (j_eoc, eoc) = win.rising_by(
+        j50,
+        jmax,
+        |j| x(EOC_FRACTION) - band(jmax, j),
+        (x_eoc - eoc_band.1, x_eoc - eoc_band.0),
+    );
     // Levels rise, so each search starts where the one below it crossed
     // (a level under the one before it, which the options do not allow,
     // is searched from there as ever).
@@ -1221,7 +1285,7 @@ mod tests {
                     // The cumulative itself, point by point.
                     let (mut s1, mut s2) = (Scratch::default(), Scratch::default());
                     let plain_f = f.clone().plain();
-                    let w1 = cumulative(&g, opts, &f, &mut s1).unwrap();
+                    let mut w1 = cumulative(&g, opts, &f, &mut s1).unwrap();
                     let w2 = cumulative(&g, opts, &plain_f, &mut s2).unwrap();
                     let scale = w2.s.qs.iter().fold(0.0f64, |a, q| a.max(q.abs()));
                     for (j, (a, b)) in w1.s.qs.iter().zip(&w2.s.qs).enumerate() {
@@ -1230,6 +1294,11 @@ mod tests {
                             "{what}: Q at {j}: {a} against {b}"
                         );
                     }
+                    // The SOC/EOC searches' bounds change no answer: the
+                    // rule with them voided gives the same figures.
+                    let bounded = rule(&mut w1, &g, opts, &f, 0.0);
+                    w1.v_range = (f64::NAN, f64::NAN);
+                    assert_eq!(bounded, rule(&mut w1, &g, opts, &f, 0.0), "{what}");
                     checked += 1;
                 }
             }
