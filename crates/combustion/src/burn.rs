@@ -306,10 +306,9 @@ struct Window<'a> {
     dv2: f64,
     /// The largest volume in the window (m³).
     v_max: f64,
-    /// The smallest and largest volume in the window (m³), or NaN when
-    /// the band bounds of [`rule`] cannot rest on them (a volume or the
-    /// noise factors below 0).
-    v_range: (f64, f64),
+    /// The SOC/EOC searches may rest on bounds of the band ([`rule`]):
+    /// false only in a test, which checks they change no answer.
+    v_bounds: bool,
 }
 
 /// What [`pass`] finds besides the cumulative.
@@ -318,8 +317,6 @@ struct Passed {
     peak: (f64, usize),
     /// `Σ (p − fit)²`, `Σ (h dV)²` and the largest volume.
     sums: [f64; 3],
-    /// The smallest volume.
-    v_min: f64,
     /// The cumulative's extremes ([`extremes`]).
     extremes: (usize, usize),
 }
@@ -334,7 +331,6 @@ struct Acc {
     res2: f64,
     dv2: f64,
     v_max: f64,
-    v_min: f64,
     min: (f64, usize),
     max: (f64, usize),
     soc: usize,
@@ -368,7 +364,6 @@ fn pass(
         res2: 0.0,
         dv2: 0.0,
         v_max: 0.0,
-        v_min: f64::INFINITY,
         min: (f64::INFINITY, 0),
         max: (f64::NEG_INFINITY, 0),
         soc: 0,
@@ -386,7 +381,6 @@ fn pass(
     Passed {
         peak: a.peak,
         sums: [a.res2, a.dv2, a.v_max],
-        v_min: a.v_min,
         extremes: (a.soc, a.max.1),
     }
 }
@@ -415,9 +409,6 @@ fn piece(
         // As `f64::max` (a NaN volume is passed over), in one compare.
         if v > a.v_max {
             a.v_max = v;
-        }
-        if !(v >= a.v_min) {
-            a.v_min = v;
         }
         if p > a.peak.0 {
             a.peak = (p, j);
@@ -453,8 +444,10 @@ impl Window<'_> {
     }
 
     /// [`Self::rising`] to a level that may change along the window,
-    /// within `(lo, hi)` over `from..=to` (a value at or over `hi` reaches
-    /// it, one under `lo` does not, without `target` taken there).
+    /// within `(lo, hi)` over `from..=to`: a value under `lo` does not
+    /// reach it, one at or over `hi` does where the volume is at least 0
+    /// (the bounds of [`rule`] take σ at volume 0 for the band's least),
+    /// without `target` taken there.
     #[inline]
     fn rising_by(
         &self,
@@ -464,12 +457,17 @@ impl Window<'_> {
         (lo, hi): (f64, f64),
     ) -> (usize, f64) {
         let qs = &self.s.qs[..=to];
-        let j = (from..=to)
-            .find(|&j| {
-                let q = qs[j];
-                q >= hi || (!(q < lo) && q >= target(j))
-            })
-            .unwrap_or(to);
+        let mut j = from;
+        while j < to {
+            let q = qs[j];
+            if (q >= hi && self.vol(j) >= 0.0) || (!(q < lo) && q >= target(j)) {
+                break;
+            }
+            j += 1;
+        }
+        // `to` itself when nothing earlier reaches the level (as found or
+        // not).
+        let j = j.min(to);
         let t = if j == 0 {
             0.0
         } else {
@@ -496,13 +494,15 @@ impl Window<'_> {
         (lo, hi): (f64, f64),
     ) -> (usize, f64) {
         let qs = &self.s.qs[..=from];
-        let j = (to..=from)
-            .rev()
-            .find(|&j| {
-                let q = qs[j];
-                q <= lo || (!(q > hi) && q <= target(j))
-            })
-            .unwrap_or(to);
+        let mut j = from;
+        while j > to {
+            let q = qs[j];
+            if (q <= lo && self.vol(j) >= 0.0) || (!(q > hi) && q <= target(j)) {
+                break;
+            }
+            j -= 1;
+        }
+        let j = j.max(to);
         let t = if j + 1 < self.s.qs.len() {
             let (a, b, y) = (self.s.qs[j], self.s.qs[j + 1], target(j));
             if b > a {
@@ -639,13 +639,6 @@ fn cumulative<'a>(
         GammaModel::Brunt { .. } => pass(g, f, (i0, i1), |pv| gamma.energy(pv, ivc), s),
     };
     let [residual2, dv2, v_max] = passed.sums;
-    // A NaN volume is kept as the smallest (`!(v >= min)`), which voids
-    // the bounds; so does one below 0.
-    let v_range = if passed.v_min >= 0.0 {
-        (passed.v_min, v_max)
-    } else {
-        (f64::NAN, f64::NAN)
-    };
     Ok(Window {
         g,
         f,
@@ -657,7 +650,7 @@ fn cumulative<'a>(
         residual2,
         dv2,
         v_max,
-        v_range,
+        v_bounds: true,
     })
 }
 
@@ -889,12 +882,16 @@ fn rule(
     // 0.5 % and 99.5 % of PHYSICS.
     let band = |at: usize, j: usize| 3.0 * (sigma(vol(at)) + sigma(vol(j)));
     // The bands' bounds over the window: σ rises with the volume (each
-    // factor at least 0, and rounding keeps the order), so the window's
-    // smallest and largest volumes bound every point's band (NaN bounds
-    // leave every point to its own band).
+    // factor at least 0, and rounding keeps the order), so volume 0 and
+    // the window's largest bound every point's band where the volume is
+    // at least 0 (the searches check that where a bound decides; NaN
+    // bounds leave every point to its own band).
     let bounds = |at: usize| {
-        let (a, v) = (sigma(vol(at)), win.v_range);
-        (3.0 * (a + sigma(v.0)), 3.0 * (a + sigma(v.1)))
+        let a = sigma(vol(at));
+        match win.v_bounds {
+            true => (3.0 * (a + sigma(0.0)), 3.0 * (a + sigma(win.v_max))),
+            false => (f64::NAN, f64::NAN),
+        }
     };
     let (soc_band, eoc_band) = (bounds(jmin), bounds(jmax));
     let (x_soc, x_eoc) = (x(SOC_FRACTION), x(EOC_FRACTION));
@@ -1297,7 +1294,7 @@ mod tests {
                     // The SOC/EOC searches' bounds change no answer: the
                     // rule with them voided gives the same figures.
                     let bounded = rule(&mut w1, &g, opts, &f, 0.0);
-                    w1.v_range = (f64::NAN, f64::NAN);
+                    w1.v_bounds = false;
                     assert_eq!(bounded, rule(&mut w1, &g, opts, &f, 0.0), "{what}");
                     checked += 1;
                 }
