@@ -203,9 +203,8 @@ impl Filter {
 
     /// [`Self::value_in`] at the centres `from..from + out.len()` of such a
     /// slice, into `out`: for a wide window, by running sums (O(1) a
-    /// point; equal to the weight sums but for rounding, within 1e-13 of
-    /// the slice's largest change from the first centre of each stretch
-    /// that is summed afresh).
+    /// point; equal to the weight sums but for rounding: the tests hold
+    /// them within 1e-13 of the slice's largest magnitude).
     pub fn values_into(&self, s: &[f64], from: usize, out: &mut [f64]) {
         match &self.moments {
             Some(mo) => mo.values(s, from, out),
