@@ -81,6 +81,53 @@ pub struct Filter {
     /// `√Σ w²` of the value weights: the share of white noise's standard
     /// deviation the smoothed value keeps.
     gain: f64,
+    /// The weights as polynomials in the offset, for the running sums of
+    /// [`Self::values_into`] and [`Self::slopes_into`] (`None`: the plain
+    /// weight sums, for the filter off and for narrow windows).
+    moments: Option<Moments>,
+}
+
+/// Fewest points either side of the centre for which the running sums
+/// replace the plain weight sums (a narrower window's sum costs less than
+/// the sums' update).
+pub const MOMENTS_MIN_HALF: usize = 8;
+
+/// A cubic Savitzky–Golay filter's weights as polynomials in the offset
+/// `i` from the centre: the value's are even, `a + b i²`, the slope's odd,
+/// `c i + d i³` (per index; the fit's coefficients, so the odd part of the
+/// value's and the even part of the slope's are zero but for rounding).
+/// A weight sum is then a combination of the moments `T_j = Σ i^j p_(c+i)`,
+/// which slide one point along in O(1): `T_j(c + 1)` is the binomial
+/// combination of `U_j = T_j(c) − (−m)^j p_(c−m) + (m + 1)^j p_(c+m+1)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Moments {
+    /// Half the window (points).
+    m: usize,
+    /// `a`, `b` of the value's weights.
+    value: [f64; 2],
+    /// `c`, `d` of the slope's weights (per index).
+    slope: [f64; 2],
+    /// The moments are summed afresh every this many points, which bounds
+    /// the rounding the updates carry (it grows as the cube of the points
+    /// since the last fresh sum over the square of `m`).
+    refresh: usize,
+}
+
+impl Moments {
+    fn new(m: usize) -> Option<Self> {
+        if m < MOMENTS_MIN_HALF {
+            return None;
+        }
+        let (v, d) = (savitzky_golay_poly(m, 0), savitzky_golay_poly(m, 1));
+        // Weights in u = i/m: value x0 + x2 u², slope (x1 u + x3 u³)/m.
+        let m2 = (m * m) as f64;
+        Some(Self {
+            m,
+            value: [v[0], v[2] / m2],
+            slope: [d[1] / m2, d[3] / (m2 * m2)],
+            refresh: (4 * m).clamp(32, 128),
+        })
+    }
 }
 
 impl Filter {
@@ -94,6 +141,7 @@ impl Filter {
                 step_deg,
                 fit: Some(savitzky_golay(MIN_POINTS / 2, 0)),
                 gain: 1.0,
+                moments: None,
             };
         }
         let value = savitzky_golay(m, 0);
@@ -104,7 +152,16 @@ impl Filter {
             step_deg,
             fit: None,
             gain,
+            moments: Moments::new(m),
         }
+    }
+
+    /// The same filter with the plain weight sums only (the reference
+    /// the running sums are tested against).
+    #[cfg(test)]
+    pub(crate) fn plain(mut self) -> Self {
+        self.moments = None;
+        self
     }
 
     /// How far the weights reach either side of their centre (points): the
@@ -142,6 +199,61 @@ impl Filter {
                 dot(w, &s[c - m..=c + m])
             }
         }
+    }
+
+    /// [`Self::value_in`] at the centres `from..from + out.len()` of such a
+    /// slice, into `out`: for a wide window, by running sums (O(1) a
+    /// point; equal to the weight sums but for rounding: the tests hold
+    /// them within 1e-13 of the slice's largest magnitude).
+    pub fn values_into(&self, s: &[f64], from: usize, out: &mut [f64]) {
+        match &self.moments {
+            Some(mo) => mo.values(s, from, out),
+            None => {
+                for (j, y) in out.iter_mut().enumerate() {
+                    *y = self.value_in(s, from + j);
+                }
+            }
+        }
+    }
+
+    /// [`Self::slope_in`] at the centres `from..from + out.len()`, into
+    /// `out` (running sums as [`Self::values_into`]).
+    pub fn slopes_into(&self, s: &[f64], from: usize, out: &mut [f64]) {
+        match &self.moments {
+            Some(mo) => mo.slopes(s, from, out, self.step_deg),
+            None => {
+                for (j, y) in out.iter_mut().enumerate() {
+                    *y = self.slope_in(s, from + j);
+                }
+            }
+        }
+    }
+
+    /// The noise fit is the smoothed value itself (the filter on): the
+    /// residual is `p − p_smooth`.
+    pub fn fits_by_value(&self) -> bool {
+        self.fit.is_none()
+    }
+
+    /// `Σ (p − fit)²` over the centres `from..from + smoothed.len()` of
+    /// such a slice, given the smoothed values there ([`Self::fit_in`]).
+    pub fn residual2_in(&self, s: &[f64], from: usize, smoothed: &[f64]) -> f64 {
+        let mut sum = 0.0;
+        match &self.fit {
+            None => {
+                for (p, ps) in s[from..].iter().zip(smoothed) {
+                    let r = p - ps;
+                    sum += r * r;
+                }
+            }
+            Some(_) => {
+                for (j, &ps) in smoothed.iter().enumerate() {
+                    let r = s[from + j] - self.fit_in(s, from + j, ps);
+                    sum += r * r;
+                }
+            }
+        }
+        sum
     }
 
     /// The noise fit's centre weight `w₀`: white noise keeps `1 − w₀` of
@@ -221,10 +333,154 @@ fn dot(w: &[f64], s: &[f64]) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
+/// `T_j = Σ i^j (p_(c+i) − r)` for `j` in `0..K` over a window `w` of
+/// `2m + 1` points centred on `c`, the plain sums.
+#[inline]
+fn moments<const K: usize>(w: &[f64], r: f64, m: usize) -> [f64; K] {
+    let mut t = [0.0f64; K];
+    let mut x = -(m as f64);
+    for &p in w {
+        let mut term = p - r;
+        for tj in &mut t {
+            *tj += term;
+            term *= x;
+        }
+        x += 1.0;
+    }
+    t
+}
+
+/// One slide of the moments by a point, in each of `L` lanes (moment-major,
+/// so the compiler keeps a moment's lanes in one vector register): `qo`
+/// leaves at offset `−m`, `qi` enters at `m + 1`, and the offsets shift by
+/// one (`c` holds `m`, `m + 1`, their squares and cubes). `T3` only when
+/// `SLOPE`. Each lane's numbers are those of the same steps alone.
+#[inline(always)]
+fn slide<const L: usize, const SLOPE: bool>(
+    t: &mut [[f64; L]; 4],
+    qo: [f64; L],
+    qi: [f64; L],
+    c: &[f64; 6],
+) {
+    let u0: [f64; L] = std::array::from_fn(|l| t[0][l] - qo[l] + qi[l]);
+    let u1: [f64; L] = std::array::from_fn(|l| t[1][l] + c[0] * qo[l] + c[1] * qi[l]);
+    let u2: [f64; L] = std::array::from_fn(|l| t[2][l] - c[2] * qo[l] + c[3] * qi[l]);
+    if SLOPE {
+        let u3: [f64; L] = std::array::from_fn(|l| t[3][l] + c[4] * qo[l] + c[5] * qi[l]);
+        t[3] = std::array::from_fn(|l| u3[l] - 3.0 * (u2[l] - u1[l]) - u0[l]);
+    }
+    t[0] = u0;
+    t[1] = std::array::from_fn(|l| u1[l] - u0[l]);
+    t[2] = std::array::from_fn(|l| u2[l] - 2.0 * u1[l] + u0[l]);
+}
+
+impl Moments {
+    /// The smoothed values at the centres `from..from + out.len()` of `s`
+    /// (which holds `m` points either side of them). Each stretch of
+    /// [`Self::refresh`] centres starts from plain sums, taken about that
+    /// stretch's first sample `r` (the moments of `p − r`, so a flat or
+    /// slow stretch carries little rounding); `Σ w = 1` puts `r` back.
+    fn values(&self, s: &[f64], from: usize, out: &mut [f64]) {
+        let [a, b] = self.value;
+        self.sweep::<false>(s, from, out, |t, r| r + (a * t[0] + b * t[2]));
+    }
+
+    /// The slopes (per degree at `step_deg`) at the centres `from..from +
+    /// out.len()` of `s`, as [`Self::values`] (`Σ w = 0` drops `r`).
+    fn slopes(&self, s: &[f64], from: usize, out: &mut [f64], step_deg: f64) {
+        let [c, d] = self.slope;
+        self.sweep::<true>(s, from, out, |t, _| (c * t[1] + d * t[3]) / step_deg);
+    }
+
+    /// The sweep of [`Self::values`] and [`Self::slopes`]: `y(T, r)` at
+    /// every centre. Stretches go two at a time (two lanes of the same
+    /// steps, which the compiler keeps in one vector register; each lane's
+    /// numbers are those of one stretch alone), the rest one at a time.
+    #[inline(always)]
+    fn sweep<const SLOPE: bool>(
+        &self,
+        s: &[f64],
+        from: usize,
+        out: &mut [f64],
+        y: impl Fn(&[f64; 4], f64) -> f64,
+    ) {
+        let m = self.m;
+        assert!(
+            from >= m && from + out.len() + m <= s.len(),
+            "slice too short"
+        );
+        let (mf, mp) = (m as f64, (m + 1) as f64);
+        let c = [mf, mp, mf * mf, mp * mp, mf * mf * mf, mp * mp * mp];
+        // A stretch's first centre: the plain sums about its sample.
+        let start = |c0: usize| {
+            let (w, r) = (&s[c0 - m..=c0 + m], s[c0]);
+            let t = if SLOPE {
+                moments::<4>(w, r, m)
+            } else {
+                let [t0, t1, t2] = moments::<3>(w, r, m);
+                [t0, t1, t2, 0.0]
+            };
+            (t, r)
+        };
+        let step = self.refresh;
+        let pairs = out.len() / (2 * step) * (2 * step);
+        let (two, one) = out.split_at_mut(pairs);
+        let lane = |t: &[[f64; 2]; 4], l: usize| [t[0][l], t[1][l], t[2][l], t[3][l]];
+        for (k, o) in two.chunks_exact_mut(2 * step).enumerate() {
+            let (oa, ob) = o.split_at_mut(step);
+            let (ca, cb) = (from + 2 * k * step, from + (2 * k + 1) * step);
+            let ((ta, ra), (tb, rb)) = (start(ca), start(cb));
+            let r = [ra, rb];
+            let mut t: [[f64; 2]; 4] = std::array::from_fn(|j| [ta[j], tb[j]]);
+            oa[0] = y(&ta, ra);
+            ob[0] = y(&tb, rb);
+            // Centre c0 + k drops s[c0 + k − 1 − m] and takes s[c0 + k + m].
+            let lanes = oa[1..].iter_mut().zip(ob[1..].iter_mut());
+            let outs = s[ca - m..].iter().zip(&s[cb - m..]);
+            let ins = s[ca + m + 1..].iter().zip(&s[cb + m + 1..]);
+            for (((ya, yb), (&poa, &pob)), (&pia, &pib)) in lanes.zip(outs).zip(ins) {
+                let (po, pi) = ([poa, pob], [pia, pib]);
+                slide::<2, SLOPE>(
+                    &mut t,
+                    std::array::from_fn(|l| po[l] - r[l]),
+                    std::array::from_fn(|l| pi[l] - r[l]),
+                    &c,
+                );
+                *ya = y(&lane(&t, 0), ra);
+                *yb = y(&lane(&t, 1), rb);
+            }
+        }
+        for (k, o) in one.chunks_mut(step).enumerate() {
+            let c0 = from + pairs + k * step;
+            let (t1, r) = start(c0);
+            let mut t: [[f64; 1]; 4] = std::array::from_fn(|j| [t1[j]]);
+            o[0] = y(&t1, r);
+            let points = s[c0 - m..].iter().zip(&s[c0 + m + 1..]);
+            for (yk, (&po, &pi)) in o[1..].iter_mut().zip(points) {
+                slide::<1, SLOPE>(&mut t, [po - r], [pi - r], &c);
+                *yk = y(&[t[0][0], t[1][0], t[2][0], t[3][0]], r);
+            }
+        }
+    }
+}
+
 /// Weights of a cubic least-squares fit over `-m..=m` that give the fit's
 /// value (`deriv` 0) or its derivative per index (`deriv` 1) at the centre.
-/// The fit is solved in `u = i/m` (well conditioned for any `m`).
 fn savitzky_golay(m: usize, deriv: usize) -> Vec<f64> {
+    let mf = m as f64;
+    let x = savitzky_golay_poly(m, deriv);
+    let scale = if deriv == 1 { 1.0 / mf } else { 1.0 };
+    (-(m as i64)..=m as i64)
+        .map(|i| i as f64 / mf)
+        .map(|u| scale * (x[0] + x[1] * u + x[2] * u * u + x[3] * u * u * u))
+        .collect()
+}
+
+/// The weights of [`savitzky_golay`] as a cubic in `u = i/m`: the weight
+/// at offset `i` is `x0 + x1 u + x2 u² + x3 u³` (the derivative's, per
+/// `u`: divide by `m` for per index). The fit is solved in `u` (well
+/// conditioned for any `m`).
+fn savitzky_golay_poly(m: usize, deriv: usize) -> [f64; 4] {
     let mf = m as f64;
     let us: Vec<f64> = (-(m as i64)..=m as i64).map(|i| i as f64 / mf).collect();
     // Normal equations G x = e_deriv, G_ab = sum u^(a+b).
@@ -250,11 +506,7 @@ fn savitzky_golay(m: usize, deriv: usize) -> Vec<f64> {
             }
         }
     }
-    let x: Vec<f64> = (0..4).map(|r| g[r][4] / g[r][r]).collect();
-    let scale = if deriv == 1 { 1.0 / mf } else { 1.0 };
-    us.iter()
-        .map(|u| scale * (x[0] + x[1] * u + x[2] * u * u + x[3] * u * u * u))
-        .collect()
+    std::array::from_fn(|r| g[r][4] / g[r][r])
 }
 
 #[cfg(test)]
@@ -290,6 +542,201 @@ mod tests {
         // A constant wraps to itself at both ends.
         let c = vec![5.0; 50];
         assert!((f.value(&c, 0) - 5.0).abs() < 1e-12 && (f.value(&c, 49) - 5.0).abs() < 1e-12);
+    }
+
+    /// Signals shaped to defeat running sums: a pressure trace with noise,
+    /// a one-point spike of 100 times the base, a flat stretch, a step of
+    /// 80 times, white noise about zero, and ±1e7 alternating.
+    fn hostile(n: usize, seed: u64) -> Vec<(&'static str, Vec<f64>)> {
+        let mut st = seed | 1;
+        let mut rnd = move || {
+            st ^= st << 13;
+            st ^= st >> 7;
+            st ^= st << 17;
+            (st >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let pressure = (0..n)
+            .map(|k| {
+                let x = (k as f64 - n as f64 / 2.0) / (n as f64 / 10.0);
+                1e5 + 6e6 * (-x * x).exp() + 5e3 * rnd()
+            })
+            .collect();
+        let mut spike = vec![1e5; n];
+        spike[n / 2] = 1e7;
+        let step = (0..n).map(|k| if k < n / 2 { 1e5 } else { 8e6 }).collect();
+        let noise = (0..n).map(|_| 1e6 * rnd()).collect();
+        let alt = (0..n)
+            .map(|k| if k % 2 == 0 { 1e7 } else { -1e7 })
+            .collect();
+        vec![
+            ("pressure", pressure),
+            ("spike", spike),
+            ("flat", vec![3.3e6; n]),
+            ("step", step),
+            ("noise", noise),
+            ("alternating", alt),
+        ]
+    }
+
+    /// The running sums at centres `from..from + len` of `s` against the
+    /// plain weight sums: within `tol` of the slice's largest magnitude
+    /// (the slope's per index).
+    fn check_against_plain(f: &Filter, s: &[f64], from: usize, len: usize, tol: f64, what: &str) {
+        let (mut v, mut d) = (vec![0.0; len], vec![0.0; len]);
+        f.values_into(s, from, &mut v);
+        f.slopes_into(s, from, &mut d);
+        let scale = s.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        for j in 0..len {
+            let (a, b) = (f.value_in(s, from + j), f.slope_in(s, from + j));
+            assert!(
+                (v[j] - a).abs() <= tol * scale,
+                "{what}: value at {j}: {} against {a}",
+                v[j]
+            );
+            assert!(
+                (d[j] - b).abs() * f.step_deg <= tol * scale,
+                "{what}: slope at {j}: {} against {b}",
+                d[j]
+            );
+        }
+    }
+
+    #[test]
+    fn running_sums_match_the_weight_sums_on_hostile_data() {
+        for m in [8usize, 9, 10, 16, 37, 64, 100, 200] {
+            let f = Filter::new(
+                Smoothing::SavitzkyGolay {
+                    width_deg: (2 * m) as f64 * 0.1,
+                },
+                0.1,
+            );
+            assert_eq!(f.half_points(), m);
+            assert!(f.moments.is_some());
+            for (name, s) in hostile(3001, m as u64) {
+                check_against_plain(&f, &s, m, s.len() - 2 * m, 1e-13, name);
+                // A start off the slice's reach, and stretches of one point
+                // and of the refresh length and either side of it.
+                let r = f.moments.unwrap().refresh;
+                for len in [1, 2, r - 1, r, r + 1, 3 * r + 5] {
+                    check_against_plain(&f, &s, m + 7, len, 1e-13, name);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn two_lanes_give_each_stretch_its_own_numbers() {
+        // The sweep two stretches at a time against one stretch a call (a
+        // call of one stretch takes the one-lane path): bit for bit.
+        for m in [8usize, 10, 50] {
+            let f = Filter::new(
+                Smoothing::SavitzkyGolay {
+                    width_deg: (2 * m) as f64 * 0.1,
+                },
+                0.1,
+            );
+            let r = f.moments.unwrap().refresh;
+            for (name, s) in hostile(2000, 11) {
+                let len = s.len() - 2 * m;
+                let (mut v, mut d) = (vec![0.0; len], vec![0.0; len]);
+                f.values_into(&s, m, &mut v);
+                f.slopes_into(&s, m, &mut d);
+                for (k, (vb, db)) in v.chunks(r).zip(d.chunks(r)).enumerate() {
+                    let (mut v1, mut d1) = (vec![0.0; vb.len()], vec![0.0; db.len()]);
+                    f.values_into(&s, m + k * r, &mut v1);
+                    f.slopes_into(&s, m + k * r, &mut d1);
+                    for j in 0..vb.len() {
+                        assert_eq!(vb[j].to_bits(), v1[j].to_bits(), "{name} m {m} at {k}.{j}");
+                        assert_eq!(db[j].to_bits(), d1[j].to_bits(), "{name} m {m} at {k}.{j}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn narrow_and_off_filters_keep_the_weight_sums() {
+        for (smoothing, step) in [
+            (Smoothing::Off, 0.1),
+            (Smoothing::default(), 0.5),
+            (Smoothing::SavitzkyGolay { width_deg: 1.4 }, 0.1),
+        ] {
+            let f = Filter::new(smoothing, step);
+            assert!(f.moments.is_none(), "{smoothing:?}");
+            let m = f.reach();
+            for (_, s) in hostile(400, 3) {
+                let len = s.len() - 2 * m;
+                let (mut v, mut d) = (vec![0.0; len], vec![0.0; len]);
+                f.values_into(&s, m, &mut v);
+                f.slopes_into(&s, m, &mut d);
+                for j in 0..len {
+                    assert_eq!(v[j].to_bits(), f.value_in(&s, m + j).to_bits());
+                    assert_eq!(d[j].to_bits(), f.slope_in(&s, m + j).to_bits());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_moments_are_the_weights_polynomials() {
+        for m in [8usize, 10, 33, 200] {
+            let f = Filter::new(
+                Smoothing::SavitzkyGolay {
+                    width_deg: (2 * m) as f64 * 0.1,
+                },
+                0.1,
+            );
+            let mo = f.moments.unwrap();
+            for (k, (w, d)) in f.value.iter().zip(&f.slope).enumerate() {
+                let i = k as f64 - m as f64;
+                let (a, b) = (
+                    mo.value[0] + mo.value[1] * i * i,
+                    i * (mo.slope[0] + mo.slope[1] * i * i),
+                );
+                assert!((a - w).abs() < 1e-15, "m {m}, i {i}: {a} against {w}");
+                assert!((b - d).abs() < 1e-15, "m {m}, i {i}: {b} against {d}");
+            }
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        #[test]
+        fn running_sums_match_the_weight_sums(
+            m in 8usize..=200,
+            seed in 1u64..u64::MAX,
+            base in -1e6f64..1e7,
+            spikes in proptest::collection::vec((0usize..4000, -1e7f64..1e7), 0..6),
+            steps in proptest::collection::vec((0usize..4000, -1e7f64..1e7), 0..3),
+            amp in 0.0f64..1e6,
+            from_extra in 0usize..50,
+        ) {
+            let f = Filter::new(
+                Smoothing::SavitzkyGolay { width_deg: (2 * m) as f64 * 0.1 },
+                0.1,
+            );
+            let n = 2 * m + 600 + from_extra;
+            let mut st = seed;
+            let mut s: Vec<f64> = (0..n)
+                .map(|k| {
+                    st ^= st << 13;
+                    st ^= st >> 7;
+                    st ^= st << 17;
+                    let x = k as f64 / n as f64;
+                    base + amp * ((st >> 11) as f64 / (1u64 << 53) as f64 - 0.5)
+                        + 3e6 * (-(x - 0.5) * (x - 0.5) * 80.0).exp()
+                })
+                .collect();
+            for (at, h) in spikes {
+                s[at % n] += h;
+            }
+            for (at, h) in steps {
+                for x in &mut s[at % n..] {
+                    *x += h;
+                }
+            }
+            check_against_plain(&f, &s, m + from_extra, n - 2 * m - from_extra, 1e-13, "proptest");
+        }
     }
 
     #[test]

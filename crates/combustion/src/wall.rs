@@ -104,14 +104,30 @@ impl WallHeat {
     /// (m/s); `dp_comb` is Woschni's `(V_d T_ivc)/(p_ivc V_ivc) (p − p_mot)`
     /// term already multiplied by `C2` (m/s; 0 before SOC).
     pub fn coefficient(&self, p: f64, t: f64, v: f64, cm: f64, w_comb: f64) -> f64 {
+        self.coefficient_with(self.fixed(cm), p, t, v, cm, w_comb)
+    }
+
+    /// The factor of [`Self::coefficient`] that a cycle does not change
+    /// (at mean piston speed `cm`): Woschni's `3.26 B^−0.2`, Hohenberg's
+    /// `(c_m + 1.4)^0.8`.
+    fn fixed(&self, cm: f64) -> f64 {
+        match self.model {
+            WallModel::Woschni => 3.26 * self.bore_m.powf(-0.2),
+            WallModel::Hohenberg => (cm + 1.4).powf(0.8),
+        }
+    }
+
+    /// [`Self::coefficient`] given [`Self::fixed`] (the same products in
+    /// the same order).
+    fn coefficient_with(&self, fixed: f64, p: f64, t: f64, v: f64, cm: f64, w_comb: f64) -> f64 {
         let (p, t) = (p.max(0.0), t.max(1.0));
         match self.model {
             WallModel::Woschni => {
                 let w = (WOSCHNI_C1 * cm + w_comb).max(0.0);
-                3.26 * self.bore_m.powf(-0.2) * (p / 1e3).powf(0.8) * t.powf(-0.55) * w.powf(0.8)
+                fixed * (p / 1e3).powf(0.8) * t.powf(-0.55) * w.powf(0.8)
             }
             WallModel::Hohenberg => {
-                130.0 * v.powf(-0.06) * (p / 1e5).powf(0.8) * t.powf(-0.4) * (cm + 1.4).powf(0.8)
+                130.0 * v.powf(-0.06) * (p / 1e5).powf(0.8) * t.powf(-0.4) * fixed
             }
         }
     }
@@ -135,18 +151,53 @@ impl WallHeat {
     /// `dQ_wall/dφ` (J/°) at pressure `p` (Pa) and volume `v` (m³);
     /// `burning` switches Woschni's combustion term on (from SOC).
     pub fn rate(&self, s: &Trapped, p: f64, v: f64, burning: bool) -> f64 {
-        let mr = s.p_ivc * s.v_ivc / self.intake_temp_k;
-        let t = p * v / mr;
+        self.in_cycle(s).rate(p, v, burning)
+    }
+
+    /// [`Self::rate`] with what a cycle does not change taken once.
+    pub(crate) fn in_cycle(&self, s: &Trapped) -> CycleWall<'_> {
         let cm = 2.0 * self.stroke_m * s.rpm / 60.0;
-        let w_comb = if burning && self.model == WallModel::Woschni {
+        CycleWall {
+            w: self,
+            s: *s,
+            mr: s.p_ivc * s.v_ivc / self.intake_temp_k,
+            cm,
+            fixed: self.fixed(cm),
+            c2: WOSCHNI_C2 * self.swept_m3 * self.intake_temp_k / (s.p_ivc * s.v_ivc),
+            per_deg: 6.0 * s.rpm,
+        }
+    }
+}
+
+/// [`WallHeat::rate`] over one cycle: the trapped charge's `mR`, the mean
+/// piston speed, the fixed factor of the coefficient, Woschni's
+/// `C2 V_d T_ivc/(p_ivc V_ivc)` and `6 n` taken once (the same numbers).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct CycleWall<'a> {
+    w: &'a WallHeat,
+    s: Trapped,
+    mr: f64,
+    cm: f64,
+    fixed: f64,
+    c2: f64,
+    per_deg: f64,
+}
+
+impl CycleWall<'_> {
+    /// `dQ_wall/dφ` (J/°) at pressure `p` (Pa) and volume `v` (m³).
+    #[inline]
+    pub(crate) fn rate(&self, p: f64, v: f64, burning: bool) -> f64 {
+        let (w, s) = (self.w, &self.s);
+        let t = p * v / self.mr;
+        let w_comb = if burning && w.model == WallModel::Woschni {
             let p_mot = s.p_ivc * (s.v_ivc / v).powf(s.gamma_ivc);
-            WOSCHNI_C2 * self.swept_m3 * self.intake_temp_k / (s.p_ivc * s.v_ivc) * (p - p_mot)
+            self.c2 * (p - p_mot)
         } else {
             0.0
         };
-        let h = self.coefficient(p, t, v, cm, w_comb);
+        let h = w.coefficient_with(self.fixed, p, t, v, self.cm, w_comb);
         // dt/dφ = 1/(6 n) s/° at n rpm.
-        h * self.area(v) * (t - self.wall_temp_k) / (6.0 * s.rpm)
+        h * w.area(v) * (t - w.wall_temp_k) / self.per_deg
     }
 }
 
@@ -163,6 +214,61 @@ mod tests {
             bore_m: 0.076,
             stroke_m: 0.071,
             swept_m3: 0.000322,
+        }
+    }
+
+    /// The rate with the cycle's factors taken once against the formula
+    /// written out per point, as it was: bit for bit.
+    #[test]
+    fn the_cycle_rate_is_the_formula_per_point() {
+        let s = Trapped {
+            p_ivc: 1.1e5,
+            v_ivc: 3.1e-4,
+            gamma_ivc: 1.36,
+            rpm: 2400.0,
+        };
+        for model in [WallModel::Woschni, WallModel::Hohenberg] {
+            let w = chamber(model);
+            for (p, v, burning) in [
+                (1.2e5, 3.0e-4, false),
+                (45e5, 4.0e-5, true),
+                (60e5, 3.7e-5, false),
+                (20e5, 9.0e-5, true),
+            ] {
+                let mr = s.p_ivc * s.v_ivc / w.intake_temp_k;
+                let t = p * v / mr;
+                let cm = 2.0 * w.stroke_m * s.rpm / 60.0;
+                let w_comb = if burning && model == WallModel::Woschni {
+                    let p_mot = s.p_ivc * (s.v_ivc / v).powf(s.gamma_ivc);
+                    WOSCHNI_C2 * w.swept_m3 * w.intake_temp_k / (s.p_ivc * s.v_ivc) * (p - p_mot)
+                } else {
+                    0.0
+                };
+                let (pc, tc) = (p.max(0.0), t.max(1.0));
+                let h = match model {
+                    WallModel::Woschni => {
+                        let wv = (WOSCHNI_C1 * cm + w_comb).max(0.0);
+                        3.26 * w.bore_m.powf(-0.2)
+                            * (pc / 1e3).powf(0.8)
+                            * tc.powf(-0.55)
+                            * wv.powf(0.8)
+                    }
+                    WallModel::Hohenberg => {
+                        130.0
+                            * v.powf(-0.06)
+                            * (pc / 1e5).powf(0.8)
+                            * tc.powf(-0.4)
+                            * (cm + 1.4).powf(0.8)
+                    }
+                };
+                let want = h * w.area(v) * (t - w.wall_temp_k) / (6.0 * s.rpm);
+                assert_eq!(w.rate(&s, p, v, burning).to_bits(), want.to_bits());
+                assert_eq!(
+                    w.coefficient(p, t, v, cm, w_comb).to_bits(),
+                    h.to_bits(),
+                    "{model:?}"
+                );
+            }
         }
     }
 
