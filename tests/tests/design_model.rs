@@ -382,3 +382,50 @@ fn a_boost_curve_is_taken_at_each_speed() {
     let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!((s["design"]["intake_pressure_bar"].as_f64().unwrap() - 2.0).abs() < 1e-12);
 }
+
+/// The idle criterion: with `flywheel.idle_rpm` a map also sizes at idle
+/// (the design cycle at the load that overcomes friction, BMEP 0, and
+/// `idle_speed_fluctuation`); the flywheel is sized at idle when idle
+/// needs more, named in the rows and the notes.
+#[test]
+fn the_flywheel_is_sized_at_the_worst_of_the_map_and_idle() {
+    let t = tempfile::tempdir().unwrap();
+    let run_map = |name: &str, delta: &str| {
+        let engine = template(
+            t.path(),
+            "petrol",
+            name,
+            &[(
+                "[flywheel]\n",
+                &format!("[flywheel]\nidle_rpm = 800.0\nidle_speed_fluctuation = {delta}\n"),
+            )],
+        );
+        let o = run(&[
+            "sweep",
+            "--engine",
+            &engine,
+            "--rpm",
+            "1000:3000:1000",
+            "--load",
+            "50:100:50",
+            "--json",
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let points: Vec<serde_json::Value> = serde_json::from_slice(&o.stdout).unwrap();
+        (points, stderr(&o))
+    };
+    // A loose idle δ: the map's worst point sizes it.
+    let (points, err) = run_map("loose.toml", "0.05");
+    assert!(err.contains("idle criterion: at 800 rpm"), "{err}");
+    assert!((num(&points[0], "flywheel_sized_at_rpm") - 1000.0).abs() < 1e-9);
+    // A tight one: idle does, above every point's own need.
+    let (points, err) = run_map("tight.toml", "0.0005");
+    assert!(err.contains("idle, which needs more inertia"), "{err}");
+    for p in &points {
+        assert!((num(p, "flywheel_sized_at_rpm") - 800.0).abs() < 1e-9);
+        let part = num(p, "flywheel_inertia_kg_m2");
+        assert!(part > num(p, "required_inertia_kg_m2"), "{p}");
+    }
+    let idle_imep = num(&points[0], "flywheel_sized_at_imep_bar");
+    assert!(idle_imep > 0.3 && idle_imep < 2.0, "{idle_imep}");
+}

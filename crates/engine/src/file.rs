@@ -87,6 +87,8 @@ struct RawFlywheel {
     density_kg_m3: Option<f64>,
     shape: Option<String>,
     rim_inner_ratio: Option<f64>,
+    idle_rpm: Option<f64>,
+    idle_speed_fluctuation: Option<f64>,
 }
 
 /// The largest engine file read (bytes), and the most text checked.
@@ -701,6 +703,20 @@ fn read_flywheel(fw: RawFlywheel) -> Result<FlywheelSpec, EngineError> {
             }
         },
         rim_inner_ratio: fw.rim_inner_ratio.unwrap_or(d.rim_inner_ratio),
+        idle: match (fw.idle_rpm, fw.idle_speed_fluctuation) {
+            (Some(rpm), delta) => Some((
+                rpm,
+                delta.unwrap_or(fw.speed_fluctuation.unwrap_or(d.speed_fluctuation)),
+            )),
+            (None, Some(_)) => {
+                return Err(bad(
+                    "flywheel.idle_speed_fluctuation",
+                    "given without idle_rpm".to_string(),
+                    "idle_rpm with it: the idle speed the δ is allowed at",
+                ));
+            }
+            (None, None) => None,
+        },
     })
 }
 

@@ -485,6 +485,26 @@ pub const KEYS: &[KeyDoc] = &[
         "0 up to below 1",
         "0.8"
     ),
+    key!(
+        "flywheel",
+        "idle_rpm",
+        "rpm",
+        "none: no idle criterion",
+        false,
+        "the idle speed: a speed × load map (and the design report) sizes the flywheel at the worst of its points and idle, the idle load the IMEP that overcomes friction ([friction]: BMEP 0)",
+        "100 to 5,000 rpm",
+        "800.0"
+    ),
+    key!(
+        "flywheel",
+        "idle_speed_fluctuation",
+        "",
+        "flywheel.speed_fluctuation",
+        false,
+        "the speed fluctuation δ allowed at idle_rpm",
+        "above 0, below 1",
+        "0.02"
+    ),
     // ---- [tolerances] ----
     key!(
         "tolerances",

@@ -243,6 +243,10 @@ pub struct FlywheelSpec {
     pub shape: FlywheelShape,
     /// Rim inner / outer diameter.
     pub rim_inner_ratio: f64,
+    /// The idle criterion: the idle speed (rpm) and the δ allowed there
+    /// (`flywheel.idle_rpm`, `flywheel.idle_speed_fluctuation`); a map
+    /// sizes the flywheel at the worst of its points and idle.
+    pub idle: Option<(f64, f64)>,
 }
 
 impl Default for FlywheelSpec {
@@ -256,6 +260,7 @@ impl Default for FlywheelSpec {
             density: 7850.0,
             shape: FlywheelShape::Rim,
             rim_inner_ratio: 0.8,
+            idle: None,
         }
     }
 }
@@ -867,6 +872,18 @@ fn check_flywheel(f: &FlywheelSpec) -> Result<(), EngineError> {
             f.rim_inner_ratio,
             "in [0, 1)",
         ));
+    }
+    if let Some((rpm, delta)) = f.idle {
+        if !(rpm.is_finite() && (100.0..=5000.0).contains(&rpm)) {
+            return Err(invalid("flywheel.idle_rpm", rpm, "100 to 5,000 rpm"));
+        }
+        if !(delta > 0.0 && delta < 1.0) {
+            return Err(invalid(
+                "flywheel.idle_speed_fluctuation",
+                delta,
+                "above 0, below 1",
+            ));
+        }
     }
     Ok(())
 }

@@ -48,6 +48,7 @@ pub const DECIDED: &[&str] = &[
     "one trace per cylinder",
     "no TDC offset estimate",
     "at the highest load (",
+    "idle criterion: ",
     "the periodic spline overshoots",
     "--despike replaced ",
     // The engine file's defaults and estimates.

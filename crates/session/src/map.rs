@@ -10,6 +10,7 @@ use crate::diagram::load_diagram;
 use crate::error::Result;
 use crate::session::Session;
 use crate::synth::{NOTE_PREFIX, synthesise};
+use enginedyn_flywheel::Flywheel;
 use enginedyn_numerics::format::human;
 use enginedyn_pipeline::Point;
 use rayon::prelude::*;
@@ -177,25 +178,79 @@ impl Session {
         };
         let target = pct / 100.0 * fl.curve.at(rpm);
         let engine = self.engine();
-        let friction = match (fl.brake, engine.friction()) {
-            (false, _) | (true, None) => return Ok(target / 1e5),
-            (true, Some(f)) => f,
-        };
+        match (fl.brake, engine.friction()) {
+            (false, _) | (true, None) => Ok(target / 1e5),
+            (true, Some(f)) => self.imep_for_bmep(f, target, rpm, &format!("--load {pct}")),
+        }
+    }
+
+    /// The IMEP (bar) whose BMEP is `bmep_pa` at `rpm`: IMEP = BMEP + FMEP,
+    /// FMEP by `friction` on the design cycle's own peak, by fixed-point
+    /// iteration to 1e-9 (FMEP changes with the peak by b ≈ 0.005 of it).
+    /// `what` names the load in errors.
+    fn imep_for_bmep(
+        &self,
+        friction: &enginedyn_combustion::friction::ChenFlynn,
+        bmep_pa: f64,
+        rpm: f64,
+        what: &str,
+    ) -> Result<f64> {
+        let file = self.loaded.shown();
+        let spec = crate::synth::spec(&self.loaded)?;
+        let engine = self.engine();
         let c_m = engine.mechanism().stroke() * rpm / 30.0;
-        let mut imep = target + friction.fmep_pa(0.0, c_m);
+        let mut imep = bmep_pa + friction.fmep_pa(0.0, c_m);
         for _ in 0..20 {
             let m = crate::synth::design_model(&file, engine, &spec, Some(imep / 1e5), Some(rpm))?;
-            let d = enginedyn_synth::design(engine.cylinder(), &m).map_err(|e| {
-                crate::Error::usage(format!("--load {pct} at {} rpm: {e}", human(rpm)))
-            })?;
-            let p_max = d.solution.max_pressure();
-            let next = target + friction.fmep_pa(p_max, c_m);
+            let d = enginedyn_synth::design(engine.cylinder(), &m)
+                .map_err(|e| crate::Error::usage(format!("{what} at {} rpm: {e}", human(rpm))))?;
+            let next = bmep_pa + friction.fmep_pa(d.solution.max_pressure(), c_m);
             if (next - imep).abs() <= 1e-9 * next {
                 return Ok(next / 1e5);
             }
             imep = next;
         }
         Ok(imep / 1e5)
+    }
+
+    /// The idle criterion (`flywheel.idle_rpm`): the design cycle at idle
+    /// speed and the load that overcomes friction (BMEP 0), its flywheel
+    /// sized for `flywheel.idle_speed_fluctuation`: (rpm, IMEP in bar, the
+    /// flywheel). `None` without `idle_rpm`; without `[friction]` (no idle
+    /// load) a note says why.
+    fn idle_point(&self, notes: &mut Vec<String>) -> Result<Option<(f64, f64, Flywheel)>> {
+        let engine = self.engine();
+        let Some((rpm, delta)) = engine.flywheel().idle else {
+            return Ok(None);
+        };
+        let Some(friction) = engine.friction() else {
+            notes.push(format!(
+                "no idle criterion at flywheel.idle_rpm = {} rpm: its load is the IMEP that overcomes friction, and the engine file has no [friction]",
+                human(rpm)
+            ));
+            return Ok(None);
+        };
+        let imep = self.imep_for_bmep(friction, 0.0, rpm, "flywheel.idle_rpm")?;
+        let d = crate::synth::synthesise_samples(
+            &self.loaded,
+            Some(rpm),
+            Some(imep),
+            self.method.step(),
+        )?;
+        let grid = load_diagram(d.input(), &self.parse, &self.grid)?;
+        let a = enginedyn_pipeline::analyse_with(self.tables(), engine, &grid, rpm, &self.opts)
+            .map_err(|e| crate::Error::usage(e.to_string()))?;
+        let own = a.flywheel.as_ref().map_or(0.0, |f| f.engine_inertia);
+        let spec = enginedyn_engine::FlywheelSpec {
+            speed_fluctuation: delta,
+            ..*engine.flywheel()
+        };
+        let omega = rpm * std::f64::consts::PI / 30.0;
+        Ok(
+            enginedyn_flywheel::analyse(&a.uniformity, &spec, omega, own)
+                .ok()
+                .map(|f| (rpm, imep, f)),
+        )
     }
 
     /// The analyses at every speed of `rpms` and load of `loads` (IMEP
@@ -252,8 +307,26 @@ impl Session {
             .enumerate()
             .filter_map(|(k, p)| p.point.flywheel.as_ref().map(|f| (k, f.required_inertia)))
             .max_by(|a, b| a.1.total_cmp(&b.1));
-        let part = worst.and_then(|(k, _)| points[k].point.flywheel.clone());
-        let sized_at = worst.map(|(k, _)| (points[k].point.summary.rpm, points[k].imep_target_bar));
+        let mut part = worst.and_then(|(k, _)| points[k].point.flywheel.clone());
+        let mut sized_at =
+            worst.map(|(k, _)| (points[k].point.summary.rpm, points[k].imep_target_bar));
+        let mut notes = Vec::new();
+        let mut at_idle = false;
+        if let Some((rpm, imep, idle)) = self.idle_point(&mut notes)? {
+            let (_, delta) = engine.flywheel().idle.unwrap_or_default();
+            notes.push(format!(
+                "idle criterion: at {} rpm and IMEP {} bar (BMEP 0: the load that overcomes friction) with δ {} the engine needs {} kg m²",
+                human(rpm),
+                human((imep * 1e3).round() / 1e3),
+                human(delta),
+                human((idle.required_inertia * 1e4).round() / 1e4)
+            ));
+            if worst.is_none_or(|(_, j)| idle.required_inertia > j) {
+                part = Some(idle);
+                sized_at = Some((rpm, imep));
+                at_idle = true;
+            }
+        }
         let file_rpm = engine.operating().rpm;
         for p in &mut points {
             if let Some(part) = &part {
@@ -267,7 +340,6 @@ impl Session {
                     .push(format!("speed {} rpm from --rpm {shown}", human(rpm)));
             }
         }
-        let mut notes = Vec::new();
         if let (Some(first), Some(last)) = (diagrams.first(), diagrams.last()) {
             notes.push(format!(
                 "{NOTE_PREFIX} of {} at each load of {} {shown_loads} (heat released {} to {} J per cylinder{}): {}",
@@ -299,9 +371,14 @@ impl Session {
         }
         if let (Some((rpm, imep)), Some(part)) = (sized_at, &part) {
             notes.push(format!(
-                "flywheel sized once at {} rpm and IMEP {} bar, the point of the map that needs the most inertia ({} kg m²): the same part at every point; speed_fluctuation_achieved is the δ it gives there",
+                "flywheel sized once at {} rpm and IMEP {} bar, {} ({} kg m²): the same part at every point; speed_fluctuation_achieved is the δ it gives there",
                 human(rpm),
-                human(imep),
+                human((imep * 1e3).round() / 1e3),
+                if at_idle {
+                    "idle, which needs more inertia than any point of the map"
+                } else {
+                    "the point of the map that needs the most inertia"
+                },
                 human(part.required_inertia)
             ));
         }
