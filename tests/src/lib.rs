@@ -117,3 +117,31 @@ pub fn contract_summary_keys() -> Option<Vec<String>> {
     }
     Some(keys)
 }
+
+/// `enginedyn template` with `args` (`["--combustion", "petrol"]`), each
+/// `(from, to)` of `edit` replaced once (a missing `from` fails the test),
+/// written as `name` in `dir`: the file's path as text.
+pub fn edited_template(
+    dir: &std::path::Path,
+    args: &[&str],
+    name: &str,
+    edit: &[(&str, &str)],
+) -> String {
+    let mut full = vec!["template"];
+    full.extend(args);
+    let o = run(&full);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let mut text = String::from_utf8(o.stdout).unwrap();
+    for (from, to) in edit {
+        assert!(text.contains(from), "the template has no `{from}`");
+        text = text.replacen(from, to, 1);
+    }
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}

@@ -13,16 +13,7 @@ fn stderr(o: &std::process::Output) -> String {
 
 /// The petrol template with `edit` applied to its text, in `dir`.
 fn template(dir: &std::path::Path, name: &str, edit: &[(&str, &str)]) -> String {
-    let o = run(&["template", "--combustion", "petrol"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let mut text = String::from_utf8(o.stdout).unwrap();
-    for (from, to) in edit {
-        assert!(text.contains(from), "the template has no `{from}`");
-        text = text.replacen(from, to, 1);
-    }
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p.to_str().unwrap().to_string()
+    enginedyn_tests::edited_template(dir, &["--combustion", "petrol"], name, edit)
 }
 
 /// Writes `text` as `name` in `dir` and runs the bundled engine on it

@@ -11,18 +11,10 @@ fn stderr(o: &std::process::Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
-/// The `kind` template (`petrol`, `diesel`) with `edit` applied, in `dir`.
+/// The `kind` template (`petrol`, `diesel`), four cylinders, with `edit`
+/// applied, in `dir`.
 fn template(dir: &std::path::Path, kind: &str, name: &str, edit: &[(&str, &str)]) -> String {
-    let o = run(&["template", "--combustion", kind, "--cylinders", "4"]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let mut text = String::from_utf8(o.stdout).unwrap();
-    for (from, to) in edit {
-        assert!(text.contains(from), "the template has no `{from}`");
-        text = text.replacen(from, to, 1);
-    }
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p.to_str().unwrap().to_string()
+    enginedyn_tests::edited_template(dir, &["--combustion", kind, "--cylinders", "4"], name, edit)
 }
 
 /// `run --json` of `engine` at `imep_bar`: the summary (exit 0).

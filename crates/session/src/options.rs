@@ -592,52 +592,41 @@ pub fn check_map_size(
 /// when it falls on the step), each within [`IMEP_BAR`], at most
 /// [`MAX_LOADS`].
 pub fn imep_range(spec: &str) -> Result<Vec<f64>> {
-    let bad = |why: String| Error::usage(format!("--imep {}: {why}", quote(spec)));
-    let parts: Vec<f64> = spec
-        .split(':')
-        .map(|x| enginedyn_ingest::read_number(x, false))
-        .collect::<std::result::Result<_, _>>()
-        .map_err(|_| bad("expected FROM:TO:STEP in bar".into()))?;
-    let [from, to, step] = parts[..] else {
-        return Err(bad("expected FROM:TO:STEP in bar".into()));
-    };
-    for v in [from, to] {
-        IMEP_BAR.check(v).map_err(bad)?;
-    }
-    if !(to >= from && step > 0.0 && step.is_finite()) {
-        return Err(bad("expected FROM <= TO and STEP > 0".into()));
-    }
-    let n = ((to - from) / step + 1e-9).floor();
-    if n + 1.0 > MAX_LOADS as f64 {
-        return Err(bad(format!(
-            "{} loads; a map takes at most {MAX_LOADS}",
-            n + 1.0
-        )));
-    }
-    Ok((0..=n as usize).map(|k| from + k as f64 * step).collect())
+    loads_range("--imep", spec, "in bar", |v| IMEP_BAR.check(v).map(|_| ()))
 }
+
 /// `--load FROM:TO:STEP` (percent of the full-load line): FROM, FROM +
 /// STEP, … up to TO (included when it falls on the step), each above 0
 /// and at most 100, at most [`MAX_LOADS`].
 pub fn load_range(spec: &str) -> Result<Vec<f64>> {
-    let bad = |why: String| Error::usage(format!("--load {}: {why}", quote(spec)));
+    loads_range("--load", spec, "in percent of the full-load line", |v| {
+        if v > 0.0 && v <= 100.0 {
+            Ok(())
+        } else {
+            Err(format!("{} %: expected above 0, up to 100 %", human(v)))
+        }
+    })
+}
+
+/// The loads of `flag` `spec` (`FROM:TO:STEP`, `unit` as the message
+/// says it), each end held to `check`, at most [`MAX_LOADS`].
+fn loads_range(
+    flag: &str,
+    spec: &str,
+    unit: &str,
+    check: impl Fn(f64) -> std::result::Result<(), String>,
+) -> Result<Vec<f64>> {
+    let bad = |why: String| Error::usage(format!("{flag} {}: {why}", quote(spec)));
     let parts: Vec<f64> = spec
         .split(':')
         .map(|x| enginedyn_ingest::read_number(x, false))
         .collect::<std::result::Result<_, _>>()
-        .map_err(|_| bad("expected FROM:TO:STEP in percent of the full-load line".into()))?;
+        .map_err(|_| bad(format!("expected FROM:TO:STEP {unit}")))?;
     let [from, to, step] = parts[..] else {
-        return Err(bad(
-            "expected FROM:TO:STEP in percent of the full-load line".into(),
-        ));
+        return Err(bad(format!("expected FROM:TO:STEP {unit}")));
     };
     for v in [from, to] {
-        if !(v > 0.0 && v <= 100.0) {
-            return Err(bad(format!(
-                "{} %: expected above 0, up to 100 %",
-                human(v)
-            )));
-        }
+        check(v).map_err(bad)?;
     }
     if !(to >= from && step > 0.0 && step.is_finite()) {
         return Err(bad("expected FROM <= TO and STEP > 0".into()));
