@@ -489,36 +489,62 @@ fn by_throttle(
             &format!("imep_bar = {}", target / 1e5),
         ));
     }
-    let (mut p0, mut f0) = (full, i_full - target);
-    let mut evaluations = 1;
-    let mut p1 = full * target / i_full;
-    while (f0 / target).abs() > 1e-9 {
-        if !(p1.is_finite() && p1 > 0.0) {
+    let f0 = i_full - target;
+    if (f0 / target).abs() <= 1e-9 {
+        best.evaluations = 1;
+        return Ok(best);
+    }
+    secant(
+        target,
+        (full, f0),
+        full * target / i_full,
+        1,
+        at,
+        (
+            "the intake pressure",
+            "below what the throttled engine gives at any intake pressure (its pumping loop costs more)",
+        ),
+    )
+}
+
+/// A secant on `IMEP(x) − target` from `(x0, f0)` and the first guess
+/// `x1`, to 1e-9 relative, `evaluations` cycles already integrated: the
+/// design at the root. `at(x)` integrates the cycle at `x`; `(what,
+/// none)` name `x` when it is not found in 40 cycles, and what it means
+/// when a step leaves `x > 0`.
+fn secant(
+    target: f64,
+    (mut x0, mut f0): (f64, f64),
+    mut x1: f64,
+    mut evaluations: usize,
+    mut at: impl FnMut(f64) -> Result<(Design, f64), SynthError>,
+    (what, none): (&str, &str),
+) -> Result<Design, SynthError> {
+    loop {
+        if !(x1.is_finite() && x1 > 0.0) {
             return Err(SynthError::Load(format!(
-                "imep_bar = {}: below what the throttled engine gives at any intake pressure (its pumping loop costs more)",
+                "imep_bar = {}: {none}",
                 target / 1e5
             )));
         }
-        let (d, i1) = at(p1)?;
+        let (mut d, i1) = at(x1)?;
         evaluations += 1;
-        best = d;
         let f1 = i1 - target;
         if (f1 / target).abs() <= 1e-9 {
-            break;
+            d.evaluations = evaluations;
+            return Ok(d);
         }
         if evaluations >= 40 || (f1 - f0).abs() <= f64::EPSILON * target {
             return Err(SynthError::Load(format!(
-                "imep_bar = {}: the intake pressure was not found (IMEP {} bar after {evaluations} cycles)",
+                "imep_bar = {}: {what} was not found (IMEP {} bar after {evaluations} cycles)",
                 target / 1e5,
-                best.imep_pa / 1e5
+                d.imep_pa / 1e5
             )));
         }
-        let p2 = p1 - f1 * (p1 - p0) / (f1 - f0);
-        (p0, f0) = (p1, f1);
-        p1 = p2;
+        let x2 = x1 - f1 * (x1 - x0) / (f1 - f0);
+        (x0, f0) = (x1, f1);
+        x1 = x2;
     }
-    best.evaluations = evaluations;
-    Ok(best)
 }
 
 /// The cycle whose heat released meets the load: for an IMEP target, the
@@ -545,34 +571,14 @@ fn by_fuel(cyl: &Cylinder, model: &DesignModel, grid: &Grid) -> Result<Design, S
             i0 / 1e5
         )));
     }
-    let (mut q0, mut f0) = (0.0, i0 - target);
-    let mut q1 = (target - i0) * cyl.swept_volume() / 0.35;
-    let (mut best, mut f1) = solve_at(cyl, model, grid, q1)?;
-    f1 -= target;
-    let mut evaluations = 2;
-    while (f1 / target).abs() > 1e-9 {
-        if evaluations >= 40 || (f1 - f0).abs() <= f64::EPSILON * target {
-            return Err(SynthError::Load(format!(
-                "imep_bar = {}: the heat released was not found (IMEP {} bar after {evaluations} cycles)",
-                target / 1e5,
-                best.imep_pa / 1e5
-            )));
-        }
-        let q2 = q1 - f1 * (q1 - q0) / (f1 - f0);
-        if !(q2.is_finite() && q2 > 0.0) {
-            return Err(SynthError::Load(format!(
-                "imep_bar = {}: no positive heat release meets it",
-                target / 1e5
-            )));
-        }
-        let (d, i2) = solve_at(cyl, model, grid, q2)?;
-        evaluations += 1;
-        (q0, f0) = (q1, f1);
-        (q1, f1) = (q2, i2 - target);
-        best = d;
-    }
-    best.evaluations = evaluations;
-    Ok(best)
+    secant(
+        target,
+        (0.0, i0 - target),
+        (target - i0) * cyl.swept_volume() / 0.35,
+        1,
+        |q| solve_at(cyl, model, grid, q),
+        ("the heat released", "no positive heat release meets it"),
+    )
 }
 
 /// The design trace of `model` on `cyl` at `step_deg` (dividing the
