@@ -6,15 +6,10 @@
 example:
     cargo run --release -- run --out reports/vaz2108
 
-# Regenerate every bundled diagram from its documented model (data/README.md).
+# Regenerate every bundled diagram from its documented model (data/README.md;
+# the table is enginedyn_synth::bundled::DIAGRAMS, crates/synth/src/bundled.rs).
 data:
-    cargo run --release -q -p enginedyn-synth --bin enginedyn-synth -- --preset petrol --bore-mm 76 --stroke-mm 71 --lambda 0.26 --cr 9.9 --rpm 4900 --step 0.5 --out data/vaz2108.csv
-    cargo run --release -q -p enginedyn-synth --bin enginedyn-synth -- --preset diesel --bore-mm 130 --stroke-mm 150 --lambda 0.2830188679245283 --cr 17 --rpm 2200 --step 0.5 --heat-j 6500 --out data/i6_diesel.csv
-    cargo run --release -q -p enginedyn-synth --bin enginedyn-synth -- --preset petrol --bore-mm 99 --stroke-mm 92 --lambda 0.2967741935483871 --cr 10.2 --rpm 5200 --step 0.5 --heat-j 1450 --out data/v8_crossplane.csv
-    cargo run --release -q -p enginedyn-synth --bin enginedyn-synth -- --preset petrol --bore-mm 68 --stroke-mm 54 --lambda 0.32142857142857145 --cr 8.5 --rpm 3600 --step 0.5 --heat-j 400 --out data/single.csv
-    cargo run --release -q -p enginedyn-synth --bin enginedyn-synth -- --preset petrol --bore-mm 88 --stroke-mm 75 --lambda 0.26785714285714285 --cr 11 --rpm 6500 --step 0.5 --heat-j 935 --out data/v12_60.csv
-    cargo run --release -q -p enginedyn-synth --bin enginedyn-synth -- --preset two-stroke --bore-mm 73.5 --stroke-mm 78 --lambda 0.2708333333333333 --cr 7.5 --rpm 4200 --step 0.5 --heat-j 500 --out data/i3_two_stroke.csv
-    cargo run --release -q -p enginedyn-synth --bin enginedyn-synth -- --preset petrol --bore-mm 101.6 --stroke-mm 88.4 --lambda 0.30524861878453036 --cr 9.2 --rpm 4400 --step 0.5 --heat-j 1469 --out data/v6_90.csv
+    cargo run --release -q -p enginedyn-synth --example bundled
 
 # Regenerate the committed reports, one folder per bundled engine
 # (deterministic: no timestamps or timings in what is written).

@@ -18,7 +18,7 @@
 //! for.
 //!
 //! Tunestål takes the loss power as constant over a narrow window around
-//! TDC. On traces with Woschni wall heat and blow-by (`enginedyn-synth`)
+//! TDC. On traces with Woschni wall heat and blow-by (`enginedyn_synth::Losses`)
 //! that left about half the loss angle as bias in this project's trials
 //! (0.1°–0.4°), so here the loss has the shape of Hohenberg's correlation
 //! (G. F. Hohenberg, "Advanced Approaches for Heat Transfer Calculations",

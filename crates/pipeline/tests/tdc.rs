@@ -103,7 +103,7 @@ fn sampled(
         .collect()
 }
 
-/// The file's text (`crank_deg,pressure_bar`, as `enginedyn-synth` writes).
+/// The file's text (`crank_deg,pressure_bar`, as `enginedyn_synth::write_csv` writes).
 fn csv(samples: &[(f64, f64)]) -> String {
     let mut out = Vec::new();
     write_csv(

@@ -45,9 +45,10 @@
 //! assert!(p > 50e5 && p < 75e5 && deg > 10.0 && deg < 20.0);
 //! ```
 
-use enginedyn_kinematics::Cylinder;
+use enginedyn_kinematics::{Cylinder, KinematicsError};
 use std::f64::consts::PI;
 
+pub mod bundled;
 mod design;
 pub use design::{
     Air, DEFAULT_EVO_DEG, DEFAULT_EVO_DEG_TWO_STROKE, DEFAULT_IVC_DEG_TWO_STROKE,
@@ -86,6 +87,10 @@ pub enum SynthError {
     /// message names the key).
     #[error("{0}")]
     Combustion(#[from] CombustionError),
+    /// A cylinder the kinematics crate refuses (its message names the
+    /// dimension).
+    #[error("{0}")]
+    Geometry(#[from] KinematicsError),
     /// A design load that no heat release gives: an IMEP target below the
     /// motored cycle's, or one the solver could not meet.
     #[error("{0}")]

@@ -1,7 +1,7 @@
 //! `data/scotch_yoke.csv`, the bundled Scotch-yoke engine's diagram, is
 //! exactly what the cycle model of `crates/synth` gives on the yoke's own
-//! volume law (`x = R (1 - cos phi)`; the `enginedyn-synth` binary only
-//! builds crank-sliders). Regenerate it with
+//! volume law (`x = R (1 - cos phi)`; `enginedyn_synth::bundled`, the other
+//! bundled diagrams, holds crank-sliders only). Regenerate it with
 //!
 //! ```text
 //! ENGINEDYN_WRITE_DATA=1 cargo test -p enginedyn-tolerance --test yoke_diagram
