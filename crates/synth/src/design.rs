@@ -378,6 +378,15 @@ fn solve_at(
 /// full-load intake pressure gives is refused, naming the most it gives.
 pub fn design(cyl: &Cylinder, model: &DesignModel) -> Result<Design, SynthError> {
     let grid = Grid::new(cyl, model)?;
+    if let Load::Imep { pa } = model.load
+        && !(pa.is_finite() && pa > 0.0)
+    {
+        return Err(SynthError::Parameter {
+            name: "imep_bar",
+            value: pa / 1e5,
+            expected: "above 0".into(),
+        });
+    }
     match model.air {
         Some(air) if air.charge.kind == ChargeKind::Si => by_throttle(cyl, model, &grid, air),
         Some(air) => {
@@ -473,13 +482,6 @@ fn by_throttle(
         }
         Load::Imep { pa } => pa,
     };
-    if !(target.is_finite() && target > 0.0) {
-        return Err(SynthError::Parameter {
-            name: "imep_bar",
-            value: target / 1e5,
-            expected: "above 0".into(),
-        });
-    }
     let (mut best, i_full) = at(full)?;
     if target > i_full * (1.0 + 1e-9) {
         return Err(beyond_air(
@@ -556,13 +558,6 @@ fn by_fuel(cyl: &Cylinder, model: &DesignModel, grid: &Grid) -> Result<Design, S
         Load::Heat { j } => return Ok(solve_at(cyl, model, grid, j)?.0),
         Load::Imep { pa } => pa,
     };
-    if !(target.is_finite() && target > 0.0) {
-        return Err(SynthError::Parameter {
-            name: "imep_bar",
-            value: target / 1e5,
-            expected: "above 0".into(),
-        });
-    }
     let (_, i0) = solve_at(cyl, model, grid, 0.0)?;
     if target <= i0 {
         return Err(SynthError::Load(format!(
