@@ -56,6 +56,28 @@ pub fn table(head: &[&str], rows: &[Vec<String>], numeric: &[bool]) -> String {
     o
 }
 
+/// The engine table's row for what takes the indicated figures to the
+/// effective ones: `[friction]`'s Chen–Flynn constants, else η_m.
+fn effective_basis(engine: &Engine) -> (&'static str, String) {
+    let h = |x: f64| crate::human(x);
+    match engine.friction() {
+        Some(f) => (
+            "friction (Chen–Flynn, [friction])",
+            format!(
+                "FMEP = {} bar + {} p_max + {} bar s/m c_m + {} bar s²/m² c_m²",
+                h(f.a_pa / 1e5),
+                h(f.b),
+                h(f.c_pa_s_m / 1e5),
+                h(f.d_pa_s2_m2 / 1e5)
+            ),
+        ),
+        None => (
+            "mechanical efficiency η_m",
+            h(engine.operating().mechanical_efficiency),
+        ),
+    }
+}
+
 /// The page, with `charts` as (file name, SVG text) inlined in order and
 /// `sections` as (heading, HTML body) before the charts; `inputs` under
 /// "Data and method".
@@ -150,10 +172,7 @@ code{{font-size:12px;word-break:break-all}}\
             "crank unbalanced mass",
             format!("{} kg", h(m.crank_unbalanced)),
         ),
-        (
-            "mechanical efficiency η_m",
-            h(engine.operating().mechanical_efficiency),
-        ),
+        effective_basis(engine),
         (
             "speed fluctuation δ",
             h(engine.flywheel().speed_fluctuation),
