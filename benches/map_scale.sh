@@ -13,6 +13,11 @@ run() {
     grep -E "Maximum resident|Elapsed \(wall" "$T/err"
     grep -cE "^(note|warning):" "$T/err" | sed 's/^/note and warning lines: /'
 }
+# The design model's maps (RESULTS "Session 17: a map with the design
+# model"): 60 × 40 by IMEP (a cycle a load) and in percent of the
+# full-load line (a cycle a point).
+run sweep --engine "$T/petrol.toml" --rpm 1000:6900:100 --imep 1:14.65:0.35 --csv
+run sweep --engine "$T/petrol.toml" --rpm 1000:6900:100 --load 2.5:100:2.5 --csv
 # 60 speeds × 40 loads at 0.1° (the default step).
 run sweep --engine "$T/petrol.toml" --rpm 1000:6900:100 --imep 0.5:20:0.5 --out "$T/m6040"
 # The issue's 100,000 points (each axis within its own cap).

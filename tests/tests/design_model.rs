@@ -55,7 +55,7 @@ fn a_spark_ignition_engine_meets_part_load_by_its_throttle() {
     let mut last: Option<(f64, f64, f64)> = None;
     for (i, s) in loads.iter().zip(&runs) {
         assert!(
-            (num(s, "imep_bar") / i - 1.0).abs() < 1e-4,
+            (num(s, "imep_bar") / i - 1.0).abs() < 1e-5,
             "{i}: {}",
             s["imep_bar"]
         );
@@ -97,7 +97,7 @@ fn a_spark_ignition_engine_meets_part_load_by_its_throttle() {
         .and_then(|t| t.parse::<f64>().ok())
         .unwrap_or_else(|| panic!("no heat released in {notes}"));
     assert!(
-        (solved / q - 1.0).abs() < 1e-4,
+        (solved / q - 1.0).abs() < 2e-5,
         "heat {solved} J, the air's {q} J"
     );
 }
@@ -246,7 +246,7 @@ fn a_map_in_percent_of_the_full_load_line() {
             "{rpm} {pct}"
         );
         assert!(
-            (num(p, "imep_bar") / want - 1.0).abs() < 1e-4,
+            (num(p, "imep_bar") / want - 1.0).abs() < 1e-5,
             "{rpm} {pct}"
         );
     }
@@ -302,7 +302,7 @@ fn a_map_in_percent_of_the_full_load_line() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let points: Vec<serde_json::Value> = serde_json::from_slice(&o.stdout).unwrap();
     for (p, bmep) in points.iter().zip([8.5, 9.4, 8.5]) {
-        assert!((num(p, "bmep_bar") - 0.8 * bmep).abs() < 1e-4, "{p}");
+        assert!((num(p, "bmep_bar") - 0.8 * bmep).abs() < 2e-5, "{p}");
     }
     // Without a full-load line, --load says what is missing.
     let bare = template(
@@ -365,7 +365,7 @@ fn a_boost_curve_is_taken_at_each_speed() {
         let rpm = num(p, "rpm");
         let p_in = p["design"]["intake_pressure_bar"].as_f64().unwrap();
         assert!((p_in - curve(rpm)).abs() < 1e-12, "{rpm}: {p_in}");
-        assert!((num(p, "imep_bar") / 18.0 - 1.0).abs() < 1e-4);
+        assert!((num(p, "imep_bar") / 18.0 - 1.0).abs() < 1e-5);
         peaks.push(num(p, "p_max_bar"));
     }
     // More boost, more compression: the peak follows the curve.

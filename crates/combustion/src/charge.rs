@@ -61,7 +61,7 @@ impl Charge {
             ChargeKind::Si => Self {
                 kind,
                 lambda: 1.0,
-                lambda_min: 0.8,
+                lambda_min: 1.2,
                 lhv_j_kg: 43.4e6,
                 afr_stoich: 14.7,
                 combustion_efficiency: 0.98,

@@ -214,7 +214,10 @@ fn design_model_keys_are_checked() {
         "[combustion]\nca50_deg = 8.0\nduration_10_90_deg = 20.0\nwiebe_m = 2\nimep_bar = 9\n";
     for (extra, want) in [
         ("charge = \"otto\"\n", "combustion.charge"),
-        ("lambda = 1.0\n", "combustion.charge"),
+        (
+            "lambda = 1.0\n",
+            "combustion.lambda` = given without charge",
+        ),
         ("charge = \"si\"\nlambda = 5.0\n", "combustion.lambda"),
         (
             "intake_pressure_bar = { rpm = [2000.0, 1000.0], bar = [1.0, 1.0] }\n",

@@ -270,7 +270,7 @@ fn plausible(
         }
     };
     let cyl = engine.cylinder();
-    let bdc = cyl.swept_volume() * cyl.compression_ratio() / (cyl.compression_ratio() - 1.0);
+    let bdc = cyl.swept_volume() + cyl.clearance_volume();
     let most = enginedyn_engine::combustion::max_heat_released_j(
         bdc,
         d.intake_pressure_pa,

@@ -941,19 +941,28 @@ pub fn write_csv(
     }
     writeln!(w, "crank_deg,pressure_bar")?;
     for (deg, p) in trace {
-        writeln!(w, "{deg:.1},{:.5}", p / 1e5)?;
+        writeln!(w, "{deg:.*},{:.*}", ANGLE_DIGITS, PRESSURE_DIGITS, p / 1e5)?;
     }
     w.flush()
 }
 
+/// The decimals [`write_csv`] writes an angle (deg) with.
+pub const ANGLE_DIGITS: usize = 1;
+/// The decimals [`write_csv`] writes a pressure (bar) with.
+pub const PRESSURE_DIGITS: usize = 5;
+
 /// The rows [`write_csv`] writes, as the reader reads them back: the angle
-/// to 0.1° and the pressure to 1e-5 bar, each the `f64` nearest the
-/// decimal (an integer over a power of ten, divided once, is that), as
-/// columns `(crank_deg, pressure_bar)`.
+/// to [`ANGLE_DIGITS`] and the pressure (bar) to [`PRESSURE_DIGITS`]
+/// decimals, each the `f64` nearest the decimal (an integer over a power
+/// of ten, divided once, is that), as columns `(crank_deg, pressure_bar)`.
 pub fn csv_values(trace: &[(f64, f64)]) -> (Vec<f64>, Vec<f64>) {
+    let to = |x: f64, digits: usize| {
+        let scale = 10f64.powi(digits as i32);
+        (x * scale).round() / scale
+    };
     trace
         .iter()
-        .map(|&(deg, p)| ((deg * 10.0).round() / 10.0, (p / 1e5 * 1e5).round() / 1e5))
+        .map(|&(deg, p)| (to(deg, ANGLE_DIGITS), to(p / 1e5, PRESSURE_DIGITS)))
         .unzip()
 }
 

@@ -332,7 +332,7 @@ fn curve(
     key: &str,
     t: &toml::Table,
     field: &str,
-    (lo, hi, unit): (f64, f64, &str),
+    bounds: (f64, f64, &str),
     scale: f64,
 ) -> Result<Curve, EngineError> {
     for k in t.keys() {
@@ -354,8 +354,28 @@ fn curve(
         })
     };
     let rpm = numbers(&format!("{key}.rpm"), get("rpm")?)?;
-    speeds(&format!("{key}.rpm"), &rpm)?;
     let values = numbers(&format!("{key}.{field}"), get(field)?)?;
+    curve_of(key, rpm, values, field, bounds, scale)
+}
+
+/// A curve of `key` from its speeds and values (`field` names them), each
+/// value within `lo..=hi` (`unit`), times `scale` into SI.
+fn curve_of(
+    key: &str,
+    rpm: Vec<f64>,
+    values: Vec<f64>,
+    field: &str,
+    (lo, hi, unit): (f64, f64, &str),
+    scale: f64,
+) -> Result<Curve, EngineError> {
+    if rpm.is_empty() || rpm.len() > MAX_CURVE_POINTS {
+        return Err(invalid(
+            format!("{key}.rpm"),
+            format!("{} speeds", rpm.len()),
+            format!("1 to {MAX_CURVE_POINTS} speeds"),
+        ));
+    }
+    speeds(&format!("{key}.rpm"), &rpm)?;
     if values.len() != rpm.len() {
         return Err(invalid(
             format!("{key}.{field}"),
@@ -418,7 +438,11 @@ fn charge(raw: &RawCombustion) -> Result<Option<Charge>, EngineError> {
                 ("combustion_efficiency", raw.combustion_efficiency),
             ];
             if let Some((k, _)) = given.iter().find(|(_, v)| v.is_some()) {
-                return Err(missing("combustion.charge", leak_why(k)));
+                return Err(invalid(
+                    format!("combustion.{k}"),
+                    "given without charge",
+                    "charge = \"si\" or \"ci\" with it: the design model it belongs to",
+                ));
             }
             return Ok(None);
         }
@@ -451,15 +475,6 @@ fn charge(raw: &RawCombustion) -> Result<Option<Charge>, EngineError> {
     Ok(Some(c))
 }
 
-/// Why `charge` is needed when `key` is given.
-fn leak_why(key: &str) -> &'static str {
-    match key {
-        "lambda" => "how the engine makes its load (\"si\" or \"ci\"), which lambda is for",
-        "lambda_min" => "how the engine makes its load (\"si\" or \"ci\"), which lambda_min is for",
-        _ => "how the engine makes its load (\"si\" or \"ci\"), which the fuel keys are for",
-    }
-}
-
 /// `[combustion.full_load]`: speeds and IMEP (or BMEP) at each.
 fn full_load(raw: RawFullLoad) -> Result<FullLoad, EngineError> {
     const K: &str = "combustion.full_load";
@@ -486,18 +501,9 @@ fn full_load(raw: RawFullLoad) -> Result<FullLoad, EngineError> {
             ));
         }
     };
-    let mut t = toml::Table::new();
-    t.insert(
-        "rpm".into(),
-        toml::Value::Array(rpm.into_iter().map(toml::Value::Float).collect()),
-    );
-    t.insert(
-        key.into(),
-        toml::Value::Array(values.into_iter().map(toml::Value::Float).collect()),
-    );
     let bounds = (f64::MIN_POSITIVE, MAX_IMEP_BAR, " bar (above 0)");
     Ok(FullLoad {
-        curve: curve(K, &t, key, bounds, 1e5)?,
+        curve: curve_of(K, rpm, values, key, bounds, 1e5)?,
         brake,
     })
 }
