@@ -37,6 +37,35 @@ pub enum Command {
     Synth(SynthArgs),
     /// Check a campaign's Parquet parts (`batch --parquet DIR`) and write DIR/_manifest.json.
     Merge(MergeArgs),
+    /// The engine design report: full-load line, map, flywheel, crank-train loads, torsion, firing orders, tolerances, in one HTML page.
+    Report(ReportArgs),
+}
+
+/// `enginedyn report`.
+#[derive(Debug, Clone, Args)]
+pub struct ReportArgs {
+    /// Engine file (TOML): with `[combustion]` the report covers the speed × load map; else its diagram's one operating point.
+    #[arg(long, value_name = "FILE")]
+    pub engine: PathBuf,
+    /// Write report.html, its charts and tables/ into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// A measured diagram: the report at its one operating point (no map).
+    #[arg(long, value_name = "FILE")]
+    pub diagram: Option<PathBuf>,
+    /// The map's speeds FROM:TO:STEP (rpm) [default: the full-load line's span, about 16 round steps].
+    #[arg(long, value_name = "FROM:TO:STEP", allow_hyphen_values = true)]
+    pub rpm: Option<String>,
+    /// The map's loads FROM:TO:STEP in percent of the full-load line [default: 10:100:10].
+    #[arg(long, value_name = "FROM:TO:STEP", allow_hyphen_values = true)]
+    pub load: Option<String>,
+    /// Also write the map as tables/map.parquet.
+    #[arg(long)]
+    pub parquet: bool,
+    #[command(flatten)]
+    pub diagram_args: DiagramArgs,
+    #[command(flatten)]
+    pub method: MethodArgs,
 }
 
 /// `enginedyn merge`.

@@ -8,6 +8,7 @@ mod batch;
 mod firing;
 mod kinematics;
 mod merge;
+mod report;
 mod run;
 mod sweep_map;
 mod synth;
@@ -198,6 +199,7 @@ fn main() -> ExitCode {
         args::Command::Template(a) => template::run(&a),
         args::Command::Synth(a) => synth::run(&a),
         args::Command::Merge(a) => merge::run(&a),
+        args::Command::Report(a) => report::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -4,7 +4,7 @@
 
 use crate::Failure;
 use crate::args::SweepArgs;
-use enginedyn_session::map::{Loads, MapPoint, SweepMap};
+use enginedyn_session::map::{Loads, SweepMap};
 use enginedyn_session::{Loaded, Session};
 
 const FILES: [&str; 2] = ["sweep.csv", "sweep.svg"];
@@ -56,7 +56,7 @@ pub fn run_loads(a: &SweepArgs, loads: Loads, shown_loads: &str) -> Result<(), F
         .map(|p| {
             format!(
                 "{}, {} rpm",
-                load_name(p),
+                p.load_name(),
                 crate::human(p.point.summary.rpm)
             )
         })
@@ -70,18 +70,7 @@ pub fn run_loads(a: &SweepArgs, loads: Loads, shown_loads: &str) -> Result<(), F
         false,
     );
     let engine = session.engine();
-    let table: Vec<enginedyn_report::CsvRow> = map
-        .points
-        .iter()
-        .map(|p| {
-            let mut cells = enginedyn_report::flatten(&p.point.summary);
-            for (k, v) in point_keys(&map, p) {
-                cells.push((k.to_string(), enginedyn_numerics::format::csv(v)));
-            }
-            (map.diagrams[p.load].name.clone(), String::new(), cells)
-        })
-        .collect();
-    let csv = enginedyn_report::summary_csv(&table);
+    let csv = map.csv();
     let json = if a.json {
         let each = map
             .points
@@ -90,7 +79,7 @@ pub fn run_loads(a: &SweepArgs, loads: Loads, shown_loads: &str) -> Result<(), F
             .map(|(p, d)| {
                 let mut doc = enginedyn_report::summary_json(&p.point.summary, &d.inputs);
                 if let Some(o) = doc.as_object_mut() {
-                    for (k, v) in point_keys(&map, p) {
+                    for (k, v) in map.point_keys(p) {
                         o.insert(k.into(), v.into());
                     }
                 }
@@ -141,34 +130,6 @@ pub fn run_loads(a: &SweepArgs, loads: Loads, shown_loads: &str) -> Result<(), F
     Ok(())
 }
 
-/// How a point's load is named: `IMEP 9 bar` or `75 % load (IMEP 9.4 bar)`.
-fn load_name(p: &MapPoint) -> String {
-    match p.load_pct {
-        Some(pct) => format!(
-            "{} % load (IMEP {} bar)",
-            crate::human(pct),
-            crate::human((p.imep_target_bar * 1e3).round() / 1e3)
-        ),
-        None => format!("IMEP {} bar", crate::human(p.imep_target_bar)),
-    }
-}
-
-/// The columns a map's row adds to the summary's (INTERFACE "sweep
-/// --load"): the IMEP asked for, the load in percent of the full-load line
-/// (with `--load`), and the point the one flywheel was sized at, named
-/// apart from each point's own `required_inertia_kg_m2`.
-fn point_keys(map: &SweepMap, p: &MapPoint) -> Vec<(&'static str, f64)> {
-    let mut keys = vec![("imep_target_bar", p.imep_target_bar)];
-    if let Some(pct) = p.load_pct {
-        keys.push(("load_pct", pct));
-    }
-    if let Some((rpm, imep)) = map.sized_at {
-        keys.push(("flywheel_sized_at_rpm", rpm));
-        keys.push(("flywheel_sized_at_imep_bar", imep));
-    }
-    keys
-}
-
 /// The readable table: a row per load and speed.
 fn table_text(engine: &enginedyn_engine::Engine, map: &SweepMap) -> String {
     let rows: Vec<enginedyn_report::KeyRow> = map
@@ -177,7 +138,7 @@ fn table_text(engine: &enginedyn_engine::Engine, map: &SweepMap) -> String {
         .map(|p| enginedyn_report::KeyRow {
             name: format!(
                 "{}, {} rpm",
-                load_name(p),
+                p.load_name(),
                 crate::human(p.point.summary.rpm)
             ),
             figures: Some(enginedyn_report::key_figures(

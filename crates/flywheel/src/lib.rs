@@ -114,6 +114,60 @@ pub struct Flywheel {
     pub notes: Vec<String>,
 }
 
+/// The outer diameter, mass and width (m, kg, m) of a flywheel of inertia
+/// `i_f` (kg m²) whose rim runs at most at `spec.max_rim_speed` at the mean
+/// speed `omega` (rad/s; its top `omega (1 + δ/2)`), or of the diameter the
+/// spec gives; a note when its shape is odd.
+fn dimensions(spec: &FlywheelSpec, i_f: f64, omega: f64, notes: &mut Vec<String>) -> (f64, f64, f64) {
+    let delta = spec.speed_fluctuation;
+    let d = spec
+        .outer_diameter
+        .unwrap_or(2.0 * spec.max_rim_speed / (omega * (1.0 + delta / 2.0)));
+    let area = std::f64::consts::PI * d * d / 4.0;
+    let (mass, width) = match spec.shape {
+        FlywheelShape::Disc => {
+            let m = 8.0 * i_f / (d * d);
+            (m, m / (spec.density * area))
+        }
+        FlywheelShape::Rim => {
+            let r = spec.rim_inner_ratio;
+            let m = 8.0 * i_f / (d * d * (1.0 + r * r));
+            (m, m / (spec.density * area * (1.0 - r * r)))
+        }
+    };
+    if width > d {
+        notes.push(format!(
+            "the flywheel is wider ({:.0} mm) than its diameter ({:.0} mm): allow a higher rim speed or a larger diameter",
+            width * 1e3,
+            d * 1e3
+        ));
+    } else if width < THIN * d {
+        notes.push(thin_note(spec, i_f, d, width));
+    }
+    (d, mass, width)
+}
+
+/// The part `f` (sized at one speed) made to run up to the mean speed
+/// `top_omega` (rad/s), the highest it meets (a map's or a sweep's): the
+/// same inertia, its outer diameter set by the rim speed limit at that
+/// speed (a diameter the spec gives stays), its mass and width to match.
+/// A part sized at idle and made for the idle speed's rim would burst at
+/// rated speed.
+pub fn for_top_speed(f: &Flywheel, spec: &FlywheelSpec, top_omega: f64) -> Flywheel {
+    if f.inertia <= 0.0 || !(top_omega.is_finite() && top_omega > 0.0) {
+        return f.clone();
+    }
+    let mut notes = Vec::new();
+    let (d, mass, width) = dimensions(spec, f.inertia, top_omega, &mut notes);
+    Flywheel {
+        outer_diameter: Some(d),
+        mass,
+        width: Some(width),
+        notes,
+        ..f.clone()
+    }
+}
+
 /// Sizes the flywheel for the mean speed `omega` (rad/s); `engine_inertia`
 /// is what the engine's own rotating parts contribute (kg m²).
 pub fn analyse(
@@ -138,30 +192,7 @@ pub fn analyse(
         ));
         (0.0, None, 0.0, None, None)
     } else {
-        let d = spec
-            .outer_diameter
-            .unwrap_or(2.0 * spec.max_rim_speed / (omega * (1.0 + delta / 2.0)));
-        let area = std::f64::consts::PI * d * d / 4.0;
-        let (mass, width) = match spec.shape {
-            FlywheelShape::Disc => {
-                let m = 8.0 * i_f / (d * d);
-                (m, m / (spec.density * area))
-            }
-            FlywheelShape::Rim => {
-                let r = spec.rim_inner_ratio;
-                let m = 8.0 * i_f / (d * d * (1.0 + r * r));
-                (m, m / (spec.density * area * (1.0 - r * r)))
-            }
-        };
-        if width > d {
-            notes.push(format!(
-                "the flywheel is wider ({:.0} mm) than its diameter ({:.0} mm): allow a higher rim speed or a larger diameter",
-                width * 1e3,
-                d * 1e3
-            ));
-        } else if width < THIN * d {
-            notes.push(thin_note(spec, i_f, d, width));
-        }
+        let (d, mass, width) = dimensions(spec, i_f, omega, &mut notes);
         (i_f, Some(d), mass, Some(width), Some(4.0 * G * i_f))
     };
     let (speed, achieved) = speed_trace(&u.excess_energy, i0, omega);

@@ -145,6 +145,16 @@ pub enum Value {
 }
 
 impl Summary {
+    /// The mean effective pressure the effective torque stands for (bar):
+    /// BMEP with `[friction]`, else IMEP × `mechanical_efficiency`; `None`
+    /// without an IMEP (a torque file).
+    pub fn effective_mep_bar(&self) -> Option<f64> {
+        match &self.brake {
+            Some(b) => Some(b.bmep_bar),
+            None => self.imep_bar.map(|i| i * self.mechanical_efficiency),
+        }
+    }
+
     /// A summary with every fixed key and nothing measured: lists the
     /// columns of `summary.csv`.
     pub fn empty() -> Self {

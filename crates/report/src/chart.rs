@@ -250,6 +250,11 @@ pub(crate) struct Ticks {
 }
 
 impl Ticks {
+    /// The labelled positions.
+    pub(crate) fn bold(&self) -> &[f64] {
+        &self.bold
+    }
+
     /// The label of the bold tick at `v` (the nearest one).
     pub(crate) fn label(&self, v: f64) -> String {
         self.bold

@@ -105,91 +105,7 @@ code{{font-size:12px;word-break:break-all}}\
         esc(&title)
     );
     let _ = writeln!(o, "<div class=\"grid\"><div><h2>Engine</h2><table>");
-    let geometry = [
-        ("cycle", engine.stroke_kind().name().to_string()),
-        (
-            "layout",
-            format!("{} {}", engine.layout().name(), engine.cylinders()),
-        ),
-        (
-            "firing order",
-            engine
-                .firing_order()
-                .iter()
-                .map(|c| c.to_string())
-                .collect::<Vec<_>>()
-                .join("-"),
-        ),
-        ("bore", format!("{:.2} mm", engine.cylinder().bore() * 1e3)),
-        ("stroke", format!("{:.3} mm", s.stroke_m * 1e3)),
-        ("λ = R/L", format!("{:.4}", s.lambda)),
-        (
-            "compression ratio",
-            format!("{}", engine.cylinder().compression_ratio()),
-        ),
-        (
-            "speed",
-            format!("{:.0} rpm (ω = {:.3} rad/s)", s.rpm, s.omega_rad_s),
-        ),
-    ];
-    // Everything else the results depend on.
-    let h = |x: f64| enginedyn_numerics::format::sig(x, 4);
-    let m = engine.masses();
-    let rod_model =
-        enginedyn_engine::RodModel::from_name(s.rod_model).unwrap_or(engine.rod_model());
-    let mut depends: Vec<(&str, String)> = Vec::new();
-    match engine.mechanism() {
-        enginedyn_kinematics::Mechanism::CrankSlider(cs) => {
-            depends.push(("rod length", format!("{} mm", h(cs.l() * 1e3))));
-            depends.push(("pin offset", format!("{} mm", h(cs.e() * 1e3))));
-            depends.push(("rod mass", format!("{} kg", h(m.rod))));
-            depends.push((
-                "rod centre of mass from the small end",
-                format!("{} mm", h(m.rod_cg_from_small_end * 1e3)),
-            ));
-            depends.push((
-                "rod inertia about its centre of mass",
-                m.rod_inertia
-                    .map_or("not given".to_string(), |i| format!("{} kg m²", h(i))),
-            ));
-        }
-        enginedyn_kinematics::Mechanism::ScotchYoke(_) => {
-            depends.push(("mechanism", "Scotch yoke".to_string()));
-        }
-    }
-    depends.extend([
-        ("rod model", s.rod_model.to_string()),
-        ("piston group mass", format!("{} kg", h(m.piston_group))),
-        (
-            "reciprocating mass m_j",
-            format!("{} kg", h(engine.reciprocating_mass(rod_model))),
-        ),
-        (
-            "rotating mass m_r (throw 1)",
-            format!("{} kg", h(engine.rotating_mass(0, rod_model))),
-        ),
-        (
-            "crank unbalanced mass",
-            format!("{} kg", h(m.crank_unbalanced)),
-        ),
-        effective_basis(engine),
-        (
-            "speed fluctuation δ",
-            h(engine.flywheel().speed_fluctuation),
-        ),
-        (
-            "flywheel",
-            match engine.flywheel().outer_diameter {
-                Some(d) => format!("outer diameter {} mm (given)", h(d * 1e3)),
-                None => format!(
-                    "rim speed {} m/s at most",
-                    h(engine.flywheel().max_rim_speed)
-                ),
-            },
-        ),
-    ]);
-    let geometry: Vec<(&str, String)> = geometry.into_iter().chain(depends).collect();
-    for (k, v) in geometry {
+    for (k, v) in engine_rows(engine, s) {
         let _ = writeln!(o, "<tr><th>{}</th><td>{}</td></tr>", esc(k), esc(&v));
     }
     let _ = writeln!(o, "</table></div><div><h2>Summary</h2><table>");
@@ -285,4 +201,94 @@ fn data_and_method(o: &mut String, a: &Analysis, inputs: &crate::Inputs) {
         let _ = writeln!(o, "<tr><th>{k}</th><td colspan=\"2\">{}</td></tr>", esc(&v));
     }
     let _ = writeln!(o, "</table>");
+}
+
+/// The engine as a page's table shows it: the geometry, the firing order,
+/// the speed of `s`, and everything else its results depend on (masses,
+/// rod model, friction or η_m, flywheel): (label, value with its unit).
+pub fn engine_rows(engine: &Engine, s: &enginedyn_pipeline::Summary) -> Vec<(&'static str, String)> {
+    let geometry = [
+        ("cycle", engine.stroke_kind().name().to_string()),
+        (
+            "layout",
+            format!("{} {}", engine.layout().name(), engine.cylinders()),
+        ),
+        (
+            "firing order",
+            engine
+                .firing_order()
+                .iter()
+                .map(|c| c.to_string())
+                .collect::<Vec<_>>()
+                .join("-"),
+        ),
+        ("bore", format!("{:.2} mm", engine.cylinder().bore() * 1e3)),
+        ("stroke", format!("{:.3} mm", s.stroke_m * 1e3)),
+        ("λ = R/L", format!("{:.4}", s.lambda)),
+        (
+            "compression ratio",
+            format!("{}", engine.cylinder().compression_ratio()),
+        ),
+        (
+            "speed",
+            format!("{:.0} rpm (ω = {:.3} rad/s)", s.rpm, s.omega_rad_s),
+        ),
+    ];
+    // Everything else the results depend on.
+    let h = |x: f64| enginedyn_numerics::format::sig(x, 4);
+    let m = engine.masses();
+    let rod_model =
+        enginedyn_engine::RodModel::from_name(s.rod_model).unwrap_or(engine.rod_model());
+    let mut depends: Vec<(&str, String)> = Vec::new();
+    match engine.mechanism() {
+        enginedyn_kinematics::Mechanism::CrankSlider(cs) => {
+            depends.push(("rod length", format!("{} mm", h(cs.l() * 1e3))));
+            depends.push(("pin offset", format!("{} mm", h(cs.e() * 1e3))));
+            depends.push(("rod mass", format!("{} kg", h(m.rod))));
+            depends.push((
+                "rod centre of mass from the small end",
+                format!("{} mm", h(m.rod_cg_from_small_end * 1e3)),
+            ));
+            depends.push((
+                "rod inertia about its centre of mass",
+                m.rod_inertia
+                    .map_or("not given".to_string(), |i| format!("{} kg m²", h(i))),
+            ));
+        }
+        enginedyn_kinematics::Mechanism::ScotchYoke(_) => {
+            depends.push(("mechanism", "Scotch yoke".to_string()));
+        }
+    }
+    depends.extend([
+        ("rod model", s.rod_model.to_string()),
+        ("piston group mass", format!("{} kg", h(m.piston_group))),
+        (
+            "reciprocating mass m_j",
+            format!("{} kg", h(engine.reciprocating_mass(rod_model))),
+        ),
+        (
+            "rotating mass m_r (throw 1)",
+            format!("{} kg", h(engine.rotating_mass(0, rod_model))),
+        ),
+        (
+            "crank unbalanced mass",
+            format!("{} kg", h(m.crank_unbalanced)),
+        ),
+        effective_basis(engine),
+        (
+            "speed fluctuation δ",
+            h(engine.flywheel().speed_fluctuation),
+        ),
+        (
+            "flywheel",
+            match engine.flywheel().outer_diameter {
+                Some(d) => format!("outer diameter {} mm (given)", h(d * 1e3)),
+                None => format!(
+                    "rim speed {} m/s at most",
+                    h(engine.flywheel().max_rim_speed)
+                ),
+            },
+        ),
+    ]);
+    geometry.into_iter().chain(depends).collect()
 }

@@ -22,6 +22,8 @@ use std::path::{Path, PathBuf};
 
 mod chart;
 mod combustion;
+mod contour;
+mod design;
 mod firing;
 mod html;
 mod kinematics;
@@ -36,12 +38,17 @@ pub use chart::{
     Chart, Figure, RUN_CHARTS, ScatterChart, ScatterGroup, ScatterLayout, ScatterPoint, Series,
     kinematics_chart, periodic, run_figures, run_figures_with, tick_label,
 };
+pub use design::{
+    DesignPage, Headline, MapView, Section, crank_train, design_html, firing_ranking,
+    full_load_figure, full_load_table, map_contours, table_csv, tables_readme, text_table,
+};
+pub use contour::{ContourChart, Mark, Node, band, iso_segment, levels, scale_colour, triangles};
 pub use combustion::{combustion_figures, combustion_section};
 pub use firing::{FIRING_FILES, crank_end_view, firing_csv, firing_json, firing_table};
-pub use html::{esc, percent_encode, report_html, table as html_table};
+pub use html::{engine_rows, esc, percent_encode, report_html, table as html_table};
 pub use kinematics::{KINEMATICS_FILES, kinematics_csv, kinematics_svg, kinematics_table};
 pub use out::{
-    LOCK_WAIT, MANIFEST, MAX_OUTPUT_READ, OutDir, STAGING_PREFIX, Staged, blake3_file, blake3_hex,
+    LOCK_WAIT, MANIFEST, MAX_OUTPUT_READ, OutDir, STAGING_PREFIX, Staged, TABLES, TABLES_MARKER, blake3_file, blake3_hex,
     check_marked, injected_failure, read_output, replace_file, replace_marked_file, sha256_file,
     sha256_hex,
 };
@@ -100,7 +107,7 @@ pub enum ReportError {
     #[error(
         "{}: {what} is in the way; enginedyn replaces only a file it wrote{}, never anything else, so nothing was written: move it away or choose another --out",
         path.display(),
-        if *run_folder { " or a run folder holding an earlier run's summary.json" } else { "" }
+        if *run_folder { " or a run folder holding an earlier run's summary.json" } else if *tables { " or a tables folder holding an earlier report's README.txt" } else { "" }
     )]
     InTheWay {
         /// What is in the way.
@@ -109,6 +116,8 @@ pub enum ReportError {
         what: &'static str,
         /// Whether a batch's run folder goes there.
         run_folder: bool,
+        /// Whether the design report's `tables` folder goes there.
+        tables: bool,
     },
     /// A chart could not be drawn.
     #[error("chart {name}: {message}")]

@@ -486,8 +486,31 @@ impl OutDir {
     /// folder of that name (an earlier run's, holding its `summary.json`)
     /// removed; anything else of that name is refused, never touched.
     pub fn write_folder(&self, name: &str, files: &[(String, Vec<u8>)]) -> Result<(), ReportError> {
+        self.write_subfolder(name, files, Target::RunFolder)
+    }
+
+    /// Whether the design report's `tables` folder may be written: absent,
+    /// or a real, writable folder holding an earlier report's
+    /// [`TABLES_MARKER`]; else the refusal, before any work.
+    pub fn check_tables(&self) -> Result<(), ReportError> {
+        self.replaceable(TABLES, Target::Tables).map(|_| ())
+    }
+
+    /// Writes the design report's `tables` folder as [`OutDir::write_folder`]
+    /// writes a run folder; `files` must hold the [`TABLES_MARKER`] (what
+    /// makes the folder enginedyn's to replace next time).
+    pub fn write_tables(&self, files: &[(String, Vec<u8>)]) -> Result<(), ReportError> {
+        self.write_subfolder(TABLES, files, Target::Tables)
+    }
+
+    fn write_subfolder(
+        &self,
+        name: &str,
+        files: &[(String, Vec<u8>)],
+        kind: Target,
+    ) -> Result<(), ReportError> {
         check_name(name)?;
-        self.replaceable(name, Target::RunFolder)?;
+        self.replaceable(name, kind)?;
         let stage = self.staging()?;
         let folder = stage.path().join("new");
         std::fs::create_dir(&folder).map_err(io(&folder))?;
@@ -496,7 +519,7 @@ impl OutDir {
             write_new(&folder.join(file), bytes)?;
         }
         let target = self.dir.join(name);
-        if self.replaceable(name, Target::RunFolder)? {
+        if self.replaceable(name, kind)? {
             let old = stage.path().join("old");
             std::fs::rename(&target, &old).map_err(io(&target))?;
         }
@@ -528,6 +551,7 @@ fn replaceable(path: PathBuf, target: Target) -> Result<bool, ReportError> {
             path,
             what,
             run_folder: target == Target::RunFolder,
+            tables: target == Target::Tables,
         }),
     }
 }
@@ -705,6 +729,12 @@ pub fn read_output(dir: &Path, name: &str) -> Result<Vec<u8>, ReportError> {
     Ok(bytes)
 }
 
+/// The design report's folder of tables (`DIR/tables`).
+pub const TABLES: &str = "tables";
+/// The file that marks a `tables` folder as enginedyn's: it says what each
+/// table holds.
+pub const TABLES_MARKER: &str = "README.txt";
+
 /// What a name of ours is written as.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Target {
@@ -715,6 +745,9 @@ enum Target {
     Marked(&'static str),
     /// A batch's run folder (`NNNN_STEM`).
     RunFolder,
+    /// The design report's `tables` folder: enginedyn's when it holds the
+    /// [`TABLES_MARKER`] an earlier report wrote.
+    Tables,
 }
 
 /// What is in the way of writing `target` at `path` (`meta` its own
@@ -744,7 +777,18 @@ fn in_the_way(path: &Path, meta: &std::fs::Metadata, target: Target) -> Option<&
                 None
             }
         }
-        Target::RunFolder if kind.is_file() => Some("a file"),
+        Target::Tables if kind.is_dir() => {
+            let ours = std::fs::symlink_metadata(path.join(TABLES_MARKER))
+                .is_ok_and(|m| m.file_type().is_file());
+            if !ours {
+                Some("a folder without an earlier report's README.txt")
+            } else if read_only(meta) {
+                Some("a read-only folder")
+            } else {
+                None
+            }
+        }
+        Target::RunFolder | Target::Tables if kind.is_file() => Some("a file"),
         _ => Some(special(&kind)),
     }
 }

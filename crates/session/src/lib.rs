@@ -44,6 +44,7 @@ pub mod accuracy;
 pub mod batch;
 pub mod burn;
 pub mod campaign;
+pub mod design;
 pub mod diagram;
 pub mod engine;
 pub mod error;

@@ -55,6 +55,21 @@ pub struct MapPoint {
     pub point: Point,
 }
 
+impl MapPoint {
+    /// How the point's load is named: `IMEP 9 bar` or `75 % load (IMEP
+    /// 9.4 bar)`.
+    pub fn load_name(&self) -> String {
+        match self.load_pct {
+            Some(pct) => format!(
+                "{} % load (IMEP {} bar)",
+                human(pct),
+                human((self.imep_target_bar * 1e3).round() / 1e3)
+            ),
+            None => format!("IMEP {} bar", human(self.imep_target_bar)),
+        }
+    }
+}
+
 /// What a map keeps of the diagram synthesised at one load: its name, its
 /// heat released and its record (`inputs`); the diagram's text and grid
 /// are dropped once the load's speeds have run.
@@ -98,6 +113,39 @@ impl SweepMap {
     /// The diagram each point ran on, in the order of [`Self::points`].
     pub fn diagrams_for_points(&self) -> Vec<&MapLoad> {
         self.points.iter().map(|p| &self.diagrams[p.load]).collect()
+    }
+
+    /// The columns a map's row adds to the summary's (INTERFACE "sweep
+    /// --load"): the IMEP asked for, the load in percent of the full-load
+    /// line (with `--load`), and the point the one flywheel was sized at,
+    /// named apart from each point's own `required_inertia_kg_m2`.
+    pub fn point_keys(&self, p: &MapPoint) -> Vec<(&'static str, f64)> {
+        let mut keys = vec![("imep_target_bar", p.imep_target_bar)];
+        if let Some(pct) = p.load_pct {
+            keys.push(("load_pct", pct));
+        }
+        if let Some((rpm, imep)) = self.sized_at {
+            keys.push(("flywheel_sized_at_rpm", rpm));
+            keys.push(("flywheel_sized_at_imep_bar", imep));
+        }
+        keys
+    }
+
+    /// The map as `sweep.csv` writes it: the summary's columns and
+    /// [`Self::point_keys`], a row a point.
+    pub fn csv(&self) -> String {
+        let table: Vec<enginedyn_report::CsvRow> = self
+            .points
+            .iter()
+            .map(|p| {
+                let mut cells = enginedyn_report::flatten(&p.point.summary);
+                for (k, v) in self.point_keys(p) {
+                    cells.push((k.to_string(), enginedyn_numerics::format::csv(v)));
+                }
+                (self.diagrams[p.load].name.clone(), String::new(), cells)
+            })
+            .collect();
+        enginedyn_report::summary_csv(&table)
     }
 }
 
@@ -327,6 +375,12 @@ impl Session {
                 at_idle = true;
             }
         }
+        // The part runs at every speed of the map: its rim speed is held at
+        // the highest, whatever speed sized its inertia.
+        let top = rpms.iter().copied().fold(0.0, f64::max);
+        let part = part.map(|p| {
+            enginedyn_flywheel::for_top_speed(&p, engine.flywheel(), top * std::f64::consts::PI / 30.0)
+        });
         let file_rpm = engine.operating().rpm;
         for p in &mut points {
             if let Some(part) = &part {
@@ -371,7 +425,7 @@ impl Session {
         }
         if let (Some((rpm, imep)), Some(part)) = (sized_at, &part) {
             notes.push(format!(
-                "flywheel sized once at {} rpm and IMEP {} bar, {} ({} kg m²): the same part at every point; speed_fluctuation_achieved is the δ it gives there",
+                "flywheel sized once at {} rpm and IMEP {} bar, {} ({} kg m²), its outer diameter set by the rim speed at the map's highest speed, {} rpm: the same part at every point; speed_fluctuation_achieved is the δ it gives there",
                 human(rpm),
                 human((imep * 1e3).round() / 1e3),
                 if at_idle {
@@ -379,7 +433,8 @@ impl Session {
                 } else {
                     "the point of the map that needs the most inertia"
                 },
-                human(part.required_inertia)
+                human(part.required_inertia),
+                human(top)
             ));
         }
         Ok(SweepMap {

@@ -255,6 +255,19 @@ pub fn report_extra(
     analysis: &enginedyn_pipeline::Analysis,
     opts: enginedyn_pipeline::Options,
 ) -> Result<Option<enginedyn_report::Extra>> {
+    let rpms = default_speeds(analysis.summary.rpm);
+    Ok(report_extra_over(engine, engine_text, analysis, opts, &rpms)?.map(|(extra, _)| extra))
+}
+
+/// [`report_extra`] over the speeds `rpms` (the design report's: its map's
+/// speed range at full load), with the study it shows.
+pub fn report_extra_over(
+    engine: &Engine,
+    engine_text: &str,
+    analysis: &enginedyn_pipeline::Analysis,
+    opts: enginedyn_pipeline::Options,
+    rpms: &[f64],
+) -> Result<Option<(enginedyn_report::Extra, Study)>> {
     let file = engine.name().to_string();
     let Some(spec) = enginedyn_engine::file::parse_torsion(engine_text)
         .map_err(|e| Error::from(e).in_file(&file))?
@@ -266,13 +279,12 @@ pub fn report_extra(
     }
     let trace = enginedyn_ingest::Resampled::from_grid(opts.step_deg, analysis.pressure.clone());
     let prepared = prepare(&file, engine, &spec, &trace, analysis, &opts)?;
-    let rpms = default_speeds(analysis.summary.rpm);
-    let study = enginedyn_pipeline::torsion::study(&prepared.train, &prepared.excitation, &rpms)
+    let study = enginedyn_pipeline::torsion::study(&prepared.train, &prepared.excitation, rpms)
         .map_err(|e| study_failure(&file, e))?;
     let mut notes = prepared.train.warnings.clone();
     notes.extend(prepared.train.notes.iter().cloned());
     notes.extend(study.notes.iter().cloned());
-    enginedyn_report::torsion_extra(engine.name(), &study, &rpms, &notes)
-        .map(Some)
-        .map_err(|e| Error::data(e.to_string()))
+    let extra = enginedyn_report::torsion_extra(engine.name(), &study, rpms, &notes)
+        .map_err(|e| Error::data(e.to_string()))?;
+    Ok(Some((extra, study)))
 }
