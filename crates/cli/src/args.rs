@@ -754,6 +754,9 @@ pub struct SweepMapArgs {
     /// Loads FROM:TO:STEP in percent of the full-load line (`[combustion.full_load]`) at each speed: a speed × load map; the highest load's row names the rated-power and peak-torque points.
     #[arg(long, value_name = "FROM:TO:STEP", conflicts_with = "diagram")]
     pub load: Option<String>,
+    /// With --imep or --load: also write the map as DIR/map.parquet (`map/1`: the summary's columns, then imep_target_bar, load_pct and the flywheel's sizing point).
+    #[arg(long, value_name = "DIR")]
+    pub parquet: Option<std::path::PathBuf>,
 }
 
 /// `template --combustion`.

@@ -190,6 +190,9 @@ fn main() -> ExitCode {
         args::Command::Sweep(a) if a.map.imep.is_some() || a.map.load.is_some() => {
             sweep_map::run(&a)
         }
+        args::Command::Sweep(a) if a.map.parquet.is_some() => Err(Failure::usage(
+            "--parquet writes a speed × load map's table: give --imep or --load".to_string(),
+        )),
         args::Command::Sweep(a) => batch::sweep(&a),
         args::Command::Kinematics(a) => kinematics::run(&a),
         args::Command::FiringOrders(a) => firing::run(&a),

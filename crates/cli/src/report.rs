@@ -36,9 +36,8 @@ pub fn run(a: &ReportArgs) -> Result<(), Failure> {
     }
     crate::emit(&r.text);
     crate::emit(&format!(
-        "wrote report.html, {} charts and {} tables to {}\n",
+        "wrote report.html, {} charts and tables/ to {}\n",
         r.files.len() - 1,
-        r.tables.len() - 1,
         out.path().display()
     ));
     Ok(())

@@ -8,6 +8,8 @@ use enginedyn_session::map::{Loads, SweepMap};
 use enginedyn_session::{Loaded, Session};
 
 const FILES: [&str; 2] = ["sweep.csv", "sweep.svg"];
+/// The map's table in `--parquet DIR`.
+pub const MAP_PARQUET: &str = "map.parquet";
 
 /// A JSON array of objects already written as text, one a line.
 fn json_array(objects: &[String]) -> String {
@@ -40,6 +42,13 @@ pub fn run_loads(a: &SweepArgs, loads: Loads, shown_loads: &str) -> Result<(), F
     let loaded = Loaded::from_file(&a.engine)?;
     enginedyn_session::synth::spec(&loaded)?;
     let out = crate::open_out(a.out.as_deref(), &FILES, "sweep")?;
+    // The table's place is checked before the map runs.
+    let parquet = a
+        .map
+        .parquet
+        .as_deref()
+        .map(|d| enginedyn_report::Staged::new(d, MAP_PARQUET))
+        .transpose()?;
     let session = Session::new(
         loaded,
         a.diagram_args.reader(None),
@@ -48,6 +57,16 @@ pub fn run_loads(a: &SweepArgs, loads: Loads, shown_loads: &str) -> Result<(), F
     )?;
     let rpms = enginedyn_session::speed::speeds(&a.rpm)?;
     let map = session.sweep_map(&rpms, &loads, &a.rpm, shown_loads)?;
+    if let Some(mut staged) = parquet {
+        use std::io::Write as _;
+        let bytes = map.parquet(&session)?;
+        staged
+            .write_all(&bytes)
+            .map_err(|e| Failure::data(format!("{}: {e}", staged.path().display())))?;
+        let path = staged.path().to_path_buf();
+        staged.commit()?;
+        eprintln!("wrote {}", path.display());
+    }
     crate::say_all(&map.notes);
     // The points' notes grouped by kind, one line a kind.
     let names: Vec<String> = map

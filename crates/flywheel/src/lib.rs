@@ -118,7 +118,12 @@ pub struct Flywheel {
 /// `i_f` (kg m²) whose rim runs at most at `spec.max_rim_speed` at the mean
 /// speed `omega` (rad/s; its top `omega (1 + δ/2)`), or of the diameter the
 /// spec gives; a note when its shape is odd.
-fn dimensions(spec: &FlywheelSpec, i_f: f64, omega: f64, notes: &mut Vec<String>) -> (f64, f64, f64) {
+fn dimensions(
+    spec: &FlywheelSpec,
+    i_f: f64,
+    omega: f64,
+    notes: &mut Vec<String>,
+) -> (f64, f64, f64) {
     let delta = spec.speed_fluctuation;
     let d = spec
         .outer_diameter

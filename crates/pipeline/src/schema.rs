@@ -25,6 +25,31 @@ pub const SUMMARY_SCHEMA: &str = "summary/4";
 pub const CYCLES_SCHEMA: &str = "cycles/3";
 /// See [`SUMMARY_SCHEMA`].
 pub const TRACES_SCHEMA: &str = "traces/1";
+/// See [`SUMMARY_SCHEMA`]: a map's table (`sweep --load|--imep
+/// --parquet`, `report --parquet`), the summary's columns and
+/// [`MAP_COLUMNS`] after them.
+pub const MAP_SCHEMA: &str = "map/1";
+
+/// The columns a map's table adds after the summary's (float64): the IMEP
+/// asked for (never null), the load in percent of the full-load line (null
+/// with `--imep`), and the point the map's one flywheel was sized at (null
+/// when none was).
+pub const MAP_COLUMNS: [(&str, bool); 4] = [
+    ("imep_target_bar", false),
+    ("load_pct", true),
+    ("flywheel_sized_at_rpm", true),
+    ("flywheel_sized_at_imep_bar", true),
+];
+
+/// One point of a map as its table holds it: the summary's record and the
+/// values of [`MAP_COLUMNS`] in order.
+#[derive(Debug, Clone)]
+pub struct MapRecord<'a> {
+    /// The point's summary record.
+    pub summary: SummaryRecord<'a>,
+    /// [`MAP_COLUMNS`]' values.
+    pub map: [Option<f64>; 4],
+}
 
 /// One value of a column in one row.
 #[derive(Debug, Clone, PartialEq)]

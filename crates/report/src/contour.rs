@@ -12,8 +12,8 @@
 
 use crate::ReportError;
 use crate::chart::{
-    Key, LEGEND_FRAME, Ticks, append_svg, axes_with, draw_head, fine_pixel,
-    head_height, svg_polyline, text_width,
+    Key, LEGEND_FRAME, Ticks, append_svg, axes_with, draw_head, fine_pixel, head_height,
+    svg_polyline, text_width,
 };
 use enginedyn_numerics::format::trimmed;
 use plotters::prelude::*;
@@ -123,11 +123,7 @@ pub fn band(tri: [Vertex; 3], lo: f64, hi: f64, top: bool) -> Vec<(f64, f64)> {
         };
     }
     let p = clip(&tri, lo, true);
-    let p = if p.is_empty() {
-        p
-    } else {
-        clip(&p, hi, false)
-    };
+    let p = if p.is_empty() { p } else { clip(&p, hi, false) };
     if p.len() < 3 {
         return Vec::new();
     }
@@ -193,7 +189,11 @@ pub fn scale_colour(u: f64) -> RGBColor {
         (170, 220, 50),
         (253, 231, 37),
     ];
-    let u = if u.is_finite() { u.clamp(0.0, 1.0) } else { 0.0 };
+    let u = if u.is_finite() {
+        u.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     let s = u * (ANCHORS.len() - 1) as f64;
     let k = (s.floor() as usize).min(ANCHORS.len() - 2);
     let f = s - k as f64;
@@ -211,7 +211,11 @@ const MARKS: [RGBColor; 2] = [RGBColor(214, 39, 40), RGBColor(255, 255, 255)];
 impl ContourChart {
     /// The values' range over the nodes that have one.
     fn range(&self) -> Option<(f64, f64)> {
-        let zs = self.nodes.iter().filter_map(|n| n.z).filter(|z| z.is_finite());
+        let zs = self
+            .nodes
+            .iter()
+            .filter_map(|n| n.z)
+            .filter(|z| z.is_finite());
         let (lo, hi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| {
             (a.min(z), b.max(z))
         });
@@ -302,7 +306,11 @@ impl ContourChart {
             (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
         }
         let pad = |a: f64, b: f64, f: f64| {
-            let d = if b > a { (b - a) * f } else { a.abs().max(1.0) * 0.1 };
+            let d = if b > a {
+                (b - a) * f
+            } else {
+                a.abs().max(1.0) * 0.1
+            };
             (a - d, b + d)
         };
         let (x0, x1) = pad(x0, x1, 0.02);
@@ -401,11 +409,7 @@ impl ContourChart {
             .into_font()
             .color(&BLACK)
             .pos(Pos::new(HPos::Left, VPos::Center));
-        area.draw(&Text::new(
-            self.unit.clone(),
-            (x, top - 18),
-            font.clone(),
-        ))?;
+        area.draw(&Text::new(self.unit.clone(), (x, top - 18), font.clone()))?;
         for k in 0..bands {
             let y = bottom - (k as i32 + 1) * band_h;
             area.draw(&Rectangle::new(
@@ -559,13 +563,19 @@ mod tests {
 
     #[test]
     fn levels_are_round_and_cover_the_range() {
-        assert_eq!(levels(0.0, 10.0), vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0]);
+        assert_eq!(
+            levels(0.0, 10.0),
+            vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0]
+        );
         let l = levels(17.3, 98.6);
         assert!(l[0] <= 17.3 && *l.last().unwrap() >= 98.6);
         assert!((l[1] - l[0] - 10.0).abs() < 1e-12, "{l:?}");
         // One value: one band around it.
         let one = levels(0.02, 0.02);
-        assert!(one.len() >= 2 && one[0] < 0.02 && *one.last().unwrap() > 0.02, "{one:?}");
+        assert!(
+            one.len() >= 2 && one[0] < 0.02 && *one.last().unwrap() > 0.02,
+            "{one:?}"
+        );
         assert!(levels(f64::NAN, 1.0).is_empty());
     }
 

@@ -225,13 +225,22 @@ fn shown(v: Option<f64>, digits: usize) -> String {
 
 /// The full-load line's columns: (CSV key, heading with unit, decimals,
 /// the figure).
-type Column = (&'static str, &'static str, usize, fn(&Summary) -> Option<f64>);
+type Column = (
+    &'static str,
+    &'static str,
+    usize,
+    fn(&Summary) -> Option<f64>,
+);
 
 const FULL_LOAD: [Column; 11] = [
     ("rpm", "speed (rpm)", 0, |s| Some(s.rpm)),
     ("imep_bar", "IMEP (bar)", 2, |s| s.imep_bar),
-    ("fmep_bar", "FMEP (bar)", 2, |s| s.brake.as_ref().map(|b| b.fmep_bar)),
-    ("bmep_bar", "BMEP (bar)", 2, |s| s.brake.as_ref().map(|b| b.bmep_bar)),
+    ("fmep_bar", "FMEP (bar)", 2, |s| {
+        s.brake.as_ref().map(|b| b.fmep_bar)
+    }),
+    ("bmep_bar", "BMEP (bar)", 2, |s| {
+        s.brake.as_ref().map(|b| b.bmep_bar)
+    }),
     ("indicated_torque_nm", "indicated torque (N m)", 1, |s| {
         s.indicated_mean_torque_nm
     }),
@@ -240,9 +249,13 @@ const FULL_LOAD: [Column; 11] = [
         s.indicated_power_kw
     }),
     ("power_kw", "brake power (kW)", 1, |s| s.power_kw),
-    ("mechanical_efficiency", "η_m", 3, |s| Some(s.mechanical_efficiency)),
+    ("mechanical_efficiency", "η_m", 3, |s| {
+        Some(s.mechanical_efficiency)
+    }),
     ("p_max_bar", "p_max (bar)", 1, |s| s.p_max_bar),
-    ("p_max_angle_deg", "p_max at (° after TDC)", 1, |s| s.p_max_angle_deg),
+    ("p_max_angle_deg", "p_max at (° after TDC)", 1, |s| {
+        s.p_max_angle_deg
+    }),
 ];
 
 /// The full-load line as a table (HTML) and as CSV: a row a speed.
@@ -274,7 +287,10 @@ pub fn full_load_table(view: &MapView<'_>) -> (String, String) {
         .iter()
         .map(|s| cols.iter().map(|c| (c.3)(s)).collect())
         .collect();
-    (text_table(&head, &rows, &numeric), table_csv(&keys, &values))
+    (
+        text_table(&head, &rows, &numeric),
+        table_csv(&keys, &values),
+    )
 }
 
 /// The full-load curve: torque (brake and indicated) and power over
@@ -299,7 +315,10 @@ pub fn full_load_figure(name: &str, view: &MapView<'_>) -> Figure {
         x_label: "speed (rpm)".into(),
         y_label: "torque (N m)".into(),
         series: vec![
-            Series::from_points(format!("{basis} torque"), pts(|s| s.mean_torque_nm).into_iter()),
+            Series::from_points(
+                format!("{basis} torque"),
+                pts(|s| s.mean_torque_nm).into_iter(),
+            ),
             Series::from_points(
                 "indicated torque",
                 pts(|s| s.indicated_mean_torque_nm).into_iter(),
@@ -346,9 +365,21 @@ pub fn full_load_figure(name: &str, view: &MapView<'_>) -> Figure {
 /// the mechanical efficiency, over speed and mean effective pressure, the
 /// full-load line and its two named points drawn on each.
 pub fn map_contours(name: &str, view: &MapView<'_>) -> Vec<ContourChart> {
-    type Field = (&'static str, &'static str, &'static str, f64, fn(&Summary) -> Option<f64>);
+    type Field = (
+        &'static str,
+        &'static str,
+        &'static str,
+        f64,
+        fn(&Summary) -> Option<f64>,
+    );
     let mut fields: Vec<Field> = vec![
-        ("map_p_max.svg", "peak cylinder pressure p_max", "bar", 1.0, |s| s.p_max_bar),
+        (
+            "map_p_max.svg",
+            "peak cylinder pressure p_max",
+            "bar",
+            1.0,
+            |s| s.p_max_bar,
+        ),
         (
             "map_delta.svg",
             "speed fluctuation δ with the map's flywheel",
@@ -434,12 +465,36 @@ pub fn crank_train(
     let s = &a.summary;
     let kn = |v: Option<f64>| shown(v.map(|x| x / 1e3), 2);
     let mut rows = vec![
-        vec!["peak cylinder pressure".into(), shown(s.p_max_bar, 1), "bar".into()],
-        vec!["largest gas force".into(), kn(s.gas_force_max_n), "kN".into()],
-        vec!["largest rod force".into(), kn(s.rod_force_max_n), "kN".into()],
-        vec!["largest piston side force".into(), kn(s.side_force_max_n), "kN".into()],
-        vec!["largest crank-pin load".into(), kn(s.crankpin_load_max_n), "kN".into()],
-        vec!["mean crank-pin load".into(), kn(s.crankpin_load_mean_n), "kN".into()],
+        vec![
+            "peak cylinder pressure".into(),
+            shown(s.p_max_bar, 1),
+            "bar".into(),
+        ],
+        vec![
+            "largest gas force".into(),
+            kn(s.gas_force_max_n),
+            "kN".into(),
+        ],
+        vec![
+            "largest rod force".into(),
+            kn(s.rod_force_max_n),
+            "kN".into(),
+        ],
+        vec![
+            "largest piston side force".into(),
+            kn(s.side_force_max_n),
+            "kN".into(),
+        ],
+        vec![
+            "largest crank-pin load".into(),
+            kn(s.crankpin_load_max_n),
+            "kN".into(),
+        ],
+        vec![
+            "mean crank-pin load".into(),
+            kn(s.crankpin_load_mean_n),
+            "kN".into(),
+        ],
         vec![
             format!("largest journal torque (journal {})", s.journal_most_loaded),
             shown(Some(s.journal_torque_max_nm), 1),
@@ -501,11 +556,18 @@ fn bearings_figure(name: &str, a: &Analysis, prefix: &str) -> Figure {
 /// The engine crank's firing orders ranked (at most `top`), and the free
 /// forces and moments of its reciprocating masses, as HTML.
 pub fn firing_ranking(s: &FiringStudy, top: usize) -> String {
-    let Some(c) = s.cranks.iter().find(|c| c.engine_crank).or(s.cranks.first()) else {
+    let Some(c) = s
+        .cranks
+        .iter()
+        .find(|c| c.engine_crank)
+        .or(s.cranks.first())
+    else {
         return "<p>No crank to rank.</p>\n".into();
     };
     let f = &c.free;
-    let mut o = String::from("<h3>Free forces and moments (reciprocating masses, before counterweights)</h3>\n");
+    let mut o = String::from(
+        "<h3>Free forces and moments (reciprocating masses, before counterweights)</h3>\n",
+    );
     o.push_str(&text_table(
         &["order", "free force (N)", "free moment (N m)"],
         &[
@@ -518,16 +580,30 @@ pub fn firing_ranking(s: &FiringStudy, top: usize) -> String {
                     sig(f.free_moment_1_residual_nm, 4)
                 ),
             ],
-            vec!["2nd".into(), sig(f.free_force_2_n, 4), sig(f.free_moment_2_nm, 4)],
+            vec![
+                "2nd".into(),
+                sig(f.free_force_2_n, 4),
+                sig(f.free_moment_2_nm, 4),
+            ],
         ],
         &[false, true, true],
     ));
     let _ = write!(
         o,
         "<h3>Firing orders of the crank {}, ranked (best first)</h3>\n",
-        esc(&c.crank_angles_deg.iter().map(|a| human(*a)).collect::<Vec<_>>().join("-"))
+        esc(&c
+            .crank_angles_deg
+            .iter()
+            .map(|a| human(*a))
+            .collect::<Vec<_>>()
+            .join("-"))
     );
-    let dashed = |v: &[usize]| v.iter().map(|k| k.to_string()).collect::<Vec<_>>().join("-");
+    let dashed = |v: &[usize]| {
+        v.iter()
+            .map(|k| k.to_string())
+            .collect::<Vec<_>>()
+            .join("-")
+    };
     let rows: Vec<Vec<String>> = c
         .orders
         .iter()
@@ -546,7 +622,11 @@ pub fn firing_ranking(s: &FiringStudy, top: usize) -> String {
                     .join(" "),
                 ord.criteria.neighbour_consecutive.to_string(),
                 j.map_or("–".into(), |j| {
-                    format!("{} (journal {})", fixed(j.max_torque_nm, 1), j.max_torque_journal)
+                    format!(
+                        "{} (journal {})",
+                        fixed(j.max_torque_nm, 1),
+                        j.max_torque_journal
+                    )
                 }),
                 fixed(ord.score, 3),
             ]

@@ -206,7 +206,10 @@ fn data_and_method(o: &mut String, a: &Analysis, inputs: &crate::Inputs) {
 /// The engine as a page's table shows it: the geometry, the firing order,
 /// the speed of `s`, and everything else its results depend on (masses,
 /// rod model, friction or η_m, flywheel): (label, value with its unit).
-pub fn engine_rows(engine: &Engine, s: &enginedyn_pipeline::Summary) -> Vec<(&'static str, String)> {
+pub fn engine_rows(
+    engine: &Engine,
+    s: &enginedyn_pipeline::Summary,
+) -> Vec<(&'static str, String)> {
     let geometry = [
         ("cycle", engine.stroke_kind().name().to_string()),
         (

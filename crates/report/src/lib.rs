@@ -38,19 +38,19 @@ pub use chart::{
     Chart, Figure, RUN_CHARTS, ScatterChart, ScatterGroup, ScatterLayout, ScatterPoint, Series,
     kinematics_chart, periodic, run_figures, run_figures_with, tick_label,
 };
+pub use combustion::{combustion_figures, combustion_section};
+pub use contour::{ContourChart, Mark, Node, band, iso_segment, levels, scale_colour, triangles};
 pub use design::{
     DesignPage, Headline, MapView, Section, crank_train, design_html, firing_ranking,
     full_load_figure, full_load_table, map_contours, table_csv, tables_readme, text_table,
 };
-pub use contour::{ContourChart, Mark, Node, band, iso_segment, levels, scale_colour, triangles};
-pub use combustion::{combustion_figures, combustion_section};
 pub use firing::{FIRING_FILES, crank_end_view, firing_csv, firing_json, firing_table};
 pub use html::{engine_rows, esc, percent_encode, report_html, table as html_table};
 pub use kinematics::{KINEMATICS_FILES, kinematics_csv, kinematics_svg, kinematics_table};
 pub use out::{
-    LOCK_WAIT, MANIFEST, MAX_OUTPUT_READ, OutDir, STAGING_PREFIX, Staged, TABLES, TABLES_MARKER, blake3_file, blake3_hex,
-    check_marked, injected_failure, read_output, replace_file, replace_marked_file, sha256_file,
-    sha256_hex,
+    LOCK_WAIT, MANIFEST, MAX_OUTPUT_READ, OutDir, STAGING_PREFIX, Staged, TABLES, TABLES_MARKER,
+    blake3_file, blake3_hex, check_marked, injected_failure, read_output, replace_file,
+    replace_marked_file, sha256_file, sha256_hex,
 };
 pub use tables::{
     KEY_FIGURES, KeyRow, SWEEP_FIGURES, count, index_html, key_figures, key_heading, key_table,

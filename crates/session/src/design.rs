@@ -63,7 +63,9 @@ pub fn report(loaded: Loaded, reader: Reader, method: Method, req: &Request<'_>)
             return Err(Error::usage(format!(
                 "--rpm and --load set the map of a design report, which needs [combustion] in the engine file and no --diagram; {} is reported at its one operating point",
                 req.diagram
-                    .map_or("the engine file's diagram".to_string(), |d| d.display().to_string())
+                    .map_or("the engine file's diagram".to_string(), |d| d
+                        .display()
+                        .to_string())
             )));
         }
         point_report(loaded, reader, method, req.diagram)
@@ -126,7 +128,9 @@ fn loads(session: &Session, given: Option<&str>) -> Result<(Loads, String, Strin
             let d = crate::synth::synthesise(&session.loaded, None, None, session.method.step())?;
             let o = session.analyse(&[d.input()])?;
             o.analysis.summary.imep_bar.ok_or_else(|| {
-                Error::usage("the engine file's cycle gives no IMEP to take as full load".to_string())
+                Error::usage(
+                    "the engine file's cycle gives no IMEP to take as full load".to_string(),
+                )
             })?
         }
     };
@@ -193,7 +197,12 @@ fn method_settings(s: &enginedyn_pipeline::Summary) -> (String, String) {
     )
 }
 
-fn design_report(loaded: Loaded, reader: Reader, method: Method, req: &Request<'_>) -> Result<Report> {
+fn design_report(
+    loaded: Loaded,
+    reader: Reader,
+    method: Method,
+    req: &Request<'_>,
+) -> Result<Report> {
     let map_session = Session::new(loaded.clone(), reader.clone(), method, Scope::Summary)?;
     let (rpms, rpm_shown) = speeds(&loaded, req.rpm)?;
     let (loads, load_shown, full_basis) = loads(&map_session, req.load)?;
@@ -229,12 +238,21 @@ fn design_report(loaded: Loaded, reader: Reader, method: Method, req: &Request<'
         ..DesignPage::default()
     };
     let mut tables = Vec::new();
+    if req.parquet {
+        tables.push(("map.parquet".to_string(), map.parquet(&map_session)?));
+    }
     let method = method_settings(&rated.summary);
     page.sections.push(engine_section(&session, &rated)?);
-    page.sections.push(full_load_section(engine.name(), &v, &method, &mut tables)?);
-    page.sections.push(map_section(engine.name(), &v, &map, &method, &mut tables)?);
-    page.sections.push(flywheel_section(engine.name(), &v, &map)?);
-    for (what, a) in [("rated power", Some(&rated)), ("peak torque", peak.as_ref())] {
+    page.sections
+        .push(full_load_section(engine.name(), &v, &method, &mut tables)?);
+    page.sections
+        .push(map_section(engine.name(), &v, &map, &method, &mut tables)?);
+    page.sections
+        .push(flywheel_section(engine.name(), &v, &map)?);
+    for (what, a) in [
+        ("rated power", Some(&rated)),
+        ("peak torque", peak.as_ref()),
+    ] {
         if let Some(a) = a {
             page.sections.push(crank_train_section(engine, a, what)?);
         }
@@ -244,15 +262,32 @@ fn design_report(loaded: Loaded, reader: Reader, method: Method, req: &Request<'
     let firing = firing_section(&session, &rated, &mut tables)?;
     page.sections.push(firing.0);
     page.sections.push(tolerance_section(&session, &rated)?);
-    page.headlines = headlines(engine, &v, &map, &rated, peak.as_ref(), torsion.1.as_ref(), &firing.1);
+    page.headlines = headlines(
+        engine,
+        &v,
+        &map,
+        &rated,
+        peak.as_ref(),
+        torsion.1.as_ref(),
+        &firing.1,
+    );
     finish(page, tables, map.notes)
 }
 
 /// The report at one operating point: the diagram given, else the engine
 /// file's.
-fn point_report(loaded: Loaded, reader: Reader, method: Method, diagram: Option<&Path>) -> Result<Report> {
+fn point_report(
+    loaded: Loaded,
+    reader: Reader,
+    method: Method,
+    diagram: Option<&Path>,
+) -> Result<Report> {
     let session = Session::new(loaded, reader, method, Scope::Full)?;
-    let path = crate::diagram::diagram_path(diagram, &session.loaded)?;
+    let path = crate::diagram::diagram_path(diagram, &session.loaded).map_err(|e| {
+        Error::usage(format!(
+            "{e}; or add a [combustion] section for a design report over the speed × load map (`enginedyn template --combustion petrol` writes one)"
+        ))
+    })?;
     let input = Input::File(&path);
     let a = session.analyse(&[input])?.analysis;
     let engine = session.engine();
@@ -279,7 +314,8 @@ fn point_report(loaded: Loaded, reader: Reader, method: Method, diagram: Option<
         ..Section::default()
     });
     page.sections.push(point_flywheel_section(&a));
-    page.sections.push(crank_train_section(engine, &a, "the operating point")?);
+    page.sections
+        .push(crank_train_section(engine, &a, "the operating point")?);
     let rpms = crate::torsion::default_speeds(a.summary.rpm);
     let torsion = torsion_section(&session, &a, &rpms)?;
     page.sections.push(torsion.0);
@@ -291,7 +327,11 @@ fn point_report(loaded: Loaded, reader: Reader, method: Method, diagram: Option<
 }
 
 /// The page and the tables as files; the headlines as text.
-fn finish(page: DesignPage, mut tables: Vec<(String, Vec<u8>)>, notes: Vec<String>) -> Result<Report> {
+fn finish(
+    page: DesignPage,
+    mut tables: Vec<(String, Vec<u8>)>,
+    notes: Vec<String>,
+) -> Result<Report> {
     let mut files = vec![(
         "report.html".to_string(),
         enginedyn_report::design_html(&page).into_bytes(),
@@ -306,10 +346,16 @@ fn finish(page: DesignPage, mut tables: Vec<(String, Vec<u8>)>, notes: Vec<Strin
         .map(|(n, _)| (n.as_str(), table_purpose(n)))
         .collect();
     let readme = enginedyn_report::tables_readme(&listed);
-    tables.push((enginedyn_report::TABLES_MARKER.to_string(), readme.into_bytes()));
+    tables.push((
+        enginedyn_report::TABLES_MARKER.to_string(),
+        readme.into_bytes(),
+    ));
     let mut text = format!("{}\n", page.title);
     for h in &page.headlines {
-        text.push_str(&format!("  {}: {} {} ({})\n", h.label, h.value, h.unit, h.at));
+        text.push_str(&format!(
+            "  {}: {} {} ({})\n",
+            h.label, h.value, h.unit, h.at
+        ));
     }
     Ok(Report {
         files,
@@ -322,9 +368,16 @@ fn finish(page: DesignPage, mut tables: Vec<(String, Vec<u8>)>, notes: Vec<Strin
 /// What a table of the report holds (its README line).
 fn table_purpose(name: &str) -> &'static str {
     match name {
-        "map.csv" => "every point of the map: the summary's columns (as sweep.csv) with imep_target_bar, load_pct and the flywheel's sizing point",
+        "map.csv" => {
+            "every point of the map: the summary's columns (as sweep.csv) with imep_target_bar, load_pct and the flywheel's sizing point"
+        }
+        "map.parquet" => {
+            "the map as a Parquet table (map/1: the summary's columns, then imep_target_bar, load_pct, flywheel_sized_at_rpm, flywheel_sized_at_imep_bar)"
+        }
         "full_load.csv" => "the full-load line: a row a speed, indicated and brake figures",
-        "firing_orders.csv" => "every firing order of the engine's crank, ranked, with its criteria (as firing-orders --out)",
+        "firing_orders.csv" => {
+            "every firing order of the engine's crank, ranked, with its criteria (as firing-orders --out)"
+        }
         _ => "a table of the report",
     }
 }
@@ -397,7 +450,10 @@ fn full_load_section(
         id: "full-load",
         heading: "The full-load line".into(),
         settings: vec![
-            ("load".into(), v.load_names.last().cloned().unwrap_or_default()),
+            (
+                "load".into(),
+                v.load_names.last().cloned().unwrap_or_default(),
+            ),
             ("friction".into(), friction_basis(v.brake)),
             method.clone(),
         ],
@@ -444,7 +500,10 @@ fn map_section(
         id: "map",
         heading: "The map".into(),
         settings: vec![
-            ("speeds".into(), format!("{} rpm", human(v.rpms.len() as f64))),
+            (
+                "speeds".into(),
+                format!("{} rpm", human(v.rpms.len() as f64)),
+            ),
             ("loads".into(), v.load_names.join(", ")),
             method.clone(),
         ],
@@ -464,14 +523,38 @@ fn flywheel_section(name: &str, v: &MapView<'_>, map: &SweepMap) -> Result<Secti
                 .flywheel_outer_diameter_m
                 .map(|d| d * std::f64::consts::PI * top / 60.0);
             let rows = vec![
-                vec!["sized at".into(), format!("{} rpm, IMEP {} bar", human(rpm), fixed(imep, 2)), String::new()],
-                vec!["inertia needed there".into(), shown(s.flywheel_inertia_kg_m2, 4), "kg m²".into()],
-                vec!["outer diameter".into(), shown(s.flywheel_outer_diameter_m.map(|d| d * 1e3), 0), "mm".into()],
-                vec!["rim width".into(), shown(s.flywheel_width_m.map(|d| d * 1e3), 1), "mm".into()],
+                vec![
+                    "sized at".into(),
+                    format!("{} rpm, IMEP {} bar", human(rpm), fixed(imep, 2)),
+                    String::new(),
+                ],
+                vec![
+                    "inertia needed there".into(),
+                    shown(s.flywheel_inertia_kg_m2, 4),
+                    "kg m²".into(),
+                ],
+                vec![
+                    "outer diameter".into(),
+                    shown(s.flywheel_outer_diameter_m.map(|d| d * 1e3), 0),
+                    "mm".into(),
+                ],
+                vec![
+                    "rim width".into(),
+                    shown(s.flywheel_width_m.map(|d| d * 1e3), 1),
+                    "mm".into(),
+                ],
                 vec!["mass".into(), shown(s.flywheel_mass_kg, 2), "kg".into()],
-                vec!["rim speed at the highest speed".into(), shown(rim, 1), "m/s".into()],
+                vec![
+                    "rim speed at the highest speed".into(),
+                    shown(rim, 1),
+                    "m/s".into(),
+                ],
             ];
-            body.push_str(&enginedyn_report::text_table(&["flywheel", "value", "unit"], &rows, &[false, true, false]));
+            body.push_str(&enginedyn_report::text_table(
+                &["flywheel", "value", "unit"],
+                &rows,
+                &[false, true, false],
+            ));
             body.push_str(&delta_table(v));
         }
         _ => body.push_str("<p>No point of the map delivers work: no flywheel is sized.</p>\n"),
@@ -486,7 +569,10 @@ fn flywheel_section(name: &str, v: &MapView<'_>, map: &SweepMap) -> Result<Secti
     Ok(Section {
         id: "flywheel",
         heading: "The flywheel".into(),
-        settings: vec![("criterion".into(), "the worst of the map's points and idle (flywheel.idle_rpm)".into())],
+        settings: vec![(
+            "criterion".into(),
+            "the worst of the map's points and idle (flywheel.idle_rpm)".into(),
+        )],
         body,
         charts,
         notes: map
@@ -513,7 +599,10 @@ fn delta_table(v: &MapView<'_>) -> String {
         .rev()
         .map(|(row, name)| {
             let mut r = vec![name.clone()];
-            r.extend(row.iter().map(|s| shown(s.speed_fluctuation_achieved.map(|d| d * 1e3), 2)));
+            r.extend(
+                row.iter()
+                    .map(|s| shown(s.speed_fluctuation_achieved.map(|d| d * 1e3), 2)),
+            );
             r
         })
         .collect();
@@ -528,17 +617,37 @@ fn delta_table(v: &MapView<'_>) -> String {
 fn point_flywheel_section(a: &Analysis) -> Section {
     let s = &a.summary;
     let rows = vec![
-        vec!["inertia needed".into(), shown(s.required_inertia_kg_m2, 4), "kg m²".into()],
-        vec!["flywheel inertia".into(), shown(s.flywheel_inertia_kg_m2, 4), "kg m²".into()],
-        vec!["outer diameter".into(), shown(s.flywheel_outer_diameter_m.map(|d| d * 1e3), 0), "mm".into()],
+        vec![
+            "inertia needed".into(),
+            shown(s.required_inertia_kg_m2, 4),
+            "kg m²".into(),
+        ],
+        vec![
+            "flywheel inertia".into(),
+            shown(s.flywheel_inertia_kg_m2, 4),
+            "kg m²".into(),
+        ],
+        vec![
+            "outer diameter".into(),
+            shown(s.flywheel_outer_diameter_m.map(|d| d * 1e3), 0),
+            "mm".into(),
+        ],
         vec!["mass".into(), shown(s.flywheel_mass_kg, 2), "kg".into()],
-        vec!["speed fluctuation δ achieved".into(), shown(s.speed_fluctuation_achieved, 4), String::new()],
+        vec![
+            "speed fluctuation δ achieved".into(),
+            shown(s.speed_fluctuation_achieved, 4),
+            String::new(),
+        ],
     ];
     Section {
         id: "flywheel",
         heading: "The flywheel".into(),
         settings: vec![("criterion".into(), "the operating point".into())],
-        body: enginedyn_report::text_table(&["flywheel", "value", "unit"], &rows, &[false, true, false]),
+        body: enginedyn_report::text_table(
+            &["flywheel", "value", "unit"],
+            &rows,
+            &[false, true, false],
+        ),
         ..Section::default()
     }
 }
@@ -548,7 +657,11 @@ fn shown(v: Option<f64>, digits: usize) -> String {
     v.map_or("–".to_string(), |x| fixed(x, digits))
 }
 
-fn crank_train_section(engine: &enginedyn_engine::Engine, a: &Analysis, what: &str) -> Result<Section> {
+fn crank_train_section(
+    engine: &enginedyn_engine::Engine,
+    a: &Analysis,
+    what: &str,
+) -> Result<Section> {
     let prefix = match what {
         "rated power" => "rated",
         "peak torque" => "peak_torque",
@@ -581,7 +694,8 @@ fn torsion_section(
     rpms: &[f64],
 ) -> Result<(Section, Option<enginedyn_pipeline::torsion::Study>)> {
     let engine = session.engine();
-    let found = crate::torsion::report_extra_over(engine, &session.loaded.text, a, session.opts, rpms)?;
+    let found =
+        crate::torsion::report_extra_over(engine, &session.loaded.text, a, session.opts, rpms)?;
     let Some((extra, study)) = found else {
         return Ok((
             Section {
@@ -606,7 +720,12 @@ fn torsion_section(
             settings: vec![
                 (
                     "speeds".into(),
-                    format!("{} to {} rpm, {} speeds", human(rpms[0]), human(rpms[rpms.len() - 1]), rpms.len()),
+                    format!(
+                        "{} to {} rpm, {} speeds",
+                        human(rpms[0]),
+                        human(rpms[rpms.len() - 1]),
+                        rpms.len()
+                    ),
                 ),
                 (
                     "excitation".into(),
@@ -648,7 +767,10 @@ fn firing_section(
                 Section {
                     id: "firing",
                     heading: "Free forces and moments, firing orders".into(),
-                    body: format!("<p>Not studied: {}.</p>\n", enginedyn_report::esc(&e.to_string())),
+                    body: format!(
+                        "<p>Not studied: {}.</p>\n",
+                        enginedyn_report::esc(&e.to_string())
+                    ),
                     ..Section::default()
                 },
                 None,
@@ -667,8 +789,14 @@ fn firing_section(
             id: "firing",
             heading: "Free forces and moments, firing orders".into(),
             settings: vec![
-                ("journal torques".into(), format!("the cycle at {} rpm", human(a.summary.rpm))),
-                ("weights".into(), "the default score weights (firing-orders --weights)".into()),
+                (
+                    "journal torques".into(),
+                    format!("the cycle at {} rpm", human(a.summary.rpm)),
+                ),
+                (
+                    "weights".into(),
+                    "the default score weights (firing-orders --weights)".into(),
+                ),
             ],
             body: enginedyn_report::firing_ranking(&study, FIRING_ROWS),
             charts: vec![("crank_end_view.svg".into(), svg)],
@@ -680,11 +808,14 @@ fn firing_section(
 
 fn tolerance_section(session: &Session, a: &Analysis) -> Result<Section> {
     let engine = session.engine();
-    let Some(extra) = crate::tolerance::report_extra(engine, &session.loaded.text, a, session.opts)? else {
+    let Some(extra) =
+        crate::tolerance::report_extra(engine, &session.loaded.text, a, session.opts)?
+    else {
         return Ok(Section {
             id: "tolerances",
             heading: "Tolerances".into(),
-            body: "<p>Not studied: the engine file has no <code>[tolerances]</code> section.</p>\n".into(),
+            body: "<p>Not studied: the engine file has no <code>[tolerances]</code> section.</p>\n"
+                .into(),
             ..Section::default()
         });
     };
@@ -696,8 +827,18 @@ fn tolerance_section(session: &Session, a: &Analysis) -> Result<Section> {
         id: "tolerances",
         heading: "Tolerances".into(),
         settings: vec![
-            ("point".into(), format!("{} rpm, IMEP {} bar", human(a.summary.rpm), shown(a.summary.imep_bar, 2))),
-            ("model".into(), "linear sensitivities on a 0.5° grid (enginedyn tolerance adds Monte Carlo)".into()),
+            (
+                "point".into(),
+                format!(
+                    "{} rpm, IMEP {} bar",
+                    human(a.summary.rpm),
+                    shown(a.summary.imep_bar, 2)
+                ),
+            ),
+            (
+                "model".into(),
+                "linear sensitivities on a 0.5° grid (enginedyn tolerance adds Monte Carlo)".into(),
+            ),
         ],
         body,
         charts: extra.charts,
@@ -727,8 +868,20 @@ fn headlines(
 ) -> Vec<Headline> {
     let mut h = vec![engine_headline(engine)];
     if let (Some((rr, p)), Some((tr, t))) = (v.rated, v.peak) {
-        h.push(headline(&format!("rated power ({})", v.basis()), fixed(p, 1), "kW", format!("at {} rpm", human(rr)), "full-load"));
-        h.push(headline(&format!("peak torque ({})", v.basis()), fixed(t, 1), "N m", format!("at {} rpm", human(tr)), "full-load"));
+        h.push(headline(
+            &format!("rated power ({})", v.basis()),
+            fixed(p, 1),
+            "kW",
+            format!("at {} rpm", human(rr)),
+            "full-load",
+        ));
+        h.push(headline(
+            &format!("peak torque ({})", v.basis()),
+            fixed(t, 1),
+            "N m",
+            format!("at {} rpm", human(tr)),
+            "full-load",
+        ));
     }
     let best_mep = v
         .full_load()
@@ -736,8 +889,18 @@ fn headlines(
         .filter_map(|s| s.effective_mep_bar().map(|m| (s.rpm, m)))
         .max_by(|a, b| a.1.total_cmp(&b.1));
     if let Some((rpm, m)) = best_mep {
-        let label = if v.brake { "highest BMEP" } else { "highest IMEP × η_m" };
-        h.push(headline(label, fixed(m, 2), "bar", format!("at {} rpm, full load", human(rpm)), "full-load"));
+        let label = if v.brake {
+            "highest BMEP"
+        } else {
+            "highest IMEP × η_m"
+        };
+        h.push(headline(
+            label,
+            fixed(m, 2),
+            "bar",
+            format!("at {} rpm, full load", human(rpm)),
+            "full-load",
+        ));
     }
     let pmax = map
         .points
@@ -784,10 +947,34 @@ fn point_headlines(
     let s = &a.summary;
     let at = format!("at {} rpm", human(s.rpm));
     let mut h = vec![engine_headline(engine)];
-    h.push(headline("power", shown(s.power_kw, 1), "kW", at.clone(), "loads"));
-    h.push(headline("mean torque", shown(s.mean_torque_nm, 1), "N m", at.clone(), "loads"));
-    h.push(headline("peak pressure", shown(s.p_max_bar, 1), "bar", at.clone(), "loads"));
-    h.push(headline("inertia needed", shown(s.required_inertia_kg_m2, 3), "kg m²", at, "flywheel"));
+    h.push(headline(
+        "power",
+        shown(s.power_kw, 1),
+        "kW",
+        at.clone(),
+        "loads",
+    ));
+    h.push(headline(
+        "mean torque",
+        shown(s.mean_torque_nm, 1),
+        "N m",
+        at.clone(),
+        "loads",
+    ));
+    h.push(headline(
+        "peak pressure",
+        shown(s.p_max_bar, 1),
+        "bar",
+        at.clone(),
+        "loads",
+    ));
+    h.push(headline(
+        "inertia needed",
+        shown(s.required_inertia_kg_m2, 3),
+        "kg m²",
+        at,
+        "flywheel",
+    ));
     crank_headlines(&mut h, &[a]);
     h.extend(torsion_headline(torsion));
     h.extend(firing_headline(engine, firing));
@@ -815,7 +1002,13 @@ fn engine_headline(engine: &enginedyn_engine::Engine) -> Headline {
 /// the analyses `points` (rated power, peak torque), each with where.
 fn crank_headlines(h: &mut Vec<Headline>, points: &[&Analysis]) {
     let at = |a: &Analysis| format!("at {} rpm", human(a.summary.rpm));
-    let section = |k: usize| if k == 0 { "loads-rated" } else { "loads-peak-torque" };
+    let section = |k: usize| {
+        if k == 0 {
+            "loads-rated"
+        } else {
+            "loads-peak-torque"
+        }
+    };
     let most = |f: &dyn Fn(&Analysis) -> Option<(f64, String)>| {
         points
             .iter()
@@ -826,23 +1019,49 @@ fn crank_headlines(h: &mut Vec<Headline>, points: &[&Analysis]) {
     let single = points.len() == 1;
     let place = |k: usize| if single { "loads" } else { section(k) };
     if let Some((k, v, w)) = most(&|a| a.summary.crankpin_load_max_n.map(|x| (x, at(a)))) {
-        h.push(headline("largest crank-pin load", fixed(v / 1e3, 2), "kN", w, place(k)));
+        h.push(headline(
+            "largest crank-pin load",
+            fixed(v / 1e3, 2),
+            "kN",
+            w,
+            place(k),
+        ));
     }
     let bearing = |a: &Analysis| {
         a.bearings
             .iter()
             .enumerate()
-            .map(|(j, b)| (b.iter().copied().fold(f64::NEG_INFINITY, f64::max), format!("bearing {} {}", j + 1, at(a))))
+            .map(|(j, b)| {
+                (
+                    b.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                    format!("bearing {} {}", j + 1, at(a)),
+                )
+            })
             .max_by(|x, y| x.0.total_cmp(&y.0))
     };
     if let Some((k, v, w)) = most(&bearing) {
-        h.push(headline("largest main-bearing load", fixed(v / 1e3, 2), "kN", w, place(k)));
+        h.push(headline(
+            "largest main-bearing load",
+            fixed(v / 1e3, 2),
+            "kN",
+            w,
+            place(k),
+        ));
     }
     let journal = |a: &Analysis| {
-        Some((a.summary.journal_torque_max_nm, format!("journal {} {}", a.summary.journal_most_loaded, at(a))))
+        Some((
+            a.summary.journal_torque_max_nm,
+            format!("journal {} {}", a.summary.journal_most_loaded, at(a)),
+        ))
     };
     if let Some((k, v, w)) = most(&journal) {
-        h.push(headline("largest journal torque", fixed(v, 0), "N m", w, place(k)));
+        h.push(headline(
+            "largest journal torque",
+            fixed(v, 0),
+            "N m",
+            w,
+            place(k),
+        ));
     }
 }
 
@@ -853,26 +1072,57 @@ fn torsion_headline(t: Option<&enginedyn_pipeline::torsion::Study>) -> Option<He
             "worst torsional resonance",
             fixed(r.amplitude_deg, 3),
             "°",
-            format!("order {} of mode {} at {} rpm", human(r.order), r.mode, human(r.rpm.round())),
+            format!(
+                "order {} of mode {} at {} rpm",
+                human(r.order),
+                r.mode,
+                human(r.rpm.round())
+            ),
             "torsion",
         ),
-        None => headline("torsional resonances", "none".into(), "", "in the speed range".into(), "torsion"),
+        None => headline(
+            "torsional resonances",
+            "none".into(),
+            "",
+            "in the speed range".into(),
+            "torsion",
+        ),
     })
 }
 
-fn firing_headline(engine: &enginedyn_engine::Engine, s: &Option<enginedyn_balance::Study>) -> Option<Headline> {
+fn firing_headline(
+    engine: &enginedyn_engine::Engine,
+    s: &Option<enginedyn_balance::Study>,
+) -> Option<Headline> {
     let s = s.as_ref()?;
-    let c = s.cranks.iter().find(|c| c.engine_crank).or(s.cranks.first())?;
+    let c = s
+        .cranks
+        .iter()
+        .find(|c| c.engine_crank)
+        .or(s.cranks.first())?;
     let ours = engine.firing_order();
-    let rank = c.orders.iter().position(|o| o.order.order == ours);
+    // Its rank: one more than the orders that score better (ties share).
+    let rank = c.orders.iter().find(|o| o.order.order == ours).map(|me| {
+        c.orders
+            .iter()
+            .filter(|o| o.score < me.score - 1e-12)
+            .count()
+    });
     let f = &c.free;
     Some(headline(
         "firing order",
-        ours.iter().map(|k| k.to_string()).collect::<Vec<_>>().join("-"),
+        ours.iter()
+            .map(|k| k.to_string())
+            .collect::<Vec<_>>()
+            .join("-"),
         "",
         format!(
             "{}; free moments 1st {} N m, 2nd {} N m",
-            rank.map_or("not among the crank's orders".to_string(), |r| format!("rank {} of {}", r + 1, c.orders.len())),
+            rank.map_or("not among the crank's orders".to_string(), |r| format!(
+                "rank {} of {}",
+                r + 1,
+                c.orders.len()
+            )),
             human((f.free_moment_1_nm * 10.0).round() / 10.0),
             human((f.free_moment_2_nm * 10.0).round() / 10.0)
         ),

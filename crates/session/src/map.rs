@@ -120,15 +120,48 @@ impl SweepMap {
     /// line (with `--load`), and the point the one flywheel was sized at,
     /// named apart from each point's own `required_inertia_kg_m2`.
     pub fn point_keys(&self, p: &MapPoint) -> Vec<(&'static str, f64)> {
-        let mut keys = vec![("imep_target_bar", p.imep_target_bar)];
-        if let Some(pct) = p.load_pct {
-            keys.push(("load_pct", pct));
-        }
-        if let Some((rpm, imep)) = self.sized_at {
-            keys.push(("flywheel_sized_at_rpm", rpm));
-            keys.push(("flywheel_sized_at_imep_bar", imep));
-        }
-        keys
+        enginedyn_pipeline::schema::MAP_COLUMNS
+            .iter()
+            .zip(self.map_values(p))
+            .filter_map(|(&(name, _), v)| v.map(|v| (name, v)))
+            .collect()
+    }
+
+    /// The values of [`enginedyn_pipeline::schema::MAP_COLUMNS`] at `p`.
+    fn map_values(&self, p: &MapPoint) -> [Option<f64>; 4] {
+        [
+            Some(p.imep_target_bar),
+            p.load_pct,
+            self.sized_at.map(|s| s.0),
+            self.sized_at.map(|s| s.1),
+        ]
+    }
+
+    /// The map as a Parquet table (`map/1`: the summary's columns, then
+    /// [`enginedyn_pipeline::schema::MAP_COLUMNS`]), with `session`'s
+    /// metadata.
+    pub fn parquet(&self, session: &Session) -> Result<Vec<u8>> {
+        use enginedyn_pipeline::schema::{MapRecord, SummaryRecord};
+        let engine = session.engine().name();
+        let rows: Vec<MapRecord<'_>> = self
+            .points
+            .iter()
+            .map(|p| {
+                let d = &self.diagrams[p.load];
+                MapRecord {
+                    summary: SummaryRecord {
+                        file: &d.name,
+                        error: None,
+                        engine,
+                        diagram_blake3: d.inputs.diagram_blake3.first().map(String::as_str),
+                        summary: Some(&p.point.summary),
+                    },
+                    map: self.map_values(p),
+                }
+            })
+            .collect();
+        enginedyn_tables::map_parquet(&rows, &session.meta()?)
+            .map_err(|e| crate::Error::data(e.to_string()))
     }
 
     /// The map as `sweep.csv` writes it: the summary's columns and
@@ -379,7 +412,11 @@ impl Session {
         // the highest, whatever speed sized its inertia.
         let top = rpms.iter().copied().fold(0.0, f64::max);
         let part = part.map(|p| {
-            enginedyn_flywheel::for_top_speed(&p, engine.flywheel(), top * std::f64::consts::PI / 30.0)
+            enginedyn_flywheel::for_top_speed(
+                &p,
+                engine.flywheel(),
+                top * std::f64::consts::PI / 30.0,
+            )
         });
         let file_rpm = engine.operating().rpm;
         for p in &mut points {

@@ -32,7 +32,7 @@ use arrow_array::builder::{
 use arrow_array::{ArrayRef, RecordBatch};
 use arrow_schema::{DataType, Field, Schema, SchemaRef};
 use enginedyn_pipeline::schema::{
-    self, Cell, Column, ColumnType, CycleRow, SummaryRecord, TracePoint,
+    self, Cell, Column, ColumnType, CycleRow, MapRecord, SummaryRecord, TracePoint,
 };
 use parquet::arrow::ArrowWriter;
 use parquet::basic::Compression;
@@ -183,6 +183,8 @@ pub enum Table {
     Cycles,
     /// `traces/1`: one row per file × cylinder × grid angle (opt-in).
     Traces,
+    /// `map/1`: one row per point of a speed × load map (not a campaign's).
+    Map,
 }
 
 impl Table {
@@ -195,6 +197,7 @@ impl Table {
             Table::Summary => "summary",
             Table::Cycles => "cycles",
             Table::Traces => "traces",
+            Table::Map => "map",
         }
     }
 
@@ -204,6 +207,7 @@ impl Table {
             Table::Summary => schema::SUMMARY_SCHEMA,
             Table::Cycles => schema::CYCLES_SCHEMA,
             Table::Traces => schema::TRACES_SCHEMA,
+            Table::Map => schema::MAP_SCHEMA,
         }
     }
 
@@ -216,6 +220,15 @@ impl Table {
             Table::Summary => schema::summary_columns().into_iter().map(of).collect(),
             Table::Cycles => schema::CYCLES.iter().map(of).collect(),
             Table::Traces => schema::TRACES.iter().map(of).collect(),
+            Table::Map => {
+                let mut c: Vec<_> = schema::summary_columns().into_iter().map(of).collect();
+                c.extend(
+                    schema::MAP_COLUMNS
+                        .iter()
+                        .map(|&(name, nullable)| (name, ColumnType::Float64, nullable)),
+                );
+                c
+            }
         }
     }
 
@@ -412,6 +425,36 @@ impl Rows for TracePoint<'_> {
             .collect::<Result<Vec<_>, _>>()?;
         record_batch(Self::TABLE, arrays)
     }
+}
+
+impl Rows for MapRecord<'_> {
+    const TABLE: Table = Table::Map;
+    fn batch(rows: &[Self]) -> Result<RecordBatch, TablesError> {
+        let mut arrays = schema::summary_columns()
+            .iter()
+            .map(|c| {
+                array(Self::TABLE, c.name, c.ty, c.nullable, rows, |r| {
+                    c.cell(&r.summary)
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        for (k, &(name, nullable)) in schema::MAP_COLUMNS.iter().enumerate() {
+            arrays.push(array(
+                Self::TABLE,
+                name,
+                ColumnType::Float64,
+                nullable,
+                rows,
+                |r| r.map[k].map_or(Cell::Null, Cell::Float),
+            )?);
+        }
+        record_batch(Self::TABLE, arrays)
+    }
+}
+
+/// A map's table (`map/1`) as Parquet bytes.
+pub fn map_parquet(rows: &[MapRecord<'_>], meta: &Meta) -> Result<Vec<u8>, TablesError> {
+    parquet_bytes(rows, meta)
 }
 
 fn record_batch(table: Table, arrays: Vec<ArrayRef>) -> Result<RecordBatch, TablesError> {

@@ -313,7 +313,7 @@ pub fn check_campaign(dir: &Path, parts: Option<usize>) -> Result<Manifest, Tabl
                     cycles += f.rows;
                     cycles_skipped += count_column(path, builder, "used")?;
                 }
-                Table::Traces => {}
+                Table::Traces | Table::Map => {}
             }
         }
     }
