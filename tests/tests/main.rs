@@ -10,6 +10,7 @@ mod charts_tables;
 mod combustion;
 mod defaults;
 mod design_model;
+mod design_report;
 mod docs;
 mod firing_orders;
 mod fuzz_paths;

@@ -160,9 +160,18 @@ fn full_load_point(session: &Session, map: &SweepMap, rpm: f64) -> Result<Analys
         Some(p.imep_target_bar),
         session.method.step(),
     )?;
-    let mut o = session.analyse(&[d.input()])?;
-    o.analysis.summary.design = Some(d.design_summary());
-    Ok(o.analysis)
+    let grid = crate::diagram::load_diagram(d.input(), &session.parse, &session.grid)?;
+    let mut a = enginedyn_pipeline::analyse_with(
+        session.tables(),
+        session.engine(),
+        &grid,
+        rpm,
+        &session.opts,
+    )
+    .map_err(|e| Error::usage(e.to_string()))?;
+    a.summary.design = Some(d.design_summary());
+    a.summary.notes.extend(d.warnings.iter().cloned());
+    Ok(a)
 }
 
 /// The map as the report's layout reads it.
@@ -394,7 +403,7 @@ fn engine_section(session: &Session, a: &Analysis) -> Result<Section> {
     let displacement = z * engine.cylinder().swept_volume();
     let mut body = enginedyn_report::text_table(&["", ""], &rows, &[false, false]);
     body.push_str(&format!(
-        "<p>Displacement {} l ({} × {} cm³); mean piston speed at the report's highest speed in the tables below.</p>\n",
+        "<p>Displacement {} l ({} × {} cm³).</p>\n",
         fixed(displacement * 1e3, 3),
         engine.cylinders(),
         fixed(engine.cylinder().swept_volume() * 1e6, 1)
@@ -491,8 +500,8 @@ fn map_section(
     let body = format!(
         "<p>Each point's cycle is synthesised at its own speed and load from <code>[combustion]</code> \
          (spark ignition: the intake pressure meets the load; compression ignition: the fuel) and analysed \
-         at that speed. The vertical axis is the {}: the torque is it times the displacement over 4π \
-         (2π for a two-stroke). The full-load line is drawn over each chart. Every point is in \
+         at that speed. The vertical axis is the {} (the torque is it × displacement / 4π, / 2π for a \
+         two-stroke). The full-load line is drawn over each chart. Every point is in \
          <code>tables/map.csv</code>.</p>\n",
         v.mep_label()
     );
@@ -502,7 +511,12 @@ fn map_section(
         settings: vec![
             (
                 "speeds".into(),
-                format!("{} rpm", human(v.rpms.len() as f64)),
+                format!(
+                    "{} speeds, {} to {} rpm",
+                    v.rpms.len(),
+                    human(v.rpms.first().copied().unwrap_or_default()),
+                    human(v.rpms.last().copied().unwrap_or_default())
+                ),
             ),
             ("loads".into(), v.load_names.join(", ")),
             method.clone(),
