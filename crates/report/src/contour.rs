@@ -114,8 +114,8 @@ fn clip(poly: &[Vertex], level: f64, above: bool) -> Vec<Vertex> {
 /// map once.
 pub fn band(tri: [Vertex; 3], lo: f64, hi: f64, top: bool) -> Vec<(f64, f64)> {
     let z = tri[0].2;
-    if tri.iter().all(|v| v.2 == z) {
-        let inside = (lo <= z && z < hi) || (top && z == hi);
+    if tri.iter().all(|v| v.2.total_cmp(&z).is_eq()) {
+        let inside = (lo <= z && z < hi) || (top && z.total_cmp(&hi).is_eq());
         return if inside {
             tri.iter().map(|v| (v.0, v.1)).collect()
         } else {

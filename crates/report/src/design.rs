@@ -205,7 +205,7 @@ pub fn text_table(head: &[&str], rows: &[Vec<String>], numeric: &[bool]) -> Stri
     o
 }
 
-/// The same rows as CSV (a header of `keys`; numbers as [`csv`] writes
+/// The same rows as CSV (a header of `keys`; numbers as [`csv()`] writes
 /// them, text cells never starting a formula).
 pub fn table_csv(keys: &[&str], rows: &[Vec<Option<f64>>]) -> String {
     let mut o = keys.join(",");
@@ -588,9 +588,9 @@ pub fn firing_ranking(s: &FiringStudy, top: usize) -> String {
         ],
         &[false, true, true],
     ));
-    let _ = write!(
+    let _ = writeln!(
         o,
-        "<h3>Firing orders of the crank {}, ranked (best first)</h3>\n",
+        "<h3>Firing orders of the crank {}, ranked (best first)</h3>",
         esc(&c
             .crank_angles_deg
             .iter()

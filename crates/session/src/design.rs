@@ -595,7 +595,6 @@ fn flywheel_section(name: &str, v: &MapView<'_>, map: &SweepMap) -> Result<Secti
             .filter(|n| n.contains("flywheel") || n.contains("idle"))
             .cloned()
             .collect(),
-        ..Section::default()
     })
 }
 
