@@ -50,6 +50,9 @@ pub const DEFAULT_LOADS: &str = "10:100:10";
 /// How many speeds a report's map runs at when `--rpm` is not given
 /// (about: the step is a round number).
 const DEFAULT_SPEED_COUNT: f64 = 16.0;
+/// Speeds of the torsion study over the map's span (its resonances are
+/// narrower than the map's speed step).
+const TORSION_SPEEDS: usize = 200;
 /// Firing orders listed in the page (the CSV has every one).
 const FIRING_ROWS: usize = 8;
 
@@ -266,7 +269,12 @@ fn design_report(
             page.sections.push(crank_train_section(engine, a, what)?);
         }
     }
-    let torsion = torsion_section(&session, &rated, &rpms)?;
+    // Resonances are narrow: the map's span on a finer grid of speeds.
+    let (lo, hi) = (rpms[0], rpms[rpms.len() - 1]);
+    let torsion_rpms: Vec<f64> = (0..TORSION_SPEEDS)
+        .map(|k| lo + (hi - lo) * k as f64 / (TORSION_SPEEDS - 1) as f64)
+        .collect();
+    let torsion = torsion_section(&session, &rated, &torsion_rpms)?;
     page.sections.push(torsion.0);
     let firing = firing_section(&session, &rated, &mut tables)?;
     page.sections.push(firing.0);
@@ -701,6 +709,19 @@ fn crank_train_section(
     })
 }
 
+/// A study's own `report.html` sections as parts of one of the report's:
+/// each under its heading, but one that repeats the section's.
+fn sub_sections(parts: &[(String, String)], heading: &str) -> String {
+    let mut body = String::new();
+    for (h, b) in parts {
+        if !h.eq_ignore_ascii_case(heading) {
+            body.push_str(&format!("<h3>{}</h3>\n", enginedyn_report::esc(h)));
+        }
+        body.push_str(b);
+    }
+    body
+}
+
 fn torsion_section(
     session: &Session,
     a: &Analysis,
@@ -722,10 +743,7 @@ fn torsion_section(
             None,
         ));
     };
-    let mut body = String::new();
-    for (h, b) in &extra.sections {
-        body.push_str(&format!("<h3>{}</h3>\n{b}", enginedyn_report::esc(h)));
-    }
+    let body = sub_sections(&extra.sections, "Torsional vibration");
     Ok((
         Section {
             id: "torsion",
@@ -832,10 +850,7 @@ fn tolerance_section(session: &Session, a: &Analysis) -> Result<Section> {
             ..Section::default()
         });
     };
-    let mut body = String::new();
-    for (h, b) in &extra.sections {
-        body.push_str(&format!("<h3>{}</h3>\n{b}", enginedyn_report::esc(h)));
-    }
+    let body = sub_sections(&extra.sections, "Tolerances");
     Ok(Section {
         id: "tolerances",
         heading: "Tolerances".into(),
