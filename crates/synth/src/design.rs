@@ -223,6 +223,51 @@ struct Grid {
     open_h: f64,
 }
 
+/// What a [`Grid`] is made of: the cylinder, the burn law and the closed
+/// part's span; a map's points share them (the load and the intake
+/// pressure do not enter the grid).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct GridKey {
+    cyl: Cylinder,
+    burn: BurnLaw,
+    ivc_deg: f64,
+    evo_deg: f64,
+    two_stroke: bool,
+}
+
+thread_local! {
+    /// The last grid built on this thread: a map's next point reuses it
+    /// (the same tables, so the same cycle to the bit) instead of some
+    /// 11,000 volume, slope and burn-rate evaluations.
+    static LAST_GRID: std::cell::RefCell<Option<(GridKey, std::rc::Rc<Grid>)>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// The grid of `model` on `cyl`: this thread's last one when it is made of
+/// the same ([`GridKey`]), else a new one (kept for the next call).
+fn shared_grid(cyl: &Cylinder, model: &DesignModel) -> Result<std::rc::Rc<Grid>, SynthError> {
+    model.cycle_model(0.0).check()?;
+    let key = GridKey {
+        cyl: *cyl,
+        burn: model.burn,
+        ivc_deg: model.ivc_deg,
+        evo_deg: model.evo_deg,
+        two_stroke: model.two_stroke,
+    };
+    let hit = LAST_GRID.with(|g| {
+        g.borrow()
+            .as_ref()
+            .filter(|(k, _)| *k == key)
+            .map(|(_, grid)| grid.clone())
+    });
+    if let Some(grid) = hit {
+        return Ok(grid);
+    }
+    let grid = std::rc::Rc::new(Grid::new(cyl, model)?);
+    LAST_GRID.with(|g| *g.borrow_mut() = Some((key, grid.clone())));
+    Ok(grid)
+}
+
 impl Grid {
     fn new(cyl: &Cylinder, model: &DesignModel) -> Result<Self, SynthError> {
         model.cycle_model(0.0).check()?;
@@ -377,7 +422,8 @@ fn solve_at(
 /// fuel following the air at λ ([`Air`]); a load beyond what the
 /// full-load intake pressure gives is refused, naming the most it gives.
 pub fn design(cyl: &Cylinder, model: &DesignModel) -> Result<Design, SynthError> {
-    let grid = Grid::new(cyl, model)?;
+    let grid = shared_grid(cyl, model)?;
+    let grid = grid.as_ref();
     if let Load::Imep { pa } = model.load
         && !(pa.is_finite() && pa > 0.0)
     {
