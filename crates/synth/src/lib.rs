@@ -819,7 +819,13 @@ impl CycleSolution {
     pub fn pressure(&self, deg: f64) -> f64 {
         let m = &self.model;
         let cycle = m.cycle_deg();
-        let mut d = deg.rem_euclid(cycle);
+        // In the cycle already (every caller's grid): as rem_euclid gives it,
+        // without its fmod.
+        let mut d = if (0.0..cycle).contains(&deg) {
+            deg
+        } else {
+            deg.rem_euclid(cycle)
+        };
         if d >= cycle {
             d -= cycle; // rem_euclid can round up to the modulus
         }
