@@ -300,3 +300,28 @@ fn a_report_refuses_what_it_cannot_do() {
         assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     }
 }
+
+/// A chart of a synthesised diagram says so and gives its load; a measured
+/// one does not.
+#[test]
+fn charts_of_a_synthesised_diagram_say_so() {
+    let t = tempfile::tempdir().unwrap();
+    let e = engine(t.path(), &["--combustion", "petrol"], "p.toml", &[], "");
+    let out = t.path().join("run");
+    let o = run(&["run", "--engine", &e, "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    for chart in [
+        "pressure.svg",
+        "forces.svg",
+        "torque.svg",
+        "heat_release.svg",
+    ] {
+        let svg = std::fs::read_to_string(out.join(chart)).unwrap();
+        assert!(svg.contains("synthesised at IMEP 10 bar"), "{chart}");
+    }
+    let measured = t.path().join("measured");
+    let o = run(&["run", "--out", measured.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let svg = std::fs::read_to_string(measured.join("pressure.svg")).unwrap();
+    assert!(!svg.contains("synthesised"));
+}

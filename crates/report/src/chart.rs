@@ -1089,6 +1089,21 @@ impl RunAxis {
     }
 }
 
+/// The operating point as a chart's title names it: `4900 rpm`, and for a
+/// diagram synthesised from `[combustion]` `4900 rpm, synthesised at IMEP
+/// 10 bar`, so that a chart is never taken for a measurement.
+pub(crate) fn point(s: &enginedyn_pipeline::Summary) -> String {
+    match (&s.design, s.imep_bar) {
+        (Some(_), Some(imep)) => format!(
+            "{:.0} rpm, synthesised at IMEP {} bar",
+            s.rpm,
+            crate::human((imep * 100.0).round() / 100.0)
+        ),
+        (Some(_), None) => format!("{:.0} rpm, synthesised", s.rpm),
+        _ => format!("{:.0} rpm", s.rpm),
+    }
+}
+
 /// Values in N as kN.
 fn kilo(v: &[f64]) -> Vec<f64> {
     v.iter().map(|x| x / 1e3).collect()
@@ -1096,7 +1111,6 @@ fn kilo(v: &[f64]) -> Vec<f64> {
 
 /// Pressure: p–φ, and p–V on log-log axes.
 fn pressure_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
-    let rpm = a.summary.rpm;
     let bar: Vec<f64> = a.pressure.iter().map(|p| p / 1e5).collect();
     let litre: Vec<f64> = a.volume.iter().map(|v| v * 1e3).collect();
     let mut pv = Chart {
@@ -1122,7 +1136,7 @@ fn pressure_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
         file: "pressure.svg".into(),
         panels: vec![
             Chart::angle(
-                format!("{name} — cylinder pressure, {rpm:.0} rpm"),
+                format!("{name} — cylinder pressure, {}", point(&a.summary)),
                 "pressure (bar, absolute)",
                 vec![axis.curve("p(φ)", &bar)],
             ),
@@ -1133,14 +1147,14 @@ fn pressure_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
 
 /// Forces on cylinder 1.
 fn forces_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
-    let rpm = a.summary.rpm;
     let f = &a.forces;
     Figure::single(
         "forces.svg",
         Chart::angle(
             format!(
-                "{name} — forces on cylinder 1 ({} rod), {rpm:.0} rpm",
-                a.summary.rod_model
+                "{name} — forces on cylinder 1 ({} rod), {}",
+                a.summary.rod_model,
+                point(&a.summary)
             ),
             "force (kN), positive toward the crank / driving",
             vec![
@@ -1158,7 +1172,7 @@ fn forces_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
 /// Torque: indicated curves; the effective mean beside the indicated one
 /// when a mechanical efficiency below 1 sets them apart.
 fn torque_figure(engine: &Engine, a: &Analysis, axis: &RunAxis) -> Figure {
-    let (name, rpm) = (engine.name(), a.summary.rpm);
+    let name = engine.name();
     let (lo, hi) = (axis.lo, axis.hi);
     let mean = a.uniformity.mean;
     let eta = a.summary.mechanical_efficiency;
@@ -1190,7 +1204,7 @@ fn torque_figure(engine: &Engine, a: &Analysis, axis: &RunAxis) -> Figure {
     Figure::single(
         "torque.svg",
         Chart::angle(
-            format!("{name} — torque, {rpm:.0} rpm"),
+            format!("{name} — torque, {}", point(&a.summary)),
             "torque (N m)",
             torque,
         ),
@@ -1297,7 +1311,6 @@ fn flywheel_figure(name: &str, a: &Analysis, axis: &RunAxis) -> Figure {
 
 /// Harmonics as stems by engine order.
 fn harmonics_figure(name: &str, a: &Analysis) -> Figure {
-    let rpm = a.summary.rpm;
     let stems = |h: &[enginedyn_torque::Harmonic], offset: f64| -> Vec<(f64, f64)> {
         h.iter()
             .filter(|x| x.order > 0.0)
@@ -1315,7 +1328,10 @@ fn harmonics_figure(name: &str, a: &Analysis) -> Figure {
     Figure::single(
         "harmonics.svg",
         Chart {
-            title: format!("{name} — torque harmonics by engine order, {rpm:.0} rpm"),
+            title: format!(
+                "{name} — torque harmonics by engine order, {}",
+                point(&a.summary)
+            ),
             x_label: "engine order (per revolution)".into(),
             y_label: "amplitude (N m)".into(),
             series: vec![

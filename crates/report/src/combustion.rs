@@ -40,12 +40,14 @@ pub fn combustion_figures(engine: &Engine, a: &Analysis) -> Vec<Figure> {
     let step = a.step.to_degrees();
     let w = c.window_deg;
     let name = engine.name();
-    let rpm = a.summary.rpm;
     let caption = format!("{}, {}", c.gamma, c.smoothing);
     let rate = Chart {
         x_label: "crank angle from firing TDC of cylinder 1 (deg)".into(),
         ..Chart::angle(
-            format!("{name} — heat release rate, {rpm:.0} rpm"),
+            format!(
+                "{name} — heat release rate, {}",
+                crate::chart::point(&a.summary)
+            ),
             "dQ/dφ (J/deg), net apparent",
             vec![Series::from_points(
                 format!("dQ/dφ, cylinder 1 (γ {caption})"),

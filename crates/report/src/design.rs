@@ -544,8 +544,8 @@ fn bearings_figure(name: &str, a: &Analysis, prefix: &str) -> Figure {
         format!("{prefix}_main_bearings.svg"),
         Chart::angle(
             format!(
-                "{name} — main-bearing loads, {} rpm",
-                human(a.summary.rpm.round())
+                "{name} — main-bearing loads, {}",
+                crate::chart::point(&a.summary)
             ),
             "load magnitude (kN)",
             series,
