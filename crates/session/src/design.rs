@@ -544,34 +544,17 @@ fn flywheel_section(name: &str, v: &MapView<'_>, map: &SweepMap) -> Result<Secti
             let rim = s
                 .flywheel_outer_diameter_m
                 .map(|d| d * std::f64::consts::PI * top / 60.0);
-            let rows = vec![
-                vec![
-                    "sized at".into(),
-                    format!("{} rpm, IMEP {} bar", human(rpm), fixed(imep, 2)),
-                    String::new(),
-                ],
-                vec![
-                    "inertia needed there".into(),
-                    shown(s.flywheel_inertia_kg_m2, 4),
-                    "kg m²".into(),
-                ],
-                vec![
-                    "outer diameter".into(),
-                    shown(s.flywheel_outer_diameter_m.map(|d| d * 1e3), 0),
-                    "mm".into(),
-                ],
-                vec![
-                    "rim width".into(),
-                    shown(s.flywheel_width_m.map(|d| d * 1e3), 1),
-                    "mm".into(),
-                ],
-                vec!["mass".into(), shown(s.flywheel_mass_kg, 2), "kg".into()],
-                vec![
-                    "rim speed at the highest speed".into(),
-                    shown(rim, 1),
-                    "m/s".into(),
-                ],
-            ];
+            let mut rows = vec![vec![
+                "sized at".into(),
+                format!("{} rpm, IMEP {} bar", human(rpm), fixed(imep, 2)),
+                String::new(),
+            ]];
+            rows.extend(part_rows(s));
+            rows.push(vec![
+                "rim speed at the highest speed".into(),
+                shown(rim, 1),
+                "m/s".into(),
+            ]);
             body.push_str(&enginedyn_report::text_table(
                 &["flywheel", "value", "unit"],
                 &rows,
@@ -637,29 +620,17 @@ fn delta_table(v: &MapView<'_>) -> String {
 
 fn point_flywheel_section(a: &Analysis) -> Section {
     let s = &a.summary;
-    let rows = vec![
-        vec![
-            "inertia needed".into(),
-            shown(s.required_inertia_kg_m2, 4),
-            "kg m²".into(),
-        ],
-        vec![
-            "flywheel inertia".into(),
-            shown(s.flywheel_inertia_kg_m2, 4),
-            "kg m²".into(),
-        ],
-        vec![
-            "outer diameter".into(),
-            shown(s.flywheel_outer_diameter_m.map(|d| d * 1e3), 0),
-            "mm".into(),
-        ],
-        vec!["mass".into(), shown(s.flywheel_mass_kg, 2), "kg".into()],
-        vec![
-            "speed fluctuation δ achieved".into(),
-            shown(s.speed_fluctuation_achieved, 4),
-            String::new(),
-        ],
-    ];
+    let mut rows = vec![vec![
+        "inertia needed".into(),
+        shown(s.required_inertia_kg_m2, 4),
+        "kg m²".into(),
+    ]];
+    rows.extend(part_rows(s));
+    rows.push(vec![
+        "speed fluctuation δ achieved".into(),
+        shown(s.speed_fluctuation_achieved, 4),
+        String::new(),
+    ]);
     Section {
         id: "flywheel",
         heading: "The flywheel".into(),
@@ -671,6 +642,29 @@ fn point_flywheel_section(a: &Analysis) -> Section {
         ),
         ..Section::default()
     }
+}
+
+/// The flywheel part of `s` as table rows: its inertia, outer diameter,
+/// width and mass with their units.
+fn part_rows(s: &enginedyn_pipeline::Summary) -> Vec<Vec<String>> {
+    vec![
+        vec![
+            "flywheel inertia".into(),
+            shown(s.flywheel_inertia_kg_m2, 4),
+            "kg m²".into(),
+        ],
+        vec![
+            "outer diameter".into(),
+            shown(s.flywheel_outer_diameter_m.map(|d| d * 1e3), 0),
+            "mm".into(),
+        ],
+        vec![
+            "rim width".into(),
+            shown(s.flywheel_width_m.map(|d| d * 1e3), 1),
+            "mm".into(),
+        ],
+        vec!["mass".into(), shown(s.flywheel_mass_kg, 2), "kg".into()],
+    ]
 }
 
 /// A figure with `digits` decimals, `–` when absent.
