@@ -434,12 +434,12 @@ pub fn design(cyl: &Cylinder, model: &DesignModel) -> Result<Design, SynthError>
         });
     }
     match model.air {
-        Some(air) if air.charge.kind == ChargeKind::Si => by_throttle(cyl, model, &grid, air),
+        Some(air) if air.charge.kind == ChargeKind::Si => by_throttle(cyl, model, grid, air),
         Some(air) => {
-            let d = by_fuel(cyl, model, &grid)?;
-            within_air(cyl, model, &grid, air, d)
+            let d = by_fuel(cyl, model, grid)?;
+            within_air(cyl, model, grid, air, d)
         }
-        None => by_fuel(cyl, model, &grid),
+        None => by_fuel(cyl, model, grid),
     }
 }
 
