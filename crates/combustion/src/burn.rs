@@ -321,27 +321,25 @@ struct Passed {
     extremes: (usize, usize),
 }
 
-/// The running figures of [`pass`], carried from one piece of the volume
-/// law to the next.
+/// The running figures of [`piece`], carried from one piece of the volume
+/// law to the next: the work, the last `p dV/dφ`, `Σ (p − p_smooth)²`,
+/// `Σ (h dV)²` and the largest volume (at least 0).
 #[derive(Clone, Copy)]
 struct Acc {
     work: f64,
     prev: f64,
-    peak: (f64, usize),
     res2: f64,
     dv2: f64,
     v_max: f64,
-    min: (f64, usize),
-    max: (f64, usize),
-    soc: usize,
 }
 
 /// The one pass over the window: the trapezoidal work `∫ p dV`, the
-/// smoothed pressure and with it the energy term, the pressure peak, the
-/// residuals of the noise fit and the cumulative's extremes. The window's
-/// pressure (with the filter's reach either side) is copied out once and
-/// smoothed in one sweep; the volume law is read in its (at most two)
-/// contiguous pieces.
+/// smoothed pressure and with it the energy term, the residuals of the
+/// noise fit and the volume law's sums; then the pressure peak and the
+/// cumulative's extremes, each a scan of its own ([`first_max`]). The
+/// window's pressure (with the filter's reach either side) is copied out
+/// once and smoothed in one sweep; the volume law is read in its (at most
+/// two) contiguous pieces.
 fn pass(
     g: &CycleGrid,
     f: &Filter,
@@ -357,49 +355,52 @@ fn pass(
     f.values_into(&s.pw, m, &mut s.ps);
     s.qs.resize(len, 0.0);
     let (n, k0) = (g.volume.len(), wrap(i0, g.n()));
-    let mut a = Acc {
+    let a = Acc {
         work: 0.0,
         prev: s.pw[m] * g.dvolume[k0],
-        peak: (f64::NEG_INFINITY, 0),
         res2: 0.0,
         dv2: 0.0,
         v_max: 0.0,
-        min: (f64::INFINITY, 0),
-        max: (f64::NEG_INFINITY, 0),
-        soc: 0,
     };
     let first = (n - k0).min(len);
     let (pw, ps, qs) = (&s.pw[m..m + len], &s.ps[..], &mut s.qs[..]);
     let (q0, q1) = qs.split_at_mut(first);
     let law0 = (&g.volume[k0..k0 + first], &g.dvolume[k0..k0 + first]);
     let law1 = (&g.volume[..len - first], &g.dvolume[..len - first]);
-    a = piece(a, 0, (&pw[..first], &ps[..first], q0), law0, h, &energy);
-    a = piece(a, first, (&pw[first..], &ps[first..], q1), law1, h, &energy);
+    let a = piece(a, true, (&pw[..first], &ps[..first], q0), law0, h, &energy);
+    let mut a = piece(
+        a,
+        first == 0,
+        (&pw[first..], &ps[first..], q1),
+        law1,
+        h,
+        &energy,
+    );
     if !f.fits_by_value() {
         a.res2 = f.residual2_in(&s.pw, m, &s.ps);
     }
     Passed {
-        peak: a.peak,
+        peak: first_max(pw),
         sums: [a.res2, a.dv2, a.v_max],
-        extremes: (a.soc, a.max.1),
+        extremes: extremes(&s.qs),
     }
 }
 
-/// [`pass`] over the window points `from..` that lie on one contiguous
-/// piece `(V, dV)` of the volume law.
+/// [`pass`] over the window points that lie on one contiguous piece `(V,
+/// dV)` of the volume law (`start`: the piece begins the window, whose
+/// first point adds no trapezoid).
 #[inline(always)]
 fn piece(
     mut a: Acc,
-    from: usize,
+    start: bool,
     (pw, ps, qs): (&[f64], &[f64], &mut [f64]),
     (v, dv): (&[f64], &[f64]),
     h: f64,
     energy: &impl Fn(f64) -> f64,
 ) -> Acc {
-    let points = qs.iter_mut().zip(pw).zip(ps).zip(v.iter().zip(dv));
-    for (j, (((q, &p), &ps), (&v, &dv))) in (from..).zip(points) {
+    let point = |a: &mut Acc, q: &mut f64, p: f64, ps: f64, v: f64, dv: f64, first: bool| {
         let pdv = p * dv;
-        if j > 0 {
+        if !first {
             a.work += 0.5 * h * (a.prev + pdv);
         }
         a.prev = pdv;
@@ -410,20 +411,81 @@ fn piece(
         if v > a.v_max {
             a.v_max = v;
         }
-        if p > a.peak.0 {
-            a.peak = (p, j);
-        }
-        let qj = a.work + energy(ps * v);
-        *q = qj;
-        if qj < a.min.0 {
-            a.min = (qj, j);
-        }
-        if qj > a.max.0 {
-            a.max = (qj, j);
-            a.soc = a.min.1;
-        }
+        *q = a.work + energy(ps * v);
+    };
+    let skip = usize::from(start && !qs.is_empty());
+    if skip == 1 {
+        point(&mut a, &mut qs[0], pw[0], ps[0], v[0], dv[0], true);
+    }
+    let law = v[skip..].iter().zip(&dv[skip..]);
+    for (((q, &p), &ps), (&v, &dv)) in qs[skip..]
+        .iter_mut()
+        .zip(&pw[skip..])
+        .zip(&ps[skip..])
+        .zip(law)
+    {
+        point(&mut a, q, p, ps, v, dv, false);
     }
     a
+}
+
+/// The largest value of `x` and its index (the first, if tied; NaN passed
+/// over; `(−∞, 0)` when none is over −∞), as a running `if x > max` finds
+/// them, in scans that vectorise: each block's largest in four lanes, the
+/// first block that holds the largest, then its first index there.
+fn first_max(x: &[f64]) -> (f64, usize) {
+    let (top, block) = block_extreme(x, f64::NEG_INFINITY, |v, m| v > m);
+    if top == f64::NEG_INFINITY {
+        return (top, 0);
+    }
+    let at = first_equal(x, block, top);
+    (x[at], at)
+}
+
+/// The smallest value's index in `x`, as [`first_max`] (the first, if
+/// tied; 0 when none is under +∞).
+fn first_min(x: &[f64]) -> usize {
+    let (low, block) = block_extreme(x, f64::INFINITY, |v, m| v < m);
+    if low == f64::INFINITY {
+        return 0;
+    }
+    first_equal(x, block, low)
+}
+
+/// The points a block of [`block_extreme`] spans.
+const BLOCK: usize = 64;
+
+/// The extreme of `x` by `better` (a strict compare: `v > m` or `v < m`)
+/// from `init`, and the first [`BLOCK`] that holds it (NaN passed over):
+/// each block's extreme in four lanes, kept where it beats the blocks
+/// before.
+#[inline(always)]
+fn block_extreme(x: &[f64], init: f64, better: impl Fn(f64, f64) -> bool) -> (f64, usize) {
+    let (mut best, mut at) = (init, 0);
+    for (b, block) in x.chunks(BLOCK).enumerate() {
+        let mut lanes = [init; 4];
+        let chunks = block.chunks_exact(4);
+        let rest = chunks.remainder();
+        for c in chunks {
+            for (m, &v) in lanes.iter_mut().zip(c) {
+                *m = if better(v, *m) { v } else { *m };
+            }
+        }
+        for &v in lanes.iter().chain(rest) {
+            if better(v, best) {
+                best = v;
+                at = b;
+            }
+        }
+    }
+    (best, at)
+}
+
+/// The first index of `x` from block `block` on whose value equals `y`
+/// (the block holds one).
+fn first_equal(x: &[f64], block: usize, y: f64) -> usize {
+    let from = block * BLOCK;
+    from + x[from..].iter().position(|&v| v == y).unwrap_or(0)
 }
 
 impl Window<'_> {
@@ -661,19 +723,12 @@ pub fn analyse(g: &CycleGrid, opts: &Options) -> Result<CycleBurn, CombustionErr
 }
 
 /// The smoothed cumulative's extremes: the index of its largest value
-/// (the first, if tied) and of the smallest before it.
+/// (the first, if tied) and of the smallest before it (the first, if
+/// tied): a running minimum's index where the running maximum was last
+/// raised, in scans ([`first_max`], [`first_min`]).
 fn extremes(qs: &[f64]) -> (usize, usize) {
-    let (mut min, mut max, mut soc) = ((f64::INFINITY, 0), (f64::NEG_INFINITY, 0), 0);
-    for (j, &q) in qs.iter().enumerate() {
-        if q < min.0 {
-            min = (q, j);
-        }
-        if q > max.0 {
-            max = (q, j);
-            soc = min.1;
-        }
-    }
-    (soc, max.1)
+    let (_, jmax) = first_max(qs);
+    (first_min(&qs[..(jmax + 1).min(qs.len())]), jmax)
 }
 
 /// [`analyse`] with the filter built once for many cycles (and the
@@ -1301,6 +1356,78 @@ mod tests {
             }
         }
         assert!(checked >= 40 && burning >= 30, "{checked} {burning}");
+    }
+
+    /// The scans of [`first_max`] and [`extremes`] against the running
+    /// loop they replace, on data shaped to defeat them: ties (the first
+    /// wins), the extreme in the last point or a block's first, NaN, ±∞,
+    /// ±0, flat data, noise, and every length about a block's.
+    #[test]
+    fn the_scans_find_what_the_running_loop_finds() {
+        fn running(x: &[f64]) -> ((f64, usize), (usize, usize)) {
+            let (mut min, mut max, mut soc) = ((f64::INFINITY, 0), (f64::NEG_INFINITY, 0), 0);
+            for (j, &q) in x.iter().enumerate() {
+                if q < min.0 {
+                    min = (q, j);
+                }
+                if q > max.0 {
+                    max = (q, j);
+                    soc = min.1;
+                }
+            }
+            (max, (soc, max.1))
+        }
+        let mut cases: Vec<Vec<f64>> = vec![
+            vec![],
+            vec![f64::NAN],
+            vec![f64::NAN; 5],
+            vec![f64::NEG_INFINITY, f64::NEG_INFINITY],
+            vec![f64::NAN, f64::NEG_INFINITY, 1.0],
+            vec![f64::INFINITY, 2.0, f64::INFINITY],
+            vec![-0.0, 0.0, -0.0],
+            vec![0.0, -0.0, 0.0, -1.0, -0.0],
+        ];
+        for len in [
+            1usize, 3, 4, 5, 7, 8, 63, 64, 65, 127, 128, 129, 130, 300, 2101,
+        ] {
+            let mut p = vec![0.0; len];
+            noise(&mut p, 1.0, len as u64);
+            cases.push(p.clone());
+            cases.push(vec![3.5; len]);
+            let mut spike = p.clone();
+            spike[len - 1] = 1e9;
+            cases.push(spike);
+            let mut low = p.clone();
+            low[len - 1] = -1e9;
+            cases.push(low);
+            for at in [0, len / 2, len.saturating_sub(64), 64.min(len - 1)] {
+                let mut tie = p.clone();
+                tie[at] = 7.0;
+                tie[len - 1] = 7.0;
+                tie[len / 3] = -7.0;
+                tie[len / 4] = -7.0;
+                cases.push(tie.clone());
+                tie[at] = f64::NAN;
+                cases.push(tie);
+            }
+            let mut nan = p.clone();
+            for k in (0..len).step_by(3) {
+                nan[k] = f64::NAN;
+            }
+            cases.push(nan);
+            // Rising then falling (the cumulative's shape).
+            cases.push((0..len).map(|k| (k as f64 * 0.01).sin()).collect());
+        }
+        for (c, x) in cases.iter().enumerate() {
+            let (max, ext) = running(x);
+            let got = first_max(x);
+            assert_eq!(
+                (got.0.to_bits(), got.1),
+                (max.0.to_bits(), max.1),
+                "case {c}: {x:?}"
+            );
+            assert_eq!(extremes(x), ext, "case {c}: {x:?}");
+        }
     }
 
     /// `curves`' rate against the plain weight sums at every grid point
