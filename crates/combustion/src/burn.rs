@@ -253,12 +253,16 @@ struct Scratch {
     /// The window's pressure with the filter's reach either side
     /// ([`Filter::reach`]): window index `j` is `pw[j + reach]`.
     pw: Vec<f64>,
-    /// The smoothed pressure, one value a window point.
-    ps: Vec<f64>,
+    /// The smoothed pressure and, with the running sums, the smoothed
+    /// slope (Pa/°), `[p, dp/dφ]` a window point
+    /// ([`Filter::values_slopes_into`]).
+    vs: Vec<[f64; 2]>,
     /// The smoothed cumulative (J), one value a window point.
     qs: Vec<f64>,
     /// The smoothed slope over the span the pressure rise searches.
     slope: Vec<f64>,
+    /// [`Self::vs`] holds the slopes.
+    slopes: bool,
     /// The wall heat's cumulative (J), one value a window point.
     wall: Vec<f64>,
 }
@@ -351,8 +355,8 @@ fn pass(
     let len = (i1 - i0 + 1) as usize;
     let m = f.reach();
     copy_periodic(g.pressure, i0 - m as i64, len + 2 * m, &mut s.pw);
-    s.ps.resize(len, 0.0);
-    f.values_into(&s.pw, m, &mut s.ps);
+    s.vs.resize(len, [0.0; 2]);
+    s.slopes = f.values_slopes_into(&s.pw, m, &mut s.vs);
     s.qs.resize(len, 0.0);
     let (n, k0) = (g.volume.len(), wrap(i0, g.n()));
     let a = Acc {
@@ -363,7 +367,7 @@ fn pass(
         v_max: 0.0,
     };
     let first = (n - k0).min(len);
-    let (pw, ps, qs) = (&s.pw[m..m + len], &s.ps[..], &mut s.qs[..]);
+    let (pw, ps, qs) = (&s.pw[m..m + len], &s.vs[..], &mut s.qs[..]);
     let (q0, q1) = qs.split_at_mut(first);
     let law0 = (&g.volume[k0..k0 + first], &g.dvolume[k0..k0 + first]);
     let law1 = (&g.volume[..len - first], &g.dvolume[..len - first]);
@@ -377,7 +381,9 @@ fn pass(
         &energy,
     );
     if !f.fits_by_value() {
-        a.res2 = f.residual2_in(&s.pw, m, &s.ps);
+        // The fit is the five-point one (the filter off): it takes no
+        // smoothed value, the slice only gives the count.
+        a.res2 = f.residual2_in(&s.pw, m, &s.pw[m..m + len]);
     }
     Passed {
         peak: first_max(pw),
@@ -393,7 +399,7 @@ fn pass(
 fn piece(
     mut a: Acc,
     start: bool,
-    (pw, ps, qs): (&[f64], &[f64], &mut [f64]),
+    (pw, ps, qs): (&[f64], &[[f64; 2]], &mut [f64]),
     (v, dv): (&[f64], &[f64]),
     h: f64,
     energy: &impl Fn(f64) -> f64,
@@ -415,10 +421,10 @@ fn piece(
     };
     let skip = usize::from(start && !qs.is_empty());
     if skip == 1 {
-        point(&mut a, &mut qs[0], pw[0], ps[0], v[0], dv[0], true);
+        point(&mut a, &mut qs[0], pw[0], ps[0][0], v[0], dv[0], true);
     }
     let law = v[skip..].iter().zip(&dv[skip..]);
-    for (((q, &p), &ps), (&v, &dv)) in qs[skip..]
+    for (((q, &p), &[ps, _]), (&v, &dv)) in qs[skip..]
         .iter_mut()
         .zip(&pw[skip..])
         .zip(&ps[skip..])
@@ -832,7 +838,7 @@ fn wall_cumulative(
     let half = 0.5 * g.step_deg;
     out.clear();
     let (mut total, mut prev) = (0.0, 0.0);
-    for (j, &p) in win.s.ps.iter().enumerate() {
+    for (j, &[p, _]) in win.s.vs.iter().enumerate() {
         let (k, v) = (win.i0 + j as i64, win.vol(j));
         let burning = soc_deg.is_some_and(|soc| k as f64 * g.step_deg >= soc);
         let r = rate.rate(p, v, burning);
@@ -1004,17 +1010,18 @@ fn pressure_rise(win: &mut Window, soc: usize, eoc: usize) -> (f64, f64) {
     let last = win.s.qs.len() - 1;
     let (lo, hi) = (soc.saturating_sub(1), (eoc.max(soc) + 1).min(last));
     let buf = &mut win.s.slope;
-    buf.resize(hi - lo + 1, 0.0);
-    win.f.slopes_into(&win.s.pw, lo + win.f.reach(), buf);
-    let slope = |j: usize| buf[j - lo];
-    let (mut top, mut j_top) = (f64::NEG_INFINITY, soc);
-    for j in soc..=eoc.max(soc) {
-        let s = slope(j);
-        if s > top {
-            top = s;
-            j_top = j;
-        }
+    if win.s.slopes {
+        buf.clear();
+        buf.extend(win.s.vs[lo..=hi].iter().map(|v| v[1]));
+    } else {
+        buf.resize(hi - lo + 1, 0.0);
+        win.f.slopes_into(&win.s.pw, lo + win.f.reach(), buf);
     }
+    let slope = |j: usize| buf[j - lo];
+    // The largest (the first, if tied) as a running `if s > top` from −∞
+    // at SOC.
+    let (top, at) = first_max(&buf[soc - lo..=eoc.max(soc) - lo]);
+    let j_top = soc + at;
     let (mut value, mut x) = (top, j_top as f64);
     if j_top > 0 && j_top < last {
         let (a, c) = (slope(j_top - 1), slope(j_top + 1));
