@@ -5,6 +5,7 @@
 use crate::knock::{Knock, KnockFigures, Unresolved};
 use crate::wall::{Trapped, WallHeat};
 use crate::{CombustionError, GammaModel, Smoothing, check_range, smooth::Filter};
+use wide::{CmpGt, CmpLt};
 
 /// The burn levels reported by default (percent).
 pub const DEFAULT_LEVELS: [f64; 4] = [5.0, 10.0, 50.0, 90.0];
@@ -525,7 +526,9 @@ impl Window<'_> {
         (lo, hi): (f64, f64),
     ) -> (usize, f64) {
         let qs = &self.s.qs[..=to];
-        let mut j = from;
+        // Points under `lo` and not at or over `hi` stop no search: passed
+        // over four at a time.
+        let mut j = skip_rising(qs, from, to, (lo, hi));
         while j < to {
             let q = qs[j];
             if (q >= hi && self.vol(j) >= 0.0) || (!(q < lo) && q >= target(j)) {
@@ -562,7 +565,9 @@ impl Window<'_> {
         (lo, hi): (f64, f64),
     ) -> (usize, f64) {
         let qs = &self.s.qs[..=from];
-        let mut j = from;
+        // Points over `hi` and not at or under `lo` stop no search: passed
+        // over four at a time.
+        let mut j = skip_falling(qs, from, to, (lo, hi));
         while j > to {
             let q = qs[j];
             if (q <= lo && self.vol(j) >= 0.0) || (!(q > hi) && q <= target(j)) {
@@ -611,6 +616,85 @@ impl Window<'_> {
     fn deg(&self, j: f64) -> f64 {
         (self.i0 as f64 + j) * self.g.step_deg
     }
+}
+
+/// The first index from `from` (by eights, before `to`) at which a point
+/// of the next eight may stop [`Window::rising_by`]: each point passed
+/// over lies under `lo` and not at or over `hi` (a NaN `lo` passes none).
+#[inline]
+fn skip_rising(qs: &[f64], from: usize, to: usize, (lo, hi): (f64, f64)) -> usize {
+    // `q < lo && !(q >= hi)` as one compare `q < under`.
+    let under = match (lo.is_nan(), hi.is_nan()) {
+        (true, _) => f64::NAN,
+        (false, true) => lo,
+        (false, false) => lo.min(hi),
+    };
+    skip_by_eights(qs, from, to, |x| x.cmp_lt(wide::f64x2::splat(under)))
+}
+
+/// [`skip_rising`] for [`Window::falling_by`], back from `from` (by
+/// eights, after `to`): each point passed over lies over `hi` and not at
+/// or under `lo` (a NaN `hi` passes none).
+#[inline]
+fn skip_falling(qs: &[f64], from: usize, to: usize, (lo, hi): (f64, f64)) -> usize {
+    // `q > hi && !(q <= lo)` as one compare `q > over`.
+    let over = match (hi.is_nan(), lo.is_nan()) {
+        (true, _) => f64::NAN,
+        (false, true) => hi,
+        (false, false) => hi.max(lo),
+    };
+    if from < to + 8 {
+        return from;
+    }
+    // The same scan on the reversed span: index `from − i` is `i` there.
+    let span = &qs[to + 1..=from];
+    let back = span.len() - skip_by_eights_rev(span, |x| x.cmp_gt(wide::f64x2::splat(over)));
+    to + back
+}
+
+/// The first index from `from` by eights (before `to`) whose eight points
+/// do not all pass `pass` (a lane mask, two points at a time).
+#[inline(always)]
+fn skip_by_eights(
+    qs: &[f64],
+    from: usize,
+    to: usize,
+    pass: impl Fn(wide::f64x2) -> wide::f64x2,
+) -> usize {
+    use wide::f64x2;
+    let mut j = from;
+    while j + 8 <= to {
+        let c = &qs[j..j + 8];
+        let m = pass(f64x2::new([c[0], c[1]]))
+            & pass(f64x2::new([c[2], c[3]]))
+            & pass(f64x2::new([c[4], c[5]]))
+            & pass(f64x2::new([c[6], c[7]]));
+        if m.move_mask() != 0b11 {
+            break;
+        }
+        j += 8;
+    }
+    j
+}
+
+/// How many points at the end of `span` pass `pass`, counted by eights
+/// (a multiple of 8: the last eight that do not all pass ends the count).
+#[inline(always)]
+fn skip_by_eights_rev(span: &[f64], pass: impl Fn(wide::f64x2) -> wide::f64x2) -> usize {
+    use wide::f64x2;
+    let mut n = 0;
+    while n + 8 <= span.len() {
+        let c = &span[span.len() - n - 8..span.len() - n];
+        let m = pass(f64x2::new([c[0], c[1]]))
+            & pass(f64x2::new([c[2], c[3]]))
+            & pass(f64x2::new([c[4], c[5]]))
+            & pass(f64x2::new([c[6], c[7]]));
+        if m.move_mask() != 0b11 {
+            break;
+        }
+        n += 8;
+    }
+    n
 }
 
 /// The index range `[i0, i1]` of grid points inside `window_deg`.
@@ -1434,6 +1518,58 @@ mod tests {
                 "case {c}: {x:?}"
             );
             assert_eq!(extremes(x), ext, "case {c}: {x:?}");
+        }
+    }
+
+    /// The searches' skips pass over only points that stop no search, on
+    /// data shaped to defeat them (NaN, ±∞, ties with the bounds, a point
+    /// just over in each place of an eight), with NaN and infinite bounds
+    /// and the bounds either way round; and they stop no later than the
+    /// first eight that holds a point to check.
+    #[test]
+    fn the_searches_skip_only_what_stops_no_search() {
+        let mut p = vec![0.0; 203];
+        noise(&mut p, 1.0, 5);
+        let mut cases = vec![p.clone(), vec![0.25; 203]];
+        for k in [0usize, 7, 8, 9, 100, 101, 150, 202] {
+            let mut c = p.clone();
+            c[k] = f64::NAN;
+            cases.push(c.clone());
+            c[k] = 0.3;
+            cases.push(c.clone());
+            c[k] = f64::INFINITY;
+            cases.push(c.clone());
+            c[k] = f64::NEG_INFINITY;
+            cases.push(c);
+        }
+        let values = [
+            f64::NAN,
+            f64::NEG_INFINITY,
+            -0.5,
+            0.0,
+            0.25,
+            0.3,
+            0.5,
+            f64::INFINITY,
+        ];
+        for q in &cases {
+            for &lo in &values {
+                for &hi in &values {
+                    let rising = |x: f64| x < lo && !(x >= hi);
+                    let falling = |x: f64| x > hi && !(x <= lo);
+                    for (from, to) in [(0, 202), (3, 202), (0, 17), (5, 5), (9, 4), (0, 7)] {
+                        let j = skip_rising(q, from, to, (lo, hi));
+                        assert!(j >= from && (j == from || j <= to), "{lo} {hi} {from} {to}");
+                        assert!(q[from..j].iter().all(|&x| rising(x)), "{lo} {hi}");
+                        let stop = (from..to).find(|&k| !rising(q[k])).unwrap_or(to.max(from));
+                        assert!(j + 8 > stop || j == from.max(stop), "{lo} {hi} {j} {stop}");
+                        let (f, t) = (to.max(from), from.min(to));
+                        let j = skip_falling(q, f, t, (lo, hi));
+                        assert!(j <= f && (j == f || j >= t), "{lo} {hi} {f} {t}");
+                        assert!(q[j + 1..=f].iter().all(|&x| falling(x)), "{lo} {hi}");
+                    }
+                }
+            }
         }
     }
 

@@ -523,23 +523,13 @@ impl Moments {
             let (ca, cb) = (from + 2 * k * step, from + (2 * k + 1) * step);
             let ((ta, ra), (tb, rb)) = (start(ca), start(cb));
             let r = wide::f64x2::new([ra, rb]);
-            let mut t: [wide::f64x2; 4] = std::array::from_fn(|j| wide::f64x2::new([ta[j], tb[j]]));
+            let t: [wide::f64x2; 4] = std::array::from_fn(|j| wide::f64x2::new([ta[j], tb[j]]));
             oa[0] = y.y(&ta, ra);
             ob[0] = y.y(&tb, rb);
             // Centre c0 + k drops s[c0 + k − 1 − m] and takes s[c0 + k + m].
-            let lanes = oa[1..].iter_mut().zip(ob[1..].iter_mut());
-            let outs = s[ca - m..].iter().zip(&s[cb - m..]);
-            let ins = s[ca + m + 1..].iter().zip(&s[cb + m + 1..]);
-            for (((ya, yb), (&poa, &pob)), (&pia, &pib)) in lanes.zip(outs).zip(ins) {
-                let (qo, qi) = (
-                    wide::f64x2::new([poa, pob]) - r,
-                    wide::f64x2::new([pia, pib]) - r,
-                );
-                slide::<_, SLOPE>(&mut t, qo, qi, &c2);
-                let both = y.y(&t, r).map(wide::f64x2::to_array);
-                *ya = std::array::from_fn(|o| both[o][0]);
-                *yb = std::array::from_fn(|o| both[o][1]);
-            }
+            let outs = (&s[ca - m..], &s[cb - m..]);
+            let ins = (&s[ca + m + 1..], &s[cb + m + 1..]);
+            two_lanes::<SLOPE, K>((&mut oa[1..], &mut ob[1..]), outs, ins, (t, r), &c2, y);
         }
         for (k, o) in one.chunks_mut(step).enumerate() {
             let c0 = from + pairs + k * step;
@@ -551,6 +541,34 @@ impl Moments {
                 *yk = y.y(&t, r);
             }
         }
+    }
+}
+
+/// The slides of two stretches side by side in the lanes of one vector
+/// register from their first centres' moments `t` (about `r`): `outs`
+/// the samples leaving, `ins` those entering, each lane's outputs into
+/// its stretch. A function of its own, so that the compiler keeps the
+/// moments in vector registers whatever is inlined about it.
+#[inline(never)]
+fn two_lanes<const SLOPE: bool, const K: usize>(
+    (oa, ob): (&mut [[f64; K]], &mut [[f64; K]]),
+    outs: (&[f64], &[f64]),
+    ins: (&[f64], &[f64]),
+    (mut t, r): ([wide::f64x2; 4], wide::f64x2),
+    c: &[wide::f64x2; 6],
+    y: &impl Outputs<K>,
+) {
+    let lanes = oa.iter_mut().zip(ob.iter_mut());
+    let (outs, ins) = (outs.0.iter().zip(outs.1), ins.0.iter().zip(ins.1));
+    for (((ya, yb), (&poa, &pob)), (&pia, &pib)) in lanes.zip(outs).zip(ins) {
+        let (qo, qi) = (
+            wide::f64x2::new([poa, pob]) - r,
+            wide::f64x2::new([pia, pib]) - r,
+        );
+        slide::<_, SLOPE>(&mut t, qo, qi, c);
+        let both = y.y(&t, r).map(wide::f64x2::to_array);
+        *ya = std::array::from_fn(|o| both[o][0]);
+        *yb = std::array::from_fn(|o| both[o][1]);
     }
 }
 
