@@ -521,11 +521,11 @@ impl Moments {
         for (k, o) in two.chunks_exact_mut(2 * step).enumerate() {
             let (oa, ob) = o.split_at_mut(step);
             let (ca, cb) = (from + 2 * k * step, from + (2 * k + 1) * step);
-            let ((ta, ra), (tb, rb)) = (start(ca), start(cb));
-            let r = wide::f64x2::new([ra, rb]);
-            let t: [wide::f64x2; 4] = std::array::from_fn(|j| wide::f64x2::new([ta[j], tb[j]]));
-            oa[0] = y.y(&ta, ra);
-            ob[0] = y.y(&tb, rb);
+            let r = wide::f64x2::new([s[ca], s[cb]]);
+            let t = two_starts::<SLOPE>((&s[ca - m..=ca + m], &s[cb - m..=cb + m]), r, m);
+            let first = y.y(&t, r).map(wide::f64x2::to_array);
+            oa[0] = std::array::from_fn(|o| first[o][0]);
+            ob[0] = std::array::from_fn(|o| first[o][1]);
             // Centre c0 + k drops s[c0 + k − 1 − m] and takes s[c0 + k + m].
             let outs = (&s[ca - m..], &s[cb - m..]);
             let ins = (&s[ca + m + 1..], &s[cb + m + 1..]);
@@ -542,6 +542,33 @@ impl Moments {
             }
         }
     }
+}
+
+/// [`moments`] of two windows `w` (each of `2m + 1` points) about their
+/// samples `r`, side by side in the lanes of one vector register: lane by
+/// lane the same steps (`T3` only when `SLOPE`).
+#[inline(always)]
+fn two_starts<const SLOPE: bool>(
+    (wa, wb): (&[f64], &[f64]),
+    r: wide::f64x2,
+    m: usize,
+) -> [wide::f64x2; 4] {
+    let mut t = [wide::f64x2::splat(0.0); 4];
+    let mut x = -(m as f64);
+    for (&pa, &pb) in wa.iter().zip(wb) {
+        let xv = wide::f64x2::splat(x);
+        let mut term = wide::f64x2::new([pa, pb]) - r;
+        t[0] = t[0] + term;
+        term = term * xv;
+        t[1] = t[1] + term;
+        term = term * xv;
+        t[2] = t[2] + term;
+        if SLOPE {
+            t[3] = t[3] + term * xv;
+        }
+        x += 1.0;
+    }
+    t
 }
 
 /// The slides of two stretches side by side in the lanes of one vector
