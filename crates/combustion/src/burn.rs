@@ -527,7 +527,7 @@ impl Window<'_> {
     ) -> (usize, f64) {
         let qs = &self.s.qs[..=to];
         // Points under `lo` and not at or over `hi` stop no search: passed
-        // over four at a time.
+        // over eight at a time ([`skip_rising`]).
         let mut j = skip_rising(qs, from, to, (lo, hi));
         while j < to {
             let q = qs[j];
@@ -566,7 +566,7 @@ impl Window<'_> {
     ) -> (usize, f64) {
         let qs = &self.s.qs[..=from];
         // Points over `hi` and not at or under `lo` stop no search: passed
-        // over four at a time.
+        // over eight at a time ([`skip_falling`]).
         let mut j = skip_falling(qs, from, to, (lo, hi));
         while j > to {
             let q = qs[j];
