@@ -489,10 +489,11 @@ fn block_extreme(x: &[f64], init: f64, better: impl Fn(f64, f64) -> bool) -> (f6
 }
 
 /// The first index of `x` from block `block` on whose value equals `y`
-/// (the block holds one).
+/// (the block holds one; ±0 equal, as the running compares take them).
 fn first_equal(x: &[f64], block: usize, y: f64) -> usize {
     let from = block * BLOCK;
-    from + x[from..].iter().position(|&v| v == y).unwrap_or(0)
+    let equal = |v: &f64| v.partial_cmp(&y) == Some(std::cmp::Ordering::Equal);
+    from + x[from..].iter().position(equal).unwrap_or(0)
 }
 
 impl Window<'_> {

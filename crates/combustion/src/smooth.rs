@@ -558,13 +558,13 @@ fn two_starts<const SLOPE: bool>(
     for (&pa, &pb) in wa.iter().zip(wb) {
         let xv = wide::f64x2::splat(x);
         let mut term = wide::f64x2::new([pa, pb]) - r;
-        t[0] = t[0] + term;
-        term = term * xv;
-        t[1] = t[1] + term;
-        term = term * xv;
-        t[2] = t[2] + term;
+        t[0] += term;
+        term *= xv;
+        t[1] += term;
+        term *= xv;
+        t[2] += term;
         if SLOPE {
-            t[3] = t[3] + term * xv;
+            t[3] += term * xv;
         }
         x += 1.0;
     }
