@@ -5,6 +5,7 @@
 use crate::knock::{Knock, KnockFigures, Unresolved};
 use crate::wall::{Trapped, WallHeat};
 use crate::{CombustionError, GammaModel, Smoothing, check_range, smooth::Filter};
+use wide::{CmpGt, CmpLt};
 
 /// The burn levels reported by default (percent).
 pub const DEFAULT_LEVELS: [f64; 4] = [5.0, 10.0, 50.0, 90.0];
@@ -253,12 +254,16 @@ struct Scratch {
     /// The window's pressure with the filter's reach either side
     /// ([`Filter::reach`]): window index `j` is `pw[j + reach]`.
     pw: Vec<f64>,
-    /// The smoothed pressure, one value a window point.
-    ps: Vec<f64>,
+    /// The smoothed pressure and, with the running sums, the smoothed
+    /// slope (Pa/°), `[p, dp/dφ]` a window point
+    /// ([`Filter::values_slopes_into`]).
+    vs: Vec<[f64; 2]>,
     /// The smoothed cumulative (J), one value a window point.
     qs: Vec<f64>,
     /// The smoothed slope over the span the pressure rise searches.
     slope: Vec<f64>,
+    /// [`Self::vs`] holds the slopes.
+    slopes: bool,
     /// The wall heat's cumulative (J), one value a window point.
     wall: Vec<f64>,
 }
@@ -321,27 +326,25 @@ struct Passed {
     extremes: (usize, usize),
 }
 
-/// The running figures of [`pass`], carried from one piece of the volume
-/// law to the next.
+/// The running figures of [`piece`], carried from one piece of the volume
+/// law to the next: the work, the last `p dV/dφ`, `Σ (p − p_smooth)²`,
+/// `Σ (h dV)²` and the largest volume (at least 0).
 #[derive(Clone, Copy)]
 struct Acc {
     work: f64,
     prev: f64,
-    peak: (f64, usize),
     res2: f64,
     dv2: f64,
     v_max: f64,
-    min: (f64, usize),
-    max: (f64, usize),
-    soc: usize,
 }
 
 /// The one pass over the window: the trapezoidal work `∫ p dV`, the
-/// smoothed pressure and with it the energy term, the pressure peak, the
-/// residuals of the noise fit and the cumulative's extremes. The window's
-/// pressure (with the filter's reach either side) is copied out once and
-/// smoothed in one sweep; the volume law is read in its (at most two)
-/// contiguous pieces.
+/// smoothed pressure and with it the energy term, the residuals of the
+/// noise fit and the volume law's sums; then the pressure peak and the
+/// cumulative's extremes, each a scan of its own ([`first_max`]). The
+/// window's pressure (with the filter's reach either side) is copied out
+/// once and smoothed in one sweep; the volume law is read in its (at most
+/// two) contiguous pieces.
 fn pass(
     g: &CycleGrid,
     f: &Filter,
@@ -353,53 +356,58 @@ fn pass(
     let len = (i1 - i0 + 1) as usize;
     let m = f.reach();
     copy_periodic(g.pressure, i0 - m as i64, len + 2 * m, &mut s.pw);
-    s.ps.resize(len, 0.0);
-    f.values_into(&s.pw, m, &mut s.ps);
+    s.vs.resize(len, [0.0; 2]);
+    s.slopes = f.values_slopes_into(&s.pw, m, &mut s.vs);
     s.qs.resize(len, 0.0);
     let (n, k0) = (g.volume.len(), wrap(i0, g.n()));
-    let mut a = Acc {
+    let a = Acc {
         work: 0.0,
         prev: s.pw[m] * g.dvolume[k0],
-        peak: (f64::NEG_INFINITY, 0),
         res2: 0.0,
         dv2: 0.0,
         v_max: 0.0,
-        min: (f64::INFINITY, 0),
-        max: (f64::NEG_INFINITY, 0),
-        soc: 0,
     };
     let first = (n - k0).min(len);
-    let (pw, ps, qs) = (&s.pw[m..m + len], &s.ps[..], &mut s.qs[..]);
+    let (pw, ps, qs) = (&s.pw[m..m + len], &s.vs[..], &mut s.qs[..]);
     let (q0, q1) = qs.split_at_mut(first);
     let law0 = (&g.volume[k0..k0 + first], &g.dvolume[k0..k0 + first]);
     let law1 = (&g.volume[..len - first], &g.dvolume[..len - first]);
-    a = piece(a, 0, (&pw[..first], &ps[..first], q0), law0, h, &energy);
-    a = piece(a, first, (&pw[first..], &ps[first..], q1), law1, h, &energy);
+    let a = piece(a, true, (&pw[..first], &ps[..first], q0), law0, h, &energy);
+    let mut a = piece(
+        a,
+        first == 0,
+        (&pw[first..], &ps[first..], q1),
+        law1,
+        h,
+        &energy,
+    );
     if !f.fits_by_value() {
-        a.res2 = f.residual2_in(&s.pw, m, &s.ps);
+        // The fit is the five-point one (the filter off): it takes no
+        // smoothed value, the slice only gives the count.
+        a.res2 = f.residual2_in(&s.pw, m, &s.pw[m..m + len]);
     }
     Passed {
-        peak: a.peak,
+        peak: first_max(pw),
         sums: [a.res2, a.dv2, a.v_max],
-        extremes: (a.soc, a.max.1),
+        extremes: extremes(&s.qs),
     }
 }
 
-/// [`pass`] over the window points `from..` that lie on one contiguous
-/// piece `(V, dV)` of the volume law.
+/// [`pass`] over the window points that lie on one contiguous piece `(V,
+/// dV)` of the volume law (`start`: the piece begins the window, whose
+/// first point adds no trapezoid).
 #[inline(always)]
 fn piece(
     mut a: Acc,
-    from: usize,
-    (pw, ps, qs): (&[f64], &[f64], &mut [f64]),
+    start: bool,
+    (pw, ps, qs): (&[f64], &[[f64; 2]], &mut [f64]),
     (v, dv): (&[f64], &[f64]),
     h: f64,
     energy: &impl Fn(f64) -> f64,
 ) -> Acc {
-    let points = qs.iter_mut().zip(pw).zip(ps).zip(v.iter().zip(dv));
-    for (j, (((q, &p), &ps), (&v, &dv))) in (from..).zip(points) {
+    let point = |a: &mut Acc, q: &mut f64, p: f64, ps: f64, v: f64, dv: f64, first: bool| {
         let pdv = p * dv;
-        if j > 0 {
+        if !first {
             a.work += 0.5 * h * (a.prev + pdv);
         }
         a.prev = pdv;
@@ -410,20 +418,82 @@ fn piece(
         if v > a.v_max {
             a.v_max = v;
         }
-        if p > a.peak.0 {
-            a.peak = (p, j);
-        }
-        let qj = a.work + energy(ps * v);
-        *q = qj;
-        if qj < a.min.0 {
-            a.min = (qj, j);
-        }
-        if qj > a.max.0 {
-            a.max = (qj, j);
-            a.soc = a.min.1;
-        }
+        *q = a.work + energy(ps * v);
+    };
+    let skip = usize::from(start && !qs.is_empty());
+    if skip == 1 {
+        point(&mut a, &mut qs[0], pw[0], ps[0][0], v[0], dv[0], true);
+    }
+    let law = v[skip..].iter().zip(&dv[skip..]);
+    for (((q, &p), &[ps, _]), (&v, &dv)) in qs[skip..]
+        .iter_mut()
+        .zip(&pw[skip..])
+        .zip(&ps[skip..])
+        .zip(law)
+    {
+        point(&mut a, q, p, ps, v, dv, false);
     }
     a
+}
+
+/// The largest value of `x` and its index (the first, if tied; NaN passed
+/// over; `(−∞, 0)` when none is over −∞), as a running `if x > max` finds
+/// them, in scans that vectorise: each block's largest in four lanes, the
+/// first block that holds the largest, then its first index there.
+fn first_max(x: &[f64]) -> (f64, usize) {
+    let (top, block) = block_extreme(x, f64::NEG_INFINITY, |v, m| v > m);
+    if top == f64::NEG_INFINITY {
+        return (top, 0);
+    }
+    let at = first_equal(x, block, top);
+    (x[at], at)
+}
+
+/// The smallest value's index in `x`, as [`first_max`] (the first, if
+/// tied; 0 when none is under +∞).
+fn first_min(x: &[f64]) -> usize {
+    let (low, block) = block_extreme(x, f64::INFINITY, |v, m| v < m);
+    if low == f64::INFINITY {
+        return 0;
+    }
+    first_equal(x, block, low)
+}
+
+/// The points a block of [`block_extreme`] spans.
+const BLOCK: usize = 64;
+
+/// The extreme of `x` by `better` (a strict compare: `v > m` or `v < m`)
+/// from `init`, and the first [`BLOCK`] that holds it (NaN passed over):
+/// each block's extreme in four lanes, kept where it beats the blocks
+/// before.
+#[inline(always)]
+fn block_extreme(x: &[f64], init: f64, better: impl Fn(f64, f64) -> bool) -> (f64, usize) {
+    let (mut best, mut at) = (init, 0);
+    for (b, block) in x.chunks(BLOCK).enumerate() {
+        let mut lanes = [init; 4];
+        let chunks = block.chunks_exact(4);
+        let rest = chunks.remainder();
+        for c in chunks {
+            for (m, &v) in lanes.iter_mut().zip(c) {
+                *m = if better(v, *m) { v } else { *m };
+            }
+        }
+        for &v in lanes.iter().chain(rest) {
+            if better(v, best) {
+                best = v;
+                at = b;
+            }
+        }
+    }
+    (best, at)
+}
+
+/// The first index of `x` from block `block` on whose value equals `y`
+/// (the block holds one; ±0 equal, as the running compares take them).
+fn first_equal(x: &[f64], block: usize, y: f64) -> usize {
+    let from = block * BLOCK;
+    let equal = |v: &f64| v.partial_cmp(&y) == Some(std::cmp::Ordering::Equal);
+    from + x[from..].iter().position(equal).unwrap_or(0)
 }
 
 impl Window<'_> {
@@ -457,7 +527,9 @@ impl Window<'_> {
         (lo, hi): (f64, f64),
     ) -> (usize, f64) {
         let qs = &self.s.qs[..=to];
-        let mut j = from;
+        // Points under `lo` and not at or over `hi` stop no search: passed
+        // over eight at a time ([`skip_rising`]).
+        let mut j = skip_rising(qs, from, to, (lo, hi));
         while j < to {
             let q = qs[j];
             if (q >= hi && self.vol(j) >= 0.0) || (!(q < lo) && q >= target(j)) {
@@ -494,7 +566,9 @@ impl Window<'_> {
         (lo, hi): (f64, f64),
     ) -> (usize, f64) {
         let qs = &self.s.qs[..=from];
-        let mut j = from;
+        // Points over `hi` and not at or under `lo` stop no search: passed
+        // over eight at a time ([`skip_falling`]).
+        let mut j = skip_falling(qs, from, to, (lo, hi));
         while j > to {
             let q = qs[j];
             if (q <= lo && self.vol(j) >= 0.0) || (!(q > hi) && q <= target(j)) {
@@ -543,6 +617,85 @@ impl Window<'_> {
     fn deg(&self, j: f64) -> f64 {
         (self.i0 as f64 + j) * self.g.step_deg
     }
+}
+
+/// The first index from `from` (by eights, before `to`) at which a point
+/// of the next eight may stop [`Window::rising_by`]: each point passed
+/// over lies under `lo` and not at or over `hi` (a NaN `lo` passes none).
+#[inline]
+fn skip_rising(qs: &[f64], from: usize, to: usize, (lo, hi): (f64, f64)) -> usize {
+    // `q < lo && !(q >= hi)` as one compare `q < under`.
+    let under = match (lo.is_nan(), hi.is_nan()) {
+        (true, _) => f64::NAN,
+        (false, true) => lo,
+        (false, false) => lo.min(hi),
+    };
+    skip_by_eights(qs, from, to, |x| x.cmp_lt(wide::f64x2::splat(under)))
+}
+
+/// [`skip_rising`] for [`Window::falling_by`], back from `from` (by
+/// eights, after `to`): each point passed over lies over `hi` and not at
+/// or under `lo` (a NaN `hi` passes none).
+#[inline]
+fn skip_falling(qs: &[f64], from: usize, to: usize, (lo, hi): (f64, f64)) -> usize {
+    // `q > hi && !(q <= lo)` as one compare `q > over`.
+    let over = match (hi.is_nan(), lo.is_nan()) {
+        (true, _) => f64::NAN,
+        (false, true) => hi,
+        (false, false) => hi.max(lo),
+    };
+    if from < to + 8 {
+        return from;
+    }
+    // The same scan on the reversed span: index `from − i` is `i` there.
+    let span = &qs[to + 1..=from];
+    let back = span.len() - skip_by_eights_rev(span, |x| x.cmp_gt(wide::f64x2::splat(over)));
+    to + back
+}
+
+/// The first index from `from` by eights (before `to`) whose eight points
+/// do not all pass `pass` (a lane mask, two points at a time).
+#[inline(always)]
+fn skip_by_eights(
+    qs: &[f64],
+    from: usize,
+    to: usize,
+    pass: impl Fn(wide::f64x2) -> wide::f64x2,
+) -> usize {
+    use wide::f64x2;
+    let mut j = from;
+    while j + 8 <= to {
+        let c = &qs[j..j + 8];
+        let m = pass(f64x2::new([c[0], c[1]]))
+            & pass(f64x2::new([c[2], c[3]]))
+            & pass(f64x2::new([c[4], c[5]]))
+            & pass(f64x2::new([c[6], c[7]]));
+        if m.move_mask() != 0b11 {
+            break;
+        }
+        j += 8;
+    }
+    j
+}
+
+/// How many points at the end of `span` pass `pass`, counted by eights
+/// (a multiple of 8: the last eight that do not all pass ends the count).
+#[inline(always)]
+fn skip_by_eights_rev(span: &[f64], pass: impl Fn(wide::f64x2) -> wide::f64x2) -> usize {
+    use wide::f64x2;
+    let mut n = 0;
+    while n + 8 <= span.len() {
+        let c = &span[span.len() - n - 8..span.len() - n];
+        let m = pass(f64x2::new([c[0], c[1]]))
+            & pass(f64x2::new([c[2], c[3]]))
+            & pass(f64x2::new([c[4], c[5]]))
+            & pass(f64x2::new([c[6], c[7]]));
+        if m.move_mask() != 0b11 {
+            break;
+        }
+        n += 8;
+    }
+    n
 }
 
 /// The index range `[i0, i1]` of grid points inside `window_deg`.
@@ -661,19 +814,12 @@ pub fn analyse(g: &CycleGrid, opts: &Options) -> Result<CycleBurn, CombustionErr
 }
 
 /// The smoothed cumulative's extremes: the index of its largest value
-/// (the first, if tied) and of the smallest before it.
+/// (the first, if tied) and of the smallest before it (the first, if
+/// tied): a running minimum's index where the running maximum was last
+/// raised, in scans ([`first_max`], [`first_min`]).
 fn extremes(qs: &[f64]) -> (usize, usize) {
-    let (mut min, mut max, mut soc) = ((f64::INFINITY, 0), (f64::NEG_INFINITY, 0), 0);
-    for (j, &q) in qs.iter().enumerate() {
-        if q < min.0 {
-            min = (q, j);
-        }
-        if q > max.0 {
-            max = (q, j);
-            soc = min.1;
-        }
-    }
-    (soc, max.1)
+    let (_, jmax) = first_max(qs);
+    (first_min(&qs[..(jmax + 1).min(qs.len())]), jmax)
 }
 
 /// [`analyse`] with the filter built once for many cycles (and the
@@ -777,7 +923,7 @@ fn wall_cumulative(
     let half = 0.5 * g.step_deg;
     out.clear();
     let (mut total, mut prev) = (0.0, 0.0);
-    for (j, &p) in win.s.ps.iter().enumerate() {
+    for (j, &[p, _]) in win.s.vs.iter().enumerate() {
         let (k, v) = (win.i0 + j as i64, win.vol(j));
         let burning = soc_deg.is_some_and(|soc| k as f64 * g.step_deg >= soc);
         let r = rate.rate(p, v, burning);
@@ -949,17 +1095,18 @@ fn pressure_rise(win: &mut Window, soc: usize, eoc: usize) -> (f64, f64) {
     let last = win.s.qs.len() - 1;
     let (lo, hi) = (soc.saturating_sub(1), (eoc.max(soc) + 1).min(last));
     let buf = &mut win.s.slope;
-    buf.resize(hi - lo + 1, 0.0);
-    win.f.slopes_into(&win.s.pw, lo + win.f.reach(), buf);
-    let slope = |j: usize| buf[j - lo];
-    let (mut top, mut j_top) = (f64::NEG_INFINITY, soc);
-    for j in soc..=eoc.max(soc) {
-        let s = slope(j);
-        if s > top {
-            top = s;
-            j_top = j;
-        }
+    if win.s.slopes {
+        buf.clear();
+        buf.extend(win.s.vs[lo..=hi].iter().map(|v| v[1]));
+    } else {
+        buf.resize(hi - lo + 1, 0.0);
+        win.f.slopes_into(&win.s.pw, lo + win.f.reach(), buf);
     }
+    let slope = |j: usize| buf[j - lo];
+    // The largest (the first, if tied) as a running `if s > top` from −∞
+    // at SOC.
+    let (top, at) = first_max(&buf[soc - lo..=eoc.max(soc) - lo]);
+    let j_top = soc + at;
     let (mut value, mut x) = (top, j_top as f64);
     if j_top > 0 && j_top < last {
         let (a, c) = (slope(j_top - 1), slope(j_top + 1));
@@ -1301,6 +1448,130 @@ mod tests {
             }
         }
         assert!(checked >= 40 && burning >= 30, "{checked} {burning}");
+    }
+
+    /// The scans of [`first_max`] and [`extremes`] against the running
+    /// loop they replace, on data shaped to defeat them: ties (the first
+    /// wins), the extreme in the last point or a block's first, NaN, ±∞,
+    /// ±0, flat data, noise, and every length about a block's.
+    #[test]
+    fn the_scans_find_what_the_running_loop_finds() {
+        fn running(x: &[f64]) -> ((f64, usize), (usize, usize)) {
+            let (mut min, mut max, mut soc) = ((f64::INFINITY, 0), (f64::NEG_INFINITY, 0), 0);
+            for (j, &q) in x.iter().enumerate() {
+                if q < min.0 {
+                    min = (q, j);
+                }
+                if q > max.0 {
+                    max = (q, j);
+                    soc = min.1;
+                }
+            }
+            (max, (soc, max.1))
+        }
+        let mut cases: Vec<Vec<f64>> = vec![
+            vec![],
+            vec![f64::NAN],
+            vec![f64::NAN; 5],
+            vec![f64::NEG_INFINITY, f64::NEG_INFINITY],
+            vec![f64::NAN, f64::NEG_INFINITY, 1.0],
+            vec![f64::INFINITY, 2.0, f64::INFINITY],
+            vec![-0.0, 0.0, -0.0],
+            vec![0.0, -0.0, 0.0, -1.0, -0.0],
+        ];
+        for len in [
+            1usize, 3, 4, 5, 7, 8, 63, 64, 65, 127, 128, 129, 130, 300, 2101,
+        ] {
+            let mut p = vec![0.0; len];
+            noise(&mut p, 1.0, len as u64);
+            cases.push(p.clone());
+            cases.push(vec![3.5; len]);
+            let mut spike = p.clone();
+            spike[len - 1] = 1e9;
+            cases.push(spike);
+            let mut low = p.clone();
+            low[len - 1] = -1e9;
+            cases.push(low);
+            for at in [0, len / 2, len.saturating_sub(64), 64.min(len - 1)] {
+                let mut tie = p.clone();
+                tie[at] = 7.0;
+                tie[len - 1] = 7.0;
+                tie[len / 3] = -7.0;
+                tie[len / 4] = -7.0;
+                cases.push(tie.clone());
+                tie[at] = f64::NAN;
+                cases.push(tie);
+            }
+            let mut nan = p.clone();
+            for k in (0..len).step_by(3) {
+                nan[k] = f64::NAN;
+            }
+            cases.push(nan);
+            // Rising then falling (the cumulative's shape).
+            cases.push((0..len).map(|k| (k as f64 * 0.01).sin()).collect());
+        }
+        for (c, x) in cases.iter().enumerate() {
+            let (max, ext) = running(x);
+            let got = first_max(x);
+            assert_eq!(
+                (got.0.to_bits(), got.1),
+                (max.0.to_bits(), max.1),
+                "case {c}: {x:?}"
+            );
+            assert_eq!(extremes(x), ext, "case {c}: {x:?}");
+        }
+    }
+
+    /// The searches' skips pass over only points that stop no search, on
+    /// data shaped to defeat them (NaN, ±∞, ties with the bounds, a point
+    /// just over in each place of an eight), with NaN and infinite bounds
+    /// and the bounds either way round; and they stop no later than the
+    /// first eight that holds a point to check.
+    #[test]
+    fn the_searches_skip_only_what_stops_no_search() {
+        let mut p = vec![0.0; 203];
+        noise(&mut p, 1.0, 5);
+        let mut cases = vec![p.clone(), vec![0.25; 203]];
+        for k in [0usize, 7, 8, 9, 100, 101, 150, 202] {
+            let mut c = p.clone();
+            c[k] = f64::NAN;
+            cases.push(c.clone());
+            c[k] = 0.3;
+            cases.push(c.clone());
+            c[k] = f64::INFINITY;
+            cases.push(c.clone());
+            c[k] = f64::NEG_INFINITY;
+            cases.push(c);
+        }
+        let values = [
+            f64::NAN,
+            f64::NEG_INFINITY,
+            -0.5,
+            0.0,
+            0.25,
+            0.3,
+            0.5,
+            f64::INFINITY,
+        ];
+        for q in &cases {
+            for &lo in &values {
+                for &hi in &values {
+                    let rising = |x: f64| x < lo && !(x >= hi);
+                    let falling = |x: f64| x > hi && !(x <= lo);
+                    for (from, to) in [(0, 202), (3, 202), (0, 17), (5, 5), (9, 4), (0, 7)] {
+                        let j = skip_rising(q, from, to, (lo, hi));
+                        assert!(j >= from && (j == from || j <= to), "{lo} {hi} {from} {to}");
+                        assert!(q[from..j].iter().all(|&x| rising(x)), "{lo} {hi}");
+                        let stop = (from..to).find(|&k| !rising(q[k])).unwrap_or(to.max(from));
+                        assert!(j + 8 > stop || j == from.max(stop), "{lo} {hi} {j} {stop}");
+                        let (f, t) = (to.max(from), from.min(to));
+                        let j = skip_falling(q, f, t, (lo, hi));
+                        assert!(j <= f && (j == f || j >= t), "{lo} {hi} {f} {t}");
+                        assert!(q[j + 1..=f].iter().all(|&x| falling(x)), "{lo} {hi}");
+                    }
+                }
+            }
+        }
     }
 
     /// `curves`' rate against the plain weight sums at every grid point

@@ -216,6 +216,29 @@ impl Filter {
         }
     }
 
+    /// [`Self::value_in`] and, with the running sums, [`Self::slope_in`] at
+    /// the centres `from..from + out.len()`, into `out` as `[value, slope]`
+    /// in one sweep; true when the slopes were made (without running sums
+    /// only the values are, the slopes left NaN: a slope is a dot product
+    /// of its own there, cheaper taken only where it is wanted). The values
+    /// are [`Self::values_into`]'s bit for bit; the slopes are
+    /// [`Self::slopes_into`]'s but for rounding (within 1e-13 of the
+    /// slice's largest magnitude, as both are of the weight sums).
+    pub fn values_slopes_into(&self, s: &[f64], from: usize, out: &mut [[f64; 2]]) -> bool {
+        match &self.moments {
+            Some(mo) => {
+                mo.values_slopes(s, from, out, self.step_deg);
+                true
+            }
+            None => {
+                for (j, y) in out.iter_mut().enumerate() {
+                    *y = [self.value_in(s, from + j), f64::NAN];
+                }
+                false
+            }
+        }
+    }
+
     /// [`Self::slope_in`] at the centres `from..from + out.len()`, into
     /// `out` (running sums as [`Self::values_into`]).
     pub fn slopes_into(&self, s: &[f64], from: usize, out: &mut [f64]) {
@@ -350,28 +373,87 @@ fn moments<const K: usize>(w: &[f64], r: f64, m: usize) -> [f64; K] {
     t
 }
 
-/// One slide of the moments by a point, in each of `L` lanes (moment-major,
-/// so the compiler keeps a moment's lanes in one vector register): `qo`
-/// leaves at offset `−m`, `qi` enters at `m + 1`, and the offsets shift by
-/// one (`c` holds `m`, `m + 1`, their squares and cubes). `T3` only when
-/// `SLOPE`. Each lane's numbers are those of the same steps alone.
+/// One number of the running sums, or two side by side: two stretches in
+/// the two lanes of one vector register, each lane's numbers those of the
+/// same steps on its stretch alone (IEEE arithmetic lane by lane).
+trait Lane:
+    Copy
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Div<Output = Self>
+{
+    /// `x` in every lane.
+    fn splat(x: f64) -> Self;
+}
+
+impl Lane for f64 {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        x
+    }
+}
+
+impl Lane for wide::f64x2 {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        wide::f64x2::splat(x)
+    }
+}
+
+/// What a sweep gives at each centre from the moments `T` (about the
+/// stretch's sample `r`): `K` numbers.
+trait Outputs<const K: usize> {
+    fn y<T: Lane>(&self, t: &[T; 4], r: T) -> [T; K];
+}
+
+/// The smoothed value, `r + (a T0 + b T2)` (`Σ w = 1` puts `r` back).
+struct Value([f64; 2]);
+/// The slope per degree, `(c T1 + d T3) / step` (`Σ w = 0` drops `r`).
+struct Slope([f64; 2], f64);
+/// Both, `[value, slope]`.
+struct ValueSlope(Value, Slope);
+
+impl Outputs<1> for Value {
+    #[inline(always)]
+    fn y<T: Lane>(&self, t: &[T; 4], r: T) -> [T; 1] {
+        let [a, b] = self.0;
+        [r + (T::splat(a) * t[0] + T::splat(b) * t[2])]
+    }
+}
+
+impl Outputs<1> for Slope {
+    #[inline(always)]
+    fn y<T: Lane>(&self, t: &[T; 4], _: T) -> [T; 1] {
+        let ([c, d], step) = (self.0, self.1);
+        [(T::splat(c) * t[1] + T::splat(d) * t[3]) / T::splat(step)]
+    }
+}
+
+impl Outputs<2> for ValueSlope {
+    #[inline(always)]
+    fn y<T: Lane>(&self, t: &[T; 4], r: T) -> [T; 2] {
+        let ([v], [d]) = (self.0.y(t, r), self.1.y(t, r));
+        [v, d]
+    }
+}
+
+/// One slide of the moments by a point: `qo` leaves at offset `−m`, `qi`
+/// enters at `m + 1`, and the offsets shift by one (`c` holds `m`, `m +
+/// 1`, their squares and cubes). `T3` only when `SLOPE`; it feeds none of
+/// the others.
 #[inline(always)]
-fn slide<const L: usize, const SLOPE: bool>(
-    t: &mut [[f64; L]; 4],
-    qo: [f64; L],
-    qi: [f64; L],
-    c: &[f64; 6],
-) {
-    let u0: [f64; L] = std::array::from_fn(|l| t[0][l] - qo[l] + qi[l]);
-    let u1: [f64; L] = std::array::from_fn(|l| t[1][l] + c[0] * qo[l] + c[1] * qi[l]);
-    let u2: [f64; L] = std::array::from_fn(|l| t[2][l] - c[2] * qo[l] + c[3] * qi[l]);
+fn slide<T: Lane, const SLOPE: bool>(t: &mut [T; 4], qo: T, qi: T, c: &[T; 6]) {
+    let u0 = t[0] - qo + qi;
+    let u1 = t[1] + c[0] * qo + c[1] * qi;
+    let u2 = t[2] - c[2] * qo + c[3] * qi;
     if SLOPE {
-        let u3: [f64; L] = std::array::from_fn(|l| t[3][l] + c[4] * qo[l] + c[5] * qi[l]);
-        t[3] = std::array::from_fn(|l| u3[l] - 3.0 * (u2[l] - u1[l]) - u0[l]);
+        let u3 = t[3] + c[4] * qo + c[5] * qi;
+        t[3] = u3 - T::splat(3.0) * (u2 - u1) - u0;
     }
     t[0] = u0;
-    t[1] = std::array::from_fn(|l| u1[l] - u0[l]);
-    t[2] = std::array::from_fn(|l| u2[l] - 2.0 * u1[l] + u0[l]);
+    t[1] = u1 - u0;
+    t[2] = u2 - T::splat(2.0) * u1 + u0;
 }
 
 impl Moments {
@@ -381,28 +463,38 @@ impl Moments {
     /// stretch's first sample `r` (the moments of `p − r`, so a flat or
     /// slow stretch carries little rounding); `Σ w = 1` puts `r` back.
     fn values(&self, s: &[f64], from: usize, out: &mut [f64]) {
-        let [a, b] = self.value;
-        self.sweep::<false>(s, from, out, |t, r| r + (a * t[0] + b * t[2]));
+        let (out, _) = out.as_chunks_mut::<1>();
+        self.sweep::<false, 1>(s, from, out, &Value(self.value));
     }
 
     /// The slopes (per degree at `step_deg`) at the centres `from..from +
     /// out.len()` of `s`, as [`Self::values`] (`Σ w = 0` drops `r`).
     fn slopes(&self, s: &[f64], from: usize, out: &mut [f64], step_deg: f64) {
-        let [c, d] = self.slope;
-        self.sweep::<true>(s, from, out, |t, _| (c * t[1] + d * t[3]) / step_deg);
+        let (out, _) = out.as_chunks_mut::<1>();
+        self.sweep::<true, 1>(s, from, out, &Slope(self.slope, step_deg));
     }
 
-    /// The sweep of [`Self::values`] and [`Self::slopes`]: `y(T, r)` at
-    /// every centre. Stretches go two at a time (two lanes of the same
+    /// [`Self::values`] and [`Self::slopes`] in one sweep: `[value,
+    /// slope]` at each centre. The values are those of [`Self::values`] bit
+    /// for bit (the slope's moment `T3` feeds none of `T0`, `T1`, `T2`);
+    /// the slopes are [`Self::slopes`]' but for rounding, their stretches
+    /// starting where the values' do.
+    fn values_slopes(&self, s: &[f64], from: usize, out: &mut [[f64; 2]], step_deg: f64) {
+        let both = ValueSlope(Value(self.value), Slope(self.slope, step_deg));
+        self.sweep::<true, 2>(s, from, out, &both);
+    }
+
+    /// The sweep of [`Self::values`] and [`Self::slopes`]: the `K` outputs
+    /// `y(T, r)` at every centre. Stretches go two at a time (two lanes of the same
     /// steps, which the compiler keeps in one vector register; each lane's
     /// numbers are those of one stretch alone), the rest one at a time.
     #[inline(always)]
-    fn sweep<const SLOPE: bool>(
+    fn sweep<const SLOPE: bool, const K: usize>(
         &self,
         s: &[f64],
         from: usize,
-        out: &mut [f64],
-        y: impl Fn(&[f64; 4], f64) -> f64,
+        out: &mut [[f64; K]],
+        y: &impl Outputs<K>,
     ) {
         let m = self.m;
         assert!(
@@ -425,42 +517,85 @@ impl Moments {
         let step = self.refresh;
         let pairs = out.len() / (2 * step) * (2 * step);
         let (two, one) = out.split_at_mut(pairs);
-        let lane = |t: &[[f64; 2]; 4], l: usize| [t[0][l], t[1][l], t[2][l], t[3][l]];
+        let c2 = c.map(wide::f64x2::splat);
         for (k, o) in two.chunks_exact_mut(2 * step).enumerate() {
             let (oa, ob) = o.split_at_mut(step);
             let (ca, cb) = (from + 2 * k * step, from + (2 * k + 1) * step);
-            let ((ta, ra), (tb, rb)) = (start(ca), start(cb));
-            let r = [ra, rb];
-            let mut t: [[f64; 2]; 4] = std::array::from_fn(|j| [ta[j], tb[j]]);
-            oa[0] = y(&ta, ra);
-            ob[0] = y(&tb, rb);
+            let r = wide::f64x2::new([s[ca], s[cb]]);
+            let t = two_starts::<SLOPE>((&s[ca - m..=ca + m], &s[cb - m..=cb + m]), r, m);
+            let first = y.y(&t, r).map(wide::f64x2::to_array);
+            oa[0] = std::array::from_fn(|o| first[o][0]);
+            ob[0] = std::array::from_fn(|o| first[o][1]);
             // Centre c0 + k drops s[c0 + k − 1 − m] and takes s[c0 + k + m].
-            let lanes = oa[1..].iter_mut().zip(ob[1..].iter_mut());
-            let outs = s[ca - m..].iter().zip(&s[cb - m..]);
-            let ins = s[ca + m + 1..].iter().zip(&s[cb + m + 1..]);
-            for (((ya, yb), (&poa, &pob)), (&pia, &pib)) in lanes.zip(outs).zip(ins) {
-                let (po, pi) = ([poa, pob], [pia, pib]);
-                slide::<2, SLOPE>(
-                    &mut t,
-                    std::array::from_fn(|l| po[l] - r[l]),
-                    std::array::from_fn(|l| pi[l] - r[l]),
-                    &c,
-                );
-                *ya = y(&lane(&t, 0), ra);
-                *yb = y(&lane(&t, 1), rb);
-            }
+            let outs = (&s[ca - m..], &s[cb - m..]);
+            let ins = (&s[ca + m + 1..], &s[cb + m + 1..]);
+            two_lanes::<SLOPE, K>((&mut oa[1..], &mut ob[1..]), outs, ins, (t, r), &c2, y);
         }
         for (k, o) in one.chunks_mut(step).enumerate() {
             let c0 = from + pairs + k * step;
-            let (t1, r) = start(c0);
-            let mut t: [[f64; 1]; 4] = std::array::from_fn(|j| [t1[j]]);
-            o[0] = y(&t1, r);
+            let (mut t, r) = start(c0);
+            o[0] = y.y(&t, r);
             let points = s[c0 - m..].iter().zip(&s[c0 + m + 1..]);
             for (yk, (&po, &pi)) in o[1..].iter_mut().zip(points) {
-                slide::<1, SLOPE>(&mut t, [po - r], [pi - r], &c);
-                *yk = y(&[t[0][0], t[1][0], t[2][0], t[3][0]], r);
+                slide::<f64, SLOPE>(&mut t, po - r, pi - r, &c);
+                *yk = y.y(&t, r);
             }
         }
+    }
+}
+
+/// [`moments`] of two windows `w` (each of `2m + 1` points) about their
+/// samples `r`, side by side in the lanes of one vector register: lane by
+/// lane the same steps (`T3` only when `SLOPE`).
+#[inline(always)]
+fn two_starts<const SLOPE: bool>(
+    (wa, wb): (&[f64], &[f64]),
+    r: wide::f64x2,
+    m: usize,
+) -> [wide::f64x2; 4] {
+    let mut t = [wide::f64x2::splat(0.0); 4];
+    let mut x = -(m as f64);
+    for (&pa, &pb) in wa.iter().zip(wb) {
+        let xv = wide::f64x2::splat(x);
+        let mut term = wide::f64x2::new([pa, pb]) - r;
+        t[0] += term;
+        term *= xv;
+        t[1] += term;
+        term *= xv;
+        t[2] += term;
+        if SLOPE {
+            t[3] += term * xv;
+        }
+        x += 1.0;
+    }
+    t
+}
+
+/// The slides of two stretches side by side in the lanes of one vector
+/// register from their first centres' moments `t` (about `r`): `outs`
+/// the samples leaving, `ins` those entering, each lane's outputs into
+/// its stretch. A function of its own, so that the compiler keeps the
+/// moments in vector registers whatever is inlined about it.
+#[inline(never)]
+fn two_lanes<const SLOPE: bool, const K: usize>(
+    (oa, ob): (&mut [[f64; K]], &mut [[f64; K]]),
+    outs: (&[f64], &[f64]),
+    ins: (&[f64], &[f64]),
+    (mut t, r): ([wide::f64x2; 4], wide::f64x2),
+    c: &[wide::f64x2; 6],
+    y: &impl Outputs<K>,
+) {
+    let lanes = oa.iter_mut().zip(ob.iter_mut());
+    let (outs, ins) = (outs.0.iter().zip(outs.1), ins.0.iter().zip(ins.1));
+    for (((ya, yb), (&poa, &pob)), (&pia, &pib)) in lanes.zip(outs).zip(ins) {
+        let (qo, qi) = (
+            wide::f64x2::new([poa, pob]) - r,
+            wide::f64x2::new([pia, pib]) - r,
+        );
+        slide::<_, SLOPE>(&mut t, qo, qi, c);
+        let both = y.y(&t, r).map(wide::f64x2::to_array);
+        *ya = std::array::from_fn(|o| both[o][0]);
+        *yb = std::array::from_fn(|o| both[o][1]);
     }
 }
 
@@ -585,6 +720,17 @@ mod tests {
         let (mut v, mut d) = (vec![0.0; len], vec![0.0; len]);
         f.values_into(s, from, &mut v);
         f.slopes_into(s, from, &mut d);
+        // The one sweep of both: the values and (with running sums) the
+        // slopes of the two sweeps from the same start, bit for bit.
+        let mut both = vec![[0.0; 2]; len];
+        let slopes = f.values_slopes_into(s, from, &mut both);
+        assert_eq!(slopes, f.moments.is_some(), "{what}");
+        for (j, (b, (v, d))) in both.iter().zip(v.iter().zip(&d)).enumerate() {
+            assert_eq!(b[0].to_bits(), v.to_bits(), "{what}: value at {j}");
+            if slopes {
+                assert_eq!(b[1].to_bits(), d.to_bits(), "{what}: slope at {j}");
+            }
+        }
         let scale = s.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         for j in 0..len {
             let (a, b) = (f.value_in(s, from + j), f.slope_in(s, from + j));
@@ -669,9 +815,12 @@ mod tests {
                 let (mut v, mut d) = (vec![0.0; len], vec![0.0; len]);
                 f.values_into(&s, m, &mut v);
                 f.slopes_into(&s, m, &mut d);
+                let mut both = vec![[0.0; 2]; len];
+                assert!(!f.values_slopes_into(&s, m, &mut both));
                 for j in 0..len {
                     assert_eq!(v[j].to_bits(), f.value_in(&s, m + j).to_bits());
                     assert_eq!(d[j].to_bits(), f.slope_in(&s, m + j).to_bits());
+                    assert_eq!(both[j][0].to_bits(), v[j].to_bits());
                 }
             }
         }
