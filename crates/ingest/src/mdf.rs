@@ -806,7 +806,6 @@ fn stream<F: FnMut(Streamed) -> Result<(), IngestError>>(
         .map(|(i, _)| &cg.channels[*i])
         .collect();
     let windows = file.signals_chunks(&channels, chunk).map_err(damaged)?;
-    let mut row = vec![f64::NAN; k];
     let mut cols: Vec<Vec<f64>> = Vec::with_capacity(k);
     let mut record = 0usize;
     for window in windows {
@@ -828,13 +827,9 @@ fn stream<F: FnMut(Streamed) -> Result<(), IngestError>>(
         if cols.is_empty() {
             break;
         }
-        for r in 0..n {
-            for (x, c) in row.iter_mut().zip(&cols) {
-                *x = c[r];
-            }
-            rd.row(record + 2, &Values(&row), || None)?;
-            record += 1;
-        }
+        let cols = &cols;
+        rd.columns(record + 2, cols, n, |r| Values { cols, r })?;
+        record += n;
     }
     Records {
         declared,
@@ -898,22 +893,32 @@ impl Cells for Names<'_> {
     }
 }
 
-/// One record's values, NaN for an invalid sample or a value that is no
-/// number.
-struct Values<'a>(&'a [f64]);
+/// One record's values (record `r` of the window's columns), NaN for an
+/// invalid sample or a value that is no number: the cells of a row the
+/// columns' path leaves to the general one.
+struct Values<'a> {
+    cols: &'a [Vec<f64>],
+    r: usize,
+}
+
+impl Values<'_> {
+    fn get(&self, i: usize) -> Option<&f64> {
+        self.cols.get(i).and_then(|c| c.get(self.r))
+    }
+}
 
 impl Cells for Values<'_> {
     fn len(&self) -> usize {
-        self.0.len()
+        self.cols.len()
     }
     fn is_blank(&self, i: usize) -> bool {
-        i >= self.0.len()
+        i >= self.cols.len()
     }
     fn text(&self, i: usize) -> Cow<'_, str> {
-        Cow::Owned(self.0.get(i).map(|v| v.to_string()).unwrap_or_default())
+        Cow::Owned(self.get(i).map(|v| v.to_string()).unwrap_or_default())
     }
     fn number(&self, i: usize, line: usize) -> Result<f64, IngestError> {
-        match self.0.get(i) {
+        match self.get(i) {
             Some(v) if v.is_finite() => Ok(*v),
             Some(v) => Err(crate::error::at(
                 line,
