@@ -23,6 +23,7 @@ mod arrays;
 mod axis;
 mod cancel;
 mod columns;
+mod decode;
 mod emit;
 mod error;
 mod fast;
