@@ -296,3 +296,6 @@ impl<'f> Plain<'f> {
         Ok(done)
     }
 }
+
+#[cfg(test)]
+mod tests;
