@@ -189,14 +189,20 @@ pub(crate) fn long_columns(l: &mut Long, cols: &[Vec<f64>], from: usize, n: usiz
     let tr = &mut cur.trace;
     let mut track = cur.track;
     let (cycle_bits, cyl_bits) = ((tr.cycle as f64).to_bits(), (tr.cylinder as f64).to_bits());
-    let end = n.min(xs.len()).min(ps.len());
+    let end = [Some(xs.as_slice()), Some(ps.as_slice()), cycles, cylinders]
+        .into_iter()
+        .flatten()
+        .fold(n, |e, c| e.min(c.len()));
+    // The run the trace takes, found first; then its angles and values
+    // appended in one reserved pass each, the angle as `continues` gives it
+    // (moved by the track's wrap, which the run does not change).
     let mut r = from;
     while r < end {
         let (x, p) = (xs[r], ps[r]);
         if !x.is_finite()
             || !p.is_finite()
-            || cycles.is_some_and(|c| c.get(r).map(|v| v.to_bits()) != Some(cycle_bits))
-            || cylinders.is_some_and(|c| c.get(r).map(|v| v.to_bits()) != Some(cyl_bits))
+            || cycles.is_some_and(|c| c[r].to_bits() != cycle_bits)
+            || cylinders.is_some_and(|c| c[r].to_bits() != cyl_bits)
         {
             break;
         }
@@ -204,10 +210,13 @@ pub(crate) fn long_columns(l: &mut Long, cols: &[Vec<f64>], from: usize, n: usiz
             break;
         };
         track.take(a);
-        tr.angle_deg.push(a);
-        tr.values.push(p * scale + offset);
         r += 1;
     }
+    let shift = track.shift();
+    tr.angle_deg
+        .extend(xs[from..r].iter().map(|&x| (x * x_scale - tdc) + shift));
+    tr.values
+        .extend(ps[from..r].iter().map(|&p| p * scale + offset));
     cur.track = track;
     r - from
 }
