@@ -492,6 +492,11 @@ fn read_file<F: FnMut(Streamed) -> Result<(), IngestError>>(
     streamed.map_err(named)?;
     let mut head = rd.end().map_err(named)?;
     head.notes.extend(notes);
+    // The buffer kept for the next file, once falcon_mdf lets go of it.
+    drop(file);
+    if let Ok(bytes) = Arc::try_unwrap(bytes) {
+        crate::spare(bytes);
+    }
     Ok(head)
 }
 
