@@ -31,7 +31,10 @@
 //!   at [`MAX_MDF_BLOCK`] (a block that would expand further is an error);
 //! - hold a table of its channels: the group is decoded a window at a time
 //!   (at most [`WINDOW_BYTES`] of records and [`WINDOW_VALUES`] values),
-//!   and the window's rows handed on one by one.
+//!   each channel in one pass into its column ([`crate::decode`] for sorted
+//!   records in plain blocks, falcon_mdf for the rest), and the window's
+//!   columns handed to the reader whole ([`Reader::columns`]): a record is
+//!   read cell by cell only where a cycle starts or a value is refused.
 //!
 //! So memory is bounded by the file (held whole, at most [`MAX_MDF`]: an
 //! MDF4 file is read where its links point), one expanded block and one
