@@ -2,6 +2,7 @@
 """The MDF4 reader against the CSV reader on the same samples.
 
 usage: benches/mdf4.py [--cycles 60] [--rounds 5] [--copies 10] [--bin PATH]
+                        [--before PATH] [--callgrind]
        (with the virtual environment's python: numpy and asammdf)
 
 - One bench file from ../shared/bench/make_batch.py (the inline-6 diesel,
@@ -16,6 +17,11 @@ usage: benches/mdf4.py [--cycles 60] [--rounds 5] [--copies 10] [--bin PATH]
   hard links of each file (one process, start-up included), --rounds
   times, alternating; medians. Reported per pressure value (M values/s)
   and the MDF4 rate over the CSV's.
+- `--before PATH`: a second build (the one before a change) timed in the
+  same rounds, alternating with the first, and reported beside it.
+- `--callgrind`: each build's instructions on one file of each layout
+  (`valgrind --tool=callgrind`, start-up included), per pressure value:
+  figures a shared machine does not move.
 
 Prints a Markdown table.
 """
@@ -30,7 +36,7 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-SHARED = os.path.join(ROOT, "..", "shared", "bench")
+SHARED = "/work/shared/bench" if os.path.isdir("/work/shared/bench") else os.path.join(ROOT, "..", "shared", "bench")
 BIN = os.path.join(ROOT, "target", "release", "enginedyn")
 
 
@@ -40,6 +46,8 @@ def main():
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--copies", type=int, default=10)
     ap.add_argument("--bin", default=BIN)
+    ap.add_argument("--before", help="a second build, timed in the same rounds")
+    ap.add_argument("--callgrind", action="store_true", help="instructions per value (valgrind)")
     a = ap.parse_args()
     import asammdf
     import numpy as np
@@ -68,17 +76,19 @@ def main():
     # An angle master (sync type 2), as an indicating system writes it.
     m.append([asammdf.Signal(p, angle, name="pressure", unit="bar", master_metadata=("Crank angle", 2))])
     m.save(mf4, overwrite=True)
+    bins = [("after", a.bin)] + ([("before", a.before)] if a.before else [])
     want = None
-    for f in (csv, mf4):
-        r = subprocess.run([a.bin, "run", "--engine", engine, "--diagram", f, "--json"], capture_output=True, text=True)
-        if r.returncode != 0:
-            print(f"{os.path.basename(f)}: exit {r.returncode}: {r.stderr.strip()}")
-            return 1
-        imep = json.loads(r.stdout)["imep_bar"]
-        want = imep if want is None else want
-        if imep != want:
-            print(f"IMEP differs: {imep} against {want}")
-            return 1
+    for _, b in bins:
+        for f in (csv, mf4):
+            r = subprocess.run([b, "run", "--engine", engine, "--diagram", f, "--json"], capture_output=True, text=True)
+            if r.returncode != 0:
+                print(f"{os.path.basename(f)}: exit {r.returncode}: {r.stderr.strip()}")
+                return 1
+            imep = json.loads(r.stdout)["imep_bar"]
+            want = imep if want is None else want
+            if imep != want:
+                print(f"IMEP differs: {imep} against {want}")
+                return 1
     links = {}
     for f in (csv, mf4):
         links[f] = []
@@ -86,22 +96,40 @@ def main():
             link = f"{f}.{k}{os.path.splitext(f)[1]}"
             os.link(f, link)
             links[f].append(link)
-    times = {csv: [], mf4: []}
+    times = {(b, f): [] for b, _ in bins for f in (csv, mf4)}
     for _ in range(a.rounds):
-        for f in (csv, mf4):
-            for x in links[f]:
-                open(x, "rb").read()
-            t = time.perf_counter()
-            subprocess.run([a.bin, "batch", "--engine", engine, "--parse-only", "--jobs", "1", *links[f]], check=True, capture_output=True)
-            times[f].append(time.perf_counter() - t)
+        for b, path in bins:
+            for f in (csv, mf4):
+                for x in links[f]:
+                    open(x, "rb").read()
+                t = time.perf_counter()
+                subprocess.run([path, "batch", "--engine", engine, "--parse-only", "--jobs", "1", *links[f]], check=True, capture_output=True)
+                times[(b, f)].append(time.perf_counter() - t)
     values = len(p) * a.copies
-    rate = {f: values / statistics.median(t) / 1e6 for f, t in times.items()}
+    rate = {k: values / statistics.median(t) / 1e6 for k, t in times.items()}
+    instr = {}
+    if a.callgrind:
+        for b, path in bins:
+            for f in (csv, mf4):
+                r = subprocess.run(
+                    ["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", path, "batch", "--engine", engine, "--parse-only", "--jobs", "1", f],
+                    capture_output=True, text=True, check=True,
+                )
+                n = next(int(x.split(":")[1].replace(",", "")) for x in r.stderr.splitlines() if "Collected :" in x)
+                instr[(b, f)] = n / len(p)
     print(f"{a.cycles} cycles at 0.1° ({len(p)} pressure values a file), {a.copies} copies, {a.rounds} rounds, medians; IMEP equal ({want} bar)\n")
-    print("| layout | M values/s | every run (s) |")
-    print("| --- | --- | --- |")
-    for f, name in ((csv, "CSV, angle running on"), (mf4, "MDF4, angle master, float64")):
-        print(f"| {name} | {rate[f]:.1f} | {', '.join(f'{x:.3f}' for x in times[f])} |")
-    print(f"\nMDF4 / CSV rate: {rate[mf4] / rate[csv]:.2f}")
+    print("| build | layout | M values/s | instructions a value | every run (s) |")
+    print("| --- | --- | --- | --- | --- |")
+    for b, _ in bins:
+        for f, name in ((csv, "CSV, angle running on"), (mf4, "MDF4, angle master, float64")):
+            i = f"{instr[(b, f)]:.0f}" if (b, f) in instr else "–"
+            print(f"| {b} | {name} | {rate[(b, f)]:.1f} | {i} | {', '.join(f'{x:.3f}' for x in times[(b, f)])} |")
+    print()
+    for b, _ in bins:
+        ratio = f"MDF4 / CSV rate ({b}): {rate[(b, mf4)] / rate[(b, csv)]:.2f}"
+        if (b, csv) in instr:
+            ratio += f"; by instructions {instr[(b, csv)] / instr[(b, mf4)]:.2f}"
+        print(ratio)
     return 0
 
 

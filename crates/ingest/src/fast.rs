@@ -4,7 +4,9 @@
 //! the first row that does anything else they stop without reading it and
 //! return "switch to the general path" (as ripgrep's searcher does), which
 //! reads that row exactly as it would have without them: the acceptance
-//! rule lives in the builder alone.
+//! rule lives in the builder alone. A binary source's columns, decoded
+//! whole, take the same paths without the parsing ([`long_columns`],
+//! [`per_column_columns`]).
 
 use crate::layout::{Long, PerColumn};
 use crate::number::{PLAIN_CELLS, plain_cell, plain_row};
@@ -155,4 +157,115 @@ pub(crate) fn per_column(
     }
     pc.track = Some(track);
     (used, n)
+}
+
+/// Rows `from..n` of decoded columns (a binary source, one column a
+/// channel) that continue the long layout's current trace, appended to it;
+/// returns how many. What [`long`] takes, with the numbers already read:
+/// the angle and the value finite, the cycle and cylinder exactly the
+/// trace's, the angle one [`Track::continues`] accepts. The row it stops at
+/// is left to the general path, which reads it as it would have anyway.
+#[inline(never)]
+pub(crate) fn long_columns(l: &mut Long, cols: &[Vec<f64>], from: usize, n: usize) -> usize {
+    if !l.columnar() || cols.len() > l.ncols {
+        return 0;
+    }
+    // An optional column: `Some(None)` when there is none, `None` when the
+    // index lies past the columns (the general path names that).
+    let optional = |i: Option<usize>| match i {
+        None => Some(None),
+        Some(i) => cols.get(i).map(|c| Some(c.as_slice())),
+    };
+    let (Some(xs), Some(ps)) = (cols.get(l.x), cols.get(l.value)) else {
+        return 0;
+    };
+    let (Some(cycles), Some(cylinders)) = (optional(l.cycle_col), optional(l.cyl_col)) else {
+        return 0;
+    };
+    let (x_scale, scale, offset, tdc) = (l.x_scale, l.scale, l.offset, l.tdc);
+    let Some(cur) = l.cur.as_mut() else {
+        return 0;
+    };
+    let tr = &mut cur.trace;
+    let mut track = cur.track;
+    let (cycle_bits, cyl_bits) = ((tr.cycle as f64).to_bits(), (tr.cylinder as f64).to_bits());
+    let end = [Some(xs.as_slice()), Some(ps.as_slice()), cycles, cylinders]
+        .into_iter()
+        .flatten()
+        .fold(n, |e, c| e.min(c.len()));
+    // The run the trace takes, found first; then its angles and values
+    // appended in one reserved pass each, the angle as `continues` gives it
+    // (moved by the track's wrap, which the run does not change).
+    let mut r = from;
+    while r < end {
+        let (x, p) = (xs[r], ps[r]);
+        if !x.is_finite()
+            || !p.is_finite()
+            || cycles.is_some_and(|c| c[r].to_bits() != cycle_bits)
+            || cylinders.is_some_and(|c| c[r].to_bits() != cyl_bits)
+        {
+            break;
+        }
+        let Some(a) = track.continues(x * x_scale - tdc) else {
+            break;
+        };
+        track.take(a);
+        r += 1;
+    }
+    let shift = track.shift();
+    tr.angle_deg
+        .extend(xs[from..r].iter().map(|&x| (x * x_scale - tdc) + shift));
+    tr.values
+        .extend(ps[from..r].iter().map(|&p| p * scale + offset));
+    cur.track = track;
+    r - from
+}
+
+/// Rows `from..n` of decoded columns that continue the cycles of a
+/// one-cycle-per-column layout; returns how many. As [`per_column`]: every
+/// value of a row is checked (finite) before any is kept, so the row it
+/// stops at is left whole to the general path.
+#[inline(never)]
+pub(crate) fn per_column_columns(
+    pc: &mut PerColumn,
+    cols: &[Vec<f64>],
+    from: usize,
+    n: usize,
+) -> usize {
+    let Some(mut track) = pc.track else {
+        return 0;
+    };
+    if cols.len() > pc.ncols || pc.cols.iter().any(|c| c.0 >= cols.len()) {
+        return 0;
+    }
+    let Some(xs) = cols.get(pc.x) else {
+        return 0;
+    };
+    let end = pc
+        .cols
+        .iter()
+        .fold(n.min(xs.len()), |e, c| e.min(cols[c.0].len()));
+    let mut r = from;
+    'rows: while r < end {
+        let x = xs[r];
+        if !x.is_finite() {
+            break;
+        }
+        let Some(a) = track.continues(x * pc.x_scale - pc.tdc) else {
+            break;
+        };
+        for &(c, _, _) in &pc.cols {
+            if !cols[c][r].is_finite() {
+                break 'rows;
+            }
+        }
+        track.take(a);
+        pc.angles.push(a);
+        for &(c, scale, _) in &pc.cols {
+            pc.values.push(cols[c][r] * scale + pc.offset);
+        }
+        r += 1;
+    }
+    pc.track = Some(track);
+    r - from
 }

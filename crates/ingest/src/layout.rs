@@ -294,6 +294,13 @@ impl Long {
             && self.held.is_none()
     }
 
+    /// True when decoded columns may continue this layout's traces
+    /// ([`crate::fast::long_columns`]): as [`Self::fast`], but any scale of
+    /// the angle (the columns' path multiplies as [`Self::row`] does).
+    pub(crate) fn columnar(&self) -> bool {
+        !self.pv && self.cur.is_some() && self.step.is_none() && self.held.is_none()
+    }
+
     fn row<F: FnMut(Streamed) -> Result<(), IngestError>>(
         &mut self,
         line: usize,

@@ -23,6 +23,7 @@ mod arrays;
 mod axis;
 mod cancel;
 mod columns;
+mod decode;
 mod emit;
 mod error;
 mod fast;
@@ -678,15 +679,37 @@ pub fn parse_stream(
     }
 }
 
+/// The most bytes of a file's buffer a thread keeps for the next file read
+/// whole ([`spare`]).
+const SPARE_BYTES: usize = 16 << 20;
+
+thread_local! {
+    /// The buffer the last MDF4 file was read into, kept for the next one:
+    /// a batch of them then writes into memory already mapped instead of
+    /// faulting in fresh pages for every file (measured: half the time of
+    /// reading a 7 MB file went to the kernel doing that).
+    static SPARE: std::cell::RefCell<Vec<u8>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Gives a file's buffer back for the next file read whole, if it is at
+/// most [`SPARE_BYTES`] (a thread holds at most that between files).
+pub(crate) fn spare(bytes: Vec<u8>) {
+    if bytes.capacity() <= SPARE_BYTES {
+        SPARE.with(|s| *s.borrow_mut() = bytes);
+    }
+}
+
 /// A file read whole into memory, at most `bound` bytes (a workbook, an
-/// MDF4 file: formats read where their own pointers lead).
+/// MDF4 file: formats read where their own pointers lead), into the buffer
+/// the thread kept from the last one ([`spare`]).
 fn whole(
     reader: &mut impl BufRead,
     bound: usize,
     what: &str,
     instead: &str,
 ) -> Result<Vec<u8>, IngestError> {
-    let mut bytes = Vec::new();
+    let mut bytes = SPARE.with(|s| std::mem::take(&mut *s.borrow_mut()));
+    bytes.clear();
     std::io::Read::read_to_end(
         &mut std::io::Read::take(reader, bound as u64 + 1),
         &mut bytes,

@@ -31,7 +31,10 @@
 //!   at [`MAX_MDF_BLOCK`] (a block that would expand further is an error);
 //! - hold a table of its channels: the group is decoded a window at a time
 //!   (at most [`WINDOW_BYTES`] of records and [`WINDOW_VALUES`] values),
-//!   and the window's rows handed on one by one.
+//!   each channel in one pass into its column ([`crate::decode`] for sorted
+//!   records in plain blocks, falcon_mdf for the rest), and the window's
+//!   columns handed to the reader whole ([`Reader::columns`]): a record is
+//!   read cell by cell only where a cycle starts or a value is refused.
 //!
 //! So memory is bounded by the file (held whole, at most [`MAX_MDF`]: an
 //! MDF4 file is read where its links point), one expanded block and one
@@ -45,6 +48,7 @@ use crate::{Header, ParseOptions, Streamed};
 use falcon_mdf::blocks::{ChannelType, SyncType};
 use falcon_mdf::{Channel, Mf4File, OpenOptions};
 use std::borrow::Cow;
+use std::sync::Arc;
 
 /// The largest MDF4 file read (bytes): it is held in memory.
 pub const MAX_MDF: usize = 1 << 30;
@@ -167,9 +171,9 @@ pub const MAX_MDF_BLOCKS: usize = 1 << 20;
 /// What the file declares, read from its bytes before falcon_mdf opens it,
 /// with the bounds on groups, channels and decoded bytes checked.
 struct Survey {
-    /// Each channel group's block and the record count it declares
-    /// (`cg_cycle_count`), sorted by block.
-    declared: Vec<(u64, u64)>,
+    /// Each channel group's block, the record count it declares
+    /// (`cg_cycle_count`) and its data group's block, sorted by block.
+    declared: Vec<(u64, u64, u64)>,
     /// An unfinished file whose record counts are not up to date.
     counts_stale: bool,
 }
@@ -178,9 +182,17 @@ impl Survey {
     /// The record count the group at block `cg` declares.
     fn declared(&self, cg: u64) -> Option<u64> {
         self.declared
-            .binary_search_by_key(&cg, |&(at, _)| at)
+            .binary_search_by_key(&cg, |&(at, ..)| at)
             .ok()
             .map(|i| self.declared[i].1)
+    }
+
+    /// The block of the data group holding the channel group at block `cg`.
+    fn data_group(&self, cg: u64) -> Option<u64> {
+        self.declared
+            .binary_search_by_key(&cg, |&(at, ..)| at)
+            .ok()
+            .map(|i| self.declared[i].2)
     }
 }
 
@@ -259,7 +271,7 @@ fn survey(bytes: &[u8]) -> Result<Survey, IngestError> {
                     "the MDF4 file holds more than {MAX_MDF_GROUPS} channel groups, the bound on those read (a damaged or hostile file?): keep the groups wanted (asammdf's `filter`), or export the channels as CSV"
                 )));
             }
-            declared.push((cg, u64_at(c.data, 8).unwrap_or(0)));
+            declared.push((cg, u64_at(c.data, 8).unwrap_or(0), dg));
             // The channels: the `cn_next` chain and what each composes.
             let mut seen = HashSet::new();
             let mut stack = vec![c.links.get(1).copied().unwrap_or(0)];
@@ -375,7 +387,11 @@ fn read_file<F: FnMut(Streamed) -> Result<(), IngestError>>(
         ..OpenOptions::default()
     };
     let survey = survey(&bytes)?;
-    let file = Mf4File::from_bytes_with_options(bytes, options).map_err(damaged)?;
+    // The bytes shared with falcon_mdf, so that records are decoded where
+    // they lie ([`crate::decode`]).
+    let bytes = Arc::new(bytes);
+    let source = Arc::new(Shared(Arc::clone(&bytes)));
+    let file = Mf4File::from_source_with_options(source, options).map_err(damaged)?;
     let groups = groups(&file, opts);
     let group = choose(&groups, opts)?;
     if let Some((name, unit, what)) = &group.unknown_master {
@@ -471,11 +487,19 @@ fn read_file<F: FnMut(Streamed) -> Result<(), IngestError>>(
         );
     }
     let mut rd = Reader::new(opts, sink);
-    let streamed = stream(&file, group, records.declared, &mut rd);
+    let plain = survey
+        .data_group(cg.block_offset())
+        .and_then(|dg| plain(&bytes, dg, &file, group));
+    let streamed = stream(&file, plain, group, records.declared, &mut rd);
     let named = |e: IngestError| in_group(e, group);
     streamed.map_err(named)?;
     let mut head = rd.end().map_err(named)?;
     head.notes.extend(notes);
+    // The buffer kept for the next file, once falcon_mdf lets go of it.
+    drop(file);
+    if let Ok(bytes) = Arc::try_unwrap(bytes) {
+        crate::spare(bytes);
+    }
     Ok(head)
 }
 
@@ -777,10 +801,74 @@ fn choose<'g>(groups: &'g [Group], opts: &ParseOptions) -> Result<&'g Group, Ing
     )))
 }
 
-/// The group's records, a window at a time, as rows: the header (the
-/// column names) first, then one row a record.
+/// The file's bytes, shared: falcon_mdf reads its blocks from them as from
+/// its own in-memory source (the same bounds, the same errors), and
+/// [`crate::decode`] its records.
+struct Shared(Arc<Vec<u8>>);
+
+impl falcon_mdf::io::ByteSource for Shared {
+    fn len(&self) -> u64 {
+        self.0.len() as u64
+    }
+
+    /// As falcon_mdf's `MemorySource`: a range past the end is its
+    /// `truncated` error.
+    fn read_bytes(
+        &self,
+        offset: u64,
+        len: usize,
+    ) -> falcon_mdf::error::Result<falcon_mdf::io::ByteSlice<'_>> {
+        let data = &self.0;
+        let truncated = falcon_mdf::error::Mf4Error::truncated;
+        if offset >= data.len() as u64 {
+            return Err(truncated(offset, len, 0));
+        }
+        let start = offset as usize;
+        let available = data.len() - start;
+        if len > available {
+            return Err(truncated(offset, len, available));
+        }
+        Ok(falcon_mdf::io::ByteSlice::borrowed(
+            &data[start..start + len],
+        ))
+    }
+}
+
+/// The group's channels (the columns, in order).
+fn channels<'f>(file: &'f Mf4File, group: &Group) -> Vec<&'f Channel> {
+    let cg = &file.data_groups()[group.dg].channel_groups[group.cg];
+    group
+        .columns
+        .iter()
+        .map(|(i, _)| &cg.channels[*i])
+        .collect()
+}
+
+/// The group in the plain shape [`crate::decode`] reads (`dg` its data
+/// group's block), else `None`: falcon_mdf decodes it.
+fn plain<'f>(
+    bytes: &'f [u8],
+    dg: u64,
+    file: &Mf4File,
+    group: &Group,
+) -> Option<crate::decode::Plain<'f>> {
+    let cg = &file.data_groups()[group.dg].channel_groups[group.cg];
+    crate::decode::Plain::new(
+        bytes,
+        dg,
+        cg.data_bytes_len(),
+        cg.inval_bytes_len(),
+        cg.sample_count,
+        &channels(file, group),
+    )
+}
+
+/// The group's records, a window at a time, as columns: the header (the
+/// column names) first, then each window's channels whole, decoded from
+/// the bytes where the group is `plain`, else by falcon_mdf.
 fn stream<F: FnMut(Streamed) -> Result<(), IngestError>>(
     file: &Mf4File,
+    plain: Option<crate::decode::Plain<'_>>,
     group: &Group,
     declared: u64,
     rd: &mut Reader<'_, F>,
@@ -800,14 +888,33 @@ fn stream<F: FnMut(Streamed) -> Result<(), IngestError>>(
     }
     let k = group.columns.len().max(1);
     let chunk = (WINDOW_BYTES / stride).min(WINDOW_VALUES / k).max(1);
-    let channels: Vec<&Channel> = group
-        .columns
-        .iter()
-        .map(|(i, _)| &cg.channels[*i])
-        .collect();
-    let windows = file.signals_chunks(&channels, chunk).map_err(damaged)?;
-    let mut row = vec![f64::NAN; k];
     let mut cols: Vec<Vec<f64>> = Vec::with_capacity(k);
+    let held = match plain {
+        Some(p) => p.read(chunk, &mut cols, |cols, first, n| {
+            rd.columns(first + 2, cols, n, |r| Values { cols, r })
+        })?,
+        None => falcon_windows(file, group, chunk, &mut cols, rd)?,
+    };
+    Records {
+        declared,
+        held: held as u64,
+    }
+    .check(group)
+}
+
+/// The group's records decoded by falcon_mdf, a window of `chunk` at a
+/// time (each channel's samples, NaN where its invalidation bit says so),
+/// handed to the reader as columns. Returns the records read.
+fn falcon_windows<F: FnMut(Streamed) -> Result<(), IngestError>>(
+    file: &Mf4File,
+    group: &Group,
+    chunk: usize,
+    cols: &mut Vec<Vec<f64>>,
+    rd: &mut Reader<'_, F>,
+) -> Result<usize, IngestError> {
+    let windows = file
+        .signals_chunks(&channels(file, group), chunk)
+        .map_err(damaged)?;
     let mut record = 0usize;
     for window in windows {
         let signals = window.map_err(damaged)?;
@@ -828,19 +935,11 @@ fn stream<F: FnMut(Streamed) -> Result<(), IngestError>>(
         if cols.is_empty() {
             break;
         }
-        for r in 0..n {
-            for (x, c) in row.iter_mut().zip(&cols) {
-                *x = c[r];
-            }
-            rd.row(record + 2, &Values(&row), || None)?;
-            record += 1;
-        }
+        let cols = &*cols;
+        rd.columns(record + 2, cols, n, |r| Values { cols, r })?;
+        record += n;
     }
-    Records {
-        declared,
-        held: record as u64,
-    }
-    .check(group)
+    Ok(record)
 }
 
 /// The records a channel group declares (its own `cg_cycle_count`, read
@@ -898,22 +997,32 @@ impl Cells for Names<'_> {
     }
 }
 
-/// One record's values, NaN for an invalid sample or a value that is no
-/// number.
-struct Values<'a>(&'a [f64]);
+/// One record's values (record `r` of the window's columns), NaN for an
+/// invalid sample or a value that is no number: the cells of a row the
+/// columns' path leaves to the general one.
+struct Values<'a> {
+    cols: &'a [Vec<f64>],
+    r: usize,
+}
+
+impl Values<'_> {
+    fn get(&self, i: usize) -> Option<&f64> {
+        self.cols.get(i).and_then(|c| c.get(self.r))
+    }
+}
 
 impl Cells for Values<'_> {
     fn len(&self) -> usize {
-        self.0.len()
+        self.cols.len()
     }
     fn is_blank(&self, i: usize) -> bool {
-        i >= self.0.len()
+        i >= self.cols.len()
     }
     fn text(&self, i: usize) -> Cow<'_, str> {
-        Cow::Owned(self.0.get(i).map(|v| v.to_string()).unwrap_or_default())
+        Cow::Owned(self.get(i).map(|v| v.to_string()).unwrap_or_default())
     }
     fn number(&self, i: usize, line: usize) -> Result<f64, IngestError> {
-        match self.0.get(i) {
+        match self.get(i) {
             Some(v) if v.is_finite() => Ok(*v),
             Some(v) => Err(crate::error::at(
                 line,

@@ -167,6 +167,39 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
         }
     }
 
+    /// Rows `0..n` of columns decoded whole (a binary source: one column a
+    /// channel), row `r` on line `line0 + r`. Runs of rows that continue
+    /// the cycles being read go from the columns straight into the traces
+    /// ([`crate::fast::long_columns`], [`crate::fast::per_column_columns`]);
+    /// a row they stop at (a cycle's first, a value that is no number) is
+    /// read as the cells `cells(r)` by [`Self::row`], as a text row is, so
+    /// the rules of a row live in one place.
+    pub(crate) fn columns<C: Cells>(
+        &mut self,
+        line0: usize,
+        cols: &[Vec<f64>],
+        n: usize,
+        cells: impl Fn(usize) -> C,
+    ) -> Result<(), IngestError> {
+        let mut r = 0;
+        while r < n {
+            // (Not while a headerless file is probed: every row counts there.)
+            if let (Phase::Data(layout), None) = (&mut self.phase, &self.out.probe) {
+                r += match &mut **layout {
+                    Layout::Long(l) => crate::fast::long_columns(l, cols, r, n),
+                    Layout::PerColumn(p) => crate::fast::per_column_columns(p, cols, r, n),
+                    Layout::Time(_) => 0,
+                };
+                if r >= n {
+                    break;
+                }
+            }
+            self.row(line0 + r, &cells(r), || None)?;
+            r += 1;
+        }
+        Ok(())
+    }
+
     /// The first data row: find the header among the text rows above it,
     /// resolve the columns and choose the layout.
     fn start(

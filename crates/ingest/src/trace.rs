@@ -45,6 +45,13 @@ impl Track {
         (w > self.last && w - self.first < self.limit).then_some(w)
     }
 
+    /// What [`Self::continues`] adds to an angle: 0, or the cycle once the
+    /// angles wrapped.
+    #[inline(always)]
+    pub(crate) fn shift(&self) -> f64 {
+        self.wrap
+    }
+
     /// Marks `w` (from [`Self::continues`]) as taken.
     #[inline(always)]
     pub(crate) fn take(&mut self, w: f64) {
@@ -251,22 +258,16 @@ pub(crate) fn finish(
     if first >= 0.0 && last < cycle && lo > 0.0 {
         return Ok((tr, checked(Some((lo, hi)))));
     }
-    let wrapped: Vec<f64> = tr
-        .angle_deg
-        .iter()
-        .map(|a| {
-            let w = enginedyn_numerics::scan::rem_euclid(*a, cycle);
-            if w >= cycle { 0.0 } else { w }
-        })
-        .collect();
+    // Wrapped and turned in place: no second copy of the angles.
+    for a in &mut tr.angle_deg {
+        let w = enginedyn_numerics::scan::rem_euclid(*a, cycle);
+        *a = if w >= cycle { 0.0 } else { w };
+    }
+    let wrapped = &tr.angle_deg;
     let start = (0..n)
         .min_by(|&i, &j| wrapped[i].total_cmp(&wrapped[j]))
         .unwrap_or(0);
-    tr.angle_deg = wrapped[start..]
-        .iter()
-        .chain(&wrapped[..start])
-        .copied()
-        .collect();
+    tr.angle_deg.rotate_left(start);
     tr.values.rotate_left(start);
     if tr.angle_deg.windows(2).any(|w| w[1] <= w[0]) {
         return Err(IngestError::Data(format!(

@@ -10,6 +10,7 @@ mod cycles_kept;
 mod formats;
 mod layouts;
 mod mdf;
+mod mdf_columns;
 mod no_header;
 mod no_panic;
 mod pv_peg_stats;

@@ -1,0 +1,301 @@
+//! MDF4 records decoded by columns, straight from the file's bytes: each
+//! channel's samples read out of the records in one pass a channel, into
+//! the column the reader takes whole ([`crate::reader::Reader::columns`]).
+//!
+//! Only the plain shape is read here, which is what indicating systems and
+//! asammdf write: sorted records (no record id) in uncompressed data blocks
+//! (`##DT`, alone or under data lists of them), each channel a little-endian
+//! integer (any bit offset and width up to 64 bits) or an aligned float32
+//! or float64, with no conversion or, for float64, a linear one; a
+//! channel's invalidation bit makes its sample NaN. Anything else (a
+//! compressed block, unsorted records, another data type or conversion, a
+//! block that is not whole) is [`Plain::new`]'s `None`, and the caller
+//! decodes by falcon_mdf instead: what each sample is stays falcon_mdf's
+//! rule, and the tests hold this decoder to it bit for bit.
+//!
+//! Nothing is copied but the samples: the records are read where they lie
+//! (a record split across two blocks through a buffer of one record), and
+//! the columns hold one window at a time. What is read is bounded by the
+//! blocks present: a count the file declares is never allocated from.
+
+use falcon_mdf::Channel;
+use falcon_mdf::blocks::{ChannelType, Conversion, DataType};
+
+/// How one channel's sample is read from a record.
+#[derive(Debug, Clone, Copy)]
+struct Field {
+    /// The first byte the value touches (from the record's start).
+    byte: usize,
+    /// Bytes it touches: at most 8.
+    span: usize,
+    /// The bit offset within the first byte, and the width.
+    shift: u32,
+    bits: u32,
+    kind: Kind,
+    /// The invalidation bit: its byte in the record and its bit.
+    invalid: Option<(usize, u32)>,
+}
+
+/// The channel's data type and conversion, as falcon_mdf reads them.
+#[derive(Debug, Clone, Copy)]
+enum Kind {
+    Unsigned,
+    Signed,
+    F32,
+    /// A float64; `Some((factor, offset))`: a linear conversion.
+    F64(Option<(f64, f64)>),
+}
+
+impl Field {
+    /// The field of `ch`, in records of `data` data bytes and `inval`
+    /// invalidation bytes; `None` outside the plain shape.
+    fn of(ch: &Channel, data: usize, inval: usize) -> Option<Self> {
+        if ch.unreadable().is_some()
+            || ch.is_array()
+            || ch.all_invalid
+            || !matches!(
+                ch.channel_type,
+                ChannelType::FixedLength | ChannelType::Master
+            )
+        {
+            return None;
+        }
+        let (shift, bits) = (u32::from(ch.bit_offset), ch.bit_count);
+        let identity = ch.conversion.is_identity();
+        let kind = match (ch.data_type, bits, shift) {
+            (DataType::FloatLe, 64, 0) => match ch.conversion {
+                Conversion::None => Kind::F64(None),
+                Conversion::Linear { offset, factor } => Kind::F64(Some((factor, offset))),
+                _ => return None,
+            },
+            (DataType::FloatLe, 32, 0) if identity => Kind::F32,
+            (DataType::UIntLe, 1..=64, 0..=7) if identity => Kind::Unsigned,
+            (DataType::IntLe, 1..=64, 0..=7) if identity => Kind::Signed,
+            _ => return None,
+        };
+        let span = (shift + bits).div_ceil(8) as usize;
+        let byte = ch.byte_offset as usize;
+        if span > 8 || byte.checked_add(span)? > data {
+            return None;
+        }
+        // falcon_mdf reads no validity from a bit past the invalidation bytes.
+        let invalid = if ch.invalidation_bit && inval > 0 {
+            let at = (ch.inval_bit_pos / 8) as usize;
+            (at < inval).then_some((data + at, ch.inval_bit_pos % 8))
+        } else {
+            None
+        };
+        Some(Self {
+            byte,
+            span,
+            shift,
+            bits,
+            kind,
+            invalid,
+        })
+    }
+
+    /// The samples of `records` (whole ones, `stride` bytes each) appended
+    /// to `out`.
+    fn decode(&self, records: &[u8], stride: usize, out: &mut Vec<f64>) {
+        let start = out.len();
+        let rows = records.chunks_exact(stride);
+        let at = self.byte;
+        match self.kind {
+            // The usual channels: whole aligned bytes, one load each.
+            Kind::F64(None) => out.extend(rows.map(|r| f64::from_le_bytes(bytes(r, at)))),
+            Kind::F64(Some((f, o))) => {
+                out.extend(rows.map(|r| f * f64::from_le_bytes(bytes(r, at)) + o))
+            }
+            Kind::F32 => out.extend(rows.map(|r| f64::from(f32::from_le_bytes(bytes(r, at))))),
+            Kind::Unsigned => out.extend(rows.map(|r| self.raw(r) as f64)),
+            Kind::Signed => {
+                let up = 64 - self.bits;
+                out.extend(rows.map(|r| (((self.raw(r) << up) as i64) >> up) as f64))
+            }
+        }
+        if let Some((byte, bit)) = self.invalid {
+            for (x, r) in out[start..].iter_mut().zip(records.chunks_exact(stride)) {
+                if (r[byte] >> bit) & 1 != 0 {
+                    *x = f64::NAN;
+                }
+            }
+        }
+    }
+
+    /// The field's bits, shifted down and masked: the bytes it touches read
+    /// little-endian.
+    #[inline(always)]
+    fn raw(&self, record: &[u8]) -> u64 {
+        let mut b = [0u8; 8];
+        b[..self.span].copy_from_slice(&record[self.byte..self.byte + self.span]);
+        let v = u64::from_le_bytes(b) >> self.shift;
+        if self.bits == 64 {
+            v
+        } else {
+            v & ((1u64 << self.bits) - 1)
+        }
+    }
+}
+
+/// `N` bytes of `record` from `at` (the field was checked to lie within).
+#[inline(always)]
+fn bytes<const N: usize>(record: &[u8], at: usize) -> [u8; N] {
+    let mut b = [0u8; N];
+    b.copy_from_slice(&record[at..at + N]);
+    b
+}
+
+/// A channel group in the plain shape: its data blocks' bytes in order,
+/// its record stride and the channels' fields.
+pub(crate) struct Plain<'f> {
+    blocks: Vec<&'f [u8]>,
+    stride: usize,
+    records: usize,
+    fields: Vec<Field>,
+}
+
+/// A block's id and data (after its links), when it lies whole in `bytes`.
+fn block(bytes: &[u8], at: u64) -> Option<(&[u8], Vec<u64>, &[u8])> {
+    let at = usize::try_from(at).ok()?;
+    let head = bytes.get(at..at.checked_add(24)?)?;
+    let len = usize::try_from(u64::from_le_bytes(head[8..16].try_into().ok()?)).ok()?;
+    let n = usize::try_from(u64::from_le_bytes(head[16..24].try_into().ok()?)).ok()?;
+    let links_end = n.checked_mul(8)?.checked_add(24)?;
+    if len < links_end || &head[..2] != b"##" {
+        return None;
+    }
+    let whole = bytes.get(at..at.checked_add(len)?)?;
+    let links = whole[24..links_end]
+        .chunks_exact(8)
+        .map(|c| u64::from_le_bytes(c.try_into().unwrap_or_default()))
+        .collect();
+    Some((&whole[..4], links, &whole[links_end..]))
+}
+
+impl<'f> Plain<'f> {
+    /// The group's plain shape: `dg` the data group's block in `bytes`,
+    /// `data` and `inval` its records' data and invalidation bytes,
+    /// `records` the count falcon_mdf reads (at most what the blocks hold),
+    /// `channels` the columns. `None` when any part is outside it.
+    pub(crate) fn new(
+        bytes: &'f [u8],
+        dg: u64,
+        data: usize,
+        inval: usize,
+        records: u64,
+        channels: &[&Channel],
+    ) -> Option<Self> {
+        let (id, links, dg_data) = block(bytes, dg)?;
+        // Sorted: no record id (dg_rec_id_size 0).
+        if id != b"##DG" || dg_data.first() != Some(&0) {
+            return None;
+        }
+        let stride = data.checked_add(inval)?;
+        let fields = channels
+            .iter()
+            .map(|ch| Field::of(ch, data, inval))
+            .collect::<Option<Vec<_>>>()?;
+        let mut blocks = Vec::new();
+        // One ##DT, or data lists (##DL) of them, each link filled.
+        let mut next = *links.get(2)?;
+        let mut seen = std::collections::HashSet::new();
+        while next != 0 {
+            if !seen.insert(next) {
+                return None;
+            }
+            let (id, links, body) = block(bytes, next)?;
+            match id {
+                b"##DT" => {
+                    blocks.push(body);
+                    next = 0;
+                }
+                b"##DL" => {
+                    for &at in links.get(1..)? {
+                        match block(bytes, at)? {
+                            (b"##DT", _, body) => blocks.push(body),
+                            _ => return None,
+                        }
+                    }
+                    next = *links.first()?;
+                }
+                _ => return None,
+            }
+        }
+        let held: usize = blocks.iter().map(|b| b.len()).sum::<usize>() / stride.max(1);
+        let records = usize::try_from(records).ok()?;
+        (stride > 0 && !blocks.is_empty() && records <= held).then_some(Self {
+            blocks,
+            stride,
+            records,
+            fields,
+        })
+    }
+
+    /// Decodes the records, at most `chunk` a window, into `cols` (one a
+    /// channel, cleared each window) and hands each window to `f` with its
+    /// first record and its length. Returns the records read.
+    pub(crate) fn read<E>(
+        &self,
+        chunk: usize,
+        cols: &mut Vec<Vec<f64>>,
+        mut f: impl FnMut(&[Vec<f64>], usize, usize) -> Result<(), E>,
+    ) -> Result<usize, E> {
+        let stride = self.stride;
+        let chunk = chunk.max(1);
+        cols.resize_with(self.fields.len(), Vec::new);
+        for c in cols.iter_mut() {
+            c.clear();
+        }
+        let (mut done, mut first, mut in_window) = (0usize, 0usize, 0usize);
+        // A record split across two blocks, completed from the next.
+        let mut carry: Vec<u8> = Vec::new();
+        for &body in &self.blocks {
+            let mut rest = body;
+            if !carry.is_empty() {
+                let need = (stride - carry.len()).min(rest.len());
+                carry.extend_from_slice(&rest[..need]);
+                rest = &rest[need..];
+                if carry.len() < stride {
+                    continue;
+                }
+            }
+            let whole = rest.len() / stride * stride;
+            let carried = std::mem::take(&mut carry);
+            // The record carried over, then the block's whole records.
+            for mut piece in [carried.as_slice(), &rest[..whole]] {
+                while done < self.records && piece.len() >= stride {
+                    let take = (chunk - in_window)
+                        .min(self.records - done)
+                        .min(piece.len() / stride);
+                    let (now, later) = piece.split_at(take * stride);
+                    for (field, col) in self.fields.iter().zip(cols.iter_mut()) {
+                        field.decode(now, stride, col);
+                    }
+                    piece = later;
+                    done += take;
+                    in_window += take;
+                    if in_window == chunk {
+                        f(cols, first, in_window)?;
+                        first = done;
+                        in_window = 0;
+                        for c in cols.iter_mut() {
+                            c.clear();
+                        }
+                    }
+                }
+            }
+            if done == self.records {
+                break;
+            }
+            carry.extend_from_slice(&rest[whole..]);
+        }
+        if in_window > 0 {
+            f(cols, first, in_window)?;
+        }
+        Ok(done)
+    }
+}
+
+#[cfg(test)]
+mod tests;
