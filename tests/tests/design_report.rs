@@ -229,6 +229,18 @@ fn every_template_reports_as_written() {
         assert!(text.contains("rated power"), "{args:?}: {text}");
         assert!(out.join("tables/README.txt").is_file());
     }
+    // A plain template as written: the bundled example's diagram, which
+    // was measured on its cylinder, at its one operating point, said so.
+    let dir = t.path().join("plain");
+    std::fs::create_dir(&dir).unwrap();
+    let e = engine(&dir, &["--cylinders", "6"], "e.toml", &[], "");
+    let (text, out) = report(&dir, &e, &[]);
+    assert!(text.contains("power: "), "{text}");
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(
+        html.contains("the bundled example&#39;s diagram")
+            || html.contains("the bundled example's diagram")
+    );
     // A plain template and a measured diagram: one operating point.
     let dir = t.path().join("point");
     std::fs::create_dir(&dir).unwrap();
@@ -247,7 +259,14 @@ fn every_template_reports_as_written() {
 #[test]
 fn a_report_refuses_what_it_cannot_do() {
     let t = tempfile::tempdir().unwrap();
-    let plain = engine(t.path(), &[], "plain.toml", &[], "");
+    // Not the bundled example's cylinder: its diagram does not fit.
+    let plain = engine(
+        t.path(),
+        &[],
+        "plain.toml",
+        &[("bore_mm = 76.0", "bore_mm = 80.0")],
+        "",
+    );
     let out = t.path().join("out");
     let o = run(&["report", "--engine", &plain, "--out", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));

@@ -300,19 +300,36 @@ fn point_report(
     diagram: Option<&Path>,
 ) -> Result<Report> {
     let session = Session::new(loaded, reader, method, Scope::Full)?;
-    let path = crate::diagram::diagram_path(diagram, &session.loaded).map_err(|e| {
-        Error::usage(format!(
-            "{e}; or add a [combustion] section for a design report over the speed × load map (`enginedyn template --combustion petrol` writes one)"
-        ))
-    })?;
-    let input = Input::File(&path);
-    let a = session.analyse(&[input])?.analysis;
+    let path = match crate::diagram::diagram_path(diagram, &session.loaded) {
+        Ok(p) => Some(p),
+        // A template as written: its cylinder is the bundled example's,
+        // whose diagram was measured on it.
+        Err(_) if example_cylinder(&session.loaded)? => None,
+        Err(e) => {
+            return Err(Error::usage(format!(
+                "{e}; or add a [combustion] section for a design report over the speed × load map (`enginedyn template --combustion petrol` writes one)"
+            )));
+        }
+    };
+    let input = path
+        .as_deref()
+        .map_or(Input::Bundled(crate::EXAMPLE), Input::File);
+    let mut a = session.analyse(&[input])?.analysis;
+    if path.is_none() {
+        a.summary.notes.insert(
+            0,
+            format!(
+                "no diagram and no [combustion]: the report reads the bundled example's diagram ({}), measured on this engine's cylinder (bore, stroke, rod and compression ratio are the example's); give --diagram for your own",
+                crate::EXAMPLE.diagram_name()
+            ),
+        );
+    }
     let engine = session.engine();
     let mut page = DesignPage {
         title: format!("{} — engine design report", engine.name()),
         lead: format!(
             "one operating point: {} at {} rpm; computed by enginedyn {} from {}",
-            path.display(),
+            input.shown(),
             human(a.summary.rpm),
             env!("CARGO_PKG_VERSION"),
             session.loaded.shown()
@@ -341,6 +358,21 @@ fn point_report(
     page.sections.push(tolerance_section(&session, &a)?);
     page.headlines = point_headlines(engine, &a, torsion.1.as_ref(), &firing.1);
     finish(page, tables, a.summary.notes.clone())
+}
+
+/// Whether `loaded`'s engine has the bundled example's cylinder (its
+/// diagram then fits it: a template as written) and cycle.
+fn example_cylinder(loaded: &Loaded) -> Result<bool> {
+    let example = Loaded::bundled(crate::EXAMPLE)?;
+    let (a, b) = (&loaded.engine, &example.engine);
+    // The same volume law to 0.5 % at every 30° (a rod length given as
+    // λ in one file and in mm in the other differs in its last digits).
+    let same_law = (0..12).all(|k| {
+        let phi = (k as f64 * 30.0).to_radians();
+        let (va, vb) = (a.cylinder().volume(phi), b.cylinder().volume(phi));
+        (va - vb).abs() <= 5e-3 * vb
+    });
+    Ok(same_law && a.stroke_kind() == b.stroke_kind())
 }
 
 /// The page and the tables as files; the headlines as text.
@@ -699,7 +731,14 @@ fn crank_train_section(
         ],
         body,
         charts,
-        ..Section::default()
+        // What the analysis noted there, but the engine's own notes (the
+        // engine section has them).
+        notes: s
+            .notes
+            .iter()
+            .filter(|n| !engine.notes().contains(n))
+            .cloned()
+            .collect(),
     })
 }
 
