@@ -155,14 +155,26 @@ pub(crate) struct Plain<'f> {
     fields: Vec<Field>,
 }
 
-/// A block's id and data (after its links), when it lies whole in `bytes`.
-fn block(bytes: &[u8], at: u64) -> Option<(&[u8], Vec<u64>, &[u8])> {
+/// A block's header: its four-byte id, its length and its links.
+pub(crate) struct Block<'a> {
+    pub(crate) id: &'a [u8],
+    pub(crate) links: Vec<u64>,
+    /// The block's data (after its links).
+    pub(crate) data: &'a [u8],
+}
+
+/// The block at `at`, when one is there whole; `None` otherwise (falcon_mdf
+/// then names the damage).
+pub(crate) fn block(bytes: &[u8], at: u64) -> Option<Block<'_>> {
     let at = usize::try_from(at).ok()?;
     let head = bytes.get(at..at.checked_add(24)?)?;
+    if &head[..2] != b"##" {
+        return None;
+    }
     let len = usize::try_from(u64::from_le_bytes(head[8..16].try_into().ok()?)).ok()?;
     let n = usize::try_from(u64::from_le_bytes(head[16..24].try_into().ok()?)).ok()?;
     let links_end = n.checked_mul(8)?.checked_add(24)?;
-    if len < links_end || &head[..2] != b"##" {
+    if len < links_end {
         return None;
     }
     let whole = bytes.get(at..at.checked_add(len)?)?;
@@ -170,7 +182,11 @@ fn block(bytes: &[u8], at: u64) -> Option<(&[u8], Vec<u64>, &[u8])> {
         .chunks_exact(8)
         .map(|c| u64::from_le_bytes(c.try_into().unwrap_or_default()))
         .collect();
-    Some((&whole[..4], links, &whole[links_end..]))
+    Some(Block {
+        id: &whole[..4],
+        links,
+        data: &whole[links_end..],
+    })
 }
 
 impl<'f> Plain<'f> {
@@ -186,7 +202,11 @@ impl<'f> Plain<'f> {
         records: u64,
         channels: &[&Channel],
     ) -> Option<Self> {
-        let (id, links, dg_data) = block(bytes, dg)?;
+        let Block {
+            id,
+            links,
+            data: dg_data,
+        } = block(bytes, dg)?;
         // Sorted: no record id (dg_rec_id_size 0).
         if id != b"##DG" || dg_data.first() != Some(&0) {
             return None;
@@ -204,7 +224,11 @@ impl<'f> Plain<'f> {
             if !seen.insert(next) {
                 return None;
             }
-            let (id, links, body) = block(bytes, next)?;
+            let Block {
+                id,
+                links,
+                data: body,
+            } = block(bytes, next)?;
             match id {
                 b"##DT" => {
                     blocks.push(body);
@@ -213,7 +237,11 @@ impl<'f> Plain<'f> {
                 b"##DL" => {
                     for &at in links.get(1..)? {
                         match block(bytes, at)? {
-                            (b"##DT", _, body) => blocks.push(body),
+                            Block {
+                                id: b"##DT",
+                                data: body,
+                                ..
+                            } => blocks.push(body),
                             _ => return None,
                         }
                     }

@@ -41,6 +41,7 @@
 //! window.
 
 use crate::columns::{Role, recognise, same};
+use crate::decode::block;
 use crate::error::IngestError;
 use crate::reader::Reader;
 use crate::row::Cells;
@@ -194,40 +195,6 @@ impl Survey {
             .ok()
             .map(|i| self.declared[i].2)
     }
-}
-
-/// A block's header: its four-byte id, its length and its links.
-struct Block<'a> {
-    id: &'a [u8],
-    links: Vec<u64>,
-    /// The block's data (after its links).
-    data: &'a [u8],
-}
-
-/// The block at `at`, when one is there whole; `None` otherwise (falcon_mdf
-/// then names the damage).
-fn block(bytes: &[u8], at: u64) -> Option<Block<'_>> {
-    let at = usize::try_from(at).ok()?;
-    let head = bytes.get(at..at.checked_add(24)?)?;
-    if &head[..2] != b"##" {
-        return None;
-    }
-    let len = usize::try_from(u64::from_le_bytes(head[8..16].try_into().ok()?)).ok()?;
-    let n = usize::try_from(u64::from_le_bytes(head[16..24].try_into().ok()?)).ok()?;
-    let links_end = n.checked_mul(8)?.checked_add(24)?;
-    if len < links_end {
-        return None;
-    }
-    let whole = bytes.get(at..at.checked_add(len)?)?;
-    let links = whole[24..links_end]
-        .chunks_exact(8)
-        .map(|c| u64::from_le_bytes(c.try_into().unwrap_or_default()))
-        .collect();
-    Some(Block {
-        id: &whole[..4],
-        links,
-        data: &whole[links_end..],
-    })
 }
 
 fn u64_at(data: &[u8], at: usize) -> Option<u64> {
