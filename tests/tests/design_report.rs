@@ -304,6 +304,23 @@ fn a_report_refuses_what_it_cannot_do() {
         "mine"
     );
     assert!(!mine.join("report.html").exists());
+    // A file where the folder goes is in the way: exit 2, left as it was.
+    let file = t.path().join("a_file");
+    std::fs::write(&file, "mine").unwrap();
+    let o = run(&[
+        "report",
+        "--engine",
+        &petrol,
+        "--out",
+        file.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("a file is in the way"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
     // An earlier report's folder is replaced whole.
     let again = t.path().join("again");
     for _ in 0..2 {

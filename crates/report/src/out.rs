@@ -162,6 +162,22 @@ impl OutDir {
 
     /// [`OutDir::open`] with another wait for the lock.
     pub fn open_waiting(dir: &Path, wait: Duration) -> Result<Self, ReportError> {
+        // A file (or anything but a folder) where the folder goes is in the
+        // way, as one where a file goes is: refused, untouched.
+        if let Ok(meta) = std::fs::metadata(dir)
+            && !meta.is_dir()
+        {
+            return Err(ReportError::InTheWay {
+                path: dir.to_path_buf(),
+                what: if meta.is_file() {
+                    "a file"
+                } else {
+                    special(&meta.file_type())
+                },
+                run_folder: false,
+                tables: false,
+            });
+        }
         std::fs::create_dir_all(dir).map_err(io(dir))?;
         let meta = std::fs::metadata(dir).map_err(io(dir))?;
         if !meta.is_dir() {
