@@ -218,8 +218,9 @@ pub fn table_csv(keys: &[&str], rows: &[Vec<Option<f64>>]) -> String {
     o
 }
 
-/// A figure shown with `digits` decimals, `–` when absent.
-fn shown(v: Option<f64>, digits: usize) -> String {
+/// A figure shown with `digits` decimals, `–` when absent (the report's
+/// tables and cards).
+pub fn shown(v: Option<f64>, digits: usize) -> String {
     v.map_or("–".to_string(), |x| fixed(x, digits))
 }
 

@@ -42,7 +42,7 @@ pub use combustion::{combustion_figures, combustion_section};
 pub use contour::{ContourChart, Mark, Node, band, iso_segment, levels, scale_colour, triangles};
 pub use design::{
     DesignPage, Headline, MapView, Section, crank_train, design_html, firing_ranking,
-    full_load_figure, full_load_table, map_contours, table_csv, tables_readme, text_table,
+    full_load_figure, full_load_table, map_contours, shown, table_csv, tables_readme, text_table,
 };
 pub use firing::{FIRING_FILES, crank_end_view, firing_csv, firing_json, firing_table};
 pub use html::{engine_rows, esc, percent_encode, report_html, table as html_table};

@@ -16,7 +16,7 @@ use crate::options::{Method, Reader};
 use crate::session::Session;
 use enginedyn_numerics::format::{fixed, human};
 use enginedyn_pipeline::{Analysis, Scope};
-use enginedyn_report::{DesignPage, Headline, MapView, Section};
+use enginedyn_report::{DesignPage, Headline, MapView, Section, shown};
 use std::path::Path;
 
 /// What `enginedyn report` was asked for.
@@ -163,18 +163,7 @@ fn full_load_point(session: &Session, map: &SweepMap, rpm: f64) -> Result<Analys
         Some(p.imep_target_bar),
         session.method.step(),
     )?;
-    let grid = crate::diagram::load_diagram(d.input(), &session.parse, &session.grid)?;
-    let mut a = enginedyn_pipeline::analyse_with(
-        session.tables(),
-        session.engine(),
-        &grid,
-        rpm,
-        &session.opts,
-    )
-    .map_err(|e| Error::usage(e.to_string()))?;
-    a.summary.design = Some(d.design_summary());
-    a.summary.notes.extend(d.warnings.iter().cloned());
-    Ok(a)
+    session.analyse_synthesised(&d, rpm)
 }
 
 /// The map as the report's layout reads it.
@@ -699,11 +688,6 @@ fn part_rows(s: &enginedyn_pipeline::Summary) -> Vec<Vec<String>> {
     ]
 }
 
-/// A figure with `digits` decimals, `–` when absent.
-fn shown(v: Option<f64>, digits: usize) -> String {
-    v.map_or("–".to_string(), |x| fixed(x, digits))
-}
-
 fn crank_train_section(
     engine: &enginedyn_engine::Engine,
     a: &Analysis,
@@ -814,17 +798,14 @@ fn firing_section(
     tables: &mut Vec<(String, Vec<u8>)>,
 ) -> Result<(Section, Option<enginedyn_balance::Study>)> {
     let engine = session.engine();
-    let setup = enginedyn_balance::Setup {
+    let study = match crate::firing::ranked(
         engine,
-        rod_model: session.opts.rod_model.unwrap_or(engine.rod_model()),
-        omega: a.summary.omega_rad_s,
-        torque: Some(enginedyn_balance::CylinderTorque {
-            step: a.step,
-            torque: &a.cylinder_torque,
-        }),
-        weights: enginedyn_balance::Weights::default(),
-    };
-    let study = match enginedyn_balance::study(&setup, false) {
+        session.opts.rod_model.unwrap_or(engine.rod_model()),
+        a.summary.rpm,
+        Some(a),
+        enginedyn_balance::Weights::default(),
+        false,
+    ) {
         Ok(s) => s,
         Err(e) => {
             return Ok((

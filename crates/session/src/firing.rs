@@ -93,19 +93,14 @@ pub fn study(
             ("none".to_string(), speed.rpm, None)
         }
     };
-    let omega = rpm * std::f64::consts::PI / 30.0;
-    let setup = Setup {
+    let mut result = ranked(
         engine,
         rod_model,
-        omega,
-        torque: analysis.as_ref().map(|an| CylinderTorque {
-            step: an.step,
-            torque: &an.cylinder_torque,
-        }),
+        rpm,
+        analysis.as_ref(),
         weights,
-    };
-    let mut result =
-        enginedyn_balance::study(&setup, all_cranks).map_err(|e| Error::usage(e.to_string()))?;
+        all_cranks,
+    )?;
     notes.append(&mut result.notes);
     result.notes = notes;
     Ok(FiringOrders {
@@ -113,4 +108,29 @@ pub fn study(
         diagram: shown,
         rpm,
     })
+}
+
+/// The firing-order study of `engine` at `rpm` with `rod_model`, its
+/// journal torques from `analysis` (cylinder 1's torque for every
+/// cylinder; `None`: the diagram-free criteria only): the one place the
+/// balance study is set up, for `firing-orders` and the design report.
+pub fn ranked(
+    engine: &Engine,
+    rod_model: enginedyn_engine::RodModel,
+    rpm: f64,
+    analysis: Option<&enginedyn_pipeline::Analysis>,
+    weights: Weights,
+    all_cranks: bool,
+) -> Result<enginedyn_balance::Study> {
+    let setup = Setup {
+        engine,
+        rod_model,
+        omega: rpm * std::f64::consts::PI / 30.0,
+        torque: analysis.map(|an| CylinderTorque {
+            step: an.step,
+            torque: &an.cylinder_torque,
+        }),
+        weights,
+    };
+    enginedyn_balance::study(&setup, all_cranks).map_err(|e| Error::usage(e.to_string()))
 }

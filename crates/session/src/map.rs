@@ -183,6 +183,22 @@ impl SweepMap {
 }
 
 impl Session {
+    /// The diagram `d` synthesised from `[combustion]` analysed at `rpm`
+    /// (its samples carry no speed), with its design figures and warnings.
+    pub fn analyse_synthesised(
+        &self,
+        d: &crate::synth::Synthesised,
+        rpm: f64,
+    ) -> Result<enginedyn_pipeline::Analysis> {
+        let grid = load_diagram(d.input(), &self.parse, &self.grid)?;
+        let mut a =
+            enginedyn_pipeline::analyse_with(self.tables(), self.engine(), &grid, rpm, &self.opts)
+                .map_err(|e| crate::Error::usage(e.to_string()))?;
+        a.summary.design = Some(d.design_summary());
+        a.summary.notes.extend(d.warnings.iter().cloned());
+        Ok(a)
+    }
+
     /// One synthesised diagram analysed at each of `rpms` (IMEP targets
     /// `targets`, bar, one a speed, or one for all): its [`MapLoad`] (the
     /// first speed's) and each speed's [`Point`].
@@ -194,18 +210,7 @@ impl Session {
     ) -> Result<(MapLoad, Vec<Point>)> {
         let step = self.method.step();
         let analyse = |d: &crate::synth::Synthesised, rpm: f64| -> Result<Point> {
-            let grid = load_diagram(d.input(), &self.parse, &self.grid)?;
-            let mut a = enginedyn_pipeline::analyse_with(
-                self.tables(),
-                self.engine(),
-                &grid,
-                rpm,
-                &self.opts,
-            )
-            .map_err(|e| crate::Error::usage(e.to_string()))?;
-            a.summary.design = Some(d.design_summary());
-            a.summary.notes.extend(d.warnings.iter().cloned());
-            Ok(Point::of(a))
+            Ok(Point::of(self.analyse_synthesised(d, rpm)?))
         };
         let (first, points) = if per_point {
             let ran: Vec<(crate::synth::Synthesised, Point)> = rpms
@@ -318,9 +323,7 @@ impl Session {
             Some(imep),
             self.method.step(),
         )?;
-        let grid = load_diagram(d.input(), &self.parse, &self.grid)?;
-        let a = enginedyn_pipeline::analyse_with(self.tables(), engine, &grid, rpm, &self.opts)
-            .map_err(|e| crate::Error::usage(e.to_string()))?;
+        let a = self.analyse_synthesised(&d, rpm)?;
         let own = a.flywheel.as_ref().map_or(0.0, |f| f.engine_inertia);
         let spec = enginedyn_engine::FlywheelSpec {
             speed_fluctuation: delta,
