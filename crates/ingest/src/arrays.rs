@@ -83,20 +83,16 @@ pub(crate) fn read<F: FnMut(Streamed) -> Result<(), IngestError>>(
     let mut rd = Reader::new(opts, sink);
     rd.names_given = true;
     rd.row(0, &Names(names), || None)?;
-    // Handed over as columns, a block of rows at a time (the reader takes
-    // runs that continue a cycle whole; a row it stops at is read as the
-    // cells of `Sample`, as every row was before), cancellable between
-    // blocks.
-    let mut block: Vec<Vec<f64>> = vec![Vec::new(); columns.len()];
+    // Handed over as columns (slices of the caller's, no copy), a block of
+    // rows at a time (the reader takes runs that continue a cycle whole; a
+    // row it stops at is read as the cells of `Sample`, as every row was
+    // before), cancellable between blocks.
     let mut start = 0;
     while start < n {
         opts.cancel.check()?;
         let end = (start + BLOCK_ROWS).min(n);
-        for (b, c) in block.iter_mut().zip(columns) {
-            b.clear();
-            b.extend_from_slice(&c[start..end]);
-        }
-        let cols = &*block;
+        let cols: Vec<&[f64]> = columns.iter().map(|c| &c[start..end]).collect();
+        let cols = &*cols;
         rd.columns(start + 1, cols, end - start, |r| {
             Sample(cols.iter().map(|c| c[r]).collect())
         })?;

@@ -166,7 +166,12 @@ pub(crate) fn per_column(
 /// trace's, the angle one [`Track::continues`] accepts. The row it stops at
 /// is left to the general path, which reads it as it would have anyway.
 #[inline(never)]
-pub(crate) fn long_columns(l: &mut Long, cols: &[Vec<f64>], from: usize, n: usize) -> usize {
+pub(crate) fn long_columns<C: AsRef<[f64]>>(
+    l: &mut Long,
+    cols: &[C],
+    from: usize,
+    n: usize,
+) -> usize {
     if !l.columnar() || cols.len() > l.ncols {
         return 0;
     }
@@ -174,11 +179,12 @@ pub(crate) fn long_columns(l: &mut Long, cols: &[Vec<f64>], from: usize, n: usiz
     // index lies past the columns (the general path names that).
     let optional = |i: Option<usize>| match i {
         None => Some(None),
-        Some(i) => cols.get(i).map(|c| Some(c.as_slice())),
+        Some(i) => cols.get(i).map(|c| Some(c.as_ref())),
     };
     let (Some(xs), Some(ps)) = (cols.get(l.x), cols.get(l.value)) else {
         return 0;
     };
+    let (xs, ps) = (xs.as_ref(), ps.as_ref());
     let (Some(cycles), Some(cylinders)) = (optional(l.cycle_col), optional(l.cyl_col)) else {
         return 0;
     };
@@ -189,7 +195,7 @@ pub(crate) fn long_columns(l: &mut Long, cols: &[Vec<f64>], from: usize, n: usiz
     let tr = &mut cur.trace;
     let mut track = cur.track;
     let (cycle_bits, cyl_bits) = ((tr.cycle as f64).to_bits(), (tr.cylinder as f64).to_bits());
-    let end = [Some(xs.as_slice()), Some(ps.as_slice()), cycles, cylinders]
+    let end = [Some(xs), Some(ps), cycles, cylinders]
         .into_iter()
         .flatten()
         .fold(n, |e, c| e.min(c.len()));
@@ -226,9 +232,9 @@ pub(crate) fn long_columns(l: &mut Long, cols: &[Vec<f64>], from: usize, n: usiz
 /// value of a row is checked (finite) before any is kept, so the row it
 /// stops at is left whole to the general path.
 #[inline(never)]
-pub(crate) fn per_column_columns(
+pub(crate) fn per_column_columns<C: AsRef<[f64]>>(
     pc: &mut PerColumn,
-    cols: &[Vec<f64>],
+    cols: &[C],
     from: usize,
     n: usize,
 ) -> usize {
@@ -238,6 +244,7 @@ pub(crate) fn per_column_columns(
     if cols.len() > pc.ncols || pc.cols.iter().any(|c| c.0 >= cols.len()) {
         return 0;
     }
+    let cols: Vec<&[f64]> = cols.iter().map(AsRef::as_ref).collect();
     let Some(xs) = cols.get(pc.x) else {
         return 0;
     };

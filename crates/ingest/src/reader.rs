@@ -174,10 +174,10 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
     /// a row they stop at (a cycle's first, a value that is no number) is
     /// read as the cells `cells(r)` by [`Self::row`], as a text row is, so
     /// the rules of a row live in one place.
-    pub(crate) fn columns<C: Cells>(
+    pub(crate) fn columns<C: Cells, V: AsRef<[f64]>>(
         &mut self,
         line0: usize,
-        cols: &[Vec<f64>],
+        cols: &[V],
         n: usize,
         cells: impl Fn(usize) -> C,
     ) -> Result<(), IngestError> {

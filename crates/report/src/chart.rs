@@ -717,13 +717,21 @@ pub(crate) fn svg_polyline(
         o.push_str(&format!(" stroke-dasharray=\"{}\"", d.join(" ")));
     }
     o.push_str(" stroke-linejoin=\"round\" points=\"");
+    o.push_str(&svg_points(pts));
+    o.push_str("\"/>\n");
+    o
+}
+
+/// Pixel points as an SVG `points` attribute's value, at a hundredth of a
+/// pixel.
+pub(crate) fn svg_points(pts: &[(f64, f64)]) -> String {
+    let mut o = String::with_capacity(pts.len() * 14);
     for &(x, y) in pts {
         o.push_str(&trimmed(x, 2));
         o.push(',');
         o.push_str(&trimmed(y, 2));
         o.push(' ');
     }
-    o.push_str("\"/>\n");
     o
 }
 

@@ -13,7 +13,7 @@
 use crate::ReportError;
 use crate::chart::{
     Key, LEGEND_FRAME, Ticks, append_svg, axes_with, draw_head, fine_pixel, head_height,
-    svg_polyline, text_width,
+    svg_points, svg_polyline, text_width,
 };
 use enginedyn_numerics::format::trimmed;
 use plotters::prelude::*;
@@ -440,15 +440,10 @@ impl ContourChart {
 /// hairline seams between neighbouring pieces of one band).
 fn svg_polygon(pts: &[(f64, f64)], color: RGBColor) -> String {
     let hex = format!("#{:02X}{:02X}{:02X}", color.0, color.1, color.2);
-    let mut o = format!("<polygon fill=\"{hex}\" stroke=\"{hex}\" stroke-width=\"0.6\" points=\"");
-    for &(x, y) in pts {
-        o.push_str(&trimmed(x, 2));
-        o.push(',');
-        o.push_str(&trimmed(y, 2));
-        o.push(' ');
-    }
-    o.push_str("\"/>\n");
-    o
+    format!(
+        "<polygon fill=\"{hex}\" stroke=\"{hex}\" stroke-width=\"0.6\" points=\"{}\"/>\n",
+        svg_points(pts)
+    )
 }
 
 /// SVG text at a pixel point, escaped.
