@@ -264,6 +264,10 @@ impl Session {
             .num_threads(jobs)
             .build()
             .map_err(|e| Error::usage(format!("--jobs {jobs}: {e}")))?;
+        // A file's hash goes to a thread of its own only while a core is
+        // idle: each worker counts the others as busy.
+        let workers = pool.current_num_threads().min(files.len().max(1));
+        let _others = crate::hashing::reading(workers - 1);
         Ok(pool.install(|| {
             files
                 .par_iter()

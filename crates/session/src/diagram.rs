@@ -4,6 +4,7 @@
 
 use crate::engine::{Bundled, Loaded};
 use crate::error::{Error, Result};
+use crate::hashing::Hashing;
 use crate::options::Reader;
 use enginedyn_engine::Engine;
 use enginedyn_ingest::{GridOptions, ParseOptions, Peg, Resampled};
@@ -250,46 +251,6 @@ pub fn load_diagram_timed(
     }
 }
 
-/// A reader that hashes (BLAKE3) every byte it passes on: a diagram's
-/// provenance in the same pass that reads it, no second read.
-pub struct Hashing<R> {
-    inner: R,
-    hasher: blake3::Hasher,
-}
-
-impl<R: std::io::Read> Hashing<R> {
-    /// Hashes what `inner` gives.
-    pub fn new(inner: R) -> Self {
-        Self {
-            inner,
-            hasher: blake3::Hasher::new(),
-        }
-    }
-
-    /// Reads what is left (a reader that stopped before the end), then
-    /// gives the hash of every byte, in hex as `b3sum` prints it.
-    pub fn finish(mut self) -> std::io::Result<String> {
-        let mut rest = [0u8; 1 << 14];
-        loop {
-            match std::io::Read::read(&mut self, &mut rest) {
-                Ok(0) => break,
-                Ok(_) => {}
-                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-                Err(e) => return Err(e),
-            }
-        }
-        Ok(self.hasher.finalize().to_hex().to_string())
-    }
-}
-
-impl<R: std::io::Read> std::io::Read for Hashing<R> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        self.hasher.update(&buf[..n]);
-        Ok(n)
-    }
-}
-
 /// [`load_diagram_timed`] of a file, which also gives the BLAKE3 of the
 /// file's bytes, hashed as they are read.
 pub fn load_file_hashed(
@@ -338,7 +299,7 @@ type HashingReader = std::io::BufReader<enginedyn_ingest::Cancellable<Hashing<st
 fn hashing_reader(p: &Path, parse: &ParseOptions) -> Result<HashingReader> {
     Ok(std::io::BufReader::with_capacity(
         1 << 12,
-        enginedyn_ingest::Cancellable::new(Hashing::new(open_diagram(p)?), parse.cancel.clone()),
+        enginedyn_ingest::Cancellable::new(Hashing::beside(open_diagram(p)?), parse.cancel.clone()),
     ))
 }
 

@@ -49,6 +49,7 @@ pub mod diagram;
 pub mod engine;
 pub mod error;
 pub mod firing;
+pub mod hashing;
 pub mod inputs;
 pub mod kinematics;
 pub mod map;
