@@ -74,15 +74,103 @@ impl Drop for Held {
 enum Hasher {
     /// On the reading thread, as they pass.
     Here(Box<blake3::Hasher>),
-    /// On a thread of its own: each block copied and sent; the buffers come
-    /// back to be filled again.
+    /// On the reading thread's hashing worker: each block copied and sent.
     Aside {
-        to: SyncSender<Vec<u8>>,
+        worker: Worker,
         /// The block being filled, sent when it holds [`BLOCK`] bytes.
         filling: Vec<u8>,
-        back: Receiver<Vec<u8>>,
-        thread: std::thread::JoinHandle<String>,
     },
+}
+
+/// What a hashing worker is sent.
+enum Message {
+    /// The next bytes.
+    Block(Vec<u8>),
+    /// The end of a diagram: its hash goes back, the next one begins.
+    End,
+}
+
+/// A thread that hashes for one reading thread, kept from one diagram to
+/// the next with its blocks (no thread started, no block allocated and
+/// faulted in, a diagram); it ends when the reading thread does, or when a
+/// read stops before its hash was taken (an error).
+struct Worker {
+    to: SyncSender<Message>,
+    /// The blocks hashed, to be filled again.
+    back: Receiver<Vec<u8>>,
+    /// Each diagram's hash, in hex.
+    hashes: Receiver<String>,
+}
+
+thread_local! {
+    /// The reading thread's hashing worker, while no reader holds it.
+    static WORKER: std::cell::Cell<Option<Worker>> = const { std::cell::Cell::new(None) };
+}
+
+impl Worker {
+    /// The reading thread's worker, or a new one; `None` when no thread can
+    /// be started (the caller then hashes on its own thread).
+    fn take() -> Option<Worker> {
+        WORKER.with(std::cell::Cell::take).or_else(Worker::start)
+    }
+
+    fn start() -> Option<Worker> {
+        let (to, from) = sync_channel::<Message>(IN_FLIGHT);
+        let (give_back, back) = sync_channel::<Vec<u8>>(IN_FLIGHT + 1);
+        let (give_hash, hashes) = sync_channel::<String>(1);
+        std::thread::Builder::new()
+            .name("enginedyn-hash".into())
+            .spawn(move || {
+                let mut h = blake3::Hasher::new();
+                for message in from {
+                    match message {
+                        Message::Block(block) => {
+                            h.update(&block);
+                            // Full (never, by the bounds) or the reader gone: dropped.
+                            let _ = give_back.try_send(block);
+                        }
+                        Message::End => {
+                            if give_hash.send(h.finalize().to_hex().to_string()).is_err() {
+                                return;
+                            }
+                            h.reset();
+                        }
+                    }
+                }
+            })
+            .ok()?;
+        Some(Worker { to, back, hashes })
+    }
+
+    fn send(&self, message: Message) -> std::io::Result<()> {
+        self.to.send(message).map_err(|_| stopped())
+    }
+
+    /// An empty block to fill: one that came back, or a new one.
+    fn block(&self) -> Vec<u8> {
+        let mut b = self
+            .back
+            .try_recv()
+            .unwrap_or_else(|_| Vec::with_capacity(BLOCK));
+        b.clear();
+        b
+    }
+
+    /// The diagram's hash once its last block is sent; the worker then
+    /// waits for the reading thread's next diagram.
+    fn end(self, last: Vec<u8>) -> std::io::Result<String> {
+        if !last.is_empty() {
+            self.send(Message::Block(last))?;
+        }
+        self.send(Message::End)?;
+        let hash = self.hashes.recv().map_err(|_| stopped())?;
+        WORKER.with(|w| w.set(Some(self)));
+        Ok(hash)
+    }
+}
+
+fn stopped() -> std::io::Error {
+    std::io::Error::other("the hashing thread stopped")
 }
 
 /// A reader that hashes (BLAKE3) every byte it passes on: a diagram's
@@ -111,10 +199,12 @@ impl<R: std::io::Read> Hashing<R> {
 
     fn beside_on(inner: R, cores: usize) -> Self {
         let held = Held::take(cores);
-        let hasher = if held.0 == 2 {
-            aside().unwrap_or_else(|| Hasher::Here(Box::default()))
-        } else {
-            Hasher::Here(Box::default())
+        let hasher = match (held.0 == 2).then(Worker::take).flatten() {
+            Some(worker) => Hasher::Aside {
+                worker,
+                filling: Vec::new(),
+            },
+            None => Hasher::Here(Box::default()),
         };
         Self {
             inner,
@@ -137,52 +227,9 @@ impl<R: std::io::Read> Hashing<R> {
         }
         match self.hasher {
             Hasher::Here(h) => Ok(h.finalize().to_hex().to_string()),
-            Hasher::Aside {
-                to,
-                back,
-                filling,
-                thread,
-            } => {
-                if !filling.is_empty() {
-                    send(&to, filling)?;
-                }
-                drop((to, back));
-                thread
-                    .join()
-                    .map_err(|_| std::io::Error::other("the hashing thread stopped"))
-            }
+            Hasher::Aside { worker, filling } => worker.end(filling),
         }
     }
-}
-
-/// A hashing thread, or `None` when none can be started (the caller then
-/// hashes on its own thread).
-fn aside() -> Option<Hasher> {
-    let (to, from) = sync_channel::<Vec<u8>>(IN_FLIGHT);
-    let (give_back, back) = sync_channel::<Vec<u8>>(IN_FLIGHT);
-    let thread = std::thread::Builder::new()
-        .name("enginedyn-hash".into())
-        .spawn(move || {
-            let mut h = blake3::Hasher::new();
-            for block in from {
-                h.update(&block);
-                // The reader may be gone (an error): the buffer is dropped.
-                let _ = give_back.try_send(block);
-            }
-            h.finalize().to_hex().to_string()
-        })
-        .ok()?;
-    Some(Hasher::Aside {
-        to,
-        filling: Vec::new(),
-        back,
-        thread,
-    })
-}
-
-fn send(to: &SyncSender<Vec<u8>>, block: Vec<u8>) -> std::io::Result<()> {
-    to.send(block)
-        .map_err(|_| std::io::Error::other("the hashing thread stopped"))
 }
 
 impl<R: std::io::Read> std::io::Read for Hashing<R> {
@@ -195,22 +242,17 @@ impl<R: std::io::Read> std::io::Read for Hashing<R> {
             Hasher::Here(h) => {
                 h.update(&buf[..n]);
             }
-            Hasher::Aside {
-                to, back, filling, ..
-            } => {
+            Hasher::Aside { worker, filling } => {
                 let mut rest = &buf[..n];
                 while !rest.is_empty() {
                     if filling.capacity() == 0 {
-                        *filling = back
-                            .try_recv()
-                            .unwrap_or_else(|_| Vec::with_capacity(BLOCK));
-                        filling.clear();
+                        *filling = worker.block();
                     }
                     let take = rest.len().min(BLOCK - filling.len());
                     filling.extend_from_slice(&rest[..take]);
                     rest = &rest[take..];
                     if filling.len() >= BLOCK {
-                        send(to, std::mem::take(filling))?;
+                        worker.send(Message::Block(std::mem::take(filling)))?;
                     }
                 }
             }
@@ -268,6 +310,30 @@ mod tests {
                 assert_eq!(head, data[..len / 2]);
                 assert_eq!(r.finish().unwrap(), want, "{len} bytes, {cores} cores");
             }
+        }
+    }
+
+    #[test]
+    fn a_worker_kept_for_the_next_diagram_starts_afresh() {
+        // One thread's diagrams in turn: the first read stops half way and
+        // is dropped (an error: its worker goes), the next ones reuse the
+        // worker and its blocks; each hash is its own bytes'.
+        let data = bytes(700_001);
+        let mut dropped = Hashing::beside_on(&data[..], usize::MAX / 4);
+        let mut half = vec![0u8; 300_000];
+        dropped.read_exact(&mut half).unwrap();
+        drop(dropped);
+        for len in [700_001, 5, 0, 262_144, 262_145] {
+            let r = Hashing::beside_on(&data[..len], usize::MAX / 4);
+            assert!(matches!(r.hasher, Hasher::Aside { .. }));
+            let want = blake3::hash(&data[..len]).to_hex().to_string();
+            assert_eq!(r.finish().unwrap(), want, "{len} bytes");
+            assert!(WORKER.with(|w| {
+                let kept = w.take();
+                let some = kept.is_some();
+                w.set(kept);
+                some
+            }));
         }
     }
 
