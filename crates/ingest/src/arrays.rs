@@ -194,4 +194,92 @@ mod tests {
             assert_eq!(format!("{rows:?}"), format!("{columns:?}"), "case {k}");
         }
     }
+    /// A measured-like fixture's columns (a CSV of numbers under a header).
+    fn fixture(name: &str) -> (Vec<String>, Vec<Vec<f64>>) {
+        let path = format!(
+            "{}/../../tests/fixtures/measured/{name}",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let text = std::fs::read_to_string(&path).unwrap();
+        let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+        let names: Vec<String> = lines
+            .next()
+            .unwrap()
+            .split(',')
+            .map(str::to_string)
+            .collect();
+        let mut cols = vec![Vec::new(); names.len()];
+        for l in lines {
+            for (c, v) in cols.iter_mut().zip(l.split(',')) {
+                c.push(v.trim().parse::<f64>().unwrap());
+            }
+        }
+        (names, cols)
+    }
+
+    /// Time records read as columns (their samples straight into the crank
+    /// signal's state machine) give what they gave row by row, for each
+    /// kind of crank signal, on data shaped against the shortcut: a NaN in
+    /// the pressure, in the pulse and in the encoder column (the same error
+    /// at the same sample and column), a time that does not rise, a record
+    /// across the block boundary.
+    #[test]
+    fn time_records_read_by_columns_as_by_rows() {
+        let mut encoder = ParseOptions::new(720.0);
+        encoder.encoder_ppr = Some(360);
+        let mut pulse = ParseOptions::new(720.0);
+        pulse.gain_bar_per_v = Some(20.0);
+        pulse.relative = true;
+        let mut clock = pulse.clone();
+        clock.rpm = Some(1000.0);
+        clock.tdc_time = Some(0.0123);
+        let cases = [
+            ("daq_100khz_encoder_360.csv", encoder),
+            ("daq_72khz_tdc.csv", pulse),
+            ("daq_72khz_time_ms.csv", clock),
+        ];
+        for (name, opts) in cases {
+            let (names, cols) = fixture(name);
+            let n = cols[0].len();
+            let mut variants = vec![("as written".to_string(), cols.clone())];
+            for c in 1..cols.len() {
+                let mut v = cols.clone();
+                v[c][n / 2] = f64::NAN;
+                variants.push((format!("NaN in column {}", c + 1), v));
+            }
+            let mut back = cols.clone();
+            back[0][n / 3] = back[0][n / 3 - 2];
+            variants.push(("time steps back".into(), back));
+            // Longer than a block: the record twice over, the time running on.
+            let mut long = cols.clone();
+            let span = cols[0][n - 1] - cols[0][0] + (cols[0][1] - cols[0][0]);
+            while long[0].len() <= BLOCK_ROWS {
+                let shift = long[0][long[0].len() - 1] - cols[0][0] + span / n as f64;
+                for (k, c) in long.iter_mut().enumerate() {
+                    let more: Vec<f64> = cols[k]
+                        .iter()
+                        .map(|v| if k == 0 { v + shift } else { *v })
+                        .collect();
+                    c.extend(more);
+                }
+            }
+            variants.push(("across a block".into(), long));
+            for (what, v) in &variants {
+                let refs: Vec<&[f64]> = v.iter().map(Vec::as_slice).collect();
+                let rows = by_rows(&names, &refs, &opts);
+                let columns = by_columns(&names, &refs, &opts);
+                if what == "as written" {
+                    assert!(
+                        matches!(&rows, Ok((_, t)) if !t.is_empty()),
+                        "{name}: {rows:?}"
+                    );
+                }
+                assert_eq!(
+                    format!("{rows:?}"),
+                    format!("{columns:?}"),
+                    "{name}, {what}"
+                );
+            }
+        }
+    }
 }

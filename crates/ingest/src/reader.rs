@@ -170,7 +170,9 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
     /// Rows `0..n` of columns decoded whole (a binary source: one column a
     /// channel), row `r` on line `line0 + r`. Runs of rows that continue
     /// the cycles being read go from the columns straight into the traces
-    /// ([`crate::fast::long_columns`], [`crate::fast::per_column_columns`]);
+    /// ([`crate::fast::long_columns`], [`crate::fast::per_column_columns`]),
+    /// and a time record's samples into its crank signal's state machine
+    /// (`TimeRecord::columns`);
     /// a row they stop at (a cycle's first, a value that is no number) is
     /// read as the cells `cells(r)` by [`Self::row`], as a text row is, so
     /// the rules of a row live in one place.
@@ -188,7 +190,7 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Reader<'o, F> {
                 r += match &mut **layout {
                     Layout::Long(l) => crate::fast::long_columns(l, cols, r, n),
                     Layout::PerColumn(p) => crate::fast::per_column_columns(p, cols, r, n),
-                    Layout::Time(_) => 0,
+                    Layout::Time(t) => t.columns(line0, cols, r, n, &mut self.out)?,
                 };
                 if r >= n {
                     break;

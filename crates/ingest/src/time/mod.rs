@@ -441,8 +441,54 @@ impl TimeRecord {
         cells: &impl Cells,
         out: &mut Emitter<'_, F>,
     ) -> Result<(), IngestError> {
-        let t = cells.number(self.t_col, line)? * self.t_scale;
-        let p = cells.number(self.p_col, line)? * self.p_scale + self.offset;
+        self.sample(line, |col| cells.number(col, line), out)
+    }
+
+    /// Rows `from..n` of columns decoded whole (a binary source), row `r`
+    /// on line `line0 + r`, each sampled as [`Self::row`] samples a row of
+    /// cells, the numbers taken from the columns; returns how many. It
+    /// stops at a row with a value that is not finite, or a column missing
+    /// or short: the general path reads that row and names what is wrong.
+    pub(crate) fn columns<C: AsRef<[f64]>, F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        line0: usize,
+        cols: &[C],
+        from: usize,
+        n: usize,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<usize, IngestError> {
+        let mut read: Vec<&[f64]> = Vec::with_capacity(2 + self.others.len() + 3);
+        for c in [self.t_col, self.p_col]
+            .into_iter()
+            .chain(self.others.iter().map(|o| o.0))
+            .chain(self.sig.into_iter().flatten())
+        {
+            let Some(col) = cols.get(c) else {
+                return Ok(0);
+            };
+            read.push(col.as_ref());
+        }
+        let end = read.iter().fold(n, |e, c| e.min(c.len()));
+        let mut r = from;
+        while r < end && read.iter().all(|c| c[r].is_finite()) {
+            self.sample(line0 + r, |col| Ok(cols[col].as_ref()[r]), out)?;
+            r += 1;
+        }
+        Ok(r - from)
+    }
+
+    /// One sample: `number(col)` gives the number of column `col` (the
+    /// unscaled value), read only when the sample needs it, in the order a
+    /// row's checks need them, so that a row's first error is the same
+    /// from any source.
+    fn sample<F: FnMut(Streamed) -> Result<(), IngestError>>(
+        &mut self,
+        line: usize,
+        number: impl Fn(usize) -> Result<f64, IngestError>,
+        out: &mut Emitter<'_, F>,
+    ) -> Result<(), IngestError> {
+        let t = number(self.t_col)? * self.t_scale;
+        let p = number(self.p_col)? * self.p_scale + self.offset;
         if let Some(was) = self.last_t
             && t <= was
         {
@@ -477,8 +523,7 @@ impl TimeRecord {
         if !self.others.is_empty() {
             self.row_others.clear();
             for &(col, scale, offset) in &self.others {
-                self.row_others
-                    .push(cells.number(col, line)? * scale + offset);
+                self.row_others.push(number(col)? * scale + offset);
             }
             let held = match &mut self.source {
                 Source::Clock(c) => &mut c.others,
@@ -493,7 +538,7 @@ impl TimeRecord {
         let mut v = [0.0; 3];
         for (x, c) in v.iter_mut().zip(self.sig) {
             if let Some(c) = c {
-                *x = cells.number(c, line)?;
+                *x = number(c)?;
             }
         }
         match &mut self.probe {
