@@ -349,7 +349,8 @@ fn wrap_rising(
     let n = a.len();
     // Whole cycles below 2^53 (exact multiples), the angles below 1e15.
     let whole = cycle > 0.0 && cycle < 1e6 && cycle.fract() == 0.0;
-    if n < 2 || !whole || !steps.rising() || !(a[0].abs() < 1e15 && a[n - 1].abs() < 1e15) {
+    let small = n >= 2 && a[0].abs() < 1e15 && a[n - 1].abs() < 1e15;
+    if !(small && whole && steps.rising()) {
         return None;
     }
     let base = (a[0] / cycle).floor() * cycle;
