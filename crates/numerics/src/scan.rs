@@ -113,25 +113,31 @@ pub fn steps(v: &[f64]) -> Steps {
     }
     let mut l = Lanes::new();
     // The steps summed: NaN once any step is NaN (or two infinite steps
-    // cancel); only then are they looked at one by one.
-    let mut sum = [0.0f64; LANES];
+    // cancel); only then are they looked at one by one. Summed in two
+    // lanes, pairwise within a chunk (the shape the compiler keeps in
+    // vector registers).
+    let mut sum = [0.0f64; 2];
     let (a, b) = (&v[..v.len() - 1], &v[1..]);
     let (ca, cb) = (a.chunks_exact(LANES), b.chunks_exact(LANES));
     let (ra, rb) = (ca.remainder(), cb.remainder());
     for (x, y) in ca.zip(cb) {
+        let mut d = [0.0; LANES];
         for j in 0..LANES {
-            let d = y[j] - x[j];
-            l.push(j, d);
-            sum[j] += d;
+            d[j] = y[j] - x[j];
         }
+        for (j, &dj) in d.iter().enumerate() {
+            l.push(j, dj);
+        }
+        sum[0] += (d[0] + d[2]) + (d[4] + d[6]);
+        sum[1] += (d[1] + d[3]) + (d[5] + d[7]);
     }
     for (j, (x, y)) in ra.iter().zip(rb).enumerate() {
         let d = y - x;
         l.push(j, d);
-        sum[j] += d;
+        sum[0] += d;
     }
     let (lo, hi) = l.finish();
-    let nan = sum.iter().any(|s| s.is_nan()) && v.windows(2).any(|w| (w[1] - w[0]).is_nan());
+    let nan = (sum[0] + sum[1]).is_nan() && v.windows(2).any(|w| (w[1] - w[0]).is_nan());
     Steps { lo, hi, nan }
 }
 
