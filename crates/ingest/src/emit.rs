@@ -179,17 +179,27 @@ impl<'o, F: FnMut(Streamed) -> Result<(), IngestError>> Emitter<'o, F> {
                 e => e,
             })?
         {
-            // Moved: its steps now include the joined ends.
+            // Moved: its steps now include the joined ends, and its angles
+            // are no longer known to rise.
             c.steps = None;
+            c.rising = false;
         }
         if self.absolute
             && !self.synthetic
             && q == Quantity::Pressure
             && !pv
-            && let Some(m) = crate::grid::intake_bdc_mean(
-                tr.angle_deg.iter().copied().zip(tr.values.iter().copied()),
-                opts.cycle_deg,
-            )
+            && let Some(m) = if c.rising {
+                enginedyn_numerics::intake_bdc_mean_rising(
+                    &tr.angle_deg,
+                    &tr.values,
+                    opts.cycle_deg,
+                )
+            } else {
+                crate::grid::intake_bdc_mean(
+                    tr.angle_deg.iter().copied().zip(tr.values.iter().copied()),
+                    opts.cycle_deg,
+                )
+            }
             && m < LOW_INTAKE_PA
         {
             self.low_intake.0 += 1;

@@ -53,6 +53,7 @@
 use crate::columns::ATM;
 use crate::error::IngestError;
 use crate::{Quantity, Trace};
+use enginedyn_numerics::scan::Steps;
 
 /// The highest absolute pressure a cylinder reaches (Pa): 1000 bar, above
 /// the largest diesel's 250–300 bar peak by a margin no measured trace
@@ -179,7 +180,14 @@ pub(crate) struct Glitch {
 /// height on even steps). Returns the glitches, in file order; none for a
 /// torque, p–V data or fewer than 8 samples. Angles rising, spanning less
 /// than a cycle.
-pub(crate) fn glitches(tr: &Trace, cycle: f64, quantity: Quantity, absolute: bool) -> Vec<Glitch> {
+/// `steps`: the angles' ([`enginedyn_numerics::scan::steps`]).
+pub(crate) fn glitches(
+    tr: &Trace,
+    steps: &Steps,
+    cycle: f64,
+    quantity: Quantity,
+    absolute: bool,
+) -> Vec<Glitch> {
     let (a, p) = (&tr.angle_deg, &tr.values);
     let n = p.len();
     if quantity != Quantity::Pressure || n < 8 {
@@ -208,7 +216,7 @@ pub(crate) fn glitches(tr: &Trace, cycle: f64, quantity: Quantity, absolute: boo
             .iter()
             .all(|d| (d - h).abs() <= 1e-9 * h.abs());
         if even {
-            return (4.0 * (pts[1].1 + pts[2].1) - (pts[0].1 + pts[3].1)) / 6.0;
+            return even_cubic(pts[0].1, pts[1].1, pts[2].1, pts[3].1);
         }
         let mut sum = 0.0;
         for (m, &(xm, ym)) in pts.iter().enumerate() {
@@ -223,21 +231,14 @@ pub(crate) fn glitches(tr: &Trace, cycle: f64, quantity: Quantity, absolute: boo
         sum
     };
     let off = |i: usize| (p[i] - cubic(i)).abs();
-    // Evenly spaced samples: the interior in one tight pass with the fixed
-    // weights (the same number `cubic` gives there), the ends by `off`.
-    let h = (a[n - 1] - a[0]) / (n - 1) as f64;
-    let even = a
-        .windows(2)
-        .all(|w| ((w[1] - w[0]) - h).abs() <= 1e-9 * h.abs());
-    let candidates: Vec<usize> = if even {
+    // Evenly spaced samples: the interior with the fixed weights (the same
+    // number `cubic` gives there), the ends by `off`.
+    let candidates: Vec<usize> = if evenly_spaced(a, steps) {
         let mut c: Vec<usize> = [0, 1]
             .into_iter()
             .filter(|&i| p[i].is_finite() && off(i) > GLITCH_PA)
             .collect();
-        c.extend(p.windows(5).enumerate().filter_map(|(j, w)| {
-            let fit = (4.0 * (w[1] + w[3]) - (w[0] + w[4])) / 6.0;
-            (w[2].is_finite() && (w[2] - fit).abs() > GLITCH_PA).then_some(j + 2)
-        }));
+        interior_candidates(p, &mut c);
         c.extend(
             [n - 2, n - 1]
                 .into_iter()
@@ -281,6 +282,91 @@ pub(crate) fn glitches(tr: &Trace, cycle: f64, quantity: Quantity, absolute: boo
         }
     }
     found
+}
+
+/// The glitch rule's test of even spacing: every step within `1e-9` of
+/// the mean step `(a[n-1] - a[0]) / (n - 1)`, from the steps' range
+/// ([`Steps::all_within`]). At least two angles.
+fn evenly_spaced(a: &[f64], steps: &Steps) -> bool {
+    let n = a.len();
+    let h = (a[n - 1] - a[0]) / (n - 1) as f64;
+    steps.all_within(h, 1e-9 * h.abs())
+}
+
+/// The fixed weights' cubic through `w[0], w[1], w[3], w[4]` at `w[2]`'s
+/// angle, evenly spaced: `(−1, 4, 4, −1)/6`.
+#[inline(always)]
+fn even_cubic(w0: f64, w1: f64, w3: f64, w4: f64) -> f64 {
+    (4.0 * (w1 + w3) - (w0 + w4)) / 6.0
+}
+
+/// Samples the glitch scan judges at once: a block with no sample off its
+/// cubic by more than [`GLITCH_PA`] holds no candidate.
+const GLITCH_BLOCK: usize = 64;
+
+/// Lanes of the glitch scan's block maximum.
+const GLITCH_LANES: usize = 4;
+
+/// Appends the interior candidates of the even glitch rule (samples 2 to
+/// `n − 3`, in order): finite samples off the fixed weights' cubic by more
+/// than [`GLITCH_PA`]. Each block of [`GLITCH_BLOCK`] samples is first
+/// judged whole, branch-free: the largest departure (NaN skipped) against
+/// the threshold. Only a block that exceeds it (a candidate, or an
+/// infinite sample) is looked at sample by sample.
+fn interior_candidates(p: &[f64], out: &mut Vec<usize>) {
+    let n = p.len();
+    if n < 5 {
+        return;
+    }
+    let inner = n - 4;
+    let mut from = 0;
+    while from < inner {
+        let len = GLITCH_BLOCK.min(inner - from);
+        // Samples `from + 2 .. from + 2 + len`, with two neighbours each side.
+        let q = &p[from..from + len + 4];
+        if block_departs(q, len) {
+            for (j, w) in q.windows(5).enumerate() {
+                let fit = even_cubic(w[0], w[1], w[3], w[4]);
+                if w[2].is_finite() && (w[2] - fit).abs() > GLITCH_PA {
+                    out.push(from + j + 2);
+                }
+            }
+        }
+        from += len;
+    }
+}
+
+/// Whether some sample `q[2 .. len + 2]` departs from its even cubic by
+/// more than [`GLITCH_PA`] (a NaN departure does not; an infinite one
+/// does). `q` holds `len + 4` samples.
+#[inline(always)]
+fn block_departs(q: &[f64], len: usize) -> bool {
+    let (w0, w1, w2, w3, w4) = (
+        &q[..len],
+        &q[1..len + 1],
+        &q[2..len + 2],
+        &q[3..len + 3],
+        &q[4..len + 4],
+    );
+    const L: usize = GLITCH_LANES;
+    let mut top = [0.0f64; L];
+    let lanes = w0
+        .chunks_exact(L)
+        .zip(w1.chunks_exact(L))
+        .zip(w2.chunks_exact(L))
+        .zip(w3.chunks_exact(L))
+        .zip(w4.chunks_exact(L));
+    for ((((a, b), c), d), e) in lanes {
+        for j in 0..L {
+            let off = (c[j] - even_cubic(a[j], b[j], d[j], e[j])).abs();
+            top[j] = if off > top[j] { off } else { top[j] };
+        }
+    }
+    for i in len - len % L..len {
+        let off = (w2[i] - even_cubic(w0[i], w1[i], w3[i], w4[i])).abs();
+        top[0] = if off > top[0] { off } else { top[0] };
+    }
+    top.iter().any(|&d| d > GLITCH_PA)
 }
 
 /// Checks a finished trace (angles rising, `wrap_step` from its last angle
@@ -329,10 +415,12 @@ pub(crate) fn check(
             )));
         }
         if let Some(eps) = ctx.compression_ratio {
-            // The lowest candidate level: the largest rise.
-            let level = intake_levels(tr, cycle).fold(f64::INFINITY, f64::min);
+            // The lowest candidate level: the largest rise (a level that
+            // rises enough leaves the lowest rising more).
             let need = LOW_INTAKE_PA * (compression_pressure(eps, cycle, 1.0) - 1.0);
-            if vhi - level < need {
+            if let Some(level) = lowest_level(tr, cycle, |l| vhi - l >= need)
+                && vhi - level < need
+            {
                 return Err(IngestError::Data(
                     format!(
                         "{}: {} is not a cylinder pressure: it rises by {} bar from its level at BDC, less than the {} bar that compression at ε = {} adds even to the lowest intake pressure ({} bar absolute); it looks like {}",
@@ -497,7 +585,10 @@ fn high_intake(
     ctx: &Context<'_>,
     name: &dyn Fn() -> String,
 ) -> Result<(), IngestError> {
-    let level = intake_levels(tr, cycle).fold(f64::INFINITY, f64::min);
+    // A level at or below the bound leaves the lowest there too.
+    let Some(level) = lowest_level(tr, cycle, |l| l <= HIGH_INTAKE_PA) else {
+        return Ok(());
+    };
     if !(level.is_finite() && level > HIGH_INTAKE_PA) {
         return Ok(());
     }
@@ -550,6 +641,21 @@ pub(crate) fn intake_levels(tr: &Trace, cycle: f64) -> impl Iterator<Item = f64>
                 .map_or(0, |m| m.0);
             level_at(tr, tr.angle_deg[peak] - 180.0, cycle)
         }))
+}
+
+/// The lowest of the trace's candidate levels ([`intake_levels`], folded
+/// by `f64::min` from `inf`), or `None` as soon as one is `enough`: a test
+/// that the lowest then passes too (the later candidates, the peak's
+/// above all, are found only when asked for).
+fn lowest_level(tr: &Trace, cycle: f64, enough: impl Fn(f64) -> bool) -> Option<f64> {
+    let mut low = f64::INFINITY;
+    for level in intake_levels(tr, cycle) {
+        if enough(level) {
+            return None;
+        }
+        low = low.min(level);
+    }
+    Some(low)
 }
 
 /// The trace's level at angle `bdc` (deg, any turn; Pa): the mean of its
@@ -915,13 +1021,141 @@ mod tests {
             values: p.clone(),
             rpm: None,
         };
-        let fast = glitches(&tr(even), 720.0, Quantity::Pressure, true);
-        let plain = glitches(&tr(uneven), 720.0, Quantity::Pressure, true);
+        let find = |t: Trace| {
+            let steps = enginedyn_numerics::scan::steps(&t.angle_deg);
+            glitches(&t, &steps, 720.0, Quantity::Pressure, true)
+        };
+        let fast = find(tr(even));
+        let plain = find(tr(uneven));
         assert!(!fast.is_empty());
         assert_eq!(fast.len(), plain.len(), "{fast:?} {plain:?}");
         for (f, q) in fast.iter().zip(&plain) {
             assert_eq!(f.at, q.at);
             assert!((f.cubic - q.cubic).abs() < 1e-3, "{f:?} {q:?}");
+        }
+    }
+
+    /// The glitch rule as it reads: every sample against the cubic through
+    /// its four neighbours (`glitches` told the spacing is uneven, so it
+    /// takes no shortcut); on exactly even angles its cubic is the fixed
+    /// weights' one, so the shortcut must give the same glitches, bit for
+    /// bit.
+    fn both(p: &[f64], absolute: bool) -> (Vec<Glitch>, Vec<Glitch>) {
+        let n = p.len();
+        let t = Trace {
+            cycle: 1,
+            cylinder: 0,
+            angle_deg: (0..n).map(|k| k as f64 * 0.5).collect(),
+            values: p.to_vec(),
+            rpm: None,
+        };
+        let cycle = n as f64 * 0.5;
+        let steps = enginedyn_numerics::scan::steps(&t.angle_deg);
+        assert!(evenly_spaced(&t.angle_deg, &steps));
+        let uneven = Steps { nan: true, ..steps };
+        (
+            glitches(&t, &steps, cycle, Quantity::Pressure, absolute),
+            glitches(&t, &uneven, cycle, Quantity::Pressure, absolute),
+        )
+    }
+
+    fn same(a: &[Glitch], b: &[Glitch]) -> bool {
+        a.len() == b.len()
+            && a.iter().zip(b).all(|(x, y)| {
+                x.at == y.at
+                    && x.value.to_bits() == y.value.to_bits()
+                    && x.cubic.to_bits() == y.cubic.to_bits()
+            })
+    }
+
+    /// A smooth cycle of `n` samples: 1 bar, a 40 bar hump at a third.
+    fn smooth(n: usize) -> Vec<f64> {
+        (0..n)
+            .map(|k| {
+                let x = (k as f64 - n as f64 / 3.0) / (n as f64 / 10.0);
+                1e5 + 40e5 * (-x * x).exp()
+            })
+            .collect()
+    }
+
+    /// The block scan finds what every sample's test finds, on spikes at
+    /// each end (the periodic wrap), on and around the block edges, two
+    /// side by side, a flat stretch, NaN and infinite samples, a spike
+    /// exactly at the threshold and a hair above, at every length from 8
+    /// to 70 and around two blocks.
+    #[test]
+    fn the_block_scan_is_the_plain_rule() {
+        let lengths: Vec<usize> = (8..=70).chain(126..=140).chain([7200]).collect();
+        let mut found = 0;
+        for &n in &lengths {
+            let mut spots: Vec<usize> = vec![0, 1, 2, 3, n / 2, n - 4, n - 3, n - 2, n - 1];
+            for edge in [GLITCH_BLOCK, 2 * GLITCH_BLOCK] {
+                spots.extend((edge..edge + 6).filter(|&k| k < n));
+            }
+            for &k in &spots {
+                let cases: Vec<Vec<(usize, f64)>> = vec![
+                    vec![(k, 60e5)],
+                    vec![(k, -60e5)],
+                    vec![(k, 60e5), ((k + 1) % n, 60e5)],
+                    vec![(k, f64::NAN)],
+                    vec![(k, f64::INFINITY)],
+                    vec![(k, f64::NEG_INFINITY)],
+                    vec![(k, f64::NAN), ((k + 3) % n, 60e5)],
+                    vec![(k, f64::INFINITY), ((k + 2) % n, 60e5)],
+                ];
+                for case in cases {
+                    for absolute in [true, false] {
+                        let mut p = smooth(n);
+                        for &(at, v) in &case {
+                            p[at] = if v.is_finite() { p[at] + v } else { v };
+                        }
+                        let (fast, plain) = both(&p, absolute);
+                        assert!(same(&fast, &plain), "n {n} {case:?}: {fast:?} {plain:?}");
+                        found += fast.len();
+                    }
+                }
+                // Flat at 1 bar: exactly 10 bar above its cubic is no
+                // candidate, a hair more is (and a glitch: the peak is the
+                // others' 1 bar).
+                for (v, want) in [(11e5, 0), (11e5 + 1e-9, 1)] {
+                    let mut p = vec![1e5; n];
+                    p[k] = v;
+                    let (fast, plain) = both(&p, true);
+                    assert!(same(&fast, &plain), "n {n} at {k}: {fast:?} {plain:?}");
+                    assert_eq!(fast.len(), want, "n {n} at {k}: {fast:?}");
+                }
+            }
+        }
+        // The cases hold glitches to find: the test can fail.
+        assert!(found > 1000, "{found}");
+    }
+
+    proptest::proptest! {
+        /// Random traces with spikes near the threshold, NaN and infinite
+        /// samples: the block scan gives the plain rule's glitches.
+        #[test]
+        fn the_block_scan_is_the_plain_rule_on_random_traces(
+            n in 8usize..200,
+            spikes in proptest::collection::vec(
+                (0usize..200, proptest::prop_oneof![
+                    -30e5f64..30e5,
+                    proptest::strategy::Just(10e5),
+                    proptest::strategy::Just(f64::NAN),
+                    proptest::strategy::Just(f64::INFINITY),
+                ]),
+                0..6,
+            ),
+            flat in proptest::bool::ANY,
+        ) {
+            let mut p = if flat { vec![2e5; n] } else { smooth(n) };
+            for (at, v) in spikes {
+                let at = at % n;
+                p[at] = if v.is_finite() { p[at] + v } else { v };
+            }
+            for absolute in [true, false] {
+                let (fast, plain) = both(&p, absolute);
+                proptest::prop_assert!(same(&fast, &plain), "{:?} {:?}", fast, plain);
+            }
         }
     }
 

@@ -176,6 +176,8 @@ pub(crate) struct Checked {
     /// Its glitches ([`crate::plausible::glitches`]), replaced by their
     /// cubic when `--despike` was given.
     pub glitches: Vec<crate::plausible::Glitch>,
+    /// Its angles rise, none NaN (as [`finish`] hands them on).
+    pub rising: bool,
 }
 
 /// A gap is a spacing of more than this many median steps (INTERFACE.md).
@@ -202,7 +204,8 @@ pub(crate) fn finish(
     }
     let first = tr.angle_deg[0];
     let last = tr.angle_deg[n - 1];
-    let (lo, hi) = enginedyn_numerics::scan::step_range(&tr.angle_deg);
+    let steps = enginedyn_numerics::scan::steps(&tr.angle_deg);
+    let (lo, hi) = (steps.lo, steps.hi);
     let wrap_step = first + cycle - last;
     // The median step; evenly spaced data (the usual case) needs no sort.
     let median = if hi - lo <= 1e-9 * hi.abs() + 1e-12 {
@@ -233,7 +236,7 @@ pub(crate) fn finish(
     }
     // The glitch rule, before the bounds: `--despike` puts each glitch's
     // cubic in its place, and the bounds judge what is left.
-    let glitches = crate::plausible::glitches(&tr, cycle, quantity, ctx.absolute);
+    let glitches = crate::plausible::glitches(&tr, &steps, cycle, quantity, ctx.absolute);
     if ctx.despike {
         for g in &glitches {
             tr.values[g.at] = g.cubic;
@@ -248,34 +251,134 @@ pub(crate) fn finish(
         } else {
             crate::plausible::check(&tr, wrap_step, cycle, quantity, ctx, &name)?
         };
-    let checked = |steps| Checked {
+    let checked = |steps, rising| Checked {
         steps,
         gap,
         below_zero,
         glitches,
+        rising,
     };
     // Already in [0, cycle) and rising (the usual case): nothing to move.
     if first >= 0.0 && last < cycle && lo > 0.0 {
-        return Ok((tr, checked(Some((lo, hi)))));
+        return Ok((tr, checked(Some((lo, hi)), steps.rising())));
     }
     // Wrapped and turned in place: no second copy of the angles.
-    for a in &mut tr.angle_deg {
-        let w = enginedyn_numerics::scan::rem_euclid(*a, cycle);
-        *a = if w >= cycle { 0.0 } else { w };
-    }
-    let wrapped = &tr.angle_deg;
-    let start = (0..n)
-        .min_by(|&i, &j| wrapped[i].total_cmp(&wrapped[j]))
-        .unwrap_or(0);
+    let fast = wrap_rising(&mut tr.angle_deg, cycle, &steps);
+    let start = match fast {
+        Some(start) => start,
+        None => {
+            for a in &mut tr.angle_deg {
+                *a = wrap(*a, cycle);
+            }
+            let wrapped = &tr.angle_deg;
+            (0..n)
+                .min_by(|&i, &j| wrapped[i].total_cmp(&wrapped[j]))
+                .unwrap_or(0)
+        }
+    };
     tr.angle_deg.rotate_left(start);
     tr.values.rotate_left(start);
-    if tr.angle_deg.windows(2).any(|w| w[1] <= w[0]) {
+    if !never_falls(&tr.angle_deg) {
         return Err(IngestError::Data(format!(
             "{}: two points fall on the same crank angle once wrapped into the cycle",
             name()
         )));
     }
-    Ok((tr, checked(None)))
+    // Rising, and none NaN where they were rising numbers to begin with.
+    Ok((tr, checked(None, fast.is_some())))
+}
+
+/// An angle moved into `[0, cycle)`: `rem_euclid`, and 0 where that
+/// rounds up to the cycle.
+fn wrap(a: f64, cycle: f64) -> f64 {
+    let w = enginedyn_numerics::scan::rem_euclid(a, cycle);
+    if w >= cycle { 0.0 } else { w }
+}
+
+/// No angle at or below the one before it (`w[1] <= w[0]` nowhere; a NaN
+/// compares as neither), in one branch-free pass.
+#[allow(
+    clippy::neg_cmp_op_on_partial_ord,
+    reason = "NaN is no step down, as before"
+)]
+fn never_falls(a: &[f64]) -> bool {
+    const L: usize = 4;
+    if a.len() < 2 {
+        return true;
+    }
+    let (x, y) = (&a[..a.len() - 1], &a[1..]);
+    let (cx, cy) = (x.chunks_exact(L), y.chunks_exact(L));
+    let tail = cx
+        .remainder()
+        .iter()
+        .zip(cy.remainder())
+        .all(|(u, v)| !(v <= u));
+    let mut ok = [true; L];
+    for (u, v) in cx.zip(cy) {
+        for j in 0..L {
+            ok[j] &= !(v[j] <= u[j]);
+        }
+    }
+    tail && ok.iter().all(|&o| o)
+}
+
+/// [`wrap`] over angles that rise (`steps`: theirs, [`Steps::rising`]),
+/// done as one subtraction a sample: each angle less `base`, the whole
+/// cycles below the first, or `base + cycle` from where that reaches the
+/// cycle. Returns where the wrapped angles' first smallest lies (where
+/// they are to be turned to), or `None`, untouched, where the shortcut
+/// does not hold (then [`wrap`] each).
+///
+/// Why it is `wrap` to the bit: a difference `w = a − M` (`M` a whole
+/// number of cycles, exact) that lies strictly inside `(0, cycle)` is
+/// `a.rem_euclid(cycle)`: the exact `a − M` then lies there too (rounding
+/// is monotone and 0 and the cycle are numbers), so `M` is `⌊a/cycle⌋`
+/// cycles, and `rem_euclid`'s exact remainder (plus a cycle when `a` is
+/// below zero) rounds to `w`. A difference of 0 is exact (`a = M`):
+/// `rem_euclid` gives +0 for a positive `a`, and `a` itself for ±0, as
+/// `a − M` does for `M` = +0 (not for a negative `a`: −0). The samples
+/// rise, so the differences of each stretch do too (monotone again): the
+/// stretch's first and last decide for all of them.
+///
+/// [`Steps::rising`]: enginedyn_numerics::scan::Steps::rising
+fn wrap_rising(
+    a: &mut [f64],
+    cycle: f64,
+    steps: &enginedyn_numerics::scan::Steps,
+) -> Option<usize> {
+    let n = a.len();
+    // Whole cycles below 2^53 (exact multiples), the angles below 1e15.
+    let whole = cycle > 0.0 && cycle < 1e6 && cycle.fract() == 0.0;
+    let small = n >= 2 && a[0].abs() < 1e15 && a[n - 1].abs() < 1e15;
+    if !(small && whole && steps.rising()) {
+        return None;
+    }
+    let base = (a[0] / cycle).floor() * cycle;
+    let next = base + cycle;
+    // The first angle the second stretch holds.
+    let s = a.partition_point(|&x| x - base < cycle);
+    // A stretch's first difference is above zero, or zero where
+    // `rem_euclid` gives the same +0 or −0: `a` a positive whole number of
+    // cycles, or ±0 less +0. Its last lies below the cycle.
+    let first = |x: f64, m: f64| {
+        let w = x - m;
+        w > 0.0 || (w == 0.0 && (x > 0.0 || (x == 0.0 && m.to_bits() == 0)))
+    };
+    let ok = s > 0
+        && first(a[0], base)
+        && a[s - 1] - base < cycle
+        && (s == n || (first(a[s], next) && a[n - 1] - next < cycle));
+    if !ok {
+        return None;
+    }
+    for x in &mut a[..s] {
+        *x -= base;
+    }
+    for x in &mut a[s..] {
+        *x -= next;
+    }
+    // Each stretch rises from its first: the first smallest is one of those.
+    Some(if s < n && a[s] < a[0] { s } else { 0 })
 }
 
 /// The share of the cycle's work under which the data settle a gap wider
@@ -469,6 +572,113 @@ mod tests {
         moved.values.iter_mut().for_each(|v| *v = 3.0 * *v + 2e5);
         let again = gap_work_share(&moved, &cyl, 720.0).unwrap();
         assert!((again - peak).abs() < 1e-9 * peak, "{again} {peak}");
+    }
+
+    /// The wrap as it reads: each angle by `rem_euclid` (0 where that
+    /// rounds up to the cycle), turned to the first smallest, refused when
+    /// two then meet or fall.
+    fn plain_wrap(a: &[f64], v: &[f64], cycle: f64) -> Option<(Vec<f64>, Vec<f64>)> {
+        let mut a: Vec<f64> = a.iter().map(|&x| wrap(x, cycle)).collect();
+        let start = (0..a.len())
+            .min_by(|&i, &j| a[i].total_cmp(&a[j]))
+            .unwrap_or(0);
+        let mut v = v.to_vec();
+        a.rotate_left(start);
+        v.rotate_left(start);
+        (!a.windows(2).any(|w| w[1] <= w[0])).then_some((a, v))
+    }
+
+    /// `finish` wraps and turns a trace as the plain wrap does, bit for bit
+    /// (−0 included), and refuses the same ones: angles running on, from
+    /// below zero, from a negative whole cycle, a hair below zero and a
+    /// hair more than that, over a cycle's edge exactly, past a cycle, at
+    /// 1e15, with a NaN, an infinity, a cycle that is no whole number.
+    #[test]
+    fn the_wrap_is_the_plain_one() {
+        let run = |start: f64, step: f64, n: usize| -> Vec<f64> {
+            (0..n).map(|k| start + step * k as f64).collect()
+        };
+        let mut sets: Vec<(Vec<f64>, f64)> = vec![
+            (run(36_000.05, 0.1, 7200), 720.0),
+            (run(36_000.0, 0.1, 7200), 720.0),
+            (run(-360.0, 0.5, 1440), 720.0),
+            (run(-720.0, 1.0, 720), 720.0),
+            (run(-1440.0, 1.0, 700), 720.0),
+            (run(-180.25, 0.5, 720), 360.0),
+            (run(700.0, 1.0, 41), 720.0),
+            (run(700.5, 1.0, 41), 720.0),
+            (run(0.3, 0.5, 1600), 720.0),
+            (run(1e15 - 100.0, 0.5, 100), 720.0),
+            (run(-1e15, 0.5, 100), 720.0),
+            (run(0.1, 0.1, 100), 720.5),
+            (run(-33.3, 0.1, 7000), 720.0),
+            ([vec![-0.0], run(0.5, 0.5, 1600)].concat(), 720.0),
+            ([vec![-720.0, -0.0], run(0.5, 0.5, 1400)].concat(), 720.0),
+            (run(35_640.0, 0.1, 7200), 720.0),
+            (run(-360.0, 0.1, 7200), 720.0),
+        ];
+        for hair in [1e-20, 1e-13, 1e-12, 5e-14] {
+            let mut a = run(0.5, 0.5, 1400);
+            a.insert(0, -hair);
+            sets.push((a, 720.0));
+        }
+        let mut nan = run(-100.0, 1.0, 600);
+        nan[300] = f64::NAN;
+        sets.push((nan, 720.0));
+        let mut inf = run(-100.0, 1.0, 600);
+        inf[599] = f64::INFINITY;
+        sets.push((inf, 720.0));
+        let mut fast = 0;
+        for (a, cycle) in sets {
+            let v: Vec<f64> = (0..a.len()).map(|k| 2e5 + k as f64).collect();
+            let tr = Trace {
+                cycle: 1,
+                cylinder: 0,
+                angle_deg: a.clone(),
+                values: v.clone(),
+                rpm: None,
+            };
+            let got = finish(tr, cycle, Quantity::Pressure, &ctx(true));
+            let want = plain_wrap(&a, &v, cycle);
+            match (got, want) {
+                (Ok((t, c)), Some((wa, wv))) => {
+                    let bits = |x: &[f64]| x.iter().map(|y| y.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(&t.angle_deg), bits(&wa), "{}", a[0]);
+                    assert_eq!(bits(&t.values), bits(&wv), "{}", a[0]);
+                    fast += usize::from(c.rising);
+                }
+                (Err(e), None) => assert!(e.to_string().contains("same crank angle"), "{e}"),
+                (got, want) => panic!(
+                    "{}: {:?} vs {:?}",
+                    a[0],
+                    got.map(|x| x.1.gap),
+                    want.is_some()
+                ),
+            }
+        }
+        // Handed on as rising: the 12 sets the shortcut takes (a negative
+        // whole cycle, a hair under zero that rounds to a cycle, −0 from
+        // −0, 1e15, NaN and infinity are not among them) and the one
+        // already in the cycle.
+        assert_eq!(fast, 13);
+    }
+
+    /// The branch-free "never falls" is the plain test, NaN and ties
+    /// included, at lengths around its lanes.
+    #[test]
+    fn never_falls_is_the_plain_test() {
+        for n in 0..20 {
+            for k in 0..n.max(1) {
+                for x in [f64::NAN, 0.0, -1.0, 3.0, f64::INFINITY] {
+                    let mut a: Vec<f64> = (0..n).map(|i| i as f64).collect();
+                    if k < n {
+                        a[k] = x;
+                    }
+                    let plain = !a.windows(2).any(|w| w[1] <= w[0]);
+                    assert_eq!(never_falls(&a), plain, "{a:?}");
+                }
+            }
+        }
     }
 
     #[test]

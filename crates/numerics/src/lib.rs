@@ -68,13 +68,80 @@ pub fn mean_std(v: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
 /// `--peg-bar` pegs and the gauge warning looks. `None` without a sample
 /// there.
 pub fn intake_bdc_mean(samples: impl Iterator<Item = (f64, f64)>, cycle_deg: f64) -> Option<f64> {
-    let bdc = if cycle_deg > 400.0 { 540.0 } else { 180.0 };
+    let (bdc, half) = intake_bdc_window(cycle_deg);
     let (mut sum, mut n) = (0.0, 0usize);
     for (a, p) in samples {
-        if (a - bdc).abs() <= 5.0 + 1e-9 {
+        if (a - bdc).abs() <= half {
             sum += p;
             n += 1;
         }
     }
     (n > 0).then(|| sum / n as f64)
+}
+
+/// Where [`intake_bdc_mean`] looks: intake BDC (deg) and the half width.
+fn intake_bdc_window(cycle_deg: f64) -> (f64, f64) {
+    (if cycle_deg > 400.0 { 540.0 } else { 180.0 }, 5.0 + 1e-9)
+}
+
+/// [`intake_bdc_mean`] of `angles` that rise (none NaN) and their
+/// `values`, the same number: `a − bdc` rounds monotonically in `a`, so
+/// the samples it takes are one run, found by bisection, and summed in the
+/// same order.
+pub fn intake_bdc_mean_rising(angles: &[f64], values: &[f64], cycle_deg: f64) -> Option<f64> {
+    let (bdc, half) = intake_bdc_window(cycle_deg);
+    let m = angles.len().min(values.len());
+    let a = &angles[..m];
+    let i = a.partition_point(|&x| x - bdc < -half);
+    let j = a.partition_point(|&x| x - bdc <= half).max(i);
+    let (mut sum, mut n) = (0.0, 0usize);
+    for &p in &values[i..j] {
+        sum += p;
+        n += 1;
+    }
+    (n > 0).then(|| sum / n as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    /// The bisection takes the samples the plain test takes, at the
+    /// window's edges to the last bit (±5° plus 1e-9, a step of an ulp
+    /// either side), for both cycles, with a NaN value, and none.
+    #[test]
+    fn intake_bdc_mean_rising_is_the_plain_mean() {
+        let up = |x: f64| f64::from_bits(x.to_bits() + 1);
+        let down = |x: f64| f64::from_bits(x.to_bits() - 1);
+        let mut taken = 0;
+        for (cycle, bdc) in [(720.0, 540.0), (360.0, 180.0)] {
+            let edges = [bdc - 5.0 - 1e-9, bdc + 5.0 + 1e-9, bdc - 5.0, bdc + 5.0];
+            let mut sets: Vec<Vec<f64>> = vec![
+                (0..7200).map(|k| k as f64 * 0.1).collect(),
+                (0..720).map(|k| k as f64).collect(),
+                (0..7).map(|k| k as f64 * 100.0).collect(),
+                vec![],
+            ];
+            for e in edges {
+                for x in [down(down(e)), down(e), e, up(e), up(up(e))] {
+                    sets.push(vec![bdc - 20.0, x, bdc + 20.0]);
+                    sets.push(vec![x]);
+                }
+            }
+            sets.push(vec![bdc - 5.0 - 1e-9, bdc, bdc + 5.0 + 1e-9]);
+            for a in sets {
+                let mut v: Vec<f64> = a.iter().map(|x| 1e5 + x * 3.7).collect();
+                for nan in [false, true] {
+                    if nan && !v.is_empty() {
+                        let k = v.len() / 2;
+                        v[k] = f64::NAN;
+                    }
+                    let plain =
+                        super::intake_bdc_mean(a.iter().copied().zip(v.iter().copied()), cycle);
+                    let fast = super::intake_bdc_mean_rising(&a, &v, cycle);
+                    assert_eq!(plain.map(f64::to_bits), fast.map(f64::to_bits), "{a:?}");
+                    taken += usize::from(plain.is_some());
+                }
+            }
+        }
+        assert!(taken > 20, "{taken}");
+    }
 }

@@ -74,25 +74,78 @@ pub fn arg_min_max(v: &[f64]) -> (usize, usize) {
     )
 }
 
-/// The smallest and largest step `v[k + 1] - v[k]`; `(inf, -inf)` for
-/// fewer than two samples.
-pub fn step_range(v: &[f64]) -> (f64, f64) {
+/// The steps `v[k + 1] - v[k]` of a sampled axis, from one pass.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Steps {
+    /// The smallest step (NaN steps skipped); `inf` when there is none.
+    pub lo: f64,
+    /// The largest step (NaN steps skipped); `-inf` when there is none.
+    pub hi: f64,
+    /// Some step is NaN (a NaN sample, or `inf - inf`).
+    pub nan: bool,
+}
+
+impl Steps {
+    /// Every step is above zero and none is NaN: the samples rise
+    /// strictly (and none is NaN: a NaN sample makes its steps NaN).
+    pub fn rising(&self) -> bool {
+        self.lo > 0.0 && !self.nan
+    }
+
+    /// Every step lies within `tol` of `h`, `|step - h| <= tol` as each
+    /// step would compute it: `step - h` rounds monotonically in the step,
+    /// so the smallest and the largest step decide for all of them (a NaN
+    /// step never lies within).
+    pub fn all_within(&self, h: f64, tol: f64) -> bool {
+        !self.nan && self.hi - h <= tol && self.lo - h >= -tol
+    }
+}
+
+/// The smallest and largest step `v[k + 1] - v[k]` and whether any is NaN
+/// ([`Steps`]); `(inf, -inf, false)` for fewer than two samples.
+pub fn steps(v: &[f64]) -> Steps {
     if v.len() < 2 {
-        return (f64::INFINITY, f64::NEG_INFINITY);
+        return Steps {
+            lo: f64::INFINITY,
+            hi: f64::NEG_INFINITY,
+            nan: false,
+        };
     }
     let mut l = Lanes::new();
+    // The steps summed: NaN once any step is NaN (or two infinite steps
+    // cancel); only then are they looked at one by one. Summed in two
+    // lanes, pairwise within a chunk (the shape the compiler keeps in
+    // vector registers).
+    let mut sum = [0.0f64; 2];
     let (a, b) = (&v[..v.len() - 1], &v[1..]);
     let (ca, cb) = (a.chunks_exact(LANES), b.chunks_exact(LANES));
     let (ra, rb) = (ca.remainder(), cb.remainder());
     for (x, y) in ca.zip(cb) {
+        let mut d = [0.0; LANES];
         for j in 0..LANES {
-            l.push(j, y[j] - x[j]);
+            d[j] = y[j] - x[j];
         }
+        for (j, &dj) in d.iter().enumerate() {
+            l.push(j, dj);
+        }
+        sum[0] += (d[0] + d[2]) + (d[4] + d[6]);
+        sum[1] += (d[1] + d[3]) + (d[5] + d[7]);
     }
     for (j, (x, y)) in ra.iter().zip(rb).enumerate() {
-        l.push(j, y - x);
+        let d = y - x;
+        l.push(j, d);
+        sum[0] += d;
     }
-    l.finish()
+    let (lo, hi) = l.finish();
+    let nan = (sum[0] + sum[1]).is_nan() && v.windows(2).any(|w| (w[1] - w[0]).is_nan());
+    Steps { lo, hi, nan }
+}
+
+/// The smallest and largest step `v[k + 1] - v[k]` (NaN steps skipped);
+/// `(inf, -inf)` for fewer than two samples.
+pub fn step_range(v: &[f64]) -> (f64, f64) {
+    let s = steps(v);
+    (s.lo, s.hi)
 }
 
 /// `x.rem_euclid(c)`, bit for bit, without the software `fmod` that `%`
@@ -202,6 +255,45 @@ mod tests {
                 let (elo, ehi) = plain(&steps);
                 prop_assert_eq!(slo.to_bits(), elo.to_bits());
                 prop_assert_eq!(shi.to_bits(), ehi.to_bits());
+            }
+            // With NaN: the range of the steps that are numbers, and the flag.
+            let s = super::steps(&v);
+            let all: Vec<f64> = v.windows(2).map(|w| w[1] - w[0]).collect();
+            let (elo, ehi) = plain(&all);
+            prop_assert_eq!(s.lo.to_bits(), elo.to_bits());
+            prop_assert_eq!(s.hi.to_bits(), ehi.to_bits());
+            prop_assert_eq!(s.nan, all.iter().any(|d| d.is_nan()));
+            prop_assert_eq!(s.rising(), all.iter().all(|&d| d > 0.0));
+        }
+
+        /// `all_within` is the plain test of every step, on axes shaped
+        /// to sit at its edges: steps nudged by about the tolerance either
+        /// way, a NaN or an infinite sample, repeated samples.
+        #[test]
+        fn all_within_is_every_steps_test(
+            h in prop_oneof![Just(0.1), Just(1.0), Just(0.25), 1e-3f64..10.0],
+            nudges in proptest::collection::vec(
+                prop_oneof![Just(0.0), Just(1.0), Just(-1.0), Just(0.999_999), Just(1.000_001), -3.0f64..3.0],
+                2..40,
+            ),
+            odd in proptest::option::of((0usize..40, prop_oneof![Just(f64::NAN), Just(f64::INFINITY), Just(f64::NEG_INFINITY)])),
+            start in prop_oneof![Just(0.0), Just(-360.0), Just(36_000.0), -1e4f64..1e4],
+        ) {
+            let tol = 1e-9 * h;
+            let mut v: Vec<f64> = nudges
+                .iter()
+                .enumerate()
+                .map(|(k, e)| start + k as f64 * h + e * tol)
+                .collect();
+            if let Some((k, x)) = odd && k < v.len() {
+                v[k] = x;
+            }
+            let hs = [h, (v[v.len() - 1] - v[0]) / (v.len() - 1) as f64, h * (1.0 + 1e-9)];
+            let s = super::steps(&v);
+            for hh in hs {
+                let t = 1e-9 * hh.abs();
+                let plain = v.windows(2).all(|w| ((w[1] - w[0]) - hh).abs() <= t);
+                prop_assert_eq!(s.all_within(hh, t), plain, "{:?} {}", v, hh);
             }
         }
     }
