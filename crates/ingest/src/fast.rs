@@ -8,11 +8,44 @@
 //! whole, take the same paths without the parsing ([`long_columns`],
 //! [`per_column_columns`]).
 
+use crate::Trace;
 use crate::layout::{Long, PerColumn};
 use crate::number::{PLAIN_CELLS, plain_cell, plain_row};
 use crate::template::{ROW, Template};
 #[cfg(doc)]
 use crate::trace::Track;
+
+/// Rows [`long`] holds before it appends them to the trace.
+const BATCH: usize = 64;
+
+/// Angles and values of rows read, appended to the trace a batch at a
+/// time: a store each in the row loop, where a push would check and store
+/// the vector's length every row.
+struct Batch {
+    angles: [f64; BATCH],
+    values: [f64; BATCH],
+    k: usize,
+}
+
+impl Batch {
+    #[inline(always)]
+    fn push(&mut self, a: f64, v: f64, tr: &mut Trace) {
+        self.angles[self.k % BATCH] = a;
+        self.values[self.k % BATCH] = v;
+        self.k += 1;
+        if self.k == BATCH {
+            self.flush(tr);
+        }
+    }
+
+    /// Appends the rows held to the trace.
+    #[inline(never)]
+    fn flush(&mut self, tr: &mut Trace) {
+        tr.angle_deg.extend_from_slice(&self.angles[..self.k]);
+        tr.values.extend_from_slice(&self.values[..self.k]);
+        self.k = 0;
+    }
+}
 
 /// Plain rows of `w` that continue the long layout's current trace are
 /// appended to it; returns the bytes and rows used. A row that repeats the
@@ -42,6 +75,11 @@ pub(crate) fn long(w: &[u8], eof: bool, sep: u8, l: &mut Long) -> (usize, usize)
     let templates = value + 1 == ncols
         && (0..value).all(|i| i == x || cycle_col == Some(i) || cyl_col == Some(i));
     let mut template: Option<Template> = None;
+    let mut batch = Batch {
+        angles: [0.0; BATCH],
+        values: [0.0; BATCH],
+        k: 0,
+    };
     // Rows to wait before seeding again after a template that read nothing.
     let mut backoff = 0usize;
     let (cycle_bits, cyl_bits) = ((tr.cycle as f64).to_bits(), (tr.cylinder as f64).to_bits());
@@ -56,8 +94,7 @@ pub(crate) fn long(w: &[u8], eof: bool, sep: u8, l: &mut Long) -> (usize, usize)
                     break;
                 };
                 track.take(a);
-                tr.angle_deg.push(a);
-                tr.values.push(v * scale + offset);
+                batch.push(a, v * scale + offset, tr);
                 used += len;
                 n += 1;
                 continue;
@@ -89,11 +126,11 @@ pub(crate) fn long(w: &[u8], eof: bool, sep: u8, l: &mut Long) -> (usize, usize)
             }
         }
         track.take(a);
-        tr.angle_deg.push(a);
-        tr.values.push(vals[value] * scale + offset);
+        batch.push(a, vals[value] * scale + offset, tr);
         used += len;
         n += 1;
     }
+    batch.flush(tr);
     cur.track = track;
     (used, n)
 }

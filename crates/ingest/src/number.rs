@@ -24,6 +24,85 @@ pub(crate) fn decimal_value(m: u64, frac: usize, neg: bool) -> f64 {
     if neg { -v } else { v }
 }
 
+/// The eight bytes of `b` from `i`, the first in the lowest byte.
+#[inline(always)]
+fn word(b: &[u8], i: usize) -> u64 {
+    let mut w = [0; 8];
+    w.copy_from_slice(&b[i..i + 8]);
+    u64::from_le_bytes(w)
+}
+
+/// Bytes repeated in every lane of a word.
+const LANES: u64 = 0x0101_0101_0101_0101;
+
+/// The index of the first byte of `w` that is not an ASCII digit, 8 when
+/// all are. A byte is a digit when its high nibble is 3 and its low nibble
+/// below 10 (low nibble + 6 stays below 16); the sums stay in their lanes.
+#[inline(always)]
+fn digits_in(w: u64) -> usize {
+    let high = (w & (0xf0 * LANES)) ^ (0x30 * LANES);
+    let low = ((w & (0x0f * LANES)) + 6 * LANES) & (0xf0 * LANES);
+    ((high | low).trailing_zeros() / 8) as usize
+}
+
+/// The first `k` bytes of `w` (`k` at most 7) moved to the top of the
+/// word, zeros below them. Two shifts: `k` may be 0, and a shift by 64
+/// overflows.
+#[inline(always)]
+fn top(w: u64, k: usize) -> u64 {
+    (w << (8 * (7 - k))) << 8
+}
+
+/// The number the ASCII digits of `w` spell, the first byte the most
+/// significant (zero bytes read as leading zeros): pairs, quads and the
+/// two halves combined by three multiplications (Lemire's SWAR method).
+#[inline(always)]
+fn eight_digits(w: u64) -> u64 {
+    let v = w & (0x0f * LANES);
+    let v = (v.wrapping_mul(10 << 8 | 1)) >> 8;
+    let v = ((v & 0x00ff_00ff_00ff_00ff).wrapping_mul(100 << 16 | 1)) >> 16;
+    ((v & 0x0000_ffff_0000_ffff).wrapping_mul(10_000 << 32 | 1)) >> 32
+}
+
+/// Powers of ten as integers, for the fraction digits of [`swar_digits`].
+const POW10_INT: [u64; 8] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_000_000];
+
+/// The common shape of a plain decimal read by words instead of bytes:
+/// at `b[s..]`, at most 7 digits, then optionally a point (`.`, or `,`
+/// where `decimal_comma`) and at most 7 more, at least one digit in all
+/// (`87.14250`, `5.`, `.5`, `720`). Returns the digits as one integer, the
+/// number of them after the point and the index after the cell; `None`
+/// where the shape is not this one or `b` holds fewer than 16 bytes from
+/// `s`, and the byte-at-a-time reader decides (where both read a cell they
+/// read the same: `swar_digits_equal_digit_runs`).
+#[inline(always)]
+pub(crate) fn swar_digits(b: &[u8], s: usize, decimal_comma: bool) -> Option<(u64, usize, usize)> {
+    if b.len() < s + 16 {
+        return None;
+    }
+    let w = word(b, s);
+    let int = digits_in(w);
+    if int == 8 {
+        return None;
+    }
+    let c = b[s + int];
+    if c != b'.' && !(decimal_comma && c == b',') {
+        return (int > 0).then(|| (eight_digits(top(w, int)), 0, s + int));
+    }
+    let f = word(b, s + int + 1);
+    let frac = digits_in(f);
+    if frac == 8 || int + frac == 0 {
+        return None;
+    }
+    // The integer digits above the fraction's in one word when they fit.
+    let m = if int + frac <= 8 {
+        eight_digits((top(w, int) >> (8 * frac)) | top(f, frac))
+    } else {
+        eight_digits(top(w, int)) * POW10_INT[frac] + eight_digits(top(f, frac))
+    };
+    Some((m, frac, s + int + 1 + frac))
+}
+
 /// One plain decimal (`-12.5`, at most 15 digits, a decimal comma where
 /// `decimal_comma`) at `b[i..]`: its value and the index after it, or
 /// `None`. Every fast reader of a row's cells reads them here.
@@ -36,6 +115,9 @@ pub(crate) fn plain_cell(b: &[u8], mut i: usize, decimal_comma: bool) -> Option<
         }
         _ => false,
     };
+    if let Some((m, frac, end)) = swar_digits(b, i, decimal_comma) {
+        return Some((decimal_value(m, frac, neg), end));
+    }
     // Integer digits, then an optional point and fraction digits; the
     // counts come from positions, so the digit loops do nothing else.
     let mut m = 0u64;
@@ -368,6 +450,171 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The byte-at-a-time reading of a plain decimal's digits at `b[s..]`
+    /// (what `plain_cell` did before words): the digits as one integer,
+    /// those after the point, the index after the cell; `None` for no
+    /// digits or over 15.
+    fn digits_by_bytes(b: &[u8], s: usize, dc: bool) -> Option<(u64, usize, usize)> {
+        let mut m = 0;
+        let mut i = super::digit_run(b, s, &mut m);
+        let int = i - s;
+        let mut frac = 0;
+        if let Some(&c) = b.get(i)
+            && (c == b'.' || (dc && c == b','))
+        {
+            let f = i + 1;
+            i = super::digit_run(b, f, &mut m);
+            frac = i - f;
+        }
+        (int + frac > 0 && int + frac <= 15).then_some((m, frac, i))
+    }
+
+    /// Bytes that make hostile cells: digits, points, commas, signs, an
+    /// exponent, white space, line ends, the bytes either side of the
+    /// digits and of the nibble test (`/`, `:`, `*`, `?`, `p`, `@`), a
+    /// NUL and non-ASCII (UTF-8 of `é`, a lone 0xff).
+    const HOSTILE: &[u8] =
+        b"0123456789012345678901234567890123456789..,,-+eE \t\n\r/:*?p@\0\xc3\xa9\xff";
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+        /// Where the word reader reads a cell it reads what the byte reader
+        /// reads, at every start of a random hostile string.
+        #[test]
+        fn swar_digits_equal_digit_runs(
+            picks in prop::collection::vec(0..HOSTILE.len(), 0..48),
+            dc in any::<bool>(),
+        ) {
+            let b: Vec<u8> = picks.iter().map(|&k| HOSTILE[k]).collect();
+            for s in 0..=b.len() {
+                if let Some(got) = super::swar_digits(&b, s, dc) {
+                    prop_assert_eq!(Some(got), digits_by_bytes(&b, s, dc), "{:?} from {}", b, s);
+                }
+            }
+        }
+
+        /// A cell of plain decimals (every length of integer and fraction
+        /// digits up to 25, leading zeros, a sign) in a buffer of any length reads
+        /// as `str::parse` reads it, or is declined when over 15 digits.
+        #[test]
+        fn plain_cell_equals_std(
+            int in prop::collection::vec(b'0'..=b'9', 0..25),
+            frac in prop::option::of(prop::collection::vec(b'0'..=b'9', 0..25)),
+            neg in any::<bool>(),
+            tail in prop::sample::select(vec![&b"\n"[..], b"\r\n", b",1\n", b"", b" ", b"e5", b"\xc3\xa9"]),
+            pad in 0usize..24,
+        ) {
+            let mut cell = Vec::new();
+            if neg {
+                cell.push(b'-');
+            }
+            cell.extend_from_slice(&int);
+            if let Some(f) = &frac {
+                cell.push(b'.');
+                cell.extend_from_slice(f);
+            }
+            let digits = int.len() + frac.as_ref().map_or(0, Vec::len);
+            let mut b = cell.clone();
+            b.extend_from_slice(tail);
+            b.extend(std::iter::repeat_n(b'x', pad));
+            let got = super::plain_cell(&b, 0, false);
+            if digits == 0 || digits > 15 {
+                prop_assert_eq!(got, None);
+            } else {
+                let want: f64 = std::str::from_utf8(&cell).unwrap().parse().unwrap();
+                let (v, end) = got.unwrap();
+                prop_assert_eq!(v.to_bits(), want.to_bits());
+                prop_assert_eq!(end, cell.len());
+            }
+        }
+
+        /// Eight digits by words are the number they spell.
+        #[test]
+        fn eight_digits_spell_their_number(n in 0u64..100_000_000, k in 0usize..8) {
+            let text = format!("{n:08}");
+            let w = u64::from_le_bytes(text.as_bytes().try_into().unwrap());
+            prop_assert_eq!(super::eight_digits(w), n);
+            // The first k digits alone, moved up.
+            let want = if k == 0 { 0 } else { text[..k].parse::<u64>().unwrap() };
+            prop_assert_eq!(super::eight_digits(super::top(w, k)), want);
+        }
+    }
+
+    /// Every split of up to 16 digits around a point, and the cells a
+    /// word reader might get wrong, at every offset in a 16-byte window and
+    /// at the end of the buffer.
+    #[test]
+    fn plain_cell_hostile_cells() {
+        let mut cells: Vec<String> = Vec::new();
+        for n in 1..=25 {
+            let digits: String = (0..n).map(|k| char::from(b'1' + (k % 9) as u8)).collect();
+            cells.push(digits.clone());
+            cells.push(format!("-{digits}"));
+            cells.push(format!("000{digits}"));
+            for p in 0..=n {
+                cells.push(format!("{}.{}", &digits[..p], &digits[p..]));
+            }
+        }
+        for c in [
+            "-0",
+            "+5",
+            ".5",
+            "5.",
+            "-.5",
+            "-5.",
+            ".",
+            "-",
+            "-.",
+            "1e3",
+            "1E3",
+            "nan",
+            "inf",
+            "-inf",
+            " 5",
+            "5 ",
+            "5\u{e9}",
+            "\u{e9}5",
+            "0.0",
+            "00.00",
+            "1..2",
+            "1.2.3",
+            "12,5",
+            "9999999.9999999",
+            "99999999.999999",
+        ] {
+            cells.push(c.into());
+        }
+        for cell in &cells {
+            for pad in 0..20 {
+                for end in ["\n", "\r\n", ",", ""] {
+                    let text = format!("{}{cell}{end}{}", "7,".repeat(pad), "0".repeat(pad));
+                    let b = text.as_bytes();
+                    let s = 2 * pad;
+                    let got = super::plain_cell(b, s, false);
+                    if let Some((v, e)) = got {
+                        let want: f64 = text[s..e].parse().unwrap();
+                        assert_eq!(v.to_bits(), want.to_bits(), "{text:?}");
+                    }
+                    if plain(cell) && (!end.is_empty() || pad == 0) {
+                        let (v, e) = got.unwrap_or_else(|| panic!("{text:?} declined"));
+                        assert_eq!(&text[s..e], cell, "{text:?}");
+                        assert_eq!(fast_decimal(cell.as_bytes()), Some(v), "{cell}");
+                    }
+                }
+            }
+        }
+    }
+
+    /// A plain decimal: an optional `-`, digits (1 to 15) and at most one
+    /// point.
+    fn plain(cell: &str) -> bool {
+        let body = cell.strip_prefix('-').unwrap_or(cell);
+        let digits = body.bytes().filter(u8::is_ascii_digit).count();
+        body.bytes().all(|c| c.is_ascii_digit() || c == b'.')
+            && body.matches('.').count() <= 1
+            && (1..=15).contains(&digits)
     }
 
     #[test]

@@ -10,7 +10,7 @@
 //! seed a new template. The angle is kept as the integer its digits spell,
 //! so the value it gives is bit for bit what reading the cell gives.
 
-use crate::number::{POW10, decimal_value, digit_run};
+use crate::number::{POW10, decimal_value, digit_run, swar_digits};
 
 /// Longest text a template holds: the cells before the value, with their
 /// separators.
@@ -42,6 +42,9 @@ pub(crate) struct Template {
     dead: bool,
     /// Rows read so far.
     pub(crate) rows: usize,
+    /// The angle cell's last digit: its index in `text` and its value (a
+    /// step that leaves it below 10 is one addition).
+    last: (usize, u64),
 }
 
 impl Template {
@@ -114,7 +117,11 @@ impl Template {
             frac,
             dead: false,
             rows: 0,
+            last: (0, 10),
         };
+        if let Some(j) = (s..e).rev().find(|&j| t.digit(j).is_some()) {
+            t.last = (j, t.digit(j).unwrap_or(10));
+        }
         t.advance();
         (!t.dead).then_some(t)
     }
@@ -124,9 +131,62 @@ impl Template {
         decimal_value(self.m, self.frac, false)
     }
 
-    /// Moves the text and the angle one step on.
+    /// The word of `text` that holds byte `j` and the byte's shift there.
+    fn at(j: usize) -> (usize, usize) {
+        (j / 8 % 2, 8 * (j % 8))
+    }
+
+    /// The digit byte `j` of `text` holds, if a digit.
+    fn digit(&self, j: usize) -> Option<u64> {
+        let (word, shift) = Self::at(j);
+        let c = (self.text[word] >> shift) as u8;
+        c.is_ascii_digit().then(|| u64::from(c - b'0'))
+    }
+
+    /// Moves the text and the angle one step on: most steps only add to
+    /// the last digit; a carry takes [`Self::carry`].
+    #[inline(always)]
     fn advance(&mut self) {
+        let (j, d) = self.last;
+        if d + self.step < 10 {
+            let (word, shift) = Self::at(j);
+            self.m += self.step;
+            self.text[word] += self.step << shift;
+            self.last.1 = d + self.step;
+        } else {
+            self.carry();
+        }
+    }
+
+    /// [`Self::advance`] digit by digit, with its carries; the cell grown
+    /// beyond its width makes the template dead.
+    #[inline(never)]
+    fn carry(&mut self) {
         self.m += self.step;
+        if self.step < 10 {
+            // The last digit wraps, and one carries into the digits before
+            // it: nines become zeros up to the digit that takes it.
+            let (mut j, d) = self.last;
+            let (word, shift) = Self::at(j);
+            self.text[word] -= (10 - self.step) << shift;
+            self.last.1 = d + self.step - 10;
+            loop {
+                if j == self.x.0 {
+                    self.dead = true;
+                    return;
+                }
+                j -= 1;
+                let (word, shift) = Self::at(j);
+                match self.digit(j) {
+                    None => {}
+                    Some(9) => self.text[word] -= 9 << shift,
+                    Some(_) => {
+                        self.text[word] += 1 << shift;
+                        return;
+                    }
+                }
+            }
+        }
         let (mut carry, mut j) = (self.step, self.x.1);
         while carry > 0 {
             if j == self.x.0 {
@@ -134,15 +194,16 @@ impl Template {
                 return;
             }
             j -= 1;
-            let (word, shift) = (&mut self.text[j / 8 % 2], 8 * (j % 8));
-            let c = (*word >> shift) as u8;
-            if !c.is_ascii_digit() {
+            let Some(digit) = self.digit(j) else {
                 continue;
-            }
-            let d = u64::from(c - b'0') + carry % 10;
+            };
+            let d = digit + carry % 10;
             carry = carry / 10 + d / 10;
-            *word = (*word & !(0xff << shift)) | ((u64::from(b'0') + d % 10) << shift);
+            let (word, shift) = Self::at(j);
+            let w = &mut self.text[word];
+            *w = (*w & !(0xff << shift)) | ((u64::from(b'0') + d % 10) << shift);
         }
+        self.last.1 = self.digit(self.last.0).unwrap_or(10);
     }
 
     /// The next row, when it starts with the template's text and its value
@@ -179,6 +240,26 @@ impl Template {
 fn value_cell(row: &[u8; ROW], mut i: usize, decimal_comma: bool) -> Option<(f64, usize)> {
     let neg = row[i] == b'-';
     i += usize::from(neg);
+    let (v, i) = match swar_digits(row, i, decimal_comma) {
+        Some((m, frac, end)) => (decimal_value(m, frac, neg), end),
+        None => long_value(row, i, neg, decimal_comma)?,
+    };
+    match row[i] {
+        b'\n' => Some((v, i + 1)),
+        b'\r' if row[i + 1] == b'\n' => Some((v, i + 2)),
+        _ => None,
+    }
+}
+
+/// [`value_cell`]'s decimal from `row[i]` (after its sign) where it is not
+/// the shape [`swar_digits`] reads: byte by byte.
+#[inline(never)]
+fn long_value(
+    row: &[u8; ROW],
+    mut i: usize,
+    neg: bool,
+    decimal_comma: bool,
+) -> Option<(f64, usize)> {
     // At most 16 digits a run are looked at (over 15 is refused), so every
     // index stays below 16 + 1 + 16 + 1 + 16 + 2 < ROW.
     let mut m = 0u64;
@@ -194,12 +275,7 @@ fn value_cell(row: &[u8; ROW], mut i: usize, decimal_comma: bool) -> Option<(f64
     if int + frac == 0 || int + frac > 15 {
         return None;
     }
-    let v = decimal_value(m, frac, neg);
-    match row[i] {
-        b'\n' => Some((v, i + 1)),
-        b'\r' if row[i + 1] == b'\n' => Some((v, i + 2)),
-        _ => None,
-    }
+    Some((decimal_value(m, frac, neg), i))
 }
 
 #[cfg(test)]
@@ -232,6 +308,52 @@ mod tests {
         let mut t = Template::seed(b"1,75\t2\n", b'\t', 0, 1, 0.25).unwrap();
         assert_eq!(t.next(&window("2,00\t3,5\n"), true), Some((2.0, 3.5, 9)));
         assert_eq!(t.next(&window("2,25\t3,5 \n"), true), None, "a space");
+    }
+
+    /// Stepped on row after row (steps below 10 units, which take the
+    /// one-addition path and the nines' carry, and larger ones), the
+    /// angle is what reading the row's cell gives, and the template dies
+    /// exactly when the cell would need one more character.
+    #[test]
+    fn steps_match_the_cells_they_stand_for() {
+        for frac in 0..4usize {
+            for step in [1u64, 2, 3, 7, 9, 10, 11, 25, 99, 100, 250, 999] {
+                for start in [0u64, 1, 8, 9, 95, 98, 99, 990, 995, 9_990, 997_654] {
+                    let text = |m: u64| {
+                        let s = format!("{m:0w$}", w = frac + 1);
+                        let (i, f) = s.split_at(s.len() - frac);
+                        if frac == 0 {
+                            i.to_string()
+                        } else {
+                            format!("{i}.{f}")
+                        }
+                    };
+                    let row = |m: u64| format!("4,{},1.5\r\n", text(m));
+                    let step_deg = step as f64 / POW10[frac];
+                    let seed = row(start);
+                    let Some(mut t) = Template::seed(seed.as_bytes(), b',', 1, 2, step_deg) else {
+                        // The cells too long, or the next row's angle a
+                        // character longer.
+                        let grows = text(start + step).len() != text(start).len();
+                        assert!(seed.len() > 2 + PREFIX || grows, "{seed:?} by {step}");
+                        continue;
+                    };
+                    let mut m = start + step;
+                    // Up to the cell's growth, or far enough past the carries.
+                    for _ in 0..3000 {
+                        let r = row(m);
+                        let got = t.next(&window(&r), false);
+                        if text(m).len() != text(start).len() {
+                            assert_eq!(got, None, "{r:?} after {seed:?}");
+                            break;
+                        }
+                        let want: f64 = text(m).parse().unwrap();
+                        assert_eq!(got, Some((want, 1.5, r.len())), "{r:?} after {seed:?}");
+                        m += step;
+                    }
+                }
+            }
+        }
     }
 
     /// Rows a template cannot stand for are refused at the seed.
