@@ -83,7 +83,14 @@ pub(crate) fn long(w: &[u8], eof: bool, sep: u8, l: &mut Long) -> (usize, usize)
     // Rows to wait before seeding again after a template that read nothing.
     let mut backoff = 0usize;
     let (cycle_bits, cyl_bits) = ((tr.cycle as f64).to_bits(), (tr.cylinder as f64).to_bits());
-    while eof || used + 512 < w.len() {
+    // Rows are read while more than 512 bytes are left, or to the end of
+    // the file.
+    let stop = if eof {
+        usize::MAX
+    } else {
+        w.len().saturating_sub(512)
+    };
+    while used < stop {
         if let Some(t) = template.as_mut() {
             if let Some(row) = w
                 .get(used..used + ROW)
