@@ -110,6 +110,113 @@ pub(crate) fn swar_digits(b: &[u8], s: usize, decimal_comma: bool) -> Option<(u6
     Some((m, frac, s + int + 1 + frac))
 }
 
+/// The lanes of a word from `from` to before `to` (at most 8), all bits set.
+fn lanes(from: usize, to: usize) -> u64 {
+    let upto = |k: usize| {
+        if k >= 8 {
+            u64::MAX
+        } else {
+            (1u64 << (8 * k)) - 1
+        }
+    };
+    upto(to) & !upto(from)
+}
+
+/// The shape of a plain decimal cell of at most 8 bytes after its sign
+/// (`87.14250`, `-0.5`, `720`): its sign, where its digits and point are.
+/// Learned from one cell ([`Shape::of`]), it reads the next cell of the
+/// same shape in one word: a mask test that its digits are digits and its
+/// point the point, then the digits moved together and converted at once
+/// ([`Shape::read`]). The rows of a file mostly repeat their value's
+/// shape, so the lengths need not be found again in every row.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Shape {
+    neg: bool,
+    /// 0x80 in each lane that must hold a digit.
+    digits: u64,
+    /// The point's byte in its lane, and that lane's bits (0 for none).
+    point: u64,
+    point_lane: u64,
+    /// The digits before the point and their shift to the top of the
+    /// word, then those after it and theirs (together, the digits fill
+    /// the top of the word in order).
+    int: (u64, u32),
+    frac: (u64, u32),
+    /// Fraction digits, and bytes after the sign.
+    frac_digits: usize,
+    len: usize,
+}
+
+impl Shape {
+    /// The shape of the cell `b[i..end]` as [`plain_cell`] read it (no
+    /// white space, at most 15 digits); `None` when it takes over 8 bytes
+    /// after the sign.
+    pub(crate) fn of(b: &[u8], i: usize, end: usize, decimal_comma: bool) -> Option<Shape> {
+        let neg = b.get(i) == Some(&b'-');
+        let s = i + usize::from(neg);
+        let len = end.checked_sub(s)?;
+        if !(1..=8).contains(&len) {
+            return None;
+        }
+        let cell = &b[s..end];
+        let point = cell
+            .iter()
+            .position(|&c| c == b'.' || (decimal_comma && c == b','));
+        let high = |from: usize, to: usize| lanes(from, to) & (0x80 * LANES);
+        let shift = |k: usize| (8 * (8 - k)) as u32;
+        Some(match point {
+            // Digits, a point, digits: moved up over the point, to the top.
+            Some(p) if len >= 2 => Shape {
+                neg,
+                digits: high(0, p) | high(p + 1, len),
+                point: u64::from(cell[p]) << (8 * p),
+                point_lane: lanes(p, p + 1),
+                int: (lanes(0, p), shift(len) + 8),
+                frac: (lanes(p + 1, len), shift(len)),
+                frac_digits: len - p - 1,
+                len,
+            },
+            Some(_) => return None,
+            None => Shape {
+                neg,
+                digits: high(0, len),
+                point: 0,
+                point_lane: 0,
+                int: (lanes(0, len), shift(len)),
+                frac: (0, 0),
+                frac_digits: 0,
+                len,
+            },
+        })
+    }
+
+    /// The cell at `b[i..]` when it has this shape as far as its bytes go:
+    /// its value and the index after its last byte, which the caller must
+    /// see is no digit and no point (else the cell is longer); `None`
+    /// when the shape differs or fewer than 9 bytes are left.
+    #[inline(always)]
+    pub(crate) fn read(&self, b: &[u8], i: usize) -> Option<(f64, usize)> {
+        if b.len() < i + 9 {
+            return None;
+        }
+        let s = i + usize::from(self.neg);
+        if (b[i] == b'-') != self.neg {
+            return None;
+        }
+        let w = word(b, s);
+        let x = less_zeros(w);
+        // As in `digits_in`; a lane that is no digit is always flagged, and
+        // its carry can only flag a digit lane above it (a miss, not a
+        // wrong read). The point is compared as it is, carries aside.
+        let flags = (x.wrapping_add(0x76 * LANES) | x) & self.digits;
+        if flags | ((w ^ self.point) & self.point_lane) != 0 {
+            return None;
+        }
+        let m = eight_digits(((x & self.int.0) << self.int.1) | ((x & self.frac.0) << self.frac.1));
+        Some((decimal_value(m, self.frac_digits, self.neg), s + self.len))
+    }
+}
+
 /// One plain decimal (`-12.5`, at most 15 digits, a decimal comma where
 /// `decimal_comma`) at `b[i..]`: its value and the index after it, or
 /// `None`. Every fast reader of a row's cells reads them here.
@@ -536,6 +643,44 @@ mod tests {
                 let (v, end) = got.unwrap();
                 prop_assert_eq!(v.to_bits(), want.to_bits());
                 prop_assert_eq!(end, cell.len());
+            }
+        }
+
+        /// A cell read by the shape of another reads as `plain_cell`
+        /// reads it, or is declined: cells of every shape up to 8 bytes
+        /// and of others, hostile bytes after them.
+        #[test]
+        fn shape_reads_what_plain_cell_reads(
+            learned in "-?[0-9]{0,8}([.,][0-9]{0,8})?",
+            cell in prop::collection::vec(
+                prop_oneof![4 => prop::sample::select(&b"0123456789"[..]), 1 => prop::sample::select(HOSTILE)],
+                0..12,
+            ),
+            neg in any::<bool>(),
+            dc in any::<bool>(),
+            tail in prop::collection::vec(prop::sample::select(HOSTILE), 0..12),
+        ) {
+            let learned = learned.as_bytes();
+            let Some((_, end)) = super::plain_cell(learned, 0, dc) else {
+                return Ok(());
+            };
+            let Some(shape) = super::Shape::of(learned, 0, end, dc) else {
+                prop_assert!(end - usize::from(learned[0] == b'-') > 8);
+                return Ok(());
+            };
+            // The learned cell itself reads back.
+            let mut own = learned[..end].to_vec();
+            own.extend_from_slice(b"\n        ");
+            prop_assert_eq!(shape.read(&own, 0), super::plain_cell(&own, 0, dc));
+            let mut b = if neg { vec![b'-'] } else { vec![] };
+            b.extend_from_slice(&cell);
+            b.extend_from_slice(&tail);
+            b.extend_from_slice(b"\n        ");
+            if let Some((v, e)) = shape.read(&b, 0) {
+                let after = b[e];
+                if !after.is_ascii_digit() && after != b'.' && !(dc && after == b',') {
+                    prop_assert_eq!(Some((v, e)), super::plain_cell(&b, 0, dc), "{:?}", b);
+                }
             }
         }
 

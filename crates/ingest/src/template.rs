@@ -10,7 +10,7 @@
 //! seed a new template. The angle is kept as the integer its digits spell,
 //! so the value it gives is bit for bit what reading the cell gives.
 
-use crate::number::{POW10, decimal_value, digit_run, swar_digits};
+use crate::number::{POW10, Shape, decimal_value, digit_run, swar_digits};
 
 /// Longest text a template holds: the cells before the value, with their
 /// separators.
@@ -20,6 +20,7 @@ const PREFIX: usize = 16;
 pub(crate) const ROW: usize = 64;
 
 /// The expected start of the next row and the angle it stands for.
+#[derive(Clone)]
 pub(crate) struct Template {
     /// The cells before the value, with separators, as the next row must
     /// start: little-endian bytes in two words, zero beyond `len`. Words,
@@ -45,7 +46,16 @@ pub(crate) struct Template {
     /// The angle cell's last digit: its index in `text` and its value (a
     /// step that leaves it below 10 is one addition).
     last: (usize, u64),
+    /// The shape of the last value read, which the next is read by first.
+    shape: Option<Shape>,
+    /// Values read otherwise, each learning its shape; past
+    /// [`SHAPE_MISSES`] (values whose lengths vary) none is learned.
+    misses: usize,
 }
+
+/// Values that may miss the shape of the one before in one template
+/// before the shapes are given up.
+const SHAPE_MISSES: usize = 16;
 
 impl Template {
     /// A template from `row` (a plain row just read in full), whose cell
@@ -118,6 +128,8 @@ impl Template {
             dead: false,
             rows: 0,
             last: (0, 10),
+            shape: None,
+            misses: 0,
         };
         if let Some(j) = (s..e).rev().find(|&j| t.digit(j).is_some()) {
             t.last = (j, t.digit(j).unwrap_or(10));
@@ -225,29 +237,60 @@ impl Template {
         if self.dead || differ != 0 {
             return None;
         }
-        let (v, len) = value_cell(row, self.len, decimal_comma)?;
+        let (v, len) = self.value(row, decimal_comma)?;
         let a = self.angle();
         self.advance();
         self.rows += 1;
         Some((a, v, len))
     }
+
+    /// The value cell after the template's text, a plain decimal (`-12.5`,
+    /// at most 15 digits) up to the end of the line (`\n` or `\r\n`): its
+    /// value, as `str::parse` gives it, and the index after the line end.
+    /// Read by the last value's shape when it has it, else by
+    /// [`value_cell`], learning its shape.
+    #[inline(always)]
+    fn value(&mut self, row: &[u8; ROW], decimal_comma: bool) -> Option<(f64, usize)> {
+        if let Some((v, i)) = self.shape.as_ref().and_then(|sh| sh.read(row, self.len))
+            && let Some(end) = line_end(row, i)
+        {
+            return Some((v, end));
+        }
+        let (v, i) = self.learn(row, decimal_comma)?;
+        line_end(row, i).map(|end| (v, end))
+    }
+
+    /// [`value_cell`], and the shape of what it read for the next row.
+    #[inline(never)]
+    fn learn(&mut self, row: &[u8; ROW], decimal_comma: bool) -> Option<(f64, usize)> {
+        let (v, i) = value_cell(row, self.len, decimal_comma)?;
+        self.shape = None;
+        if self.misses < SHAPE_MISSES {
+            self.misses += 1;
+            self.shape = Shape::of(row, self.len, i, decimal_comma);
+        }
+        Some((v, i))
+    }
 }
 
-/// A plain decimal (`-12.5`, at most 15 digits) from `row[i]` up to the
-/// end of the line (`\n` or `\r\n`): its value, as `str::parse` gives it,
-/// and the index after the line end.
+/// The index after the line end (`\n` or `\r\n`) at `row[i]`, or `None`.
 #[inline(always)]
+fn line_end(row: &[u8; ROW], i: usize) -> Option<usize> {
+    match row[i] {
+        b'\n' => Some(i + 1),
+        b'\r' if row[i + 1] == b'\n' => Some(i + 2),
+        _ => None,
+    }
+}
+
+/// A plain decimal (`-12.5`, at most 15 digits) from `row[i]`: its value,
+/// as `str::parse` gives it, and the index after it.
 fn value_cell(row: &[u8; ROW], mut i: usize, decimal_comma: bool) -> Option<(f64, usize)> {
     let neg = row[i] == b'-';
     i += usize::from(neg);
-    let (v, i) = match swar_digits(row, i, decimal_comma) {
-        Some((m, frac, end)) => (decimal_value(m, frac, neg), end),
-        None => long_value(row, i, neg, decimal_comma)?,
-    };
-    match row[i] {
-        b'\n' => Some((v, i + 1)),
-        b'\r' if row[i + 1] == b'\n' => Some((v, i + 2)),
-        _ => None,
+    match swar_digits(row, i, decimal_comma) {
+        Some((m, frac, end)) => Some((decimal_value(m, frac, neg), end)),
+        None => long_value(row, i, neg, decimal_comma),
     }
 }
 
@@ -354,6 +397,59 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Values whose shape changes from row to row (lengths, sign, point,
+    /// a digit more than the shape, line ends) read as `str::parse` reads
+    /// them, whether by the learned shape or not, and past
+    /// [`SHAPE_MISSES`] changes too.
+    #[test]
+    fn values_of_changing_shapes() {
+        let values = [
+            "87.14250",
+            "87.14251",
+            "-87.14250",
+            "87.1425",
+            "87.142501",
+            "187.1425",
+            "7",
+            "-0",
+            "12345678",
+            "1234567.8",
+            ".5",
+            "5.",
+            "0.000001",
+            "99999999",
+            "87.14250",
+            "87.14252",
+        ];
+        let mut t = Template::seed(b"3,0.0,1\n", b',', 1, 2, 0.1).unwrap();
+        for round in 0..3 {
+            for (k, v) in values.iter().enumerate() {
+                let m = (round * values.len() + k + 1) as f64;
+                let end = if k % 3 == 0 { "\r\n" } else { "\n" };
+                let r = format!("3,{:.1},{v}{end}", m / 10.0);
+                let want: f64 = v.parse().unwrap();
+                assert_eq!(
+                    t.next(&window(&r), false),
+                    Some((m / 10.0, want, r.len())),
+                    "{r:?}"
+                );
+                // A digit more than the value's shape, or a space, is not
+                // this row's end: the row is refused and the template kept.
+                for bad in [format!("{v}1"), format!("{v} ")] {
+                    let r = format!("3,{:.1},{bad}\n", (m + 1.0) / 10.0);
+                    let got = t.clone().next(&window(&r), false);
+                    let want = bad.parse::<f64>().ok().filter(|_| bad.len() <= 16);
+                    assert_eq!(
+                        got.map(|g| g.1),
+                        want.filter(|_| !bad.ends_with(' ')),
+                        "{r:?}"
+                    );
+                }
+            }
+        }
+        assert!(t.misses >= SHAPE_MISSES, "{}", t.misses);
     }
 
     /// Rows a template cannot stand for are refused at the seed.
