@@ -10,7 +10,7 @@
 
 use crate::Trace;
 use crate::layout::{Long, PerColumn};
-use crate::number::{PLAIN_CELLS, plain_cell, plain_row};
+use crate::number::{PLAIN_CELLS, Shapes, plain_row, shaped_cell};
 use crate::template::{ROW, Template};
 #[cfg(doc)]
 use crate::trace::Track;
@@ -68,6 +68,7 @@ pub(crate) fn long(w: &[u8], eof: bool, sep: u8, l: &mut Long) -> (usize, usize)
     // A copy in registers, written back at the end.
     let mut track = cur.track;
     let mut vals = [0.0; PLAIN_CELLS];
+    let mut shapes = [Shapes::default(); PLAIN_CELLS];
     let decimal_comma = sep != b',';
     let (mut used, mut n) = (0, 0);
     // Templates (template.rs) need the value last, after cells that are
@@ -111,7 +112,8 @@ pub(crate) fn long(w: &[u8], eof: bool, sep: u8, l: &mut Long) -> (usize, usize)
             }
             template = None;
         }
-        let Some((k, len)) = plain_row(&w[used..], sep, decimal_comma, eof, &mut vals) else {
+        let Some((k, len)) = plain_row(&w[used..], sep, decimal_comma, eof, &mut vals, &mut shapes)
+        else {
             break;
         };
         // Exactly the trace's numbers: `1.5` after `1` is not cylinder 1
@@ -165,11 +167,18 @@ pub(crate) fn per_column(
     let decimal_comma = sep != b',';
     let (mut used, mut n) = (0, 0);
     row.resize(m + 1, 0.0);
+    // The values mostly share one shape (`87.14250`); the angle has its own.
+    let (mut angle_shape, mut value_shape) = (Shapes::default(), Shapes::default());
     'rows: while eof || used + 4096 < w.len() {
         let b = &w[used..];
         let mut i = 0;
         for (j, cell) in row.iter_mut().enumerate() {
-            let Some((v, end)) = plain_cell(b, i, decimal_comma) else {
+            let shapes = if j == 0 {
+                &mut angle_shape
+            } else {
+                &mut value_shape
+            };
+            let Some((v, end)) = shaped_cell(b, i, decimal_comma, shapes) else {
                 break 'rows;
             };
             *cell = v;

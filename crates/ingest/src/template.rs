@@ -10,7 +10,7 @@
 //! seed a new template. The angle is kept as the integer its digits spell,
 //! so the value it gives is bit for bit what reading the cell gives.
 
-use crate::number::{POW10, Shape, decimal_value, digit_run, swar_digits};
+use crate::number::{POW10, SHAPE_MISSES, Shape, decimal_value, digit_run, swar_digits};
 
 /// Longest text a template holds: the cells before the value, with their
 /// separators.
@@ -53,10 +53,6 @@ pub(crate) struct Template {
     misses: usize,
 }
 
-/// Values that may miss the shape of the one before in one template
-/// before the shapes are given up.
-const SHAPE_MISSES: usize = 16;
-
 impl Template {
     /// A template from `row` (a plain row just read in full), whose cell
     /// `x` is the angle, `step` (file units) after the angle of the row
@@ -64,6 +60,7 @@ impl Template {
     /// cylinder or the angle) is the last. `None` when the row does not
     /// fit: a prefix over 16 bytes, a signed or over-long angle, a step that
     /// is not a whole number of the angle's last digit.
+    #[inline(never)]
     pub(crate) fn seed(row: &[u8], sep: u8, x: usize, value: usize, step: f64) -> Option<Self> {
         let (mut cells, mut start, mut len, mut span) = (0, 0, 0, None);
         for (i, &c) in row.iter().take(PREFIX).enumerate() {
