@@ -229,11 +229,38 @@ pub(crate) struct Shapes {
     misses: usize,
 }
 
+impl Shapes {
+    /// The cell at `b[i..]` by the last shape learned, as [`Shape::read`]
+    /// gives it (the caller sees that the byte after it ends it).
+    #[inline(always)]
+    pub(crate) fn read(&self, b: &[u8], i: usize) -> Option<(f64, usize)> {
+        self.shape.as_ref().and_then(|sh| sh.read(b, i))
+    }
+
+    /// [`plain_cell`], learning the shape of what it read, up to
+    /// [`SHAPE_MISSES`] times.
+    #[inline(never)]
+    pub(crate) fn learn(
+        &mut self,
+        b: &[u8],
+        i: usize,
+        decimal_comma: bool,
+    ) -> Option<(f64, usize)> {
+        let (v, e) = plain_cell(b, i, decimal_comma)?;
+        self.shape = None;
+        if self.misses < SHAPE_MISSES {
+            self.misses += 1;
+            self.shape = Shape::of(b, i, e, decimal_comma);
+        }
+        Some((v, e))
+    }
+}
+
 /// [`plain_cell`] by the shape of the cell read before it: what
-/// `plain_cell` gives (`shape_reads_what_plain_cell_reads`), in fewer steps
-/// when the shape holds, the byte after it being no digit and no point.
-/// Other cells are read by `plain_cell` and their shapes learned, up to
-/// [`SHAPE_MISSES`].
+/// `plain_cell` gives (`shaped_cells_read_what_plain_cell_reads`), in
+/// fewer steps when the shape holds, the byte after it being no digit and
+/// no point. Other cells are read by `plain_cell` and their shapes
+/// learned ([`Shapes::learn`]).
 #[inline(always)]
 pub(crate) fn shaped_cell(
     b: &[u8],
@@ -241,31 +268,13 @@ pub(crate) fn shaped_cell(
     decimal_comma: bool,
     shapes: &mut Shapes,
 ) -> Option<(f64, usize)> {
-    if let Some(sh) = &shapes.shape
-        && let Some((v, e)) = sh.read(b, i)
+    if let Some((v, e)) = shapes.read(b, i)
         && b.get(e)
             .is_some_and(|&c| !c.is_ascii_digit() && c != b'.' && !(decimal_comma && c == b','))
     {
         return Some((v, e));
     }
-    learn_cell(b, i, decimal_comma, shapes)
-}
-
-/// [`shaped_cell`] where the shape fails: [`plain_cell`], learning.
-#[inline(never)]
-fn learn_cell(
-    b: &[u8],
-    i: usize,
-    decimal_comma: bool,
-    shapes: &mut Shapes,
-) -> Option<(f64, usize)> {
-    let (v, e) = plain_cell(b, i, decimal_comma)?;
-    shapes.shape = None;
-    if shapes.misses < SHAPE_MISSES {
-        shapes.misses += 1;
-        shapes.shape = Shape::of(b, i, e, decimal_comma);
-    }
-    Some((v, e))
+    shapes.learn(b, i, decimal_comma)
 }
 
 /// One plain decimal (`-12.5`, at most 15 digits, a decimal comma where

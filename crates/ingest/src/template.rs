@@ -10,7 +10,7 @@
 //! seed a new template. The angle is kept as the integer its digits spell,
 //! so the value it gives is bit for bit what reading the cell gives.
 
-use crate::number::{POW10, SHAPE_MISSES, Shape, decimal_value, digit_run, swar_digits};
+use crate::number::{POW10, Shapes, decimal_value};
 
 /// Longest text a template holds: the cells before the value, with their
 /// separators.
@@ -47,10 +47,7 @@ pub(crate) struct Template {
     /// step that leaves it below 10 is one addition).
     last: (usize, u64),
     /// The shape of the last value read, which the next is read by first.
-    shape: Option<Shape>,
-    /// Values read otherwise, each learning its shape; past
-    /// [`SHAPE_MISSES`] (values whose lengths vary) none is learned.
-    misses: usize,
+    shapes: Shapes,
 }
 
 impl Template {
@@ -125,8 +122,7 @@ impl Template {
             dead: false,
             rows: 0,
             last: (0, 10),
-            shape: None,
-            misses: 0,
+            shapes: Shapes::default(),
         };
         if let Some(j) = (s..e).rev().find(|&j| t.digit(j).is_some()) {
             t.last = (j, t.digit(j).unwrap_or(10));
@@ -244,78 +240,30 @@ impl Template {
     /// The value cell after the template's text, a plain decimal (`-12.5`,
     /// at most 15 digits) up to the end of the line (`\n` or `\r\n`): its
     /// value, as `str::parse` gives it, and the index after the line end.
-    /// Read by the last value's shape when it has it, else by
-    /// [`value_cell`], learning its shape.
+    /// Read by the last value's shape when it has it (the line end after
+    /// it shows that the cell ends there), else learned
+    /// ([`Shapes::learn`]).
     #[inline(always)]
     fn value(&mut self, row: &[u8; ROW], decimal_comma: bool) -> Option<(f64, usize)> {
-        if let Some((v, i)) = self.shape.as_ref().and_then(|sh| sh.read(row, self.len))
+        if let Some((v, i)) = self.shapes.read(row, self.len)
             && let Some(end) = line_end(row, i)
         {
             return Some((v, end));
         }
-        let (v, i) = self.learn(row, decimal_comma)?;
+        let (v, i) = self.shapes.learn(row, self.len, decimal_comma)?;
         line_end(row, i).map(|end| (v, end))
     }
-
-    /// [`value_cell`], and the shape of what it read for the next row.
-    #[inline(never)]
-    fn learn(&mut self, row: &[u8; ROW], decimal_comma: bool) -> Option<(f64, usize)> {
-        let (v, i) = value_cell(row, self.len, decimal_comma)?;
-        self.shape = None;
-        if self.misses < SHAPE_MISSES {
-            self.misses += 1;
-            self.shape = Shape::of(row, self.len, i, decimal_comma);
-        }
-        Some((v, i))
-    }
 }
 
-/// The index after the line end (`\n` or `\r\n`) at `row[i]`, or `None`.
+/// The index after the line end (`\n` or `\r\n`) at `row[i]`, or `None`
+/// (also past the window's end).
 #[inline(always)]
 fn line_end(row: &[u8; ROW], i: usize) -> Option<usize> {
-    match row[i] {
-        b'\n' => Some(i + 1),
-        b'\r' if row[i + 1] == b'\n' => Some(i + 2),
+    match (row.get(i), row.get(i + 1)) {
+        (Some(b'\n'), _) => Some(i + 1),
+        (Some(b'\r'), Some(b'\n')) => Some(i + 2),
         _ => None,
     }
-}
-
-/// A plain decimal (`-12.5`, at most 15 digits) from `row[i]`: its value,
-/// as `str::parse` gives it, and the index after it.
-fn value_cell(row: &[u8; ROW], mut i: usize, decimal_comma: bool) -> Option<(f64, usize)> {
-    let neg = row[i] == b'-';
-    i += usize::from(neg);
-    match swar_digits(row, i, decimal_comma) {
-        Some((m, frac, end)) => Some((decimal_value(m, frac, neg), end)),
-        None => long_value(row, i, neg, decimal_comma),
-    }
-}
-
-/// [`value_cell`]'s decimal from `row[i]` (after its sign) where it is not
-/// the shape [`swar_digits`] reads: byte by byte.
-#[inline(never)]
-fn long_value(
-    row: &[u8; ROW],
-    mut i: usize,
-    neg: bool,
-    decimal_comma: bool,
-) -> Option<(f64, usize)> {
-    // At most 16 digits a run are looked at (over 15 is refused), so every
-    // index stays below 16 + 1 + 16 + 1 + 16 + 2 < ROW.
-    let mut m = 0u64;
-    let s = i;
-    i = digit_run(&row[..s + 16], s, &mut m);
-    let int = i - s;
-    let mut frac = 0;
-    if row[i] == b'.' || (decimal_comma && row[i] == b',') {
-        let f = i + 1;
-        i = digit_run(&row[..f + 16], f, &mut m);
-        frac = i - f;
-    }
-    if int + frac == 0 || int + frac > 15 {
-        return None;
-    }
-    Some((decimal_value(m, frac, neg), i))
 }
 
 #[cfg(test)]
@@ -398,8 +346,8 @@ mod tests {
 
     /// Values whose shape changes from row to row (lengths, sign, point,
     /// a digit more than the shape, line ends) read as `str::parse` reads
-    /// them, whether by the learned shape or not, and past
-    /// [`SHAPE_MISSES`] changes too.
+    /// them, whether by the learned shape or not, and past the changes
+    /// after which no shape is learned.
     #[test]
     fn values_of_changing_shapes() {
         let values = [
@@ -446,7 +394,6 @@ mod tests {
                 }
             }
         }
-        assert!(t.misses >= SHAPE_MISSES, "{}", t.misses);
     }
 
     /// Rows a template cannot stand for are refused at the seed.
