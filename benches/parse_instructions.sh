@@ -2,7 +2,8 @@
 # Instructions of the text parse (valgrind's callgrind, deterministic where
 # wall time on a shared machine is not): `batch --parse-only` and the full
 # batch on one bench file, for each binary given, with the self cost of the
-# text path's functions (fast::long, the row template's carry and learn).
+# text path's functions (fast::long, the row template's carry and seed,
+# the learning of a cell's shape).
 #
 # usage: sh benches/parse_instructions.sh FILE.csv ENGINE.toml BIN...
 # e.g.   sh benches/parse_instructions.sh /tmp/bench/d0000.csv \
@@ -23,7 +24,7 @@ for bin in "$@"; do
         echo "$bin $mode: $total instructions"
         if [ "$mode" = parse-only ]; then
             callgrind_annotate "$out/cg" 2> /dev/null \
-                | grep -E 'fast::long|template::' \
+                | grep -E 'fast::long|template::|number::Shapes' \
                 | awk -v b="$bytes" '{ n = $1; gsub(",", "", n); printf "    %.2f a byte: %s\n", n / b, $0 }' \
                 | sed 's/ *\[.*\]//'
         fi
