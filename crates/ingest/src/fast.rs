@@ -8,11 +8,44 @@
 //! whole, take the same paths without the parsing ([`long_columns`],
 //! [`per_column_columns`]).
 
+use crate::Trace;
 use crate::layout::{Long, PerColumn};
-use crate::number::{PLAIN_CELLS, plain_cell, plain_row};
+use crate::number::{PLAIN_CELLS, Shapes, plain_row, shaped_cell};
 use crate::template::{ROW, Template};
 #[cfg(doc)]
 use crate::trace::Track;
+
+/// Rows [`long`] holds before it appends them to the trace.
+const BATCH: usize = 64;
+
+/// Angles and values of rows read, appended to the trace a batch at a
+/// time: a store each in the row loop, where a push would check and store
+/// the vector's length every row.
+struct Batch {
+    angles: [f64; BATCH],
+    values: [f64; BATCH],
+    k: usize,
+}
+
+impl Batch {
+    #[inline(always)]
+    fn push(&mut self, a: f64, v: f64, tr: &mut Trace) {
+        self.angles[self.k % BATCH] = a;
+        self.values[self.k % BATCH] = v;
+        self.k += 1;
+        if self.k == BATCH {
+            self.flush(tr);
+        }
+    }
+
+    /// Appends the rows held to the trace.
+    #[inline(never)]
+    fn flush(&mut self, tr: &mut Trace) {
+        tr.angle_deg.extend_from_slice(&self.angles[..self.k]);
+        tr.values.extend_from_slice(&self.values[..self.k]);
+        self.k = 0;
+    }
+}
 
 /// Plain rows of `w` that continue the long layout's current trace are
 /// appended to it; returns the bytes and rows used. A row that repeats the
@@ -35,6 +68,7 @@ pub(crate) fn long(w: &[u8], eof: bool, sep: u8, l: &mut Long) -> (usize, usize)
     // A copy in registers, written back at the end.
     let mut track = cur.track;
     let mut vals = [0.0; PLAIN_CELLS];
+    let mut shapes = [Shapes::default(); PLAIN_CELLS];
     let decimal_comma = sep != b',';
     let (mut used, mut n) = (0, 0);
     // Templates (template.rs) need the value last, after cells that are
@@ -42,10 +76,22 @@ pub(crate) fn long(w: &[u8], eof: bool, sep: u8, l: &mut Long) -> (usize, usize)
     let templates = value + 1 == ncols
         && (0..value).all(|i| i == x || cycle_col == Some(i) || cyl_col == Some(i));
     let mut template: Option<Template> = None;
+    let mut batch = Batch {
+        angles: [0.0; BATCH],
+        values: [0.0; BATCH],
+        k: 0,
+    };
     // Rows to wait before seeding again after a template that read nothing.
     let mut backoff = 0usize;
     let (cycle_bits, cyl_bits) = ((tr.cycle as f64).to_bits(), (tr.cylinder as f64).to_bits());
-    while eof || used + 512 < w.len() {
+    // Rows are read while more than 512 bytes are left, or to the end of
+    // the file.
+    let stop = if eof {
+        usize::MAX
+    } else {
+        w.len().saturating_sub(512)
+    };
+    while used < stop {
         if let Some(t) = template.as_mut() {
             if let Some(row) = w
                 .get(used..used + ROW)
@@ -56,8 +102,7 @@ pub(crate) fn long(w: &[u8], eof: bool, sep: u8, l: &mut Long) -> (usize, usize)
                     break;
                 };
                 track.take(a);
-                tr.angle_deg.push(a);
-                tr.values.push(v * scale + offset);
+                batch.push(a, v * scale + offset, tr);
                 used += len;
                 n += 1;
                 continue;
@@ -67,7 +112,8 @@ pub(crate) fn long(w: &[u8], eof: bool, sep: u8, l: &mut Long) -> (usize, usize)
             }
             template = None;
         }
-        let Some((k, len)) = plain_row(&w[used..], sep, decimal_comma, eof, &mut vals) else {
+        let Some((k, len)) = plain_row(&w[used..], sep, decimal_comma, eof, &mut vals, &mut shapes)
+        else {
             break;
         };
         // Exactly the trace's numbers: `1.5` after `1` is not cylinder 1
@@ -89,11 +135,11 @@ pub(crate) fn long(w: &[u8], eof: bool, sep: u8, l: &mut Long) -> (usize, usize)
             }
         }
         track.take(a);
-        tr.angle_deg.push(a);
-        tr.values.push(vals[value] * scale + offset);
+        batch.push(a, vals[value] * scale + offset, tr);
         used += len;
         n += 1;
     }
+    batch.flush(tr);
     cur.track = track;
     (used, n)
 }
@@ -121,11 +167,18 @@ pub(crate) fn per_column(
     let decimal_comma = sep != b',';
     let (mut used, mut n) = (0, 0);
     row.resize(m + 1, 0.0);
+    // The values mostly share one shape (`87.14250`); the angle has its own.
+    let (mut angle_shape, mut value_shape) = (Shapes::default(), Shapes::default());
     'rows: while eof || used + 4096 < w.len() {
         let b = &w[used..];
         let mut i = 0;
         for (j, cell) in row.iter_mut().enumerate() {
-            let Some((v, end)) = plain_cell(b, i, decimal_comma) else {
+            let shapes = if j == 0 {
+                &mut angle_shape
+            } else {
+                &mut value_shape
+            };
+            let Some((v, end)) = shaped_cell(b, i, decimal_comma, shapes) else {
                 break 'rows;
             };
             *cell = v;

@@ -10,7 +10,7 @@
 //! seed a new template. The angle is kept as the integer its digits spell,
 //! so the value it gives is bit for bit what reading the cell gives.
 
-use crate::number::{POW10, decimal_value, digit_run};
+use crate::number::{POW10, Shapes, decimal_value};
 
 /// Longest text a template holds: the cells before the value, with their
 /// separators.
@@ -20,6 +20,7 @@ const PREFIX: usize = 16;
 pub(crate) const ROW: usize = 64;
 
 /// The expected start of the next row and the angle it stands for.
+#[derive(Clone)]
 pub(crate) struct Template {
     /// The cells before the value, with separators, as the next row must
     /// start: little-endian bytes in two words, zero beyond `len`. Words,
@@ -42,6 +43,11 @@ pub(crate) struct Template {
     dead: bool,
     /// Rows read so far.
     pub(crate) rows: usize,
+    /// The angle cell's last digit: its index in `text` and its value (a
+    /// step that leaves it below 10 is one addition).
+    last: (usize, u64),
+    /// The shape of the last value read, which the next is read by first.
+    shapes: Shapes,
 }
 
 impl Template {
@@ -51,6 +57,7 @@ impl Template {
     /// cylinder or the angle) is the last. `None` when the row does not
     /// fit: a prefix over 16 bytes, a signed or over-long angle, a step that
     /// is not a whole number of the angle's last digit.
+    #[inline(never)]
     pub(crate) fn seed(row: &[u8], sep: u8, x: usize, value: usize, step: f64) -> Option<Self> {
         let (mut cells, mut start, mut len, mut span) = (0, 0, 0, None);
         for (i, &c) in row.iter().take(PREFIX).enumerate() {
@@ -114,7 +121,12 @@ impl Template {
             frac,
             dead: false,
             rows: 0,
+            last: (0, 10),
+            shapes: Shapes::default(),
         };
+        if let Some(j) = (s..e).rev().find(|&j| t.digit(j).is_some()) {
+            t.last = (j, t.digit(j).unwrap_or(10));
+        }
         t.advance();
         (!t.dead).then_some(t)
     }
@@ -124,9 +136,62 @@ impl Template {
         decimal_value(self.m, self.frac, false)
     }
 
-    /// Moves the text and the angle one step on.
+    /// The word of `text` that holds byte `j` and the byte's shift there.
+    fn at(j: usize) -> (usize, usize) {
+        (j / 8 % 2, 8 * (j % 8))
+    }
+
+    /// The digit byte `j` of `text` holds, if a digit.
+    fn digit(&self, j: usize) -> Option<u64> {
+        let (word, shift) = Self::at(j);
+        let c = (self.text[word] >> shift) as u8;
+        c.is_ascii_digit().then(|| u64::from(c - b'0'))
+    }
+
+    /// Moves the text and the angle one step on: most steps only add to
+    /// the last digit; a carry takes [`Self::carry`].
+    #[inline(always)]
     fn advance(&mut self) {
+        let (j, d) = self.last;
+        if d + self.step < 10 {
+            let (word, shift) = Self::at(j);
+            self.m += self.step;
+            self.text[word] += self.step << shift;
+            self.last.1 = d + self.step;
+        } else {
+            self.carry();
+        }
+    }
+
+    /// [`Self::advance`] digit by digit, with its carries; the cell grown
+    /// beyond its width makes the template dead.
+    #[inline(never)]
+    fn carry(&mut self) {
         self.m += self.step;
+        if self.step < 10 {
+            // The last digit wraps, and one carries into the digits before
+            // it: nines become zeros up to the digit that takes it.
+            let (mut j, d) = self.last;
+            let (word, shift) = Self::at(j);
+            self.text[word] -= (10 - self.step) << shift;
+            self.last.1 = d + self.step - 10;
+            loop {
+                if j == self.x.0 {
+                    self.dead = true;
+                    return;
+                }
+                j -= 1;
+                let (word, shift) = Self::at(j);
+                match self.digit(j) {
+                    None => {}
+                    Some(9) => self.text[word] -= 9 << shift,
+                    Some(_) => {
+                        self.text[word] += 1 << shift;
+                        return;
+                    }
+                }
+            }
+        }
         let (mut carry, mut j) = (self.step, self.x.1);
         while carry > 0 {
             if j == self.x.0 {
@@ -134,15 +199,16 @@ impl Template {
                 return;
             }
             j -= 1;
-            let (word, shift) = (&mut self.text[j / 8 % 2], 8 * (j % 8));
-            let c = (*word >> shift) as u8;
-            if !c.is_ascii_digit() {
+            let Some(digit) = self.digit(j) else {
                 continue;
-            }
-            let d = u64::from(c - b'0') + carry % 10;
+            };
+            let d = digit + carry % 10;
             carry = carry / 10 + d / 10;
-            *word = (*word & !(0xff << shift)) | ((u64::from(b'0') + d % 10) << shift);
+            let (word, shift) = Self::at(j);
+            let w = &mut self.text[word];
+            *w = (*w & !(0xff << shift)) | ((u64::from(b'0') + d % 10) << shift);
         }
+        self.last.1 = self.digit(self.last.0).unwrap_or(10);
     }
 
     /// The next row, when it starts with the template's text and its value
@@ -164,40 +230,38 @@ impl Template {
         if self.dead || differ != 0 {
             return None;
         }
-        let (v, len) = value_cell(row, self.len, decimal_comma)?;
+        let (v, len) = self.value(row, decimal_comma)?;
         let a = self.angle();
         self.advance();
         self.rows += 1;
         Some((a, v, len))
     }
+
+    /// The value cell after the template's text, a plain decimal (`-12.5`,
+    /// at most 15 digits) up to the end of the line (`\n` or `\r\n`): its
+    /// value, as `str::parse` gives it, and the index after the line end.
+    /// Read by the last value's shape when it has it (the line end after
+    /// it shows that the cell ends there), else learned
+    /// ([`Shapes::learn`]).
+    #[inline(always)]
+    fn value(&mut self, row: &[u8; ROW], decimal_comma: bool) -> Option<(f64, usize)> {
+        if let Some((v, i)) = self.shapes.read(row, self.len)
+            && let Some(end) = line_end(row, i)
+        {
+            return Some((v, end));
+        }
+        let (v, i) = self.shapes.learn(row, self.len, decimal_comma)?;
+        line_end(row, i).map(|end| (v, end))
+    }
 }
 
-/// A plain decimal (`-12.5`, at most 15 digits) from `row[i]` up to the
-/// end of the line (`\n` or `\r\n`): its value, as `str::parse` gives it,
-/// and the index after the line end.
+/// The index after the line end (`\n` or `\r\n`) at `row[i]`, or `None`
+/// (also past the window's end).
 #[inline(always)]
-fn value_cell(row: &[u8; ROW], mut i: usize, decimal_comma: bool) -> Option<(f64, usize)> {
-    let neg = row[i] == b'-';
-    i += usize::from(neg);
-    // At most 16 digits a run are looked at (over 15 is refused), so every
-    // index stays below 16 + 1 + 16 + 1 + 16 + 2 < ROW.
-    let mut m = 0u64;
-    let s = i;
-    i = digit_run(&row[..s + 16], s, &mut m);
-    let int = i - s;
-    let mut frac = 0;
-    if row[i] == b'.' || (decimal_comma && row[i] == b',') {
-        let f = i + 1;
-        i = digit_run(&row[..f + 16], f, &mut m);
-        frac = i - f;
-    }
-    if int + frac == 0 || int + frac > 15 {
-        return None;
-    }
-    let v = decimal_value(m, frac, neg);
-    match row[i] {
-        b'\n' => Some((v, i + 1)),
-        b'\r' if row[i + 1] == b'\n' => Some((v, i + 2)),
+fn line_end(row: &[u8; ROW], i: usize) -> Option<usize> {
+    match (row.get(i), row.get(i + 1)) {
+        (Some(b'\n'), _) => Some(i + 1),
+        (Some(b'\r'), Some(b'\n')) => Some(i + 2),
         _ => None,
     }
 }
@@ -232,6 +296,104 @@ mod tests {
         let mut t = Template::seed(b"1,75\t2\n", b'\t', 0, 1, 0.25).unwrap();
         assert_eq!(t.next(&window("2,00\t3,5\n"), true), Some((2.0, 3.5, 9)));
         assert_eq!(t.next(&window("2,25\t3,5 \n"), true), None, "a space");
+    }
+
+    /// Stepped on row after row (steps below 10 units, which take the
+    /// one-addition path and the nines' carry, and larger ones), the
+    /// angle is what reading the row's cell gives, and the template dies
+    /// exactly when the cell would need one more character.
+    #[test]
+    fn steps_match_the_cells_they_stand_for() {
+        for frac in 0..4usize {
+            for step in [1u64, 2, 3, 7, 9, 10, 11, 25, 99, 100, 250, 999] {
+                for start in [0u64, 1, 8, 9, 95, 98, 99, 990, 995, 9_990, 997_654] {
+                    let text = |m: u64| {
+                        let s = format!("{m:0w$}", w = frac + 1);
+                        let (i, f) = s.split_at(s.len() - frac);
+                        if frac == 0 {
+                            i.to_string()
+                        } else {
+                            format!("{i}.{f}")
+                        }
+                    };
+                    let row = |m: u64| format!("4,{},1.5\r\n", text(m));
+                    let step_deg = step as f64 / POW10[frac];
+                    let seed = row(start);
+                    let Some(mut t) = Template::seed(seed.as_bytes(), b',', 1, 2, step_deg) else {
+                        // The cells too long, or the next row's angle a
+                        // character longer.
+                        let grows = text(start + step).len() != text(start).len();
+                        assert!(seed.len() > 2 + PREFIX || grows, "{seed:?} by {step}");
+                        continue;
+                    };
+                    let mut m = start + step;
+                    // Up to the cell's growth, or far enough past the carries.
+                    for _ in 0..3000 {
+                        let r = row(m);
+                        let got = t.next(&window(&r), false);
+                        if text(m).len() != text(start).len() {
+                            assert_eq!(got, None, "{r:?} after {seed:?}");
+                            break;
+                        }
+                        let want: f64 = text(m).parse().unwrap();
+                        assert_eq!(got, Some((want, 1.5, r.len())), "{r:?} after {seed:?}");
+                        m += step;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Values whose shape changes from row to row (lengths, sign, point,
+    /// a digit more than the shape, line ends) read as `str::parse` reads
+    /// them, whether by the learned shape or not, and past the changes
+    /// after which no shape is learned.
+    #[test]
+    fn values_of_changing_shapes() {
+        let values = [
+            "87.14250",
+            "87.14251",
+            "-87.14250",
+            "87.1425",
+            "87.142501",
+            "187.1425",
+            "7",
+            "-0",
+            "12345678",
+            "1234567.8",
+            ".5",
+            "5.",
+            "0.000001",
+            "99999999",
+            "87.14250",
+            "87.14252",
+        ];
+        let mut t = Template::seed(b"3,0.0,1\n", b',', 1, 2, 0.1).unwrap();
+        for round in 0..3 {
+            for (k, v) in values.iter().enumerate() {
+                let m = (round * values.len() + k + 1) as f64;
+                let end = if k % 3 == 0 { "\r\n" } else { "\n" };
+                let r = format!("3,{:.1},{v}{end}", m / 10.0);
+                let want: f64 = v.parse().unwrap();
+                assert_eq!(
+                    t.next(&window(&r), false),
+                    Some((m / 10.0, want, r.len())),
+                    "{r:?}"
+                );
+                // A digit more than the value's shape, or a space, is not
+                // this row's end: the row is refused and the template kept.
+                for bad in [format!("{v}1"), format!("{v} ")] {
+                    let r = format!("3,{:.1},{bad}\n", (m + 1.0) / 10.0);
+                    let got = t.clone().next(&window(&r), false);
+                    let want = bad.parse::<f64>().ok().filter(|_| bad.len() <= 16);
+                    assert_eq!(
+                        got.map(|g| g.1),
+                        want.filter(|_| !bad.ends_with(' ')),
+                        "{r:?}"
+                    );
+                }
+            }
+        }
     }
 
     /// Rows a template cannot stand for are refused at the seed.

@@ -4,7 +4,7 @@
 
 use crate::error::{IngestError, at};
 use crate::layout::Layout;
-use crate::number::{PLAIN_CELLS, plain_row};
+use crate::number::{PLAIN_CELLS, Shapes, plain_row};
 use crate::reader::{Phase, Reader};
 use crate::row::{Numbers, TextRow};
 use crate::{Header, ParseOptions, Streamed};
@@ -232,6 +232,7 @@ pub(crate) fn read<R: std::io::Read, F: FnMut(Streamed) -> Result<(), IngestErro
     let mut spans: Vec<(usize, usize)> = Vec::new();
     let mut lineno = 0usize;
     let mut vals = [0.0; PLAIN_CELLS];
+    let mut shapes = [Shapes::default(); PLAIN_CELLS];
     let mut row_buf: Vec<f64> = Vec::new();
     loop {
         // (Not while a headerless file is probed: every row counts there.)
@@ -256,7 +257,7 @@ pub(crate) fn read<R: std::io::Read, F: FnMut(Streamed) -> Result<(), IngestErro
             };
             if ncols <= PLAIN_CELLS {
                 let (w, eof) = lines.window()?;
-                if let Some((k, used)) = plain_row(w, sep, sep != b',', eof, &mut vals)
+                if let Some((k, used)) = plain_row(w, sep, sep != b',', eof, &mut vals, &mut shapes)
                     && k == ncols
                 {
                     lines.consume(used);
