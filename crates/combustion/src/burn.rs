@@ -4,6 +4,7 @@
 
 use crate::knock::{Knock, KnockFigures, Unresolved};
 use crate::wall::{Trapped, WallHeat};
+use crate::sweep::{ByPoint, Linear};
 use crate::{CombustionError, GammaModel, Smoothing, check_range, smooth::Filter};
 use wide::{CmpGt, CmpLt};
 
@@ -172,7 +173,7 @@ impl CycleGrid<'_> {
 /// `k` wrapped into `0..n` (a compare, not a division, for the indices
 /// within a cycle of the grid that the analysis uses).
 #[inline]
-fn wrap(k: i64, n: i64) -> usize {
+pub(crate) fn wrap(k: i64, n: i64) -> usize {
     if k < 0 {
         (if k >= -n { k + n } else { k.rem_euclid(n) }) as usize
     } else if k >= n {
@@ -252,20 +253,24 @@ pub struct CycleBurn {
 #[derive(Debug, Default)]
 struct Scratch {
     /// The window's pressure with the filter's reach either side
-    /// ([`Filter::reach`]): window index `j` is `pw[j + reach]`.
+    /// ([`Filter::reach`]): window index `j` is `pw[j + reach]` (the
+    /// plain weight sums' pass only).
     pw: Vec<f64>,
-    /// The smoothed pressure and, with the running sums, the smoothed
-    /// slope (Pa/°), `[p, dp/dφ]` a window point
-    /// ([`Filter::values_slopes_into`]).
-    vs: Vec<[f64; 2]>,
+    /// The smoothed pressure (Pa) at every window point, when the wall
+    /// heat wants it (the plain pass: always).
+    ps: Vec<f64>,
     /// The smoothed cumulative (J), one value a window point.
     qs: Vec<f64>,
-    /// The smoothed slope over the span the pressure rise searches.
+    /// The smoothed slope (Pa/°): with the running sums at every window
+    /// point ([`crate::sweep`]), else over the span the pressure rise
+    /// searches only.
     slope: Vec<f64>,
-    /// [`Self::vs`] holds the slopes.
+    /// [`Self::slope`] holds every window point's.
     slopes: bool,
     /// The wall heat's cumulative (J), one value a window point.
     wall: Vec<f64>,
+    /// The sweep's own buffers.
+    sweep: crate::sweep::Bufs,
 }
 
 thread_local! {
@@ -274,7 +279,7 @@ thread_local! {
 
 /// `out` becomes `v[start..start + len]` of the periodic `v`, in at most a
 /// few contiguous copies (no per-point wrap).
-fn copy_periodic(v: &[f64], start: i64, len: usize, out: &mut Vec<f64>) {
+pub(crate) fn copy_periodic(v: &[f64], start: i64, len: usize, out: &mut Vec<f64>) {
     out.clear();
     let n = v.len();
     let mut k = wrap(start, n as i64);
@@ -345,19 +350,46 @@ struct Acc {
 /// window's pressure (with the filter's reach either side) is copied out
 /// once and smoothed in one sweep; the volume law is read in its (at most
 /// two) contiguous pieces.
-fn pass(
+fn pass<E: crate::sweep::Energy>(
     g: &CycleGrid,
     f: &Filter,
     (i0, i1): (i64, i64),
-    energy: impl Fn(f64) -> f64,
+    e: &E,
     s: &mut Scratch,
+    (want_ps, law): (bool, Option<&WindowLaw>),
 ) -> Passed {
     let h = g.step_deg.to_radians();
     let len = (i1 - i0 + 1) as usize;
+    if let Some(mo) = f.moments() {
+        // The running sums: one sweep of everything ([`crate::sweep`]).
+        let out = crate::sweep::Outs {
+            qs: &mut s.qs,
+            slope: &mut s.slope,
+            ps: want_ps.then_some(&mut s.ps),
+        };
+        let given = law.map(|l| (l.dv2, l.v_max));
+        let w = crate::sweep::sweep(
+            g,
+            mo,
+            f.step_deg(),
+            (i0, i1),
+            e,
+            (out, given.is_some()),
+            &mut s.sweep,
+        );
+        s.slopes = true;
+        let (dv2, v_max) = given.unwrap_or((w.dv2, w.v_max));
+        return Passed {
+            peak: w.peak,
+            sums: [w.res2, dv2, v_max],
+            extremes: extremes_adding(&mut s.qs, w.rest),
+        };
+    }
     let m = f.reach();
     copy_periodic(g.pressure, i0 - m as i64, len + 2 * m, &mut s.pw);
-    s.vs.resize(len, [0.0; 2]);
-    s.slopes = f.values_slopes_into(&s.pw, m, &mut s.vs);
+    s.ps.resize(len, 0.0);
+    f.values_into(&s.pw, m, &mut s.ps);
+    s.slopes = false;
     s.qs.resize(len, 0.0);
     let (n, k0) = (g.volume.len(), wrap(i0, g.n()));
     let a = Acc {
@@ -368,7 +400,8 @@ fn pass(
         v_max: 0.0,
     };
     let first = (n - k0).min(len);
-    let (pw, ps, qs) = (&s.pw[m..m + len], &s.vs[..], &mut s.qs[..]);
+    let energy = |pv: f64| e.of(pv);
+    let (pw, ps, qs) = (&s.pw[m..m + len], &s.ps[..], &mut s.qs[..]);
     let (q0, q1) = qs.split_at_mut(first);
     let law0 = (&g.volume[k0..k0 + first], &g.dvolume[k0..k0 + first]);
     let law1 = (&g.volume[..len - first], &g.dvolume[..len - first]);
@@ -400,7 +433,7 @@ fn pass(
 fn piece(
     mut a: Acc,
     start: bool,
-    (pw, ps, qs): (&[f64], &[[f64; 2]], &mut [f64]),
+    (pw, ps, qs): (&[f64], &[f64], &mut [f64]),
     (v, dv): (&[f64], &[f64]),
     h: f64,
     energy: &impl Fn(f64) -> f64,
@@ -422,10 +455,10 @@ fn piece(
     };
     let skip = usize::from(start && !qs.is_empty());
     if skip == 1 {
-        point(&mut a, &mut qs[0], pw[0], ps[0][0], v[0], dv[0], true);
+        point(&mut a, &mut qs[0], pw[0], ps[0], v[0], dv[0], true);
     }
     let law = v[skip..].iter().zip(&dv[skip..]);
-    for (((q, &p), &[ps, _]), (&v, &dv)) in qs[skip..]
+    for (((q, &p), &ps), (&v, &dv)) in qs[skip..]
         .iter_mut()
         .zip(&pw[skip..])
         .zip(&ps[skip..])
@@ -445,25 +478,15 @@ fn first_max(x: &[f64]) -> (f64, usize) {
     if top == f64::NEG_INFINITY {
         return (top, 0);
     }
-    let at = first_equal(x, block, top);
+    let at = first_equal(x, block * BLOCK, top);
     (x[at], at)
-}
-
-/// The smallest value's index in `x`, as [`first_max`] (the first, if
-/// tied; 0 when none is under +∞).
-fn first_min(x: &[f64]) -> usize {
-    let (low, block) = block_extreme(x, f64::INFINITY, |v, m| v < m);
-    if low == f64::INFINITY {
-        return 0;
-    }
-    first_equal(x, block, low)
 }
 
 /// The points a block of [`block_extreme`] spans.
 const BLOCK: usize = 64;
 
-/// The extreme of `x` by `better` (a strict compare: `v > m` or `v < m`)
-/// from `init`, and the first [`BLOCK`] that holds it (NaN passed over):
+/// The extreme of `x` by `better` (a strict compare: `v > m`) from
+/// `init`, and the first [`BLOCK`] that holds it (NaN passed over):
 /// each block's extreme in four lanes, kept where it beats the blocks
 /// before.
 #[inline(always)]
@@ -488,10 +511,9 @@ fn block_extreme(x: &[f64], init: f64, better: impl Fn(f64, f64) -> bool) -> (f6
     (best, at)
 }
 
-/// The first index of `x` from block `block` on whose value equals `y`
-/// (the block holds one; ±0 equal, as the running compares take them).
-fn first_equal(x: &[f64], block: usize, y: f64) -> usize {
-    let from = block * BLOCK;
+/// The first index of `x` from `from` on whose value equals `y` (the block
+/// there holds one; ±0 equal, as the running compares take them).
+fn first_equal(x: &[f64], from: usize, y: f64) -> usize {
     let equal = |v: &f64| v.partial_cmp(&y) == Some(std::cmp::Ordering::Equal);
     from + x[from..].iter().position(equal).unwrap_or(0)
 }
@@ -773,6 +795,7 @@ fn cumulative<'a>(
     opts: &Options,
     f: &'a Filter,
     s: &'a mut Scratch,
+    law: Option<&WindowLaw>,
 ) -> Result<Window<'a>, CombustionError> {
     if g.pressure.len() != g.volume.len() || g.pressure.len() != g.dvolume.len() {
         return Err(CombustionError::Input(
@@ -784,13 +807,20 @@ fn cumulative<'a>(
     let ivc = pv_ivc(g, opts, f)?;
     let gamma = opts.gamma;
     // A constant γ takes the product form (no call, no division).
+    let want_ps = opts.wall_heat.is_some();
+    // The volume law's window figures, when given for this grid's law.
+    let law = law.filter(|l| l.fits(g, (i0, i1)));
     let passed = match gamma {
         GammaModel::Constant(c) => {
             let inv = 1.0 / (c - 1.0);
-            pass(g, f, (i0, i1), |pv| pv * inv, s)
+            pass(g, f, (i0, i1), &Linear(inv), s, (want_ps, law))
         }
-        GammaModel::Brunt { .. } => pass(g, f, (i0, i1), |pv| gamma.energy(pv, ivc), s),
+        GammaModel::Brunt { .. } => {
+            let e = ByPoint(|pv| gamma.energy(pv, ivc));
+            pass(g, f, (i0, i1), &e, s, (want_ps, law))
+        }
     };
+
     let [residual2, dv2, v_max] = passed.sums;
     Ok(Window {
         g,
@@ -815,11 +845,171 @@ pub fn analyse(g: &CycleGrid, opts: &Options) -> Result<CycleBurn, CombustionErr
 
 /// The smoothed cumulative's extremes: the index of its largest value
 /// (the first, if tied) and of the smallest before it (the first, if
-/// tied): a running minimum's index where the running maximum was last
-/// raised, in scans ([`first_max`], [`first_min`]).
+/// tied), as a running minimum's index where the running maximum was last
+/// raised gives them (NaN passed over; 0 for none): each block's largest
+/// and smallest in one scan ([`block_bounds`]), then the blocks that hold
+/// them.
 fn extremes(qs: &[f64]) -> (usize, usize) {
-    let (_, jmax) = first_max(qs);
-    (first_min(&qs[..(jmax + 1).min(qs.len())]), jmax)
+    let mut blocks = [[0.0; 2]; MAX_BLOCKS];
+    let size = block_size(qs.len());
+    let nb = qs.len().div_ceil(size);
+    for (b, c) in blocks.iter_mut().zip(qs.chunks(size)) {
+        *b = block_bounds(c);
+    }
+    pick_extremes(qs, &blocks[..nb], size)
+}
+
+/// [`extremes`] after adding `rest.1` to the points from `rest.0` on, in
+/// the same scan.
+fn extremes_adding(qs: &mut [f64], (from, add): (usize, f64)) -> (usize, usize) {
+    let mut blocks = [[0.0; 2]; MAX_BLOCKS];
+    let size = block_size(qs.len());
+    let nb = qs.len().div_ceil(size);
+    let mut at = 0;
+    for (b, c) in blocks.iter_mut().zip(qs.chunks_mut(size)) {
+        let n = c.len();
+        *b = if at >= from {
+            block_bounds_adding(c, add)
+        } else if at + n <= from {
+            block_bounds(c)
+        } else {
+            // The block the second half starts in.
+            for q in &mut c[from - at..] {
+                *q += add;
+            }
+            block_bounds(c)
+        };
+        at += n;
+    }
+    pick_extremes(qs, &blocks[..nb], size)
+}
+
+/// At most this many blocks in [`extremes`]' scan.
+const MAX_BLOCKS: usize = 128;
+
+/// The points a block of [`extremes`] spans for `len` points: at least
+/// 64, and no more than [`MAX_BLOCKS`] blocks.
+fn block_size(len: usize) -> usize {
+    len.div_ceil(MAX_BLOCKS).max(64)
+}
+
+/// `[largest, smallest]` of `c` (NaN passed over; −∞ and +∞ for none), in
+/// four lanes.
+#[inline(always)]
+fn block_bounds(c: &[f64]) -> [f64; 2] {
+    use wide::f64x2;
+    let mut acc = Bounds::new();
+    let fours = c.chunks_exact(4);
+    let rest = fours.remainder();
+    for q in fours {
+        acc.take(f64x2::new([q[0], q[1]]), f64x2::new([q[2], q[3]]));
+    }
+    acc.end(rest)
+}
+
+/// [`block_bounds`] after adding `add` to each point (stored).
+#[inline(always)]
+fn block_bounds_adding(c: &mut [f64], add: f64) -> [f64; 2] {
+    use wide::f64x2;
+    let mut acc = Bounds::new();
+    let plus = f64x2::splat(add);
+    let mut fours = c.chunks_exact_mut(4);
+    for q in &mut fours {
+        let (a, b) = (
+            f64x2::new([q[0], q[1]]) + plus,
+            f64x2::new([q[2], q[3]]) + plus,
+        );
+        let (x, y) = (a.to_array(), b.to_array());
+        q.copy_from_slice(&[x[0], x[1], y[0], y[1]]);
+        acc.take(a, b);
+    }
+    let rest = fours.into_remainder();
+    for q in rest.iter_mut() {
+        *q += add;
+    }
+    acc.end(rest)
+}
+
+/// The running largest and smallest of [`block_bounds`], four lanes.
+struct Bounds {
+    hi: [wide::f64x2; 2],
+    lo: [wide::f64x2; 2],
+}
+
+impl Bounds {
+    #[inline(always)]
+    fn new() -> Self {
+        use wide::f64x2;
+        Self {
+            hi: [f64x2::splat(f64::NEG_INFINITY); 2],
+            lo: [f64x2::splat(f64::INFINITY); 2],
+        }
+    }
+    #[inline(always)]
+    fn take(&mut self, a: wide::f64x2, b: wide::f64x2) {
+        use crate::smooth::Lane;
+        self.hi = [a.gt_max(self.hi[0]), b.gt_max(self.hi[1])];
+        self.lo = [a.lt_min(self.lo[0]), b.lt_min(self.lo[1])];
+    }
+    /// The block's `[largest, smallest]`, with the points `rest` after the
+    /// lanes'.
+    #[inline(always)]
+    fn end(self, rest: &[f64]) -> [f64; 2] {
+        use crate::smooth::Lane;
+        let (mut top, mut low) = (f64::NEG_INFINITY, f64::INFINITY);
+        for x in self.hi {
+            let [a, b] = x.to_array();
+            top = a.gt_max(b.gt_max(top));
+        }
+        for x in self.lo {
+            let [a, b] = x.to_array();
+            low = a.lt_min(b.lt_min(low));
+        }
+        for &q in rest {
+            top = q.gt_max(top);
+            low = q.lt_min(low);
+        }
+        [top, low]
+    }
+}
+
+/// [`extremes`] from the blocks' `[largest, smallest]` (`size` points
+/// each): the first block that holds the largest and its first index
+/// there; the smallest in the blocks before it and in its block up to
+/// that index, and its first index.
+fn pick_extremes(qs: &[f64], blocks: &[[f64; 2]], size: usize) -> (usize, usize) {
+    let (mut top, mut bt) = (f64::NEG_INFINITY, 0);
+    for (b, &[hi, _]) in blocks.iter().enumerate() {
+        if hi > top {
+            top = hi;
+            bt = b;
+        }
+    }
+    let jmax = if top == f64::NEG_INFINITY {
+        0
+    } else {
+        first_equal(qs, bt * size, top)
+    };
+    let (mut low, mut bl) = (f64::INFINITY, 0);
+    for (b, &[_, lo]) in blocks[..bt].iter().enumerate() {
+        if lo < low {
+            low = lo;
+            bl = b;
+        }
+    }
+    let mut found = None;
+    for (j, &q) in qs.iter().enumerate().take(jmax + 1).skip(bt * size) {
+        if q < low {
+            low = q;
+            found = Some(j);
+        }
+    }
+    let jmin = match found {
+        Some(j) => j,
+        None if low == f64::INFINITY => 0,
+        None => first_equal(qs, bl * size, low),
+    };
+    (jmin, jmax)
 }
 
 /// [`analyse`] with the filter built once for many cycles (and the
@@ -829,21 +1019,95 @@ pub fn analyse_with(
     opts: &Options,
     f: &Filter,
 ) -> Result<CycleBurn, CombustionError> {
+    analyse_with_law(g, opts, f, None)
+}
+
+/// [`analyse_with`] with the volume law's window figures taken once for
+/// many cycles ([`WindowLaw`]; used where it was made from this grid's
+/// volume law and window, else each cycle takes its own): the same
+/// numbers, bit for bit.
+pub fn analyse_with_law(
+    g: &CycleGrid,
+    opts: &Options,
+    f: &Filter,
+    law: Option<&WindowLaw>,
+) -> Result<CycleBurn, CombustionError> {
     SCRATCH.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut s) => analyse_in(g, opts, f, &mut s),
-        Err(_) => analyse_in(g, opts, f, &mut Scratch::default()),
+        Ok(mut s) => analyse_in(g, opts, f, &mut s, law),
+        Err(_) => analyse_in(g, opts, f, &mut Scratch::default(), law),
     })
 }
 
-/// [`analyse_with`] in the buffers `s`.
+/// The volume law's figures over the burn window (`Σ (h dV/dφ)²`, the
+/// work's noise gain, and the largest volume), taken once for the many
+/// cycles analysed on one law ([`analyse_with_law`]) instead of in each
+/// cycle's pass; the same sums in the same order as the pass takes them.
+/// It names the slices it was made from: it serves a grid whose volume
+/// law is those very slices (the same memory, so it must not outlive
+/// them: keep it beside the law it was made from), with the same window
+/// and step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WindowLaw {
+    /// The addresses and length of the volume and `dV/dφ` slices.
+    from: (usize, usize, usize),
+    /// The grid step (deg), bit for bit, and the window's grid indices.
+    step_bits: u64,
+    window: (i64, i64),
+    /// `Σ (h dV)²` (m⁶) and the largest volume (m³, at least 0).
+    dv2: f64,
+    v_max: f64,
+}
+
+impl WindowLaw {
+    /// The figures of the law `(volume, dvolume)` on a grid of `step_deg`
+    /// over `opts`' burn window (`None` when the window does not fit the
+    /// grid: [`Options::check_window`]).
+    pub fn new(volume: &[f64], dvolume: &[f64], step_deg: f64, opts: &Options) -> Option<Self> {
+        let n = volume.len();
+        if dvolume.len() != n || n == 0 {
+            return None;
+        }
+        opts.check_window(step_deg, n as f64 * step_deg).ok()?;
+        let (i0, i1) = window_indices(step_deg, opts.window_deg);
+        let h = step_deg.to_radians();
+        let (mut dv2, mut v_max) = (0.0, 0.0);
+        for k in i0..=i1 {
+            let at = wrap(k, n as i64);
+            dv2 += (h * dvolume[at]) * (h * dvolume[at]);
+            if volume[at] > v_max {
+                v_max = volume[at];
+            }
+        }
+        Some(Self {
+            from: (volume.as_ptr() as usize, dvolume.as_ptr() as usize, n),
+            step_bits: step_deg.to_bits(),
+            window: (i0, i1),
+            dv2,
+            v_max,
+        })
+    }
+
+    /// Made from `g`'s volume law (the same slices), step and window.
+    fn fits(&self, g: &CycleGrid, window: (i64, i64)) -> bool {
+        let from = (
+            g.volume.as_ptr() as usize,
+            g.dvolume.as_ptr() as usize,
+            g.volume.len(),
+        );
+        self.from == from && self.step_bits == g.step_deg.to_bits() && self.window == window
+    }
+}
+
+/// [`analyse_with_law`] in the buffers `s`.
 fn analyse_in(
     g: &CycleGrid,
     opts: &Options,
     f: &Filter,
     s: &mut Scratch,
+    law: Option<&WindowLaw>,
 ) -> Result<CycleBurn, CombustionError> {
     let mut wall_buf = std::mem::take(&mut s.wall);
-    let r = analyse_window(g, opts, f, s, &mut wall_buf);
+    let r = analyse_window(g, opts, f, s, &mut wall_buf, law);
     s.wall = wall_buf;
     r
 }
@@ -855,8 +1119,9 @@ fn analyse_window(
     f: &Filter,
     s: &mut Scratch,
     w: &mut Vec<f64>,
+    law: Option<&WindowLaw>,
 ) -> Result<CycleBurn, CombustionError> {
-    let mut win = cumulative(g, opts, f, s)?;
+    let mut win = cumulative(g, opts, f, s, law)?;
     let gross_work_j = gross_work(g);
     let mut net = rule(&mut win, g, opts, f, gross_work_j);
     let knock = opts.knock.as_ref().map(|k| {
@@ -923,7 +1188,7 @@ fn wall_cumulative(
     let half = 0.5 * g.step_deg;
     out.clear();
     let (mut total, mut prev) = (0.0, 0.0);
-    for (j, &[p, _]) in win.s.vs.iter().enumerate() {
+    for (j, &p) in win.s.ps.iter().enumerate() {
         let (k, v) = (win.i0 + j as i64, win.vol(j));
         let burning = soc_deg.is_some_and(|soc| k as f64 * g.step_deg >= soc);
         let r = rate.rate(p, v, burning);
@@ -1094,14 +1359,14 @@ fn pressure_rise(win: &mut Window, soc: usize, eoc: usize) -> (f64, f64) {
     // neighbours), in one sweep.
     let last = win.s.qs.len() - 1;
     let (lo, hi) = (soc.saturating_sub(1), (eoc.max(soc) + 1).min(last));
-    let buf = &mut win.s.slope;
-    if win.s.slopes {
-        buf.clear();
-        buf.extend(win.s.vs[lo..=hi].iter().map(|v| v[1]));
+    let buf = if win.s.slopes {
+        &win.s.slope[lo..=hi]
     } else {
+        let buf = &mut win.s.slope;
         buf.resize(hi - lo + 1, 0.0);
         win.f.slopes_into(&win.s.pw, lo + win.f.reach(), buf);
-    }
+        &buf[..]
+    };
     let slope = |j: usize| buf[j - lo];
     // The largest (the first, if tied) as a running `if s > top` from −∞
     // at SOC.
@@ -1155,7 +1420,7 @@ pub struct Curves {
 pub fn curves(g: &CycleGrid, opts: &Options, burn: &CycleBurn) -> Result<Curves, CombustionError> {
     let f = Filter::new(opts.smoothing, g.step_deg);
     let mut scratch = Scratch::default();
-    let w = cumulative(g, opts, &f, &mut scratch)?;
+    let w = cumulative(g, opts, &f, &mut scratch, None)?;
     let n = g.pressure.len();
     let ivc = pv_ivc(g, opts, &f)?;
     let deg_per_rad = 180.0 / std::f64::consts::PI;
@@ -1429,8 +1694,8 @@ mod tests {
                     // The cumulative itself, point by point.
                     let (mut s1, mut s2) = (Scratch::default(), Scratch::default());
                     let plain_f = f.clone().plain();
-                    let mut w1 = cumulative(&g, opts, &f, &mut s1).unwrap();
-                    let w2 = cumulative(&g, opts, &plain_f, &mut s2).unwrap();
+                    let mut w1 = cumulative(&g, opts, &f, &mut s1, None).unwrap();
+                    let w2 = cumulative(&g, opts, &plain_f, &mut s2, None).unwrap();
                     let scale = w2.s.qs.iter().fold(0.0f64, |a, q| a.max(q.abs()));
                     for (j, (a, b)) in w1.s.qs.iter().zip(&w2.s.qs).enumerate() {
                         assert!(
