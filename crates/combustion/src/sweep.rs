@@ -51,6 +51,7 @@ impl<F: Fn(f64) -> f64> Energy for ByPoint<F> {
 #[derive(Debug, Default)]
 pub(crate) struct Bufs {
     lane: [Vec<f64>; 6],
+    /// Each stretch's largest pressure.
     peaks: Vec<f64>,
 }
 
@@ -74,7 +75,7 @@ pub(crate) struct Swept {
     /// The largest volume in the window (at least 0).
     pub(crate) v_max: f64,
     /// The cumulative from this window index on still lacks the work
-    /// before it (the second half's lane starts from 0): add this (J).
+    /// before it (the second lane starts from 0): add this (J).
     pub(crate) rest: (usize, f64),
 }
 
@@ -342,8 +343,8 @@ fn run<T: Lanes, E: Energy, const PS: bool, const LAW: bool>(
                 }
             }
         }
-        let [pa, pb] = st.pk.lanes();
         let s0 = phase / l;
+        let [pa, pb] = st.pk.lanes();
         oa.peaks[stretch - s0] = pa;
         if <T as Lanes>::TWO {
             ob.peaks[stretch - s0] = pb;
