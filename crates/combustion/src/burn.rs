@@ -3,8 +3,8 @@
 //! the pressure rise and the gross work (PHYSICS.md "Combustion").
 
 use crate::knock::{Knock, KnockFigures, Unresolved};
-use crate::wall::{Trapped, WallHeat};
 use crate::sweep::{ByPoint, Linear};
+use crate::wall::{Trapped, WallHeat};
 use crate::{CombustionError, GammaModel, Smoothing, check_range, smooth::Filter};
 use wide::{CmpGt, CmpLt};
 
@@ -890,7 +890,7 @@ const MAX_BLOCKS: usize = 128;
 /// The points a block of [`extremes`] spans for `len` points: at least
 /// 64, and no more than [`MAX_BLOCKS`] blocks.
 fn block_size(len: usize) -> usize {
-    len.div_ceil(MAX_BLOCKS).max(64)
+    len.div_ceil(MAX_BLOCKS).max(128)
 }
 
 /// `[largest, smallest]` of `c` (NaN passed over; −∞ and +∞ for none), in

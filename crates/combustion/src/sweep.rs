@@ -283,7 +283,10 @@ fn run<T: Lanes, E: Energy, const PS: bool, const LAW: bool>(
         let stretch = (phase + i) / l;
         let mut j = i;
         if ph == 0 {
-            let w = [&a.s[j + 1..=j + 2 * m + 1], sub(T::TWO, b.s, j + 1..j + 2 * m + 2)];
+            let w = [
+                &a.s[j + 1..=j + 2 * m + 1],
+                sub(T::TWO, b.s, j + 1..j + 2 * m + 2),
+            ];
             st.r = T::pick([a.s, b.s], j + m + 1);
             st.t = T::starts(w, st.r, m);
             st.pk = T::splat(f64::NEG_INFINITY);
@@ -334,7 +337,11 @@ fn run<T: Lanes, E: Energy, const PS: bool, const LAW: bool>(
                 let qo = T::pick([ao, bo], i) - st.r;
                 let qi = T::pick([ai, bi], i) - st.r;
                 slide::<T, true>(&mut st.t, qo, qi, &c);
-                let x = (T::pick([ac, bc], i), T::pick([av, bv], i), T::pick([adv, bdv], i));
+                let x = (
+                    T::pick([ac, bc], i),
+                    T::pick([av, bv], i),
+                    T::pick([adv, bdv], i),
+                );
                 let (q, ps, d) = point::<T, E, LAW>(st, k, x, e);
                 q.put([&mut *qa, &mut *qb], i);
                 d.put([&mut *da, &mut *db], i);
@@ -506,8 +513,18 @@ pub(crate) fn sweep<E: Energy>(
         peaks: kb,
     };
     let (ba, bb) = bufs.lane.split_at_mut(3);
-    let lane_a = LaneOf { g, i0, w0: 0, len: na };
-    let lane_b = LaneOf { g, i0, w0: z, len: nb };
+    let lane_a = LaneOf {
+        g,
+        i0,
+        w0: 0,
+        len: na,
+    };
+    let lane_b = LaneOf {
+        g,
+        i0,
+        w0: z,
+        len: nb,
+    };
     let (p, dvol) = (g.pressure, g.dvolume);
     let n = p.len() as i64;
     // The window's first point adds no trapezoid: its work is 0 and its
@@ -540,12 +557,24 @@ pub(crate) fn sweep<E: Energy>(
         let (eb, db_) = lane_b.run_end(c0, pairs, l, m);
         // Runs in one piece in both lanes go on together; else stretch by
         // stretch.
-        let end = if da_ && db_ { ea.min(eb) } else { (c0 - c0 % l + l).min(pairs) };
+        let end = if da_ && db_ {
+            ea.min(eb)
+        } else {
+            (c0 - c0 % l + l).min(pairs)
+        };
         let src = [lane_a.src((c0, end), m, ba), lane_b.src((c0, end), m, bb)];
         let s0 = c0 / l;
         let mut from = 0;
         if c0 == 0 {
-            run_as(flags, &mut st2, src, [&mut oa.from(0, 0), &mut ob.from(0, 0)], (0, 1), &k, e);
+            run_as(
+                flags,
+                &mut st2,
+                src,
+                [&mut oa.from(0, 0), &mut ob.from(0, 0)],
+                (0, 1),
+                &k,
+                e,
+            );
             st2.w = f64x2::new([0.0, st2.w.to_array()[1]]);
             let la = lane(&st2, 0);
             oa.q[0] = first(&la.t, la.r, src[0].v[0]);
@@ -553,7 +582,15 @@ pub(crate) fn sweep<E: Energy>(
         }
         let src = [src[0].from(from), src[1].from(from)];
         let dst = [&mut oa.from(c0 + from, s0), &mut ob.from(c0 + from, s0)];
-        run_as(flags, &mut st2, src, dst, ((c0 + from) % l, end - c0 - from), &k, e);
+        run_as(
+            flags,
+            &mut st2,
+            src,
+            dst,
+            ((c0 + from) % l, end - c0 - from),
+            &k,
+            e,
+        );
         c0 = end;
     }
     // The longer lane alone over the rest.
@@ -566,21 +603,51 @@ pub(crate) fn sweep<E: Energy>(
     while c0 < one.len {
         let (end, _) = one.run_end(c0, one.len, l, m);
         let src = one.src((c0, end), m, bb1);
-        let empty = Src { s: &[], v: &[], dv: &[] };
+        let empty = Src {
+            s: &[],
+            v: &[],
+            dv: &[],
+        };
         let s0 = c0 / l;
         let mut from = 0;
         if c0 == 0 {
             // Lane A alone (lane B empty): the window's first point.
-            let mut none = Dst { q: &mut [], d: &mut [], ps: &mut [], peaks: &mut [] };
-            run_as(flags, &mut st1, [src, empty], [&mut o.from(0, 0), &mut none], (0, 1), &k, e);
+            let mut none = Dst {
+                q: &mut [],
+                d: &mut [],
+                ps: &mut [],
+                peaks: &mut [],
+            };
+            run_as(
+                flags,
+                &mut st1,
+                [src, empty],
+                [&mut o.from(0, 0), &mut none],
+                (0, 1),
+                &k,
+                e,
+            );
             st1.w = 0.0;
             o.q[0] = first(&st1.t, st1.r, src.v[0]);
             from = 1;
         }
-        let mut none = Dst { q: &mut [], d: &mut [], ps: &mut [], peaks: &mut [] };
+        let mut none = Dst {
+            q: &mut [],
+            d: &mut [],
+            ps: &mut [],
+            peaks: &mut [],
+        };
         let src = [src.from(from), empty];
         let dst = [&mut o.from(c0 + from, s0), &mut none];
-        run_as(flags, &mut st1, src, dst, ((c0 + from) % l, end - c0 - from), &k, e);
+        run_as(
+            flags,
+            &mut st1,
+            src,
+            dst,
+            ((c0 + from) % l, end - c0 - from),
+            &k,
+            e,
+        );
         c0 = end;
     }
     let (sa, sb) = if na >= nb {
