@@ -374,7 +374,7 @@ fn pass<E: crate::sweep::Energy>(
             f.step_deg(),
             (i0, i1),
             e,
-            (out, given.is_some()),
+            (out, law.map(|l| &l.pairs[..])),
             &mut s.sweep,
         );
         s.slopes = true;
@@ -809,7 +809,7 @@ fn cumulative<'a>(
     // A constant γ takes the product form (no call, no division).
     let want_ps = opts.wall_heat.is_some();
     // The volume law's window figures, when given for this grid's law.
-    let law = law.filter(|l| l.fits(g, (i0, i1)));
+    let law = law.filter(|l| l.fits(g, (i0, i1), f));
     let passed = match gamma {
         GammaModel::Constant(c) => {
             let inv = 1.0 / (c - 1.0);
@@ -1056,6 +1056,11 @@ pub struct WindowLaw {
     /// `Σ (h dV)²` (m⁶) and the largest volume (m³, at least 0).
     dv2: f64,
     v_max: f64,
+    /// The filter's running sums it was laid out for (half the filter and
+    /// the stretch, points; `None`: the filter takes none), and the law
+    /// as the sweep's lanes read it ([`crate::sweep::law_pairs`]).
+    stretch: Option<(usize, usize)>,
+    pairs: Vec<[wide::f64x2; 2]>,
 }
 
 impl WindowLaw {
@@ -1078,23 +1083,36 @@ impl WindowLaw {
                 v_max = volume[at];
             }
         }
+        let stretch = Filter::new(opts.smoothing, step_deg)
+            .moments()
+            .map(|mo| (mo.m, mo.refresh));
+        let len = (i1 - i0 + 1) as usize;
+        let pairs = stretch.map_or_else(Vec::new, |(_, l)| {
+            crate::sweep::law_pairs(volume, dvolume, i0, len, l)
+        });
         Some(Self {
             from: (volume.as_ptr() as usize, dvolume.as_ptr() as usize, n),
             step_bits: step_deg.to_bits(),
             window: (i0, i1),
             dv2,
             v_max,
+            stretch,
+            pairs,
         })
     }
 
-    /// Made from `g`'s volume law (the same slices), step and window.
-    fn fits(&self, g: &CycleGrid, window: (i64, i64)) -> bool {
+    /// Made from `g`'s volume law (the same slices), step and window, for
+    /// the filter `f`.
+    fn fits(&self, g: &CycleGrid, window: (i64, i64), f: &Filter) -> bool {
         let from = (
             g.volume.as_ptr() as usize,
             g.dvolume.as_ptr() as usize,
             g.volume.len(),
         );
-        self.from == from && self.step_bits == g.step_deg.to_bits() && self.window == window
+        self.from == from
+            && self.step_bits == g.step_deg.to_bits()
+            && self.window == window
+            && self.stretch == f.moments().map(|mo| (mo.m, mo.refresh))
     }
 }
 

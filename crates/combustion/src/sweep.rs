@@ -170,6 +170,9 @@ trait Lanes: Lane {
     fn starts(w: [&[f64]; 2], r: Self, m: usize) -> [Self; 4];
     /// Lane 0's (and lane 1's) number.
     fn lanes(self) -> [f64; 2];
+    /// The volume and `dV/dφ` of the lanes' step from the law laid out as
+    /// the lanes read it ([`law_pairs`]; two lanes only).
+    fn law(x: &[f64x2; 2]) -> (Self, Self);
 }
 
 impl Lanes for f64 {
@@ -190,6 +193,10 @@ impl Lanes for f64 {
     #[inline(always)]
     fn lanes(self) -> [f64; 2] {
         [self, self]
+    }
+    #[inline(always)]
+    fn law(x: &[f64x2; 2]) -> (Self, Self) {
+        (x[0].to_array()[0], x[1].to_array()[0])
     }
 }
 
@@ -212,6 +219,10 @@ impl Lanes for f64x2 {
     #[inline(always)]
     fn lanes(self) -> [f64; 2] {
         self.to_array()
+    }
+    #[inline(always)]
+    fn law(x: &[f64x2; 2]) -> (Self, Self) {
+        (x[0], x[1])
     }
 }
 
@@ -264,12 +275,15 @@ fn lane(st: &State<f64x2>, i: usize) -> State<f64> {
 #[inline(never)]
 fn run<T: Lanes, E: Energy, const PS: bool, const LAW: bool>(
     st: &mut State<T>,
-    [a, b]: [Src; 2],
+    ([a, b], il): ([Src; 2], &[[f64x2; 2]]),
     [oa, ob]: [&mut Dst; 2],
     (phase, n): (usize, usize),
     k: &Consts,
     e: &E,
 ) {
+    // With the law's figures given, two lanes read the law laid out for
+    // them (`il`, from the run's first step).
+    let paired = LAW && T::TWO;
     let (m, l) = (k.m, k.l);
     let c = k.c.map(T::splat);
     // The second lane's slice of `x`, when there is one.
@@ -290,11 +304,12 @@ fn run<T: Lanes, E: Energy, const PS: bool, const LAW: bool>(
             st.r = T::pick([a.s, b.s], j + m + 1);
             st.t = T::starts(w, st.r, m);
             st.pk = T::splat(f64::NEG_INFINITY);
-            let x = (
-                T::pick([a.s, b.s], j + m + 1),
-                T::pick([a.v, b.v], j),
-                T::pick([a.dv, b.dv], j),
-            );
+            let (v, dv) = if paired {
+                T::law(&il[j])
+            } else {
+                (T::pick([a.v, b.v], j), T::pick([a.dv, b.dv], j))
+            };
+            let x = (T::pick([a.s, b.s], j + m + 1), v, dv);
             let (q, ps, d) = point::<T, E, LAW>(st, k, x, e);
             q.put([&mut *oa.q, &mut *ob.q], j);
             d.put([&mut *oa.d, &mut *ob.d], j);
@@ -320,8 +335,17 @@ fn run<T: Lanes, E: Energy, const PS: bool, const LAW: bool>(
             } else {
                 (&[][..], &[][..], &[][..])
             };
-            let (av, adv) = (&a.v[j..j + len], &a.dv[j..j + len]);
-            let (bv, bdv) = (sub(T::TWO, b.v, j..j + len), sub(T::TWO, b.dv, j..j + len));
+            let (av, adv) = if paired {
+                (&[][..], &[][..])
+            } else {
+                (&a.v[j..j + len], &a.dv[j..j + len])
+            };
+            let (bv, bdv) = if paired {
+                (&[][..], &[][..])
+            } else {
+                (sub(T::TWO, b.v, j..j + len), sub(T::TWO, b.dv, j..j + len))
+            };
+            let ilj = if paired { &il[j..j + len] } else { &[][..] };
             let (qa, da) = (&mut oa.q[j..j + len], &mut oa.d[j..j + len]);
             let (qb, db): (&mut [f64], &mut [f64]) = if two {
                 (&mut ob.q[j..j + len], &mut ob.d[j..j + len])
@@ -337,11 +361,12 @@ fn run<T: Lanes, E: Energy, const PS: bool, const LAW: bool>(
                 let qo = T::pick([ao, bo], i) - st.r;
                 let qi = T::pick([ai, bi], i) - st.r;
                 slide::<T, true>(&mut st.t, qo, qi, &c);
-                let x = (
-                    T::pick([ac, bc], i),
-                    T::pick([av, bv], i),
-                    T::pick([adv, bdv], i),
-                );
+                let (v, dv) = if paired {
+                    T::law(&ilj[i])
+                } else {
+                    (T::pick([av, bv], i), T::pick([adv, bdv], i))
+                };
+                let x = (T::pick([ac, bc], i), v, dv);
                 let (q, ps, d) = point::<T, E, LAW>(st, k, x, e);
                 q.put([&mut *qa, &mut *qb], i);
                 d.put([&mut *da, &mut *db], i);
@@ -366,7 +391,7 @@ fn run<T: Lanes, E: Energy, const PS: bool, const LAW: bool>(
 fn run_as<T: Lanes, E: Energy>(
     (ps, law): (bool, bool),
     st: &mut State<T>,
-    src: [Src; 2],
+    src: ([Src; 2], &[[f64x2; 2]]),
     dst: [&mut Dst; 2],
     span: (usize, usize),
     k: &Consts,
@@ -458,7 +483,7 @@ pub(crate) fn sweep<E: Energy>(
     step_deg: f64,
     (i0, i1): (i64, i64),
     e: &E,
-    (out, law): (Outs, bool),
+    (out, law): (Outs, Option<&[[f64x2; 2]]>),
     bufs: &mut Bufs,
 ) -> Swept {
     let h = g.step_deg.to_radians();
@@ -477,13 +502,11 @@ pub(crate) fn sweep<E: Energy>(
     // rest. `z` the stretch boundary nearest the middle (lane A the longer
     // when both are as near).
     let stretches = len.div_ceil(l);
-    let (lo, hi) = ((stretches / 2) * l, (stretches.div_ceil(2) * l).min(len));
-    let z = if lo > 0 && len.abs_diff(2 * lo) < len.abs_diff(2 * hi) {
-        lo
-    } else {
-        hi
-    };
+    let z = split(len, l);
     let (na, nb) = (z, len - z);
+    let il = law.filter(|il| il.len() == na.min(nb));
+    let law = il.is_some();
+    let il = il.unwrap_or(&[]);
     out.qs.resize(len, 0.0);
     out.slope.resize(len, 0.0);
     let flags = (out.ps.is_some(), law);
@@ -563,13 +586,14 @@ pub(crate) fn sweep<E: Energy>(
             (c0 - c0 % l + l).min(pairs)
         };
         let src = [lane_a.src((c0, end), m, ba), lane_b.src((c0, end), m, bb)];
+        let il = if law { &il[c0..end] } else { il };
         let s0 = c0 / l;
         let mut from = 0;
         if c0 == 0 {
             run_as(
                 flags,
                 &mut st2,
-                src,
+                (src, il),
                 [&mut oa.from(0, 0), &mut ob.from(0, 0)],
                 (0, 1),
                 &k,
@@ -581,11 +605,12 @@ pub(crate) fn sweep<E: Energy>(
             from = 1;
         }
         let src = [src[0].from(from), src[1].from(from)];
+        let il = if law { &il[from..] } else { il };
         let dst = [&mut oa.from(c0 + from, s0), &mut ob.from(c0 + from, s0)];
         run_as(
             flags,
             &mut st2,
-            src,
+            (src, il),
             dst,
             ((c0 + from) % l, end - c0 - from),
             &k,
@@ -621,7 +646,7 @@ pub(crate) fn sweep<E: Energy>(
             run_as(
                 flags,
                 &mut st1,
-                [src, empty],
+                ([src, empty], &[]),
                 [&mut o.from(0, 0), &mut none],
                 (0, 1),
                 &k,
@@ -637,7 +662,7 @@ pub(crate) fn sweep<E: Energy>(
             ps: &mut [],
             peaks: &mut [],
         };
-        let src = [src.from(from), empty];
+        let src = ([src.from(from), empty], &[][..]);
         let dst = [&mut o.from(c0 + from, s0), &mut none];
         run_as(
             flags,
@@ -668,6 +693,43 @@ pub(crate) fn sweep<E: Energy>(
         // The second lane's work from the first's end.
         rest: (z, sa.w),
     }
+}
+
+/// Where the sweep splits a window of `len` points into its two lanes for
+/// stretches of `l` points: the stretch boundary nearest the middle (the
+/// first lane the longer when both are as near).
+pub(crate) fn split(len: usize, l: usize) -> usize {
+    let stretches = len.div_ceil(l);
+    let (lo, hi) = ((stretches / 2) * l, (stretches.div_ceil(2) * l).min(len));
+    if lo > 0 && len.abs_diff(2 * lo) < len.abs_diff(2 * hi) {
+        lo
+    } else {
+        hi
+    }
+}
+
+/// The volume law over a window of `len` points from grid index `i0`,
+/// laid out as the sweep's two lanes read it for stretches of `l` points:
+/// `[[V, V], [dV, dV]]` of the lanes' common steps.
+pub(crate) fn law_pairs(
+    volume: &[f64],
+    dvolume: &[f64],
+    i0: i64,
+    len: usize,
+    l: usize,
+) -> Vec<[f64x2; 2]> {
+    let z = split(len, l);
+    let n = volume.len() as i64;
+    let at = |j: usize| wrap(i0 + j as i64, n);
+    (0..z.min(len - z))
+        .map(|i| {
+            let (a, b) = (at(i), at(z + i));
+            [
+                f64x2::new([volume[a], volume[b]]),
+                f64x2::new([dvolume[a], dvolume[b]]),
+            ]
+        })
+        .collect()
 }
 
 /// The window's largest pressure and its index from the stretches'
