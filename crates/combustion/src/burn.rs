@@ -1708,6 +1708,10 @@ mod tests {
                     let plain = analyse_with(&g, opts, &f.clone().plain()).unwrap();
                     let p_max = p.iter().fold(0.0f64, |a, x| a.max(*x));
                     same(&fast, &plain, &what, p_max);
+                    // With the volume law's window figures given.
+                    let law = WindowLaw::new(&v, &dv, step, opts).unwrap();
+                    let given = analyse_with_law(&g, opts, &f, Some(&law)).unwrap();
+                    same(&given, &plain, &format!("{what}, the law given"), p_max);
                     burning += usize::from(fast.burn.is_some());
                     // The cumulative itself, point by point.
                     let (mut s1, mut s2) = (Scratch::default(), Scratch::default());
@@ -1731,6 +1735,325 @@ mod tests {
             }
         }
         assert!(checked >= 40 && burning >= 30, "{checked} {burning}");
+    }
+
+    /// The sweep ([`crate::sweep`]) against the plain pass and the filter's
+    /// own sweep ([`Filter::values_slopes_into`]), the serial work and
+    /// energy term, and the scans, on traces shaped to defeat it:
+    /// noise, a one-point spike of 10⁴ bar, a flat top tied over several
+    /// stretches, a NaN and an infinite sample, a motored cycle; windows
+    /// that lie over the cycle's end or not, whose filter's reach does, of
+    /// one stretch or a few, across nearly a whole two-stroke cycle; both
+    /// lanes' tails; filters of 8, 10, 20 and 100 points either side; with
+    /// the volume law's figures given and taken. The largest pressure
+    /// (value and index) and the largest volume are the plain pass's bit
+    /// for bit, `Σ (h dV)²` too when given (else within 1e-13: two lanes'
+    /// sums); the smoothed pressure and slope the filter's sweep's bit for
+    /// bit (a NaN stays in its stretch's running sums, as there); the
+    /// cumulative point by point within 1e-12 of its largest (the second
+    /// lane's work added after), the residuals' sum within 1e-12 relative,
+    /// and the extremes the same points (or points whose cumulatives agree
+    /// within 1e-12 of the largest: a tie the rounding settles).
+    #[test]
+    fn the_sweep_gives_the_plain_pass() {
+        let cyl = cylinder();
+        let woschni = WallHeat {
+            model: WallModel::Woschni,
+            wall_temp_k: 450.0,
+            intake_temp_k: 320.0,
+            ivc_deg: -140.0,
+            bore_m: 0.076,
+            stroke_m: 0.071,
+            swept_m3: cyl.swept_volume(),
+        };
+        let mut checked = 0;
+        for (cycle, step) in [(720.0f64, 0.1f64), (720.0, 0.05), (360.0, 0.1)] {
+            let n = (cycle / step).round() as usize;
+            let (v, dv) = cyl.fill_volume(step.to_radians(), n);
+            let deg = |k: usize| {
+                let d = k as f64 * step;
+                if d >= cycle / 2.0 { d - cycle } else { d }
+            };
+            let clean = if cycle > 360.0 {
+                fired(&v, step, 600.0)
+            } else {
+                (0..n)
+                    .map(|k| 1e5 + 4e6 * (-(deg(k) - 8.0).powi(2) / 400.0).exp())
+                    .collect()
+            };
+            let mut traces: Vec<(&str, Vec<f64>)> = vec![("clean", clean.clone())];
+            let mut p = clean.clone();
+            noise(&mut p, 0.05e5, 11);
+            traces.push(("noisy", p));
+            let mut p = clean.clone();
+            p[at(5.0, step, n)] = 1e9;
+            traces.push(("spike", p));
+            let mut p = clean.clone();
+            let top = p.iter().fold(0.0f64, |a, x| a.max(*x));
+            let (a, b) = (at(-20.0, step, n), at(30.0, step, n));
+            let (a, b) = (a.min(b), a.max(b));
+            p[a..b].fill(top);
+            traces.push(("flat top", p));
+            let mut p = clean.clone();
+            p[at(-30.0, step, n)] = f64::NAN;
+            traces.push(("NaN", p));
+            let mut p = clean.clone();
+            p[at(60.0, step, n)] = f64::INFINITY;
+            traces.push(("infinite", p));
+            if cycle > 360.0 {
+                traces.push(("motored", fired(&v, step, 0.0)));
+            }
+            let windows = [
+                DEFAULT_WINDOW,
+                (10.0, 120.0),
+                (0.0, 100.0),
+                (-175.0, 175.0),
+                (-90.0, -80.0),
+                (-170.0, 172.0),
+            ];
+            for (name, p) in &traces {
+                for window_deg in windows {
+                    for width_deg in [1.6, 2.0, 4.0, 20.0] {
+                        for wall_heat in [None, Some(woschni)] {
+                            let opts = Options {
+                                smoothing: Smoothing::SavitzkyGolay { width_deg },
+                                window_deg,
+                                wall_heat,
+                                rpm: Some(2000.0),
+                                ..Options::default()
+                            };
+                            let f = Filter::new(opts.smoothing, step);
+                            if opts.check_grid(step, cycle).is_err() || f.moments().is_none() {
+                                continue;
+                            }
+                            let g = CycleGrid {
+                                pressure: p,
+                                volume: &v,
+                                dvolume: &dv,
+                                step_deg: step,
+                                rpm: None,
+                                sample_step_deg: None,
+                            };
+                            let what = format!(
+                                "{name}, {cycle}° at {step}°, {window_deg:?}, SG {width_deg}°, {wall_heat:?}"
+                            );
+                            let law = WindowLaw::new(&v, &dv, step, &opts).unwrap();
+                            let mut s0 = Scratch::default();
+                            let plain_f = f.clone().plain();
+                            let w0 = cumulative(&g, &opts, &plain_f, &mut s0, None).unwrap();
+                            for given in [None, Some(&law)] {
+                                let mut s1 = Scratch::default();
+                                let w1 = cumulative(&g, &opts, &f, &mut s1, given).unwrap();
+                                let what = format!("{what}, law given {}", given.is_some());
+                                assert_eq!(
+                                    (w1.peak.0.to_bits(), w1.peak.1),
+                                    (w0.peak.0.to_bits(), w0.peak.1),
+                                    "{what}: peak"
+                                );
+                                assert_eq!(w1.v_max.to_bits(), w0.v_max.to_bits(), "{what}");
+                                if given.is_some() {
+                                    assert_eq!(w1.dv2.to_bits(), w0.dv2.to_bits(), "{what}");
+                                } else {
+                                    assert!(close(w1.dv2, w0.dv2, 1e-13), "{what}: dv2");
+                                }
+                                // The reference of the rest: the filter's own sweep
+                                // over the window copied out ([`Filter::values_slopes_into`],
+                                // the same stretches), the serial work and energy term.
+                                let (i0, i1) = window_indices(step, window_deg);
+                                let len = (i1 - i0 + 1) as usize;
+                                let m = f.reach();
+                                let mut pw = Vec::new();
+                                copy_periodic(p, i0 - m as i64, len + 2 * m, &mut pw);
+                                let mut vs = vec![[0.0; 2]; len];
+                                assert!(f.values_slopes_into(&pw, m, &mut vs));
+                                let bits = |x: f64, y: f64| x.to_bits() == y.to_bits();
+                                for (j, (d, r)) in w1.s.slope.iter().zip(&vs).enumerate() {
+                                    assert!(
+                                        bits(*d, r[1]),
+                                        "{what}: slope at {j}: {d} against {}",
+                                        r[1]
+                                    );
+                                }
+                                if wall_heat.is_some() {
+                                    for (j, (x, r)) in w1.s.ps.iter().zip(&vs).enumerate() {
+                                        assert!(
+                                            bits(*x, r[0]),
+                                            "{what}: p at {j}: {x} against {}",
+                                            r[0]
+                                        );
+                                    }
+                                }
+                                let (h, inv) =
+                                    (step.to_radians(), 1.0 / (opts.gamma.nominal() - 1.0));
+                                let (mut work, mut prev, mut res2) = (0.0, 0.0, 0.0);
+                                let mut q0 = Vec::with_capacity(len);
+                                for (j, r) in vs.iter().enumerate() {
+                                    let k = wrap(i0 + j as i64, n as i64);
+                                    let (pj, ps) = (pw[m + j], r[0]);
+                                    let pdv = pj * dv[k];
+                                    if j > 0 {
+                                        work += 0.5 * h * (prev + pdv);
+                                    }
+                                    prev = pdv;
+                                    res2 += (pj - ps) * (pj - ps);
+                                    q0.push(work + ps * v[k] * inv);
+                                }
+                                assert!(
+                                    res2.total_cmp(&w1.residual2).is_eq()
+                                        || close(w1.residual2, res2, 1e-12),
+                                    "{what}: residuals {} against {res2}",
+                                    w1.residual2
+                                );
+                                let q1 = &w1.s.qs;
+                                let scale = q0
+                                    .iter()
+                                    .filter(|q| q.is_finite())
+                                    .fold(0.0f64, |a, q| a.max(q.abs()));
+                                for (j, (a, b)) in q1.iter().zip(&q0).enumerate() {
+                                    assert!(
+                                        a.total_cmp(b).is_eq() || (a - b).abs() <= 1e-12 * scale,
+                                        "{what}: Q at {j}: {a} against {b}"
+                                    );
+                                }
+                                let (e1, e0) = (w1.extremes.unwrap(), extremes(&q0));
+                                let tie = |a: usize, b: usize| {
+                                    a == b || (q0[a] - q0[b]).abs() <= 1e-12 * scale
+                                };
+                                assert!(
+                                    tie(e1.0, e0.0) && tie(e1.1, e0.1),
+                                    "{what}: {e1:?} {e0:?}"
+                                );
+                                checked += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked >= 500, "{checked}");
+    }
+
+    /// [`WindowLaw`] serves only the law, window, step and filter it was
+    /// made from: another copy of the same law (other memory), another
+    /// window or filter take their own figures, and give the same
+    /// analysis.
+    #[test]
+    fn a_window_law_serves_its_own_law_only() {
+        let cyl = cylinder();
+        let step = 0.1f64;
+        let n = 7200;
+        let (v, dv) = cyl.fill_volume(step.to_radians(), n);
+        let mut p = fired(&v, step, 600.0);
+        noise(&mut p, 0.02e5, 5);
+        let (v2, dv2) = (v.clone(), dv.clone());
+        let opts = Options::default();
+        let law = WindowLaw::new(&v, &dv, step, &opts).unwrap();
+        let grid = CycleGrid {
+            pressure: &p,
+            volume: &v,
+            dvolume: &dv,
+            step_deg: step,
+            rpm: None,
+            sample_step_deg: None,
+        };
+        let other = CycleGrid {
+            volume: &v2,
+            dvolume: &dv2,
+            ..grid
+        };
+        let f = Filter::new(opts.smoothing, step);
+        let (i0, i1) = window_indices(step, opts.window_deg);
+        assert!(law.fits(&grid, (i0, i1), &f));
+        assert!(!law.fits(&other, (i0, i1), &f));
+        assert!(!law.fits(&grid, (i0 + 1, i1), &f));
+        let f5 = Filter::new(Smoothing::SavitzkyGolay { width_deg: 5.0 }, step);
+        assert!(!law.fits(&grid, (i0, i1), &f5));
+        let plain = analyse_with(&grid, &opts, &f.clone().plain()).unwrap();
+        for (g, o) in [(&grid, &opts), (&other, &opts)] {
+            let a = analyse_with_law(g, o, &f, Some(&law)).unwrap();
+            same(&a, &plain, "given or not", 1e7);
+        }
+        let wide = Options {
+            window_deg: (-100.0, 120.0),
+            ..Options::default()
+        };
+        let a = analyse_with_law(&grid, &wide, &f, Some(&law)).unwrap();
+        let b = analyse_with(&grid, &wide, &f.clone().plain()).unwrap();
+        same(&a, &b, "another window", 1e7);
+        // The figures are the serial pass's, bit for bit.
+        let (mut s, plain_f) = (Scratch::default(), f.clone().plain());
+        let w = cumulative(&grid, &opts, &plain_f, &mut s, None).unwrap();
+        assert_eq!(
+            (law.dv2.to_bits(), law.v_max.to_bits()),
+            (w.dv2.to_bits(), w.v_max.to_bits())
+        );
+    }
+
+    /// [`extremes_adding`] against adding first and the running loop, on
+    /// data shaped to defeat it: the offset from every place about a
+    /// block's edges, offsets of 0, ±1e9, ±∞ and NaN, ties across the
+    /// part that takes it and the part that does not, NaN, ±∞, ±0.
+    #[test]
+    fn adding_while_scanning_is_adding_then_scanning() {
+        fn running(x: &[f64]) -> (usize, usize) {
+            let (mut min, mut max, mut soc) = ((f64::INFINITY, 0), (f64::NEG_INFINITY, 0), 0);
+            for (j, &q) in x.iter().enumerate() {
+                if q < min.0 {
+                    min = (q, j);
+                }
+                if q > max.0 {
+                    max = (q, j);
+                    soc = min.1;
+                }
+            }
+            (soc, max.1)
+        }
+        let mut cases: Vec<Vec<f64>> = Vec::new();
+        for len in [
+            1usize, 5, 63, 64, 65, 128, 129, 255, 256, 257, 700, 2101, 9000,
+        ] {
+            let mut p = vec![0.0; len];
+            noise(&mut p, 1.0, len as u64);
+            cases.push(p.clone());
+            cases.push(vec![2.5; len]);
+            cases.push((0..len).map(|k| (k as f64 * 0.01).sin()).collect());
+            let mut t = p.clone();
+            t[len / 3] = f64::NAN;
+            t[len - 1] = f64::INFINITY;
+            t[0] = -0.0;
+            cases.push(t);
+            let mut t = p;
+            t[len / 2] = f64::NEG_INFINITY;
+            cases.push(t);
+        }
+        for x in &cases {
+            let len = x.len();
+            let froms = [0, 1, 63, 64, 65, 127, 128, 129, len / 2, len - 1, len];
+            for from in froms.into_iter().filter(|&f| f <= len) {
+                for add in [
+                    0.0,
+                    1.5,
+                    -1e9,
+                    1e9,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                    f64::NAN,
+                ] {
+                    let mut want = x.clone();
+                    want[from..].iter_mut().for_each(|q| *q += add);
+                    let mut got = x.clone();
+                    let e = extremes_adding(&mut got, (from, add));
+                    assert!(
+                        got.iter()
+                            .zip(&want)
+                            .all(|(a, b)| a.to_bits() == b.to_bits()),
+                        "{len} {from} {add}"
+                    );
+                    assert_eq!(e, running(&want), "{len} {from} {add}");
+                    assert_eq!(extremes(&want), running(&want), "{len} {from} {add}");
+                }
+            }
+        }
     }
 
     /// The scans of [`first_max`] and [`extremes`] against the running

@@ -435,7 +435,7 @@ impl<'a> LaneOf<'a> {
     fn direct(&self, (c0, c1): (usize, usize), m: usize) -> bool {
         let n = self.g.pressure.len();
         let at = self.i0 + (self.w0 + c0) as i64;
-        wrap(at - m as i64 - 1, n as i64) + (c1 - c0) + 2 * m + 1 <= n
+        wrap(at - m as i64 - 1, n as i64) + (c1 - c0) + 2 * m < n
             && wrap(at, n as i64) + (c1 - c0) <= n
     }
 
