@@ -1083,9 +1083,8 @@ impl WindowLaw {
                 v_max = volume[at];
             }
         }
-        let stretch = Filter::new(opts.smoothing, step_deg)
-            .moments()
-            .map(|mo| (mo.m, mo.refresh));
+        let m = opts.smoothing.half_points(step_deg);
+        let stretch = crate::smooth::Moments::refresh_of(m).map(|l| (m, l));
         let len = (i1 - i0 + 1) as usize;
         let pairs = stretch.map_or_else(Vec::new, |(_, l)| {
             crate::sweep::law_pairs(volume, dvolume, i0, len, l)

@@ -114,10 +114,14 @@ pub(crate) struct Moments {
 }
 
 impl Moments {
+    /// The stretch of fresh sums ([`Self::refresh`]) for `m` points either
+    /// side, when the running sums are taken at all.
+    pub(crate) fn refresh_of(m: usize) -> Option<usize> {
+        (m >= MOMENTS_MIN_HALF).then(|| (4 * m).clamp(32, 128))
+    }
+
     fn new(m: usize) -> Option<Self> {
-        if m < MOMENTS_MIN_HALF {
-            return None;
-        }
+        let refresh = Self::refresh_of(m)?;
         let (v, d) = (savitzky_golay_poly(m, 0), savitzky_golay_poly(m, 1));
         // Weights in u = i/m: value x0 + x2 u², slope (x1 u + x3 u³)/m.
         let m2 = (m * m) as f64;
@@ -125,7 +129,7 @@ impl Moments {
             m,
             value: [v[0], v[2] / m2],
             slope: [d[1] / m2, d[3] / (m2 * m2)],
-            refresh: (4 * m).clamp(32, 128),
+            refresh,
         })
     }
 }
