@@ -514,8 +514,22 @@ fn block_extreme(x: &[f64], init: f64, better: impl Fn(f64, f64) -> bool) -> (f6
 /// The first index of `x` from `from` on whose value equals `y` (the block
 /// there holds one; ±0 equal, as the running compares take them).
 fn first_equal(x: &[f64], from: usize, y: f64) -> usize {
+    use wide::{CmpEq, f64x2};
+    // Two points a compare (an ordered `==`: ±0 equal, NaN never).
+    let yv = f64x2::splat(y);
+    let pairs = x[from..].chunks_exact(2);
+    let rest = pairs.remainder();
+    for (k, c) in pairs.enumerate() {
+        let m = f64x2::new([c[0], c[1]]).cmp_eq(yv).move_mask();
+        if m != 0 {
+            return from + 2 * k + m.trailing_zeros() as usize;
+        }
+    }
     let equal = |v: &f64| v.partial_cmp(&y) == Some(std::cmp::Ordering::Equal);
-    from + x[from..].iter().position(equal).unwrap_or(0)
+    match rest.iter().position(equal) {
+        Some(i) => x.len() - rest.len() + i,
+        None => from,
+    }
 }
 
 impl Window<'_> {
@@ -997,12 +1011,14 @@ fn pick_extremes(qs: &[f64], blocks: &[[f64; 2]], size: usize) -> (usize, usize)
             bl = b;
         }
     }
+    // Jmax's block up to it: its smallest, and where it first lies when it
+    // is under the blocks' before.
+    let part = qs.get((bt * size).min(jmax)..=jmax).unwrap_or(&[]);
+    let [_, least] = block_bounds(part);
     let mut found = None;
-    for (j, &q) in qs.iter().enumerate().take(jmax + 1).skip(bt * size) {
-        if q < low {
-            low = q;
-            found = Some(j);
-        }
+    if least < low {
+        low = least;
+        found = Some(first_equal(qs, bt * size, least));
     }
     let jmin = match found {
         Some(j) => j,
