@@ -461,15 +461,18 @@ impl<'a> LaneOf<'a> {
     /// that lies in one piece, whole stretches; a stretch that does not is
     /// a run of its own. The run's end and whether it lies in one piece.
     fn run_end(&self, c0: usize, to: usize, l: usize, m: usize) -> (usize, bool) {
-        let stretch = |c: usize| (c, (c - c % l + l).min(to));
-        let (_, mut end) = stretch(c0);
-        if !self.direct((c0, end), m) {
-            return (end, false);
+        let first = (c0 - c0 % l + l).min(to);
+        if !self.direct((c0, first), m) {
+            return (first, false);
         }
-        while end < to && self.direct(stretch(end), m) {
-            end = stretch(end).1;
-        }
-        (end, true)
+        // The farthest step whose pressure (with the reach) and volume law
+        // still lie in the piece from `c0`'s, back to a stretch's end.
+        let n = self.g.pressure.len();
+        let at = self.i0 + (self.w0 + c0) as i64;
+        let room = (n - wrap(at - m as i64 - 1, n as i64) - 2 * m - 1).min(n - wrap(at, n as i64));
+        let reach = c0 + room;
+        let end = if reach >= to { to } else { reach - reach % l };
+        (end.max(first), true)
     }
 }
 
