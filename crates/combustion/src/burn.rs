@@ -1092,8 +1092,12 @@ impl WindowLaw {
         let (i0, i1) = window_indices(step_deg, opts.window_deg);
         let h = step_deg.to_radians();
         let (mut dv2, mut v_max) = (0.0, 0.0);
-        for k in i0..=i1 {
-            let at = wrap(k, n as i64);
+        // The window's points in order: from its start to the cycle's end,
+        // then on from the cycle's start.
+        let (k0, len) = (wrap(i0, n as i64), (i1 - i0 + 1) as usize);
+        let first = (n - k0).min(len);
+        let ks = (k0..k0 + first).chain(0..len - first);
+        for at in ks {
             dv2 += (h * dvolume[at]) * (h * dvolume[at]);
             if volume[at] > v_max {
                 v_max = volume[at];
@@ -1101,7 +1105,6 @@ impl WindowLaw {
         }
         let m = opts.smoothing.half_points(step_deg);
         let stretch = crate::smooth::Moments::refresh_of(m).map(|l| (m, l));
-        let len = (i1 - i0 + 1) as usize;
         let pairs = stretch.map_or_else(Vec::new, |(_, l)| {
             crate::sweep::law_pairs(volume, dvolume, i0, len, l)
         });

@@ -722,11 +722,16 @@ pub(crate) fn law_pairs(
     l: usize,
 ) -> Vec<[f64x2; 2]> {
     let z = split(len, l);
-    let n = volume.len() as i64;
-    let at = |j: usize| wrap(i0 + j as i64, n);
-    (0..z.min(len - z))
-        .map(|i| {
-            let (a, b) = (at(i), at(z + i));
+    let n = volume.len();
+    // Grid index of each lane's steps in order (at most one wrap each).
+    let lane = |w0: usize| {
+        let k0 = wrap(i0 + w0 as i64, n as i64);
+        (k0..n).chain(0..k0)
+    };
+    lane(0)
+        .zip(lane(z))
+        .take(z.min(len - z))
+        .map(|(a, b)| {
             [
                 f64x2::new([volume[a], volume[b]]),
                 f64x2::new([dvolume[a], dvolume[b]]),
