@@ -1096,11 +1096,12 @@ impl WindowLaw {
         // then on from the cycle's start.
         let (k0, len) = (wrap(i0, n as i64), (i1 - i0 + 1) as usize);
         let first = (n - k0).min(len);
-        let ks = (k0..k0 + first).chain(0..len - first);
-        for at in ks {
-            dv2 += (h * dvolume[at]) * (h * dvolume[at]);
-            if volume[at] > v_max {
-                v_max = volume[at];
+        for (a, b) in [(k0, k0 + first), (0, len - first)] {
+            for (&v, &d) in volume[a..b].iter().zip(&dvolume[a..b]) {
+                dv2 += (h * d) * (h * d);
+                if v > v_max {
+                    v_max = v;
+                }
             }
         }
         let m = opts.smoothing.half_points(step_deg);

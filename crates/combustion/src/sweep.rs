@@ -723,21 +723,18 @@ pub(crate) fn law_pairs(
 ) -> Vec<[f64x2; 2]> {
     let z = split(len, l);
     let n = volume.len();
-    // Grid index of each lane's steps in order (at most one wrap each).
-    let lane = |w0: usize| {
-        let k0 = wrap(i0 + w0 as i64, n as i64);
-        (k0..n).chain(0..k0)
-    };
-    lane(0)
-        .zip(lane(z))
-        .take(z.min(len - z))
-        .map(|(a, b)| {
-            [
-                f64x2::new([volume[a], volume[b]]),
-                f64x2::new([dvolume[a], dvolume[b]]),
-            ]
-        })
-        .collect()
+    // Each lane's grid index, stepped on (at most one wrap each).
+    let (mut a, mut b) = (wrap(i0, n as i64), wrap(i0 + z as i64, n as i64));
+    let mut out = Vec::with_capacity(z.min(len - z));
+    for _ in 0..z.min(len - z) {
+        out.push([
+            f64x2::new([volume[a], volume[b]]),
+            f64x2::new([dvolume[a], dvolume[b]]),
+        ]);
+        a = if a + 1 == n { 0 } else { a + 1 };
+        b = if b + 1 == n { 0 } else { b + 1 };
+    }
+    out
 }
 
 /// The window's largest pressure and its index from the stretches'
