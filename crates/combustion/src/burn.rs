@@ -346,10 +346,14 @@ struct Acc {
 /// The one pass over the window: the trapezoidal work `∫ p dV`, the
 /// smoothed pressure and with it the energy term, the residuals of the
 /// noise fit and the volume law's sums; then the pressure peak and the
-/// cumulative's extremes, each a scan of its own ([`first_max`]). The
-/// window's pressure (with the filter's reach either side) is copied out
-/// once and smoothed in one sweep; the volume law is read in its (at most
-/// two) contiguous pieces.
+/// cumulative's extremes. A filter with running sums takes
+/// [`crate::sweep`] (everything in one sweep; the volume law's figures
+/// from `law` when given; the smoothed pressure kept when `want_ps`), then
+/// [`extremes_adding`]. Else (the plain weight sums: a narrow filter, none,
+/// or the tests' reference) the window's pressure (with the filter's reach
+/// either side) is copied out once and smoothed, the volume law read in
+/// its (at most two) contiguous pieces, the peak and the extremes each a
+/// scan of its own ([`first_max`], [`extremes`]).
 fn pass<E: crate::sweep::Energy>(
     g: &CycleGrid,
     f: &Filter,
@@ -820,10 +824,10 @@ fn cumulative<'a>(
     let (i0, i1) = window_indices(g.step_deg, opts.window_deg);
     let ivc = pv_ivc(g, opts, f)?;
     let gamma = opts.gamma;
-    // A constant γ takes the product form (no call, no division).
     let want_ps = opts.wall_heat.is_some();
     // The volume law's window figures, when given for this grid's law.
     let law = law.filter(|l| l.fits(g, (i0, i1), f));
+    // A constant γ takes the product form (no call, no division).
     let passed = match gamma {
         GammaModel::Constant(c) => {
             let inv = 1.0 / (c - 1.0);
@@ -834,7 +838,6 @@ fn cumulative<'a>(
             pass(g, f, (i0, i1), &e, s, (want_ps, law))
         }
     };
-
     let [residual2, dv2, v_max] = passed.sums;
     Ok(Window {
         g,
@@ -902,7 +905,7 @@ fn extremes_adding(qs: &mut [f64], (from, add): (usize, f64)) -> (usize, usize) 
 const MAX_BLOCKS: usize = 128;
 
 /// The points a block of [`extremes`] spans for `len` points: at least
-/// 64, and no more than [`MAX_BLOCKS`] blocks.
+/// 128, and no more than [`MAX_BLOCKS`] blocks.
 fn block_size(len: usize) -> usize {
     len.div_ceil(MAX_BLOCKS).max(128)
 }

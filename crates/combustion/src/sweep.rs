@@ -1,19 +1,25 @@
 //! The window pass of a filter with running sums, in one sweep (issue
-//! 42.1): at every window point the smoothed pressure and slope
-//! ([`Filter::values_slopes_into`]'s stretches and steps), the cumulative
+//! 42.1): at every window point the smoothed pressure and slope (the
+//! stretches and steps of [`Filter::values_slopes_into`]), the cumulative
 //! heat release (the trapezoidal work and the energy term), the noise fit's
 //! residual, the volume law's window figures and the pressure peak.
 //!
 //! The window's two halves go side by side in the two lanes of one vector
 //! register, each a run of the filter's stretches ([`Moments::refresh`]
-//! points, each from fresh sums): lane by lane the same IEEE steps as one
-//! stretch after the other, so the smoothed values and slopes are
-//! `values_slopes_into`'s bit for bit, and the first half's cumulative is
-//! the serial pass's. The second half's work starts from 0 and takes the
-//! first half's at its end afterwards (one addition a point: its last bits
-//! may differ from the serial sum's). The pressure and the volume law are
-//! read where they lie in the cycle (a stretch over the cycle's end is
-//! copied out, a few dozen points).
+//! points, each from fresh sums), split at the stretch boundary nearest the
+//! middle ([`split`]); the longer lane's rest goes alone. Lane by lane the
+//! same IEEE steps as one stretch after the other, so the smoothed values
+//! and slopes are `values_slopes_into`'s bit for bit, and the first half's
+//! cumulative is the serial pass's. The second half's work starts from 0
+//! and takes the first half's at its end afterwards (one addition a point,
+//! in the extremes' scan: its last bits may differ from the serial sum's).
+//! The pressure and the volume law are read where they lie in the cycle,
+//! runs of whole stretches a call (a stretch over the cycle's end is copied
+//! out, a few dozen points); with the volume law's window figures given
+//! (`burn::WindowLaw`) the law comes laid out for the two lanes
+//! ([`law_pairs`]).
+//!
+//! [`Filter::values_slopes_into`]: crate::smooth::Filter::values_slopes_into
 
 use crate::burn::{CycleGrid, copy_periodic, wrap};
 use crate::smooth::{Lane, Moments, Outputs, Slope, Value, ValueSlope, moments, slide, two_starts};
