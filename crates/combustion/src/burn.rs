@@ -3,6 +3,7 @@
 //! the pressure rise and the gross work (PHYSICS.md "Combustion").
 
 use crate::knock::{Knock, KnockFigures, Unresolved};
+use crate::sweep::{ByPoint, Linear};
 use crate::wall::{Trapped, WallHeat};
 use crate::{CombustionError, GammaModel, Smoothing, check_range, smooth::Filter};
 use wide::{CmpGt, CmpLt};
@@ -172,7 +173,7 @@ impl CycleGrid<'_> {
 /// `k` wrapped into `0..n` (a compare, not a division, for the indices
 /// within a cycle of the grid that the analysis uses).
 #[inline]
-fn wrap(k: i64, n: i64) -> usize {
+pub(crate) fn wrap(k: i64, n: i64) -> usize {
     if k < 0 {
         (if k >= -n { k + n } else { k.rem_euclid(n) }) as usize
     } else if k >= n {
@@ -252,20 +253,24 @@ pub struct CycleBurn {
 #[derive(Debug, Default)]
 struct Scratch {
     /// The window's pressure with the filter's reach either side
-    /// ([`Filter::reach`]): window index `j` is `pw[j + reach]`.
+    /// ([`Filter::reach`]): window index `j` is `pw[j + reach]` (the
+    /// plain weight sums' pass only).
     pw: Vec<f64>,
-    /// The smoothed pressure and, with the running sums, the smoothed
-    /// slope (Pa/°), `[p, dp/dφ]` a window point
-    /// ([`Filter::values_slopes_into`]).
-    vs: Vec<[f64; 2]>,
+    /// The smoothed pressure (Pa) at every window point, when the wall
+    /// heat wants it (the plain pass: always).
+    ps: Vec<f64>,
     /// The smoothed cumulative (J), one value a window point.
     qs: Vec<f64>,
-    /// The smoothed slope over the span the pressure rise searches.
+    /// The smoothed slope (Pa/°): with the running sums at every window
+    /// point ([`crate::sweep`]), else over the span the pressure rise
+    /// searches only.
     slope: Vec<f64>,
-    /// [`Self::vs`] holds the slopes.
+    /// [`Self::slope`] holds every window point's.
     slopes: bool,
     /// The wall heat's cumulative (J), one value a window point.
     wall: Vec<f64>,
+    /// The sweep's own buffers.
+    sweep: crate::sweep::Bufs,
 }
 
 thread_local! {
@@ -274,7 +279,7 @@ thread_local! {
 
 /// `out` becomes `v[start..start + len]` of the periodic `v`, in at most a
 /// few contiguous copies (no per-point wrap).
-fn copy_periodic(v: &[f64], start: i64, len: usize, out: &mut Vec<f64>) {
+pub(crate) fn copy_periodic(v: &[f64], start: i64, len: usize, out: &mut Vec<f64>) {
     out.clear();
     let n = v.len();
     let mut k = wrap(start, n as i64);
@@ -341,23 +346,54 @@ struct Acc {
 /// The one pass over the window: the trapezoidal work `∫ p dV`, the
 /// smoothed pressure and with it the energy term, the residuals of the
 /// noise fit and the volume law's sums; then the pressure peak and the
-/// cumulative's extremes, each a scan of its own ([`first_max`]). The
-/// window's pressure (with the filter's reach either side) is copied out
-/// once and smoothed in one sweep; the volume law is read in its (at most
-/// two) contiguous pieces.
-fn pass(
+/// cumulative's extremes. A filter with running sums takes
+/// [`crate::sweep`] (everything in one sweep; the volume law's figures
+/// from `law` when given; the smoothed pressure kept when `want_ps`), then
+/// [`extremes_adding`]. Else (the plain weight sums: a narrow filter, none,
+/// or the tests' reference) the window's pressure (with the filter's reach
+/// either side) is copied out once and smoothed, the volume law read in
+/// its (at most two) contiguous pieces, the peak and the extremes each a
+/// scan of its own ([`first_max`], [`extremes`]).
+fn pass<E: crate::sweep::Energy>(
     g: &CycleGrid,
     f: &Filter,
     (i0, i1): (i64, i64),
-    energy: impl Fn(f64) -> f64,
+    e: &E,
     s: &mut Scratch,
+    (want_ps, law): (bool, Option<&WindowLaw>),
 ) -> Passed {
     let h = g.step_deg.to_radians();
     let len = (i1 - i0 + 1) as usize;
+    if let Some(mo) = f.moments() {
+        // The running sums: one sweep of everything ([`crate::sweep`]).
+        let out = crate::sweep::Outs {
+            qs: &mut s.qs,
+            slope: &mut s.slope,
+            ps: want_ps.then_some(&mut s.ps),
+        };
+        let given = law.map(|l| (l.dv2, l.v_max));
+        let w = crate::sweep::sweep(
+            g,
+            mo,
+            f.step_deg(),
+            (i0, i1),
+            e,
+            (out, law.map(|l| &l.pairs[..])),
+            &mut s.sweep,
+        );
+        s.slopes = true;
+        let (dv2, v_max) = given.unwrap_or((w.dv2, w.v_max));
+        return Passed {
+            peak: w.peak,
+            sums: [w.res2, dv2, v_max],
+            extremes: extremes_adding(&mut s.qs, w.rest),
+        };
+    }
     let m = f.reach();
     copy_periodic(g.pressure, i0 - m as i64, len + 2 * m, &mut s.pw);
-    s.vs.resize(len, [0.0; 2]);
-    s.slopes = f.values_slopes_into(&s.pw, m, &mut s.vs);
+    s.ps.resize(len, 0.0);
+    f.values_into(&s.pw, m, &mut s.ps);
+    s.slopes = false;
     s.qs.resize(len, 0.0);
     let (n, k0) = (g.volume.len(), wrap(i0, g.n()));
     let a = Acc {
@@ -368,7 +404,8 @@ fn pass(
         v_max: 0.0,
     };
     let first = (n - k0).min(len);
-    let (pw, ps, qs) = (&s.pw[m..m + len], &s.vs[..], &mut s.qs[..]);
+    let energy = |pv: f64| e.of(pv);
+    let (pw, ps, qs) = (&s.pw[m..m + len], &s.ps[..], &mut s.qs[..]);
     let (q0, q1) = qs.split_at_mut(first);
     let law0 = (&g.volume[k0..k0 + first], &g.dvolume[k0..k0 + first]);
     let law1 = (&g.volume[..len - first], &g.dvolume[..len - first]);
@@ -400,7 +437,7 @@ fn pass(
 fn piece(
     mut a: Acc,
     start: bool,
-    (pw, ps, qs): (&[f64], &[[f64; 2]], &mut [f64]),
+    (pw, ps, qs): (&[f64], &[f64], &mut [f64]),
     (v, dv): (&[f64], &[f64]),
     h: f64,
     energy: &impl Fn(f64) -> f64,
@@ -422,10 +459,10 @@ fn piece(
     };
     let skip = usize::from(start && !qs.is_empty());
     if skip == 1 {
-        point(&mut a, &mut qs[0], pw[0], ps[0][0], v[0], dv[0], true);
+        point(&mut a, &mut qs[0], pw[0], ps[0], v[0], dv[0], true);
     }
     let law = v[skip..].iter().zip(&dv[skip..]);
-    for (((q, &p), &[ps, _]), (&v, &dv)) in qs[skip..]
+    for (((q, &p), &ps), (&v, &dv)) in qs[skip..]
         .iter_mut()
         .zip(&pw[skip..])
         .zip(&ps[skip..])
@@ -445,25 +482,15 @@ fn first_max(x: &[f64]) -> (f64, usize) {
     if top == f64::NEG_INFINITY {
         return (top, 0);
     }
-    let at = first_equal(x, block, top);
+    let at = first_equal(x, block * BLOCK, top);
     (x[at], at)
-}
-
-/// The smallest value's index in `x`, as [`first_max`] (the first, if
-/// tied; 0 when none is under +∞).
-fn first_min(x: &[f64]) -> usize {
-    let (low, block) = block_extreme(x, f64::INFINITY, |v, m| v < m);
-    if low == f64::INFINITY {
-        return 0;
-    }
-    first_equal(x, block, low)
 }
 
 /// The points a block of [`block_extreme`] spans.
 const BLOCK: usize = 64;
 
-/// The extreme of `x` by `better` (a strict compare: `v > m` or `v < m`)
-/// from `init`, and the first [`BLOCK`] that holds it (NaN passed over):
+/// The extreme of `x` by `better` (a strict compare: `v > m`) from
+/// `init`, and the first [`BLOCK`] that holds it (NaN passed over):
 /// each block's extreme in four lanes, kept where it beats the blocks
 /// before.
 #[inline(always)]
@@ -488,12 +515,25 @@ fn block_extreme(x: &[f64], init: f64, better: impl Fn(f64, f64) -> bool) -> (f6
     (best, at)
 }
 
-/// The first index of `x` from block `block` on whose value equals `y`
-/// (the block holds one; ±0 equal, as the running compares take them).
-fn first_equal(x: &[f64], block: usize, y: f64) -> usize {
-    let from = block * BLOCK;
+/// The first index of `x` from `from` on whose value equals `y` (the block
+/// there holds one; ±0 equal, as the running compares take them).
+fn first_equal(x: &[f64], from: usize, y: f64) -> usize {
+    use wide::{CmpEq, f64x2};
+    // Two points a compare (an ordered `==`: ±0 equal, NaN never).
+    let yv = f64x2::splat(y);
+    let pairs = x[from..].chunks_exact(2);
+    let rest = pairs.remainder();
+    for (k, c) in pairs.enumerate() {
+        let m = f64x2::new([c[0], c[1]]).cmp_eq(yv).move_mask();
+        if m != 0 {
+            return from + 2 * k + m.trailing_zeros() as usize;
+        }
+    }
     let equal = |v: &f64| v.partial_cmp(&y) == Some(std::cmp::Ordering::Equal);
-    from + x[from..].iter().position(equal).unwrap_or(0)
+    match rest.iter().position(equal) {
+        Some(i) => x.len() - rest.len() + i,
+        None => from,
+    }
 }
 
 impl Window<'_> {
@@ -773,6 +813,7 @@ fn cumulative<'a>(
     opts: &Options,
     f: &'a Filter,
     s: &'a mut Scratch,
+    law: Option<&WindowLaw>,
 ) -> Result<Window<'a>, CombustionError> {
     if g.pressure.len() != g.volume.len() || g.pressure.len() != g.dvolume.len() {
         return Err(CombustionError::Input(
@@ -783,13 +824,19 @@ fn cumulative<'a>(
     let (i0, i1) = window_indices(g.step_deg, opts.window_deg);
     let ivc = pv_ivc(g, opts, f)?;
     let gamma = opts.gamma;
+    let want_ps = opts.wall_heat.is_some();
+    // The volume law's window figures, when given for this grid's law.
+    let law = law.filter(|l| l.fits(g, (i0, i1), f));
     // A constant γ takes the product form (no call, no division).
     let passed = match gamma {
         GammaModel::Constant(c) => {
             let inv = 1.0 / (c - 1.0);
-            pass(g, f, (i0, i1), |pv| pv * inv, s)
+            pass(g, f, (i0, i1), &Linear(inv), s, (want_ps, law))
         }
-        GammaModel::Brunt { .. } => pass(g, f, (i0, i1), |pv| gamma.energy(pv, ivc), s),
+        GammaModel::Brunt { .. } => {
+            let e = ByPoint(|pv| gamma.energy(pv, ivc));
+            pass(g, f, (i0, i1), &e, s, (want_ps, law))
+        }
     };
     let [residual2, dv2, v_max] = passed.sums;
     Ok(Window {
@@ -815,11 +862,173 @@ pub fn analyse(g: &CycleGrid, opts: &Options) -> Result<CycleBurn, CombustionErr
 
 /// The smoothed cumulative's extremes: the index of its largest value
 /// (the first, if tied) and of the smallest before it (the first, if
-/// tied): a running minimum's index where the running maximum was last
-/// raised, in scans ([`first_max`], [`first_min`]).
+/// tied), as a running minimum's index where the running maximum was last
+/// raised gives them (NaN passed over; 0 for none): each block's largest
+/// and smallest in one scan ([`block_bounds`]), then the blocks that hold
+/// them.
 fn extremes(qs: &[f64]) -> (usize, usize) {
-    let (_, jmax) = first_max(qs);
-    (first_min(&qs[..(jmax + 1).min(qs.len())]), jmax)
+    let mut blocks = [[0.0; 2]; MAX_BLOCKS];
+    let size = block_size(qs.len());
+    let nb = qs.len().div_ceil(size);
+    for (b, c) in blocks.iter_mut().zip(qs.chunks(size)) {
+        *b = block_bounds(c);
+    }
+    pick_extremes(qs, &blocks[..nb], size)
+}
+
+/// [`extremes`] after adding `rest.1` to the points from `rest.0` on, in
+/// the same scan.
+fn extremes_adding(qs: &mut [f64], (from, add): (usize, f64)) -> (usize, usize) {
+    let mut blocks = [[0.0; 2]; MAX_BLOCKS];
+    let size = block_size(qs.len());
+    let nb = qs.len().div_ceil(size);
+    let mut at = 0;
+    for (b, c) in blocks.iter_mut().zip(qs.chunks_mut(size)) {
+        let n = c.len();
+        *b = if at >= from {
+            block_bounds_adding(c, add)
+        } else if at + n <= from {
+            block_bounds(c)
+        } else {
+            // The block the second half starts in.
+            for q in &mut c[from - at..] {
+                *q += add;
+            }
+            block_bounds(c)
+        };
+        at += n;
+    }
+    pick_extremes(qs, &blocks[..nb], size)
+}
+
+/// At most this many blocks in [`extremes`]' scan.
+const MAX_BLOCKS: usize = 128;
+
+/// The points a block of [`extremes`] spans for `len` points: at least
+/// 128, and no more than [`MAX_BLOCKS`] blocks.
+fn block_size(len: usize) -> usize {
+    len.div_ceil(MAX_BLOCKS).max(128)
+}
+
+/// `[largest, smallest]` of `c` (NaN passed over; −∞ and +∞ for none), in
+/// four lanes.
+#[inline(always)]
+fn block_bounds(c: &[f64]) -> [f64; 2] {
+    use wide::f64x2;
+    let mut acc = Bounds::new();
+    let fours = c.chunks_exact(4);
+    let rest = fours.remainder();
+    for q in fours {
+        acc.take(f64x2::new([q[0], q[1]]), f64x2::new([q[2], q[3]]));
+    }
+    acc.end(rest)
+}
+
+/// [`block_bounds`] after adding `add` to each point (stored).
+#[inline(always)]
+fn block_bounds_adding(c: &mut [f64], add: f64) -> [f64; 2] {
+    use wide::f64x2;
+    let mut acc = Bounds::new();
+    let plus = f64x2::splat(add);
+    let mut fours = c.chunks_exact_mut(4);
+    for q in &mut fours {
+        let (a, b) = (
+            f64x2::new([q[0], q[1]]) + plus,
+            f64x2::new([q[2], q[3]]) + plus,
+        );
+        let (x, y) = (a.to_array(), b.to_array());
+        q.copy_from_slice(&[x[0], x[1], y[0], y[1]]);
+        acc.take(a, b);
+    }
+    let rest = fours.into_remainder();
+    for q in rest.iter_mut() {
+        *q += add;
+    }
+    acc.end(rest)
+}
+
+/// The running largest and smallest of [`block_bounds`], four lanes.
+struct Bounds {
+    hi: [wide::f64x2; 2],
+    lo: [wide::f64x2; 2],
+}
+
+impl Bounds {
+    #[inline(always)]
+    fn new() -> Self {
+        use wide::f64x2;
+        Self {
+            hi: [f64x2::splat(f64::NEG_INFINITY); 2],
+            lo: [f64x2::splat(f64::INFINITY); 2],
+        }
+    }
+    #[inline(always)]
+    fn take(&mut self, a: wide::f64x2, b: wide::f64x2) {
+        use crate::smooth::Lane;
+        self.hi = [a.gt_max(self.hi[0]), b.gt_max(self.hi[1])];
+        self.lo = [a.lt_min(self.lo[0]), b.lt_min(self.lo[1])];
+    }
+    /// The block's `[largest, smallest]`, with the points `rest` after the
+    /// lanes'.
+    #[inline(always)]
+    fn end(self, rest: &[f64]) -> [f64; 2] {
+        use crate::smooth::Lane;
+        let (mut top, mut low) = (f64::NEG_INFINITY, f64::INFINITY);
+        for x in self.hi {
+            let [a, b] = x.to_array();
+            top = a.gt_max(b.gt_max(top));
+        }
+        for x in self.lo {
+            let [a, b] = x.to_array();
+            low = a.lt_min(b.lt_min(low));
+        }
+        for &q in rest {
+            top = q.gt_max(top);
+            low = q.lt_min(low);
+        }
+        [top, low]
+    }
+}
+
+/// [`extremes`] from the blocks' `[largest, smallest]` (`size` points
+/// each): the first block that holds the largest and its first index
+/// there; the smallest in the blocks before it and in its block up to
+/// that index, and its first index.
+fn pick_extremes(qs: &[f64], blocks: &[[f64; 2]], size: usize) -> (usize, usize) {
+    let (mut top, mut bt) = (f64::NEG_INFINITY, 0);
+    for (b, &[hi, _]) in blocks.iter().enumerate() {
+        if hi > top {
+            top = hi;
+            bt = b;
+        }
+    }
+    let jmax = if top == f64::NEG_INFINITY {
+        0
+    } else {
+        first_equal(qs, bt * size, top)
+    };
+    let (mut low, mut bl) = (f64::INFINITY, 0);
+    for (b, &[_, lo]) in blocks[..bt].iter().enumerate() {
+        if lo < low {
+            low = lo;
+            bl = b;
+        }
+    }
+    // Jmax's block up to it: its smallest, and where it first lies when it
+    // is under the blocks' before.
+    let part = qs.get((bt * size).min(jmax)..=jmax).unwrap_or(&[]);
+    let [_, least] = block_bounds(part);
+    let mut found = None;
+    if least < low {
+        low = least;
+        found = Some(first_equal(qs, bt * size, least));
+    }
+    let jmin = match found {
+        Some(j) => j,
+        None if low == f64::INFINITY => 0,
+        None => first_equal(qs, bl * size, low),
+    };
+    (jmin, jmax)
 }
 
 /// [`analyse`] with the filter built once for many cycles (and the
@@ -829,21 +1038,116 @@ pub fn analyse_with(
     opts: &Options,
     f: &Filter,
 ) -> Result<CycleBurn, CombustionError> {
+    analyse_with_law(g, opts, f, None)
+}
+
+/// [`analyse_with`] with the volume law's window figures taken once for
+/// many cycles ([`WindowLaw`]; used where it was made from this grid's
+/// volume law and window, else each cycle takes its own): the same
+/// numbers, bit for bit.
+pub fn analyse_with_law(
+    g: &CycleGrid,
+    opts: &Options,
+    f: &Filter,
+    law: Option<&WindowLaw>,
+) -> Result<CycleBurn, CombustionError> {
     SCRATCH.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut s) => analyse_in(g, opts, f, &mut s),
-        Err(_) => analyse_in(g, opts, f, &mut Scratch::default()),
+        Ok(mut s) => analyse_in(g, opts, f, &mut s, law),
+        Err(_) => analyse_in(g, opts, f, &mut Scratch::default(), law),
     })
 }
 
-/// [`analyse_with`] in the buffers `s`.
+/// The volume law's figures over the burn window (`Σ (h dV/dφ)²`, the
+/// work's noise gain, and the largest volume), taken once for the many
+/// cycles analysed on one law ([`analyse_with_law`]) instead of in each
+/// cycle's pass; the same sums in the same order as the pass takes them.
+/// It names the slices it was made from: it serves a grid whose volume
+/// law is those very slices (the same memory, so it must not outlive
+/// them: keep it beside the law it was made from), with the same window
+/// and step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WindowLaw {
+    /// The addresses and length of the volume and `dV/dφ` slices.
+    from: (usize, usize, usize),
+    /// The grid step (deg), bit for bit, and the window's grid indices.
+    step_bits: u64,
+    window: (i64, i64),
+    /// `Σ (h dV)²` (m⁶) and the largest volume (m³, at least 0).
+    dv2: f64,
+    v_max: f64,
+    /// The filter's running sums it was laid out for (half the filter and
+    /// the stretch, points; `None`: the filter takes none), and the law
+    /// as the sweep's lanes read it ([`crate::sweep::law_pairs`]).
+    stretch: Option<(usize, usize)>,
+    pairs: Vec<[wide::f64x2; 2]>,
+}
+
+impl WindowLaw {
+    /// The figures of the law `(volume, dvolume)` on a grid of `step_deg`
+    /// over `opts`' burn window (`None` when the window does not fit the
+    /// grid: [`Options::check_window`]).
+    pub fn new(volume: &[f64], dvolume: &[f64], step_deg: f64, opts: &Options) -> Option<Self> {
+        let n = volume.len();
+        if dvolume.len() != n || n == 0 {
+            return None;
+        }
+        opts.check_window(step_deg, n as f64 * step_deg).ok()?;
+        let (i0, i1) = window_indices(step_deg, opts.window_deg);
+        let h = step_deg.to_radians();
+        let (mut dv2, mut v_max) = (0.0, 0.0);
+        // The window's points in order: from its start to the cycle's end,
+        // then on from the cycle's start.
+        let (k0, len) = (wrap(i0, n as i64), (i1 - i0 + 1) as usize);
+        let first = (n - k0).min(len);
+        for (a, b) in [(k0, k0 + first), (0, len - first)] {
+            for (&v, &d) in volume[a..b].iter().zip(&dvolume[a..b]) {
+                dv2 += (h * d) * (h * d);
+                if v > v_max {
+                    v_max = v;
+                }
+            }
+        }
+        let m = opts.smoothing.half_points(step_deg);
+        let stretch = crate::smooth::Moments::refresh_of(m).map(|l| (m, l));
+        let pairs = stretch.map_or_else(Vec::new, |(_, l)| {
+            crate::sweep::law_pairs(volume, dvolume, i0, len, l)
+        });
+        Some(Self {
+            from: (volume.as_ptr() as usize, dvolume.as_ptr() as usize, n),
+            step_bits: step_deg.to_bits(),
+            window: (i0, i1),
+            dv2,
+            v_max,
+            stretch,
+            pairs,
+        })
+    }
+
+    /// Made from `g`'s volume law (the same slices), step and window, for
+    /// the filter `f`.
+    fn fits(&self, g: &CycleGrid, window: (i64, i64), f: &Filter) -> bool {
+        let from = (
+            g.volume.as_ptr() as usize,
+            g.dvolume.as_ptr() as usize,
+            g.volume.len(),
+        );
+        self.from == from
+            && self.step_bits == g.step_deg.to_bits()
+            && self.window == window
+            && self.stretch == f.moments().map(|mo| (mo.m, mo.refresh))
+    }
+}
+
+/// [`analyse_with_law`] in the buffers `s`.
 fn analyse_in(
     g: &CycleGrid,
     opts: &Options,
     f: &Filter,
     s: &mut Scratch,
+    law: Option<&WindowLaw>,
 ) -> Result<CycleBurn, CombustionError> {
     let mut wall_buf = std::mem::take(&mut s.wall);
-    let r = analyse_window(g, opts, f, s, &mut wall_buf);
+    let r = analyse_window(g, opts, f, s, &mut wall_buf, law);
     s.wall = wall_buf;
     r
 }
@@ -855,8 +1159,9 @@ fn analyse_window(
     f: &Filter,
     s: &mut Scratch,
     w: &mut Vec<f64>,
+    law: Option<&WindowLaw>,
 ) -> Result<CycleBurn, CombustionError> {
-    let mut win = cumulative(g, opts, f, s)?;
+    let mut win = cumulative(g, opts, f, s, law)?;
     let gross_work_j = gross_work(g);
     let mut net = rule(&mut win, g, opts, f, gross_work_j);
     let knock = opts.knock.as_ref().map(|k| {
@@ -923,7 +1228,7 @@ fn wall_cumulative(
     let half = 0.5 * g.step_deg;
     out.clear();
     let (mut total, mut prev) = (0.0, 0.0);
-    for (j, &[p, _]) in win.s.vs.iter().enumerate() {
+    for (j, &p) in win.s.ps.iter().enumerate() {
         let (k, v) = (win.i0 + j as i64, win.vol(j));
         let burning = soc_deg.is_some_and(|soc| k as f64 * g.step_deg >= soc);
         let r = rate.rate(p, v, burning);
@@ -1094,14 +1399,14 @@ fn pressure_rise(win: &mut Window, soc: usize, eoc: usize) -> (f64, f64) {
     // neighbours), in one sweep.
     let last = win.s.qs.len() - 1;
     let (lo, hi) = (soc.saturating_sub(1), (eoc.max(soc) + 1).min(last));
-    let buf = &mut win.s.slope;
-    if win.s.slopes {
-        buf.clear();
-        buf.extend(win.s.vs[lo..=hi].iter().map(|v| v[1]));
+    let buf = if win.s.slopes {
+        &win.s.slope[lo..=hi]
     } else {
+        let buf = &mut win.s.slope;
         buf.resize(hi - lo + 1, 0.0);
         win.f.slopes_into(&win.s.pw, lo + win.f.reach(), buf);
-    }
+        &buf[..]
+    };
     let slope = |j: usize| buf[j - lo];
     // The largest (the first, if tied) as a running `if s > top` from −∞
     // at SOC.
@@ -1155,7 +1460,7 @@ pub struct Curves {
 pub fn curves(g: &CycleGrid, opts: &Options, burn: &CycleBurn) -> Result<Curves, CombustionError> {
     let f = Filter::new(opts.smoothing, g.step_deg);
     let mut scratch = Scratch::default();
-    let w = cumulative(g, opts, &f, &mut scratch)?;
+    let w = cumulative(g, opts, &f, &mut scratch, None)?;
     let n = g.pressure.len();
     let ivc = pv_ivc(g, opts, &f)?;
     let deg_per_rad = 180.0 / std::f64::consts::PI;
@@ -1425,12 +1730,16 @@ mod tests {
                     let plain = analyse_with(&g, opts, &f.clone().plain()).unwrap();
                     let p_max = p.iter().fold(0.0f64, |a, x| a.max(*x));
                     same(&fast, &plain, &what, p_max);
+                    // With the volume law's window figures given.
+                    let law = WindowLaw::new(&v, &dv, step, opts).unwrap();
+                    let given = analyse_with_law(&g, opts, &f, Some(&law)).unwrap();
+                    same(&given, &plain, &format!("{what}, the law given"), p_max);
                     burning += usize::from(fast.burn.is_some());
                     // The cumulative itself, point by point.
                     let (mut s1, mut s2) = (Scratch::default(), Scratch::default());
                     let plain_f = f.clone().plain();
-                    let mut w1 = cumulative(&g, opts, &f, &mut s1).unwrap();
-                    let w2 = cumulative(&g, opts, &plain_f, &mut s2).unwrap();
+                    let mut w1 = cumulative(&g, opts, &f, &mut s1, None).unwrap();
+                    let w2 = cumulative(&g, opts, &plain_f, &mut s2, None).unwrap();
                     let scale = w2.s.qs.iter().fold(0.0f64, |a, q| a.max(q.abs()));
                     for (j, (a, b)) in w1.s.qs.iter().zip(&w2.s.qs).enumerate() {
                         assert!(
@@ -1448,6 +1757,325 @@ mod tests {
             }
         }
         assert!(checked >= 40 && burning >= 30, "{checked} {burning}");
+    }
+
+    /// The sweep ([`crate::sweep`]) against the plain pass and the filter's
+    /// own sweep ([`Filter::values_slopes_into`]), the serial work and
+    /// energy term, and the scans, on traces shaped to defeat it:
+    /// noise, a one-point spike of 10⁴ bar, a flat top tied over several
+    /// stretches, a NaN and an infinite sample, a motored cycle; windows
+    /// that lie over the cycle's end or not, whose filter's reach does, of
+    /// one stretch or a few, across nearly a whole two-stroke cycle; both
+    /// lanes' tails; filters of 8, 10, 20 and 100 points either side; with
+    /// the volume law's figures given and taken. The largest pressure
+    /// (value and index) and the largest volume are the plain pass's bit
+    /// for bit, `Σ (h dV)²` too when given (else within 1e-13: two lanes'
+    /// sums); the smoothed pressure and slope the filter's sweep's bit for
+    /// bit (a NaN stays in its stretch's running sums, as there); the
+    /// cumulative point by point within 1e-12 of its largest (the second
+    /// lane's work added after), the residuals' sum within 1e-12 relative,
+    /// and the extremes the same points (or points whose cumulatives agree
+    /// within 1e-12 of the largest: a tie the rounding settles).
+    #[test]
+    fn the_sweep_gives_the_plain_pass() {
+        let cyl = cylinder();
+        let woschni = WallHeat {
+            model: WallModel::Woschni,
+            wall_temp_k: 450.0,
+            intake_temp_k: 320.0,
+            ivc_deg: -140.0,
+            bore_m: 0.076,
+            stroke_m: 0.071,
+            swept_m3: cyl.swept_volume(),
+        };
+        let mut checked = 0;
+        for (cycle, step) in [(720.0f64, 0.1f64), (720.0, 0.05), (360.0, 0.1)] {
+            let n = (cycle / step).round() as usize;
+            let (v, dv) = cyl.fill_volume(step.to_radians(), n);
+            let deg = |k: usize| {
+                let d = k as f64 * step;
+                if d >= cycle / 2.0 { d - cycle } else { d }
+            };
+            let clean = if cycle > 360.0 {
+                fired(&v, step, 600.0)
+            } else {
+                (0..n)
+                    .map(|k| 1e5 + 4e6 * (-(deg(k) - 8.0).powi(2) / 400.0).exp())
+                    .collect()
+            };
+            let mut traces: Vec<(&str, Vec<f64>)> = vec![("clean", clean.clone())];
+            let mut p = clean.clone();
+            noise(&mut p, 0.05e5, 11);
+            traces.push(("noisy", p));
+            let mut p = clean.clone();
+            p[at(5.0, step, n)] = 1e9;
+            traces.push(("spike", p));
+            let mut p = clean.clone();
+            let top = p.iter().fold(0.0f64, |a, x| a.max(*x));
+            let (a, b) = (at(-20.0, step, n), at(30.0, step, n));
+            let (a, b) = (a.min(b), a.max(b));
+            p[a..b].fill(top);
+            traces.push(("flat top", p));
+            let mut p = clean.clone();
+            p[at(-30.0, step, n)] = f64::NAN;
+            traces.push(("NaN", p));
+            let mut p = clean.clone();
+            p[at(60.0, step, n)] = f64::INFINITY;
+            traces.push(("infinite", p));
+            if cycle > 360.0 {
+                traces.push(("motored", fired(&v, step, 0.0)));
+            }
+            let windows = [
+                DEFAULT_WINDOW,
+                (10.0, 120.0),
+                (0.0, 100.0),
+                (-175.0, 175.0),
+                (-90.0, -80.0),
+                (-170.0, 172.0),
+            ];
+            for (name, p) in &traces {
+                for window_deg in windows {
+                    for width_deg in [1.6, 2.0, 4.0, 20.0] {
+                        for wall_heat in [None, Some(woschni)] {
+                            let opts = Options {
+                                smoothing: Smoothing::SavitzkyGolay { width_deg },
+                                window_deg,
+                                wall_heat,
+                                rpm: Some(2000.0),
+                                ..Options::default()
+                            };
+                            let f = Filter::new(opts.smoothing, step);
+                            if opts.check_grid(step, cycle).is_err() || f.moments().is_none() {
+                                continue;
+                            }
+                            let g = CycleGrid {
+                                pressure: p,
+                                volume: &v,
+                                dvolume: &dv,
+                                step_deg: step,
+                                rpm: None,
+                                sample_step_deg: None,
+                            };
+                            let what = format!(
+                                "{name}, {cycle}° at {step}°, {window_deg:?}, SG {width_deg}°, {wall_heat:?}"
+                            );
+                            let law = WindowLaw::new(&v, &dv, step, &opts).unwrap();
+                            let mut s0 = Scratch::default();
+                            let plain_f = f.clone().plain();
+                            let w0 = cumulative(&g, &opts, &plain_f, &mut s0, None).unwrap();
+                            for given in [None, Some(&law)] {
+                                let mut s1 = Scratch::default();
+                                let w1 = cumulative(&g, &opts, &f, &mut s1, given).unwrap();
+                                let what = format!("{what}, law given {}", given.is_some());
+                                assert_eq!(
+                                    (w1.peak.0.to_bits(), w1.peak.1),
+                                    (w0.peak.0.to_bits(), w0.peak.1),
+                                    "{what}: peak"
+                                );
+                                assert_eq!(w1.v_max.to_bits(), w0.v_max.to_bits(), "{what}");
+                                if given.is_some() {
+                                    assert_eq!(w1.dv2.to_bits(), w0.dv2.to_bits(), "{what}");
+                                } else {
+                                    assert!(close(w1.dv2, w0.dv2, 1e-13), "{what}: dv2");
+                                }
+                                // The reference of the rest: the filter's own sweep
+                                // over the window copied out ([`Filter::values_slopes_into`],
+                                // the same stretches), the serial work and energy term.
+                                let (i0, i1) = window_indices(step, window_deg);
+                                let len = (i1 - i0 + 1) as usize;
+                                let m = f.reach();
+                                let mut pw = Vec::new();
+                                copy_periodic(p, i0 - m as i64, len + 2 * m, &mut pw);
+                                let mut vs = vec![[0.0; 2]; len];
+                                assert!(f.values_slopes_into(&pw, m, &mut vs));
+                                let bits = |x: f64, y: f64| x.to_bits() == y.to_bits();
+                                for (j, (d, r)) in w1.s.slope.iter().zip(&vs).enumerate() {
+                                    assert!(
+                                        bits(*d, r[1]),
+                                        "{what}: slope at {j}: {d} against {}",
+                                        r[1]
+                                    );
+                                }
+                                if wall_heat.is_some() {
+                                    for (j, (x, r)) in w1.s.ps.iter().zip(&vs).enumerate() {
+                                        assert!(
+                                            bits(*x, r[0]),
+                                            "{what}: p at {j}: {x} against {}",
+                                            r[0]
+                                        );
+                                    }
+                                }
+                                let (h, inv) =
+                                    (step.to_radians(), 1.0 / (opts.gamma.nominal() - 1.0));
+                                let (mut work, mut prev, mut res2) = (0.0, 0.0, 0.0);
+                                let mut q0 = Vec::with_capacity(len);
+                                for (j, r) in vs.iter().enumerate() {
+                                    let k = wrap(i0 + j as i64, n as i64);
+                                    let (pj, ps) = (pw[m + j], r[0]);
+                                    let pdv = pj * dv[k];
+                                    if j > 0 {
+                                        work += 0.5 * h * (prev + pdv);
+                                    }
+                                    prev = pdv;
+                                    res2 += (pj - ps) * (pj - ps);
+                                    q0.push(work + ps * v[k] * inv);
+                                }
+                                assert!(
+                                    res2.total_cmp(&w1.residual2).is_eq()
+                                        || close(w1.residual2, res2, 1e-12),
+                                    "{what}: residuals {} against {res2}",
+                                    w1.residual2
+                                );
+                                let q1 = &w1.s.qs;
+                                let scale = q0
+                                    .iter()
+                                    .filter(|q| q.is_finite())
+                                    .fold(0.0f64, |a, q| a.max(q.abs()));
+                                for (j, (a, b)) in q1.iter().zip(&q0).enumerate() {
+                                    assert!(
+                                        a.total_cmp(b).is_eq() || (a - b).abs() <= 1e-12 * scale,
+                                        "{what}: Q at {j}: {a} against {b}"
+                                    );
+                                }
+                                let (e1, e0) = (w1.extremes.unwrap(), extremes(&q0));
+                                let tie = |a: usize, b: usize| {
+                                    a == b || (q0[a] - q0[b]).abs() <= 1e-12 * scale
+                                };
+                                assert!(
+                                    tie(e1.0, e0.0) && tie(e1.1, e0.1),
+                                    "{what}: {e1:?} {e0:?}"
+                                );
+                                checked += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked >= 500, "{checked}");
+    }
+
+    /// [`WindowLaw`] serves only the law, window, step and filter it was
+    /// made from: another copy of the same law (other memory), another
+    /// window or filter take their own figures, and give the same
+    /// analysis.
+    #[test]
+    fn a_window_law_serves_its_own_law_only() {
+        let cyl = cylinder();
+        let step = 0.1f64;
+        let n = 7200;
+        let (v, dv) = cyl.fill_volume(step.to_radians(), n);
+        let mut p = fired(&v, step, 600.0);
+        noise(&mut p, 0.02e5, 5);
+        let (v2, dv2) = (v.clone(), dv.clone());
+        let opts = Options::default();
+        let law = WindowLaw::new(&v, &dv, step, &opts).unwrap();
+        let grid = CycleGrid {
+            pressure: &p,
+            volume: &v,
+            dvolume: &dv,
+            step_deg: step,
+            rpm: None,
+            sample_step_deg: None,
+        };
+        let other = CycleGrid {
+            volume: &v2,
+            dvolume: &dv2,
+            ..grid
+        };
+        let f = Filter::new(opts.smoothing, step);
+        let (i0, i1) = window_indices(step, opts.window_deg);
+        assert!(law.fits(&grid, (i0, i1), &f));
+        assert!(!law.fits(&other, (i0, i1), &f));
+        assert!(!law.fits(&grid, (i0 + 1, i1), &f));
+        let f5 = Filter::new(Smoothing::SavitzkyGolay { width_deg: 5.0 }, step);
+        assert!(!law.fits(&grid, (i0, i1), &f5));
+        let plain = analyse_with(&grid, &opts, &f.clone().plain()).unwrap();
+        for (g, o) in [(&grid, &opts), (&other, &opts)] {
+            let a = analyse_with_law(g, o, &f, Some(&law)).unwrap();
+            same(&a, &plain, "given or not", 1e7);
+        }
+        let wide = Options {
+            window_deg: (-100.0, 120.0),
+            ..Options::default()
+        };
+        let a = analyse_with_law(&grid, &wide, &f, Some(&law)).unwrap();
+        let b = analyse_with(&grid, &wide, &f.clone().plain()).unwrap();
+        same(&a, &b, "another window", 1e7);
+        // The figures are the serial pass's, bit for bit.
+        let (mut s, plain_f) = (Scratch::default(), f.clone().plain());
+        let w = cumulative(&grid, &opts, &plain_f, &mut s, None).unwrap();
+        assert_eq!(
+            (law.dv2.to_bits(), law.v_max.to_bits()),
+            (w.dv2.to_bits(), w.v_max.to_bits())
+        );
+    }
+
+    /// [`extremes_adding`] against adding first and the running loop, on
+    /// data shaped to defeat it: the offset from every place about a
+    /// block's edges, offsets of 0, ±1e9, ±∞ and NaN, ties across the
+    /// part that takes it and the part that does not, NaN, ±∞, ±0.
+    #[test]
+    fn adding_while_scanning_is_adding_then_scanning() {
+        fn running(x: &[f64]) -> (usize, usize) {
+            let (mut min, mut max, mut soc) = ((f64::INFINITY, 0), (f64::NEG_INFINITY, 0), 0);
+            for (j, &q) in x.iter().enumerate() {
+                if q < min.0 {
+                    min = (q, j);
+                }
+                if q > max.0 {
+                    max = (q, j);
+                    soc = min.1;
+                }
+            }
+            (soc, max.1)
+        }
+        let mut cases: Vec<Vec<f64>> = Vec::new();
+        for len in [
+            1usize, 5, 63, 64, 65, 128, 129, 255, 256, 257, 700, 2101, 9000,
+        ] {
+            let mut p = vec![0.0; len];
+            noise(&mut p, 1.0, len as u64);
+            cases.push(p.clone());
+            cases.push(vec![2.5; len]);
+            cases.push((0..len).map(|k| (k as f64 * 0.01).sin()).collect());
+            let mut t = p.clone();
+            t[len / 3] = f64::NAN;
+            t[len - 1] = f64::INFINITY;
+            t[0] = -0.0;
+            cases.push(t);
+            let mut t = p;
+            t[len / 2] = f64::NEG_INFINITY;
+            cases.push(t);
+        }
+        for x in &cases {
+            let len = x.len();
+            let froms = [0, 1, 63, 64, 65, 127, 128, 129, len / 2, len - 1, len];
+            for from in froms.into_iter().filter(|&f| f <= len) {
+                for add in [
+                    0.0,
+                    1.5,
+                    -1e9,
+                    1e9,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                    f64::NAN,
+                ] {
+                    let mut want = x.clone();
+                    want[from..].iter_mut().for_each(|q| *q += add);
+                    let mut got = x.clone();
+                    let e = extremes_adding(&mut got, (from, add));
+                    assert!(
+                        got.iter()
+                            .zip(&want)
+                            .all(|(a, b)| a.to_bits() == b.to_bits()),
+                        "{len} {from} {add}"
+                    );
+                    assert_eq!(e, running(&want), "{len} {from} {add}");
+                    assert_eq!(extremes(&want), running(&want), "{len} {from} {add}");
+                }
+            }
+        }
     }
 
     /// The scans of [`first_max`] and [`extremes`] against the running

@@ -36,12 +36,13 @@ pub mod friction;
 pub mod gamma;
 pub mod knock;
 pub mod smooth;
+mod sweep;
 pub mod wall;
 pub mod wiebe;
 
 pub use burn::{
-    BurnPoints, Curves, CycleBurn, CycleGrid, DEFAULT_LEVELS, DEFAULT_WINDOW, Options, analyse,
-    analyse_with, curves, gross_work,
+    BurnPoints, Curves, CycleBurn, CycleGrid, DEFAULT_LEVELS, DEFAULT_WINDOW, Options, WindowLaw,
+    analyse, analyse_with, analyse_with_law, curves, gross_work,
 };
 pub use gamma::{DEFAULT_GAMMA, DEFAULT_INTAKE_TEMP_K, DEFAULT_IVC_DEG, GammaModel, brunt};
 pub use knock::{Knock, KnockFigures, band_passed_window, knock};

@@ -100,24 +100,28 @@ pub const MOMENTS_MIN_HALF: usize = 8;
 /// which slide one point along in O(1): `T_j(c + 1)` is the binomial
 /// combination of `U_j = T_j(c) − (−m)^j p_(c−m) + (m + 1)^j p_(c+m+1)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Moments {
+pub(crate) struct Moments {
     /// Half the window (points).
-    m: usize,
+    pub(crate) m: usize,
     /// `a`, `b` of the value's weights.
-    value: [f64; 2],
+    pub(crate) value: [f64; 2],
     /// `c`, `d` of the slope's weights (per index).
-    slope: [f64; 2],
+    pub(crate) slope: [f64; 2],
     /// The moments are summed afresh every this many points, which bounds
     /// the rounding the updates carry (it grows as the cube of the points
     /// since the last fresh sum over the square of `m`).
-    refresh: usize,
+    pub(crate) refresh: usize,
 }
 
 impl Moments {
+    /// The stretch of fresh sums ([`Self::refresh`]) for `m` points either
+    /// side, when the running sums are taken at all.
+    pub(crate) fn refresh_of(m: usize) -> Option<usize> {
+        (m >= MOMENTS_MIN_HALF).then(|| (4 * m).clamp(32, 128))
+    }
+
     fn new(m: usize) -> Option<Self> {
-        if m < MOMENTS_MIN_HALF {
-            return None;
-        }
+        let refresh = Self::refresh_of(m)?;
         let (v, d) = (savitzky_golay_poly(m, 0), savitzky_golay_poly(m, 1));
         // Weights in u = i/m: value x0 + x2 u², slope (x1 u + x3 u³)/m.
         let m2 = (m * m) as f64;
@@ -125,7 +129,7 @@ impl Moments {
             m,
             value: [v[0], v[2] / m2],
             slope: [d[1] / m2, d[3] / (m2 * m2)],
-            refresh: (4 * m).clamp(32, 128),
+            refresh,
         })
     }
 }
@@ -154,6 +158,16 @@ impl Filter {
             gain,
             moments: Moments::new(m),
         }
+    }
+
+    /// The running sums' figures, when the filter takes them.
+    pub(crate) fn moments(&self) -> Option<&Moments> {
+        self.moments.as_ref()
+    }
+
+    /// The grid step (deg) the weights were made for.
+    pub(crate) fn step_deg(&self) -> f64 {
+        self.step_deg
     }
 
     /// The same filter with the plain weight sums only (the reference
@@ -359,7 +373,7 @@ fn dot(w: &[f64], s: &[f64]) -> f64 {
 /// `T_j = Σ i^j (p_(c+i) − r)` for `j` in `0..K` over a window `w` of
 /// `2m + 1` points centred on `c`, the plain sums.
 #[inline]
-fn moments<const K: usize>(w: &[f64], r: f64, m: usize) -> [f64; K] {
+pub(crate) fn moments<const K: usize>(w: &[f64], r: f64, m: usize) -> [f64; K] {
     let mut t = [0.0f64; K];
     let mut x = -(m as f64);
     for &p in w {
@@ -376,7 +390,7 @@ fn moments<const K: usize>(w: &[f64], r: f64, m: usize) -> [f64; K] {
 /// One number of the running sums, or two side by side: two stretches in
 /// the two lanes of one vector register, each lane's numbers those of the
 /// same steps on its stretch alone (IEEE arithmetic lane by lane).
-trait Lane:
+pub(crate) trait Lane:
     Copy
     + std::ops::Add<Output = Self>
     + std::ops::Sub<Output = Self>
@@ -385,12 +399,32 @@ trait Lane:
 {
     /// `x` in every lane.
     fn splat(x: f64) -> Self;
+    /// `f` applied lane by lane.
+    fn map(self, f: impl Fn(f64) -> f64) -> Self;
+    /// `if self > m { self } else { m }` lane by lane (a NaN `self` gives
+    /// `m`: the running largest that passes NaN over).
+    fn gt_max(self, m: Self) -> Self;
+    /// `if self < m { self } else { m }` lane by lane (a NaN `self` gives
+    /// `m`).
+    fn lt_min(self, m: Self) -> Self;
 }
 
 impl Lane for f64 {
     #[inline(always)]
     fn splat(x: f64) -> Self {
         x
+    }
+    #[inline(always)]
+    fn map(self, f: impl Fn(f64) -> f64) -> Self {
+        f(self)
+    }
+    #[inline(always)]
+    fn gt_max(self, m: Self) -> Self {
+        if self > m { self } else { m }
+    }
+    #[inline(always)]
+    fn lt_min(self, m: Self) -> Self {
+        if self < m { self } else { m }
     }
 }
 
@@ -399,20 +433,52 @@ impl Lane for wide::f64x2 {
     fn splat(x: f64) -> Self {
         wide::f64x2::splat(x)
     }
+    #[inline(always)]
+    fn map(self, f: impl Fn(f64) -> f64) -> Self {
+        let [a, b] = self.to_array();
+        wide::f64x2::new([f(a), f(b)])
+    }
+    #[inline(always)]
+    fn gt_max(self, m: Self) -> Self {
+        // SSE2's MAXPD is `self > m ? self : m` (either NaN: `m`), exactly
+        // the running compare; elsewhere the compare and a blend.
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+        {
+            self.fast_max(m)
+        }
+        #[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
+        {
+            use wide::CmpGt;
+            self.cmp_gt(m).blend(self, m)
+        }
+    }
+    #[inline(always)]
+    fn lt_min(self, m: Self) -> Self {
+        // MINPD: `self < m ? self : m` (either NaN: `m`).
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+        {
+            self.fast_min(m)
+        }
+        #[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
+        {
+            use wide::CmpLt;
+            self.cmp_lt(m).blend(self, m)
+        }
+    }
 }
 
 /// What a sweep gives at each centre from the moments `T` (about the
 /// stretch's sample `r`): `K` numbers.
-trait Outputs<const K: usize> {
+pub(crate) trait Outputs<const K: usize> {
     fn y<T: Lane>(&self, t: &[T; 4], r: T) -> [T; K];
 }
 
 /// The smoothed value, `r + (a T0 + b T2)` (`Σ w = 1` puts `r` back).
-struct Value([f64; 2]);
+pub(crate) struct Value(pub(crate) [f64; 2]);
 /// The slope per degree, `(c T1 + d T3) / step` (`Σ w = 0` drops `r`).
-struct Slope([f64; 2], f64);
+pub(crate) struct Slope(pub(crate) [f64; 2], pub(crate) f64);
 /// Both, `[value, slope]`.
-struct ValueSlope(Value, Slope);
+pub(crate) struct ValueSlope(pub(crate) Value, pub(crate) Slope);
 
 impl Outputs<1> for Value {
     #[inline(always)]
@@ -443,7 +509,7 @@ impl Outputs<2> for ValueSlope {
 /// 1`, their squares and cubes). `T3` only when `SLOPE`; it feeds none of
 /// the others.
 #[inline(always)]
-fn slide<T: Lane, const SLOPE: bool>(t: &mut [T; 4], qo: T, qi: T, c: &[T; 6]) {
+pub(crate) fn slide<T: Lane, const SLOPE: bool>(t: &mut [T; 4], qo: T, qi: T, c: &[T; 6]) {
     let u0 = t[0] - qo + qi;
     let u1 = t[1] + c[0] * qo + c[1] * qi;
     let u2 = t[2] - c[2] * qo + c[3] * qi;
@@ -548,7 +614,7 @@ impl Moments {
 /// samples `r`, side by side in the lanes of one vector register: lane by
 /// lane the same steps (`T3` only when `SLOPE`).
 #[inline(always)]
-fn two_starts<const SLOPE: bool>(
+pub(crate) fn two_starts<const SLOPE: bool>(
     (wa, wb): (&[f64], &[f64]),
     r: wide::f64x2,
     m: usize,

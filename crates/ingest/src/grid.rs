@@ -383,6 +383,9 @@ pub struct Accumulator {
     spacing: f64,
     /// The smoothing filter of the combustion analysis, built once.
     filter: Option<enginedyn_combustion::Filter>,
+    /// The volume law's figures over the burn window, taken once from
+    /// `law` (which it lives beside) for every cycle's analysis.
+    window_law: Option<enginedyn_combustion::WindowLaw>,
 }
 
 impl Accumulator {
@@ -403,6 +406,12 @@ impl Accumulator {
                 "--peg polytropic needs the engine's volume law".into(),
             ));
         }
+        let window_law = match (&law, opts.combustion.as_deref()) {
+            (Some(law), Some(c)) => {
+                enginedyn_combustion::WindowLaw::new(law.volume(), law.dvolume(), step, c)
+            }
+            _ => None,
+        };
         Ok(Self {
             cycle_deg,
             quantity,
@@ -425,6 +434,7 @@ impl Accumulator {
                 .combustion
                 .as_ref()
                 .map(|c| enginedyn_combustion::Filter::new(c.smoothing, step)),
+            window_law,
             opts,
         })
     }
@@ -573,8 +583,9 @@ impl Accumulator {
             rpm,
             sample_step_deg,
         };
-        let r = enginedyn_combustion::analyse_with(&grid, opts, filter)
-            .map_err(|e| IngestError::Data(e.to_string()))?;
+        let r =
+            enginedyn_combustion::analyse_with_law(&grid, opts, filter, self.window_law.as_ref())
+                .map_err(|e| IngestError::Data(e.to_string()))?;
         Ok(Some(CycleCombustion {
             imep_gross_pa: r.gross_work_j / cyl.swept_volume(),
             heat_released_j: r.heat_released_j,
