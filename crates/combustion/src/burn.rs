@@ -1637,14 +1637,9 @@ mod tests {
         }
     }
 
-    /// The analysis with the running sums against the same with the plain
-    /// weight sums, on traces shaped to defeat them: noise, a premixed
-    /// spike and a one-point spike, a flat stretch, a step, a long filter,
-    /// a fine grid, the wall heat and γ(T), a motored cycle, a wide window.
-    #[test]
-    fn the_running_sums_give_the_plain_analysis() {
-        let cyl = cylinder();
-        let woschni = WallHeat {
+    /// Woschni's wall heat on the test cylinder (the tests' one setting).
+    fn woschni(cyl: &Cylinder) -> WallHeat {
+        WallHeat {
             model: WallModel::Woschni,
             wall_temp_k: 450.0,
             intake_temp_k: 320.0,
@@ -1652,7 +1647,17 @@ mod tests {
             bore_m: 0.076,
             stroke_m: 0.071,
             swept_m3: cyl.swept_volume(),
-        };
+        }
+    }
+
+    /// The analysis with the running sums against the same with the plain
+    /// weight sums, on traces shaped to defeat them: noise, a premixed
+    /// spike and a one-point spike, a flat stretch, a step, a long filter,
+    /// a fine grid, the wall heat and γ(T), a motored cycle, a wide window.
+    #[test]
+    fn the_running_sums_give_the_plain_analysis() {
+        let cyl = cylinder();
+        let woschni = woschni(&cyl);
         let (mut checked, mut burning) = (0, 0);
         for step in [0.1f64, 0.05] {
             let n = (720.0 / step).round() as usize;
@@ -1779,15 +1784,7 @@ mod tests {
     #[test]
     fn the_sweep_gives_the_plain_pass() {
         let cyl = cylinder();
-        let woschni = WallHeat {
-            model: WallModel::Woschni,
-            wall_temp_k: 450.0,
-            intake_temp_k: 320.0,
-            ivc_deg: -140.0,
-            bore_m: 0.076,
-            stroke_m: 0.071,
-            swept_m3: cyl.swept_volume(),
-        };
+        let woschni = woschni(&cyl);
         let mut checked = 0;
         for (cycle, step) in [(720.0f64, 0.1f64), (720.0, 0.05), (360.0, 0.1)] {
             let n = (cycle / step).round() as usize;
