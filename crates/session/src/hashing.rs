@@ -5,7 +5,9 @@
 //! A core is idle when fewer readers hash at once than the machine has
 //! cores: `run` on one file and `batch --jobs 1` on two cores hash beside
 //! the parse; `batch --jobs 2` (or two Python threads) on two cores hash
-//! on their own threads, where a third thread would only take turns.
+//! on their own threads, where a third thread would only take turns. A
+//! process told to keep to one thread (`OMP_NUM_THREADS=1`, as Dask's
+//! workers are, or `RAYON_NUM_THREADS=1`) hashes on its reading thread.
 //!
 //! ```
 //! use std::io::Read;
@@ -32,13 +34,36 @@ const IN_FLIGHT: usize = 4;
 /// that a 1 MB diagram is hashed beside its parse in four.
 const BLOCK: usize = 1 << 18;
 
-/// The cores this process may use (1 when unknown).
+/// The cores this process may use (1 when unknown): the machine's, as
+/// its affinity and cgroup quota allow, and no more than a thread count
+/// the process was told to keep to ([`THREAD_LIMITS`]).
 fn cores() -> usize {
     static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-    *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+    *CORES.get_or_init(|| {
+        let machine = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let told = THREAD_LIMITS.map(|k| std::env::var(k).ok());
+        cores_of(machine, &told)
+    })
 }
 
-/// Threads held in [`BUSY`], given back when it is dropped.
+/// Variables that tell a process how many threads to keep to: Dask's
+/// worker processes start with `OMP_NUM_THREADS=1` (as do many job
+/// scripts that run several processes on one machine), where a hashing
+/// thread would take a core another worker uses.
+const THREAD_LIMITS: [&str; 2] = ["OMP_NUM_THREADS", "RAYON_NUM_THREADS"];
+
+/// `machine` cores, or fewer when a limit in `told` (the variables'
+/// values; unset, empty, zero or not a number: no limit) says so.
+fn cores_of(machine: usize, told: &[Option<String>]) -> usize {
+    told.iter()
+        .flatten()
+        .filter_map(|v| v.trim().parse::<usize>().ok())
+        .filter(|&n| n > 0)
+        .fold(machine, usize::min)
+}
+
+/// Threads held in the count of busy readers, given back when it is
+/// dropped.
 pub struct Held(usize);
 
 impl Held {
@@ -334,6 +359,18 @@ mod tests {
                 w.set(kept);
                 some
             }));
+        }
+    }
+
+    #[test]
+    fn a_thread_limit_caps_the_cores() {
+        let s = |v: &str| Some(v.to_string());
+        assert_eq!(cores_of(8, &[None, None]), 8);
+        assert_eq!(cores_of(8, &[s("1"), None]), 1);
+        assert_eq!(cores_of(8, &[s(" 3 "), s("2")]), 2);
+        assert_eq!(cores_of(2, &[s("16"), None]), 2);
+        for ignored in ["", "0", "two", "-1", "1.5"] {
+            assert_eq!(cores_of(4, &[s(ignored), None]), 4, "{ignored:?}");
         }
     }
 
