@@ -1637,6 +1637,19 @@ mod tests {
         }
     }
 
+    /// A cycle on its grid, without a speed or a sample step (the tests'
+    /// usual case).
+    fn test_grid<'a>(p: &'a [f64], v: &'a [f64], dv: &'a [f64], step: f64) -> CycleGrid<'a> {
+        CycleGrid {
+            pressure: p,
+            volume: v,
+            dvolume: dv,
+            step_deg: step,
+            rpm: None,
+            sample_step_deg: None,
+        }
+    }
+
     /// Woschni's wall heat on the test cylinder (the tests' one setting).
     fn woschni(cyl: &Cylinder) -> WallHeat {
         WallHeat {
@@ -1721,14 +1734,7 @@ mod tests {
                     if opts.check_filter(step).is_err() {
                         continue;
                     }
-                    let g = CycleGrid {
-                        pressure: p,
-                        volume: &v,
-                        dvolume: &dv,
-                        step_deg: step,
-                        rpm: None,
-                        sample_step_deg: None,
-                    };
+                    let g = test_grid(p, &v, &dv, step);
                     let f = Filter::new(opts.smoothing, step);
                     let what = format!("{name} at {step}°, {:?}", opts.smoothing);
                     let fast = analyse_with(&g, opts, &f).unwrap();
@@ -1845,14 +1851,7 @@ mod tests {
                             if opts.check_grid(step, cycle).is_err() || f.moments().is_none() {
                                 continue;
                             }
-                            let g = CycleGrid {
-                                pressure: p,
-                                volume: &v,
-                                dvolume: &dv,
-                                step_deg: step,
-                                rpm: None,
-                                sample_step_deg: None,
-                            };
+                            let g = test_grid(p, &v, &dv, step);
                             let what = format!(
                                 "{name}, {cycle}° at {step}°, {window_deg:?}, SG {width_deg}°, {wall_heat:?}"
                             );
@@ -1967,14 +1966,7 @@ mod tests {
         let (v2, dv2) = (v.clone(), dv.clone());
         let opts = Options::default();
         let law = WindowLaw::new(&v, &dv, step, &opts).unwrap();
-        let grid = CycleGrid {
-            pressure: &p,
-            volume: &v,
-            dvolume: &dv,
-            step_deg: step,
-            rpm: None,
-            sample_step_deg: None,
-        };
+        let grid = test_grid(&p, &v, &dv, step);
         let other = CycleGrid {
             volume: &v2,
             dvolume: &dv2,
@@ -2217,14 +2209,7 @@ mod tests {
                 smoothing,
                 ..Options::default()
             };
-            let g = CycleGrid {
-                pressure: &p,
-                volume: &v,
-                dvolume: &dv,
-                step_deg: step,
-                rpm: None,
-                sample_step_deg: None,
-            };
+            let g = test_grid(&p, &v, &dv, step);
             let burn = analyse(&g, &opts).unwrap();
             let c = curves(&g, &opts, &burn).unwrap();
             let f = Filter::new(smoothing, step).plain();
