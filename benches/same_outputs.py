@@ -27,6 +27,7 @@ import argparse
 import csv
 import glob
 import json
+import math
 import os
 import re
 import subprocess
@@ -55,7 +56,9 @@ def numbers_apart(a, b, rel, path=""):
             return [f"{path}: length"]
         return [k for i, (x, y) in enumerate(zip(a, b)) for k in numbers_apart(x, y, rel, f"{path}[{i}]")]
     if isinstance(a, float) and isinstance(b, (int, float)) or isinstance(b, float) and isinstance(a, int):
-        return [] if abs(a - b) <= rel * max(abs(a), abs(b)) else [f"{path}: {a!r} vs {b!r}"]
+        if a == b or math.isnan(a) and math.isnan(b) or abs(a - b) <= rel * max(abs(a), abs(b)):
+            return []
+        return [f"{path}: {a!r} vs {b!r}"]
     return [] if a == b else [f"{path}: {a!r} vs {b!r}"]
 
 
@@ -90,7 +93,7 @@ def cells(text):
 
 
 def tables(folder):
-    """Each Parquet table under `folder` as sorted rows (None without pyarrow)."""
+    """Each Parquet table under `folder` as (columns, rows) (None without pyarrow)."""
     try:
         import pyarrow.parquet as pq
     except ImportError:
@@ -98,21 +101,20 @@ def tables(folder):
     out = {}
     for f in sorted(glob.glob(os.path.join(folder, "**", "*.parquet"), recursive=True)):
         t = pq.read_table(f)
-        out[os.path.relpath(f, folder)] = (t.column_names, sorted(map(repr, t.to_pylist())))
+        # In the order written (`--jobs 1`: the same order from both builds).
+        out[os.path.relpath(f, folder)] = (t.column_names, t.to_pylist())
     return out
 
 
-def rows_within(a, b, rel):
-    """Parquet rows (their reprs, sorted) equal but for numbers within `rel`."""
-    import ast
-
-    if len(a) != len(b):
-        return False
-    for x, y in zip(a, b):
-        dx, dy = ast.literal_eval(x.replace("nan", "None")), ast.literal_eval(y.replace("nan", "None"))
-        if numbers_apart(dx, dy, rel):
-            return False
-    return True
+def file_verdict(x, y, rel):
+    """A written file of both builds (bytes, or a table's columns and rows)."""
+    if isinstance(x, bytes):
+        return compare((0, x, b""), (0, y, b""), rel)
+    if x[0] != y[0] or len(x[1]) != len(y[1]):
+        return "differs", ["columns or rows"]
+    if not numbers_apart(x[1], y[1], 0.0):
+        return "same", []
+    return ("within", ["rows"]) if rel and not numbers_apart(x[1], y[1], rel) else ("differs", ["rows"])
 
 
 def main():
@@ -171,16 +173,12 @@ def main():
         verdict, why = "same", []
         if outs[0][0] != 0 or outs[0][:2] != outs[1][:2] or outs[0][2].keys() != outs[1][2].keys():
             verdict, why = "differs", ["exit, log or files"]
-        elif outs[0] != outs[1]:
+        else:
+            rank = {"same": 0, "within": 1, "differs": 2}
             for name in outs[0][2]:
-                x, y = outs[0][2][name], outs[1][2][name]
-                if x != y:
-                    verdict, why = compare((0, x if isinstance(x, bytes) else repr(x).encode(), b""),
-                                           (0, y if isinstance(y, bytes) else repr(y).encode(), b""), a.rel)
-                    if isinstance(x, tuple):
-                        verdict, why = ("within", ["rows"]) if a.rel and x[0] == y[0] and rows_within(x[1], y[1], a.rel) else ("differs", ["rows"])
-                    if verdict == "differs":
-                        break
+                v, w = file_verdict(outs[0][2][name], outs[1][2][name], a.rel)
+                if rank[v] > rank[verdict]:
+                    verdict, why = v, [f"{name}: {x}" for x in w]
         counts[verdict] += 1
         print(f"{verdict:8} {label} ({len(outs[0][2])} files)" + (f": {'; '.join(why[:6])}" if why else ""))
     print(f"{len(cases) + 2} cases: {counts['same']} the same bytes, {counts['within']} within {a.rel:g} relative, "
