@@ -34,8 +34,12 @@ pub struct Session {
     /// traces tables (a campaign); otherwise it is freed after its analysis.
     pub keep_grid: bool,
     /// The motion and volume law on the grid, built once for every file
-    /// (`None` when the model does not apply: the analysis then says why).
-    tables: Option<enginedyn_pipeline::Tables>,
+    /// when the first file needs them (`None` when the model does not
+    /// apply: the analysis then says why). A batch that only parses
+    /// (`--parse-only`) never builds them.
+    tables: std::sync::OnceLock<Option<enginedyn_pipeline::Tables>>,
+    /// The grid's points a cycle, for the tables.
+    points: usize,
 }
 
 /// One operating point analysed: the analysis and the options it used
@@ -71,8 +75,7 @@ impl Session {
         let (parse, mut grid) = diagram_options(&loaded.engine, &reader, step, opts.interp)?;
         grid.combustion = (!method.burn.off)
             .then(|| std::sync::Arc::new(method.burn.options_for(&loaded.engine, reader.rpm)));
-        let n = (loaded.engine.cycle().to_degrees() / step).round() as usize;
-        let tables = enginedyn_pipeline::Tables::new(&loaded.engine, n, &opts).ok();
+        let points = (loaded.engine.cycle().to_degrees() / step).round() as usize;
         Ok(Self {
             loaded,
             reader,
@@ -81,7 +84,8 @@ impl Session {
             grid,
             opts,
             keep_grid: false,
-            tables,
+            tables: std::sync::OnceLock::new(),
+            points,
         })
     }
 
@@ -90,9 +94,13 @@ impl Session {
         &self.loaded.engine
     }
 
-    /// The grid tables shared by every file.
+    /// The grid tables shared by every file, built by the first call.
     pub fn tables(&self) -> Option<&enginedyn_pipeline::Tables> {
-        self.tables.as_ref()
+        self.tables
+            .get_or_init(|| {
+                enginedyn_pipeline::Tables::new(&self.loaded.engine, self.points, &self.opts).ok()
+            })
+            .as_ref()
     }
 
     /// One operating point from one diagram, or one diagram per cylinder in
