@@ -194,6 +194,49 @@ mod tests {
             assert_eq!(format!("{rows:?}"), format!("{columns:?}"), "case {k}");
         }
     }
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        /// The blocks of rows the columns' fast path checks at once
+        /// (`fast::long_columns`) stop where the rows would: one sample
+        /// spoiled anywhere in a block (any place in it), each way a row
+        /// can stop the run.
+        #[test]
+        fn a_spoiled_sample_stops_the_columns_where_it_stops_the_rows(
+            at in 0usize..400,
+            how in 0usize..9,
+            with_cycle in proptest::bool::ANY,
+        ) {
+            let opts = ParseOptions::new(720.0);
+            let mut names = vec!["crank_deg".to_string(), "pressure_bar".to_string()];
+            if with_cycle {
+                names.push("cycle".into());
+            }
+            let n = 7_400;
+            let mut a: Vec<f64> = (0..n).map(|k| (k % 7_200) as f64 * 0.1 - 360.0).collect();
+            let mut p: Vec<f64> = (0..n).map(|k| 2.0 + ((k % 7_200) as f64 * 1e-3).sin()).collect();
+            let mut c: Vec<f64> = (0..n).map(|k| (k / 7_200) as f64).collect();
+            let k = 100 + at;
+            match how {
+                0 => p[k] = f64::NAN,
+                1 => p[k] = f64::INFINITY,
+                2 => a[k] = f64::NAN,
+                3 => a[k] = f64::NEG_INFINITY,
+                4 => a[k] = a[k - 1],
+                5 => a[k] = a[k - 1] + 800.0,
+                6 => c[k] = 7.0,
+                7 => p[k] = -f64::INFINITY,
+                _ => a[k] -= 0.05,
+            }
+            let mut cols: Vec<&[f64]> = vec![&a, &p];
+            if with_cycle {
+                cols.push(&c);
+            }
+            let rows = by_rows(&names, &cols, &opts);
+            let columns = by_columns(&names, &cols, &opts);
+            proptest::prop_assert_eq!(format!("{rows:?}"), format!("{columns:?}"));
+        }
+    }
+
     /// A measured-like fixture's columns (a CSV of numbers under a header).
     fn fixture(name: &str) -> (Vec<String>, Vec<Vec<f64>>) {
         let path = format!(

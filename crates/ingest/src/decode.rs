@@ -103,11 +103,13 @@ impl Field {
         let at = self.byte;
         match self.kind {
             // The usual channels: whole aligned bytes, one load each.
-            Kind::F64(None) => out.extend(rows.map(|r| f64::from_le_bytes(bytes(r, at)))),
+            Kind::F64(None) => whole(records, stride, at, out, f64::from_le_bytes),
             Kind::F64(Some((f, o))) => {
-                out.extend(rows.map(|r| f * f64::from_le_bytes(bytes(r, at)) + o))
+                whole(records, stride, at, out, |b| f * f64::from_le_bytes(b) + o)
             }
-            Kind::F32 => out.extend(rows.map(|r| f64::from(f32::from_le_bytes(bytes(r, at))))),
+            Kind::F32 => whole(records, stride, at, out, |b| {
+                f64::from(f32::from_le_bytes(b))
+            }),
             Kind::Unsigned => out.extend(rows.map(|r| self.raw(r) as f64)),
             Kind::Signed => {
                 let up = 64 - self.bits;
@@ -136,6 +138,37 @@ impl Field {
             v & ((1u64 << self.bits) - 1)
         }
     }
+}
+
+/// The samples of a field of whole bytes (`N` from `at` in each record of
+/// `stride` bytes), each read by `value`, appended to `out`: four records
+/// a step, the field's bounds checked once.
+#[inline(always)]
+fn whole<const N: usize>(
+    records: &[u8],
+    stride: usize,
+    at: usize,
+    out: &mut Vec<f64>,
+    value: impl Fn([u8; N]) -> f64,
+) {
+    // The field lies within the record (`Field::of`); said here, the reads
+    // below need no check of their own.
+    if at + N > stride {
+        return;
+    }
+    out.reserve(records.len() / stride);
+    let mut fours = records.chunks_exact(4 * stride);
+    for four in &mut fours {
+        let (s1, s2, s3) = (stride, 2 * stride, 3 * stride);
+        out.extend_from_slice(&[
+            value(bytes(four, at)),
+            value(bytes(four, at + s1)),
+            value(bytes(four, at + s2)),
+            value(bytes(four, at + s3)),
+        ]);
+    }
+    let rest = fours.remainder().chunks_exact(stride);
+    out.extend(rest.map(|r| value(bytes(r, at))));
 }
 
 /// `N` bytes of `record` from `at` (the field was checked to lie within).

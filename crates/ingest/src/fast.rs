@@ -256,6 +256,36 @@ pub(crate) fn long_columns<C: AsRef<[f64]>>(
     // appended in one reserved pass each, the angle as `continues` gives it
     // (moved by the track's wrap, which the run does not change).
     let mut r = from;
+    // Whole blocks of rows first, each checked without a branch a row; the
+    // block that stops the run is then read row by row below.
+    // (An angle that is not finite never continues the track, so only the
+    // values are checked for that here.)
+    const B: usize = 8;
+    let ids: Vec<(&[f64], u64)> = [
+        cycles.map(|c| (c, cycle_bits)),
+        cylinders.map(|c| (c, cyl_bits)),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    while r + B <= end {
+        let (x, p) = (&xs[r..r + B], &ps[r..r + B]);
+        let a: [f64; B] = std::array::from_fn(|k| x[k] * x_scale - tdc);
+        let mut ok = true;
+        for k in 0..B {
+            ok &= p[k].is_finite();
+        }
+        for &(c, bits) in &ids {
+            ok &= c[r..r + B]
+                .iter()
+                .fold(true, |all, v| all & (v.to_bits() == bits));
+        }
+        let Some(w) = track.continues_all(&a).filter(|_| ok) else {
+            break;
+        };
+        track.take(w);
+        r += B;
+    }
     while r < end {
         let (x, p) = (xs[r], ps[r]);
         if !x.is_finite()
