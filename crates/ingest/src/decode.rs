@@ -6,7 +6,8 @@
 //! asammdf write: sorted records (no record id) in uncompressed data blocks
 //! (`##DT`, alone or under data lists of them), each channel a little-endian
 //! integer (any bit offset and width up to 64 bits) or an aligned float32
-//! or float64, with no conversion or, for float64, a linear one; a
+//! or float64, with no conversion or, for an integer or a float64, a
+//! linear one (raw counts of an indicating system's ADC, scaled); a
 //! channel's invalidation bit makes its sample NaN. Anything else (a
 //! compressed block, unsorted records, another data type or conversion, a
 //! block that is not whole) is [`Plain::new`]'s `None`, and the caller
@@ -36,11 +37,12 @@ struct Field {
     invalid: Option<(usize, u32)>,
 }
 
-/// The channel's data type and conversion, as falcon_mdf reads them.
+/// The channel's data type and conversion, as falcon_mdf reads them;
+/// `Some((factor, offset))`: a linear conversion.
 #[derive(Debug, Clone, Copy)]
 enum Kind {
-    Unsigned,
-    Signed,
+    Unsigned(Option<(f64, f64)>),
+    Signed(Option<(f64, f64)>),
     F32,
     /// A float64; `Some((factor, offset))`: a linear conversion.
     F64(Option<(f64, f64)>),
@@ -62,6 +64,11 @@ impl Field {
         }
         let (shift, bits) = (u32::from(ch.bit_offset), ch.bit_count);
         let identity = ch.conversion.is_identity();
+        let linear = match ch.conversion {
+            _ if identity => Some(None),
+            Conversion::Linear { offset, factor } => Some(Some((factor, offset))),
+            _ => None,
+        };
         let kind = match (ch.data_type, bits, shift) {
             (DataType::FloatLe, 64, 0) => match ch.conversion {
                 Conversion::None => Kind::F64(None),
@@ -69,8 +76,8 @@ impl Field {
                 _ => return None,
             },
             (DataType::FloatLe, 32, 0) if identity => Kind::F32,
-            (DataType::UIntLe, 1..=64, 0..=7) if identity => Kind::Unsigned,
-            (DataType::IntLe, 1..=64, 0..=7) if identity => Kind::Signed,
+            (DataType::UIntLe, 1..=64, 0..=7) => Kind::Unsigned(linear?),
+            (DataType::IntLe, 1..=64, 0..=7) => Kind::Signed(linear?),
             _ => return None,
         };
         let span = (shift + bits).div_ceil(8) as usize;
@@ -110,10 +117,23 @@ impl Field {
             Kind::F32 => whole(records, stride, at, out, |b| {
                 f64::from(f32::from_le_bytes(b))
             }),
-            Kind::Unsigned => out.extend(rows.map(|r| self.raw(r) as f64)),
-            Kind::Signed => {
+            // Whole aligned bytes, as a DAQ writes its counts.
+            Kind::Signed(c) if self.whole(16) => whole(records, stride, at, out, |b| {
+                scaled(i16::from_le_bytes(b).into(), c)
+            }),
+            Kind::Unsigned(c) if self.whole(16) => whole(records, stride, at, out, |b| {
+                scaled(u16::from_le_bytes(b).into(), c)
+            }),
+            Kind::Signed(c) if self.whole(32) => whole(records, stride, at, out, |b| {
+                scaled(i32::from_le_bytes(b).into(), c)
+            }),
+            Kind::Unsigned(c) if self.whole(32) => whole(records, stride, at, out, |b| {
+                scaled(u32::from_le_bytes(b).into(), c)
+            }),
+            Kind::Unsigned(c) => out.extend(rows.map(|r| scaled(self.raw(r) as f64, c))),
+            Kind::Signed(c) => {
                 let up = 64 - self.bits;
-                out.extend(rows.map(|r| (((self.raw(r) << up) as i64) >> up) as f64))
+                out.extend(rows.map(|r| scaled((((self.raw(r) << up) as i64) >> up) as f64, c)))
             }
         }
         if let Some((byte, bit)) = self.invalid {
@@ -123,6 +143,11 @@ impl Field {
                 }
             }
         }
+    }
+
+    /// True for a field of `bits` whole bytes from a byte's first bit.
+    fn whole(&self, bits: u32) -> bool {
+        self.shift == 0 && self.bits == bits
     }
 
     /// The field's bits, shifted down and masked: the bytes it touches read
@@ -137,6 +162,16 @@ impl Field {
         } else {
             v & ((1u64 << self.bits) - 1)
         }
+    }
+}
+
+/// A raw value through the channel's linear conversion, as falcon_mdf
+/// applies it (`factor * raw + offset`), or as it is.
+#[inline(always)]
+fn scaled(raw: f64, linear: Option<(f64, f64)>) -> f64 {
+    match linear {
+        Some((f, o)) => f * raw + o,
+        None => raw,
     }
 }
 

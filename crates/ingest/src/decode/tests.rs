@@ -130,20 +130,34 @@ fn noise(n: usize, seed: u64) -> Vec<u8> {
         .collect()
 }
 
-/// Channels of the first group: every shape the decoder reads, in a
-/// 42-byte record with one invalidation byte (43: records straddle blocks).
+/// Channels of the first group: every shape the decoder reads (integers
+/// with and without a linear conversion), in a 42-byte record with one invalidation byte (43: records straddle blocks).
 #[allow(clippy::type_complexity)]
 const WIDE: &[(&str, u8, u8, u8, u32, u32, Option<u32>, Option<(f64, f64)>)] = &[
     ("t", 2, 4, 0, 0, 64, None, None),
     ("u5 at bit 5", 0, 0, 5, 8, 5, None, None),
     ("i12 at bit 2", 0, 2, 2, 9, 12, Some(0), None),
     ("i8", 0, 2, 0, 11, 8, None, None),
-    ("u64", 0, 0, 0, 12, 64, None, None),
+    ("u64 linear", 0, 0, 0, 12, 64, None, Some((1e3, -3.0e-7))),
     ("i64", 0, 2, 0, 20, 64, Some(7), None),
     ("f32", 0, 4, 0, 28, 32, Some(3), None),
     ("f64 linear", 0, 4, 0, 32, 64, None, Some((-3.0, 0.25))),
-    ("i16", 0, 2, 0, 40, 16, Some(5), None),
+    ("i16 linear", 0, 2, 0, 40, 16, Some(5), Some((-2.5, 0.125))),
     ("u1 at bit 7", 0, 0, 7, 41, 1, None, None),
+    // Whole aligned integers laid over the bytes above (their own reads).
+    ("u32 linear", 0, 0, 0, 20, 32, None, Some((1.0, 0.5))),
+    ("i32", 0, 2, 0, 24, 32, Some(1), None),
+    ("u16", 0, 0, 0, 28, 16, None, None),
+    (
+        "i16 at byte 30, linear",
+        0,
+        2,
+        0,
+        30,
+        16,
+        None,
+        Some((0.0, -1e-3)),
+    ),
 ];
 
 /// The test file: group 1 `WIDE` (50 records in three ##DT blocks under a
