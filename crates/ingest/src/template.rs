@@ -46,6 +46,9 @@ pub(crate) struct Template {
     /// The angle cell's last digit: its index in `text` and its value (a
     /// step that leaves it below 10 is one addition).
     last: (usize, u64),
+    /// The digit before it (the point passed over): its index and value,
+    /// 10 when there is none. A carry into it below 9 is two additions.
+    before: (usize, u64),
     /// The shape of the last value read, which the next is read by first.
     shapes: Shapes,
 }
@@ -122,10 +125,12 @@ impl Template {
             dead: false,
             rows: 0,
             last: (0, 10),
+            before: (0, 10),
             shapes: Shapes::default(),
         };
         if let Some(j) = (s..e).rev().find(|&j| t.digit(j).is_some()) {
             t.last = (j, t.digit(j).unwrap_or(10));
+            t.before = t.digit_before(j);
         }
         t.advance();
         (!t.dead).then_some(t)
@@ -163,10 +168,38 @@ impl Template {
         }
     }
 
-    /// [`Self::advance`] digit by digit, with its carries; the cell grown
-    /// beyond its width makes the template dead.
+    /// The digit before byte `j` of the angle cell (a point passed over):
+    /// its index and value, or value 10 when there is none.
+    fn digit_before(&self, j: usize) -> (usize, u64) {
+        (self.x.0..j)
+            .rev()
+            .find_map(|i| self.digit(i).map(|d| (i, d)))
+            .unwrap_or((0, 10))
+    }
+
+    /// [`Self::advance`] when the last digit carries: into the digit
+    /// before it when that is below 9 (`87.9` → `88.0`, nine carries in
+    /// ten), else [`Self::carry_digits`].
     #[inline(never)]
     fn carry(&mut self) {
+        let ((j, d), (b, e)) = (self.last, self.before);
+        if self.step < 10 && e < 9 {
+            self.m += self.step;
+            let (word, shift) = Self::at(j);
+            self.text[word] -= (10 - self.step) << shift;
+            let (word, shift) = Self::at(b);
+            self.text[word] += 1 << shift;
+            self.last.1 = d + self.step - 10;
+            self.before.1 = e + 1;
+            return;
+        }
+        self.carry_digits();
+        self.before = self.digit_before(self.last.0);
+    }
+
+    /// [`Self::advance`] digit by digit, with its carries; the cell grown
+    /// beyond its width makes the template dead.
+    fn carry_digits(&mut self) {
         self.m += self.step;
         if self.step < 10 {
             // The last digit wraps, and one carries into the digits before
