@@ -42,6 +42,7 @@ mod text;
 mod time;
 mod trace;
 mod values;
+mod xls;
 
 pub use axis::CylinderAxis;
 pub use cancel::{CANCELLED, Cancel, Cancellable, cancel_error};

@@ -223,3 +223,36 @@ fn other_layouts_in_bounded_memory() {
     assert!(peak < 8 << 20, "time record: peak heap {} MB", peak >> 20);
     eprintln!("time record: peak heap {:.1} MB", peak as f64 / 1048576.0);
 }
+
+/// A damaged .xls whose one cell's row and column bytes were changed
+/// (row 65,535, column 255) would make calamine lay out a table of 65,536 ×
+/// 256 cells (hundreds of MB) as it opens the workbook; the sheet's span is
+/// refused first, in a few MB.
+#[test]
+fn a_damaged_xls_cell_address_is_refused_in_bounded_memory() {
+    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let mut xls = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/fixtures/measured/libreoffice_cycles.xls"
+    ))
+    .unwrap();
+    // The first NUMBER record (type 0x0203, 14 bytes): its row and column.
+    let at = xls
+        .windows(4)
+        .position(|w| w == [0x03, 0x02, 0x0e, 0x00])
+        .unwrap();
+    assert!(at % 512 < 504, "the record's address lies in one sector");
+    xls[at + 4..at + 8].copy_from_slice(&[0xff, 0xff, 0xff, 0x00]);
+    let before = NOW.load(Ordering::Relaxed);
+    PEAK.store(before, Ordering::Relaxed);
+    let e = enginedyn_ingest::parse(std::io::Cursor::new(&xls), &ParseOptions::new(720.0))
+        .unwrap_err()
+        .to_string();
+    let peak = PEAK.load(Ordering::Relaxed) - before;
+    eprintln!("damaged .xls: peak heap {:.1} MB", peak as f64 / 1048576.0);
+    assert!(
+        e.contains("sheet 1 of the .xls spans 65,536 rows × 256 columns"),
+        "{e}"
+    );
+    assert!(peak < 16 << 20, "peak heap {} MB", peak >> 20);
+}

@@ -32,6 +32,20 @@ pub fn human(x: f64) -> String {
     sig(x, 6)
 }
 
+/// A count in a message, its thousands grouped by commas (`4,194,304`,
+/// `65,536`, `255`), as the limits are written in the docs.
+pub fn count(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::with_capacity(digits.len() + digits.len() / 3);
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
 /// A number with at most `n` significant digits (1 to 15), written as
 /// [`human`] writes it (`sig(0.0019677, 2)` is `0.002`, `sig(1.61e-2, 2)`
 /// is `0.016`).
@@ -311,6 +325,20 @@ mod tests {
             123.456,
         ] {
             assert_eq!(csv(x).parse::<f64>().unwrap().to_bits(), x.to_bits(), "{x}");
+        }
+    }
+
+    #[test]
+    fn counts_are_grouped_by_thousands() {
+        for (n, want) in [
+            (0, "0"),
+            (255, "255"),
+            (1_000, "1,000"),
+            (65_536, "65,536"),
+            (4_194_304, "4,194,304"),
+            (u64::MAX, "18,446,744,073,709,551,615"),
+        ] {
+            assert_eq!(count(n), want);
         }
     }
 }
