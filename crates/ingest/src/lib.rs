@@ -31,6 +31,7 @@ mod grid;
 mod layout;
 mod mdf;
 mod number;
+mod ods;
 mod plausible;
 mod probe;
 mod pv;

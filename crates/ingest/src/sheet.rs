@@ -135,9 +135,9 @@ fn read_book<F: FnMut(Streamed) -> Result<(), IngestError>>(
     if let Some(c) = cut() {
         return Err(cut_error(c));
     }
-    // An .xls is laid out sheet by sheet as calamine opens it: its cells'
-    // span is bounded first.
-    if let Some(o) = crate::xls::oversized(bytes) {
+    // An .xls or .ods is laid out sheet by sheet as calamine opens it: what
+    // each sheet spans is bounded first.
+    if let Some(o) = crate::xls::oversized(bytes).or_else(|| crate::ods::oversized(bytes)) {
         return Err(IngestError::Data(o.to_string()));
     }
     let mut book = calamine::open_workbook_auto_from_rs(watched()).map_err(|e| match cut() {

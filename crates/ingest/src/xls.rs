@@ -25,6 +25,8 @@ pub(crate) const MAX_SHEET_CELLS: u64 = 1 << 22;
 /// (from 1), the rows and columns it spans, and what says so.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Oversized {
+    /// `.xls` or `.ods`.
+    pub(crate) kind: &'static str,
     pub(crate) sheet: usize,
     pub(crate) rows: u64,
     pub(crate) cols: u64,
@@ -35,8 +37,9 @@ impl std::fmt::Display for Oversized {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "the spreadsheet is damaged: sheet {} of the .xls spans {} rows × {} columns ({}), more than the {} cells a sheet may span; open it and save it again, or export the diagram as CSV",
+            "the spreadsheet is damaged: sheet {} of the {} spans {} rows × {} columns ({}), more than the {} cells a sheet may span; open it and save it again, or export the diagram as CSV",
             self.sheet,
+            self.kind,
             count(self.rows),
             count(self.cols),
             self.by,
@@ -119,6 +122,7 @@ fn scan(wb: &[u8]) -> Option<Oversized> {
         };
         if let Some((rows, cols, by)) = span(sheet) {
             return Some(Oversized {
+                kind: ".xls",
                 sheet: k + 1,
                 rows,
                 cols,
