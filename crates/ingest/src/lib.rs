@@ -39,6 +39,10 @@ mod reader;
 mod row;
 mod sheet;
 mod template;
+/// The hostile `.ods` sheets of the tests (shared with `tests/memory.rs`).
+#[cfg(test)]
+#[path = "../tests/support/ods_with.rs"]
+mod test_ods;
 mod text;
 mod time;
 mod trace;

@@ -8,6 +8,9 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::io::Read;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+#[path = "support/ods_with.rs"]
+mod ods_with;
+
 struct Counting;
 static NOW: AtomicUsize = AtomicUsize::new(0);
 static PEAK: AtomicUsize = AtomicUsize::new(0);
@@ -262,37 +265,10 @@ fn a_damaged_xls_cell_address_is_refused_in_bounded_memory() {
 /// before it gave up); the sheet's span is refused first, in a few MB.
 #[test]
 fn a_repeated_ods_row_is_refused_in_bounded_memory() {
-    use std::io::Write;
     let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
-    let src = std::fs::read(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../tests/fixtures/measured/libreoffice_cycles.ods"
-    ))
-    .unwrap();
-    let mut zin = zip::ZipArchive::new(std::io::Cursor::new(&src)).unwrap();
-    let mut out = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
-    for i in 0..zin.len() {
-        let mut f = zin.by_index(i).unwrap();
-        let name = f.name().unwrap().to_string();
-        let mut data = Vec::new();
-        f.read_to_end(&mut data).unwrap();
-        if name == "content.xml" {
-            let text = String::from_utf8(data).unwrap();
-            let end = "</table:table-row>";
-            let at = text.find(end).unwrap() + end.len();
-            let bomb = r#"<table:table-row table:number-rows-repeated="6000"><table:table-cell office:value-type="float" office:value="1" table:number-columns-repeated="16000"><text:p>1</text:p></table:table-cell></table:table-row>"#;
-            data = format!("{}{bomb}{}", &text[..at], &text[at..]).into_bytes();
-        }
-        let opts = zip::write::SimpleFileOptions::default()
-            .compression_method(zip::CompressionMethod::Deflated);
-        if name.ends_with('/') {
-            out.add_directory(name, opts).unwrap();
-        } else {
-            out.start_file(name, opts).unwrap();
-            out.write_all(&data).unwrap();
-        }
-    }
-    let ods = out.finish().unwrap().into_inner();
+    let ods = ods_with::ods_with(
+        r#"<table:table-row table:number-rows-repeated="6000"><table:table-cell office:value-type="float" office:value="1" table:number-columns-repeated="16000"><text:p>1</text:p></table:table-cell></table:table-row>"#,
+    );
     let before = NOW.load(Ordering::Relaxed);
     PEAK.store(before, Ordering::Relaxed);
     let e = enginedyn_ingest::parse(std::io::Cursor::new(&ods), &ParseOptions::new(720.0))
