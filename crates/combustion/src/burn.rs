@@ -157,7 +157,21 @@ pub struct CycleGrid<'a> {
     pub sample_step_deg: Option<f64>,
 }
 
-impl CycleGrid<'_> {
+impl<'a> CycleGrid<'a> {
+    /// A cycle on its grid without a speed, its samples at the grid's own
+    /// step (no wall heat by time, no knock): what a study of one diagram
+    /// on its grid gives.
+    pub fn new(pressure: &'a [f64], volume: &'a [f64], dvolume: &'a [f64], step_deg: f64) -> Self {
+        Self {
+            pressure,
+            volume,
+            dvolume,
+            step_deg,
+            rpm: None,
+            sample_step_deg: None,
+        }
+    }
+
     fn n(&self) -> i64 {
         self.pressure.len() as i64
     }
@@ -1637,19 +1651,6 @@ mod tests {
         }
     }
 
-    /// A cycle on its grid, without a speed or a sample step (the tests'
-    /// usual case).
-    fn test_grid<'a>(p: &'a [f64], v: &'a [f64], dv: &'a [f64], step: f64) -> CycleGrid<'a> {
-        CycleGrid {
-            pressure: p,
-            volume: v,
-            dvolume: dv,
-            step_deg: step,
-            rpm: None,
-            sample_step_deg: None,
-        }
-    }
-
     /// Woschni's wall heat on the test cylinder (the tests' one setting).
     fn woschni(cyl: &Cylinder) -> WallHeat {
         WallHeat {
@@ -1734,7 +1735,7 @@ mod tests {
                     if opts.check_filter(step).is_err() {
                         continue;
                     }
-                    let g = test_grid(p, &v, &dv, step);
+                    let g = CycleGrid::new(p, &v, &dv, step);
                     let f = Filter::new(opts.smoothing, step);
                     let what = format!("{name} at {step}°, {:?}", opts.smoothing);
                     let fast = analyse_with(&g, opts, &f).unwrap();
@@ -1851,7 +1852,7 @@ mod tests {
                             if opts.check_grid(step, cycle).is_err() || f.moments().is_none() {
                                 continue;
                             }
-                            let g = test_grid(p, &v, &dv, step);
+                            let g = CycleGrid::new(p, &v, &dv, step);
                             let what = format!(
                                 "{name}, {cycle}° at {step}°, {window_deg:?}, SG {width_deg}°, {wall_heat:?}"
                             );
@@ -1966,7 +1967,7 @@ mod tests {
         let (v2, dv2) = (v.clone(), dv.clone());
         let opts = Options::default();
         let law = WindowLaw::new(&v, &dv, step, &opts).unwrap();
-        let grid = test_grid(&p, &v, &dv, step);
+        let grid = CycleGrid::new(&p, &v, &dv, step);
         let other = CycleGrid {
             volume: &v2,
             dvolume: &dv2,
@@ -2000,25 +2001,30 @@ mod tests {
         );
     }
 
+    /// The running loop the scans replace: the largest sample and its
+    /// index (the first of ties), and the index of the smallest before it
+    /// with the largest's (`(soc, max)`, as [`extremes`] gives them).
+    fn running_extremes(x: &[f64]) -> ((f64, usize), (usize, usize)) {
+        let (mut min, mut max, mut soc) = ((f64::INFINITY, 0), (f64::NEG_INFINITY, 0), 0);
+        for (j, &q) in x.iter().enumerate() {
+            if q < min.0 {
+                min = (q, j);
+            }
+            if q > max.0 {
+                max = (q, j);
+                soc = min.1;
+            }
+        }
+        (max, (soc, max.1))
+    }
+
     /// [`extremes_adding`] against adding first and the running loop, on
     /// data shaped to defeat it: the offset from every place about a
     /// block's edges, offsets of 0, ±1e9, ±∞ and NaN, ties across the
     /// part that takes it and the part that does not, NaN, ±∞, ±0.
     #[test]
     fn adding_while_scanning_is_adding_then_scanning() {
-        fn running(x: &[f64]) -> (usize, usize) {
-            let (mut min, mut max, mut soc) = ((f64::INFINITY, 0), (f64::NEG_INFINITY, 0), 0);
-            for (j, &q) in x.iter().enumerate() {
-                if q < min.0 {
-                    min = (q, j);
-                }
-                if q > max.0 {
-                    max = (q, j);
-                    soc = min.1;
-                }
-            }
-            (soc, max.1)
-        }
+        let running = |x: &[f64]| running_extremes(x).1;
         let mut cases: Vec<Vec<f64>> = Vec::new();
         for len in [
             1usize, 5, 63, 64, 65, 128, 129, 255, 256, 257, 700, 2101, 9000,
@@ -2073,19 +2079,7 @@ mod tests {
     /// ±0, flat data, noise, and every length about a block's.
     #[test]
     fn the_scans_find_what_the_running_loop_finds() {
-        fn running(x: &[f64]) -> ((f64, usize), (usize, usize)) {
-            let (mut min, mut max, mut soc) = ((f64::INFINITY, 0), (f64::NEG_INFINITY, 0), 0);
-            for (j, &q) in x.iter().enumerate() {
-                if q < min.0 {
-                    min = (q, j);
-                }
-                if q > max.0 {
-                    max = (q, j);
-                    soc = min.1;
-                }
-            }
-            (max, (soc, max.1))
-        }
+        let running = running_extremes;
         let mut cases: Vec<Vec<f64>> = vec![
             vec![],
             vec![f64::NAN],
@@ -2209,7 +2203,7 @@ mod tests {
                 smoothing,
                 ..Options::default()
             };
-            let g = test_grid(&p, &v, &dv, step);
+            let g = CycleGrid::new(&p, &v, &dv, step);
             let burn = analyse(&g, &opts).unwrap();
             let c = curves(&g, &opts, &burn).unwrap();
             let f = Filter::new(smoothing, step).plain();

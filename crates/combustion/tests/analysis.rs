@@ -61,18 +61,6 @@ fn grid_of(cyl: &Cylinder, step: f64) -> (Vec<f64>, Vec<f64>) {
     cyl.fill_volume(step.to_radians(), (720.0 / step).round() as usize)
 }
 
-/// A cycle's pressure with the volume law on the same grid.
-fn on_grid<'a>(p: &'a [f64], v: &'a [f64], dv: &'a [f64], step: f64) -> CycleGrid<'a> {
-    CycleGrid {
-        pressure: p,
-        volume: v,
-        dvolume: dv,
-        step_deg: step,
-        rpm: None,
-        sample_step_deg: None,
-    }
-}
-
 fn petrol() -> BurnLaw {
     BurnLaw::single(Wiebe::from_ca50(8.0, 22.0, 2.0, DEFAULT_A).unwrap())
 }
@@ -105,7 +93,7 @@ fn a_single_wiebe_comes_back_within_a_hundredth_of_a_degree() {
     let law = petrol();
     let p = trace(&cyl, &law, heat, gamma, step, 0.0);
     let (v, dv) = grid_of(&cyl, step);
-    let g = on_grid(&p, &v, &dv, step);
+    let g = CycleGrid::new(&p, &v, &dv, step);
     let opts = Options::default();
     let r = analyse(&g, &opts).unwrap();
     let b = r.burn.expect("a fired cycle burns");
@@ -143,7 +131,7 @@ fn a_diesel_double_wiebe_on_a_half_degree_grid() {
     let law = BurnLaw::double(pre, diff, 0.8).unwrap();
     let p = trace(&cyl, &law, heat, gamma, step, 0.0);
     let (v, dv) = grid_of(&cyl, step);
-    let g = on_grid(&p, &v, &dv, step);
+    let g = CycleGrid::new(&p, &v, &dv, step);
     let opts = Options::default();
     let b = analyse(&g, &opts).unwrap().burn.unwrap();
     for (pct, tol) in [(10.0, 0.2), (50.0, 0.2), (90.0, 0.4)] {
@@ -214,7 +202,7 @@ fn a_brunt_trace_round_trips_with_brunt() {
     let gm = GammaModel::brunt_default();
     let p = brunt_trace(&cyl, &law, 600.0, gm, step);
     let (v, dv) = grid_of(&cyl, step);
-    let g = on_grid(&p, &v, &dv, step);
+    let g = CycleGrid::new(&p, &v, &dv, step);
     let opts = Options {
         gamma: gm,
         ..Options::default()
@@ -241,7 +229,7 @@ fn a_motored_cycle_has_no_burn_points() {
     let step = 0.1;
     let p = trace(&cyl, &petrol(), 0.0, 1.32, step, 0.0);
     let (v, dv) = grid_of(&cyl, step);
-    let g = on_grid(&p, &v, &dv, step);
+    let g = CycleGrid::new(&p, &v, &dv, step);
     let r = analyse(&g, &Options::default()).unwrap();
     assert!(r.burn.is_none());
     assert!(
@@ -263,7 +251,7 @@ fn a_tdc_shift_of_half_a_degree_moves_ca50_by_half_a_degree() {
     let opts = Options::default();
     let ca50 = |shift: f64| {
         let p = trace(&cyl, &law, 600.0, 1.32, step, shift);
-        let g = on_grid(&p, &v, &dv, step);
+        let g = CycleGrid::new(&p, &v, &dv, step);
         analyse(&g, &opts)
             .unwrap()
             .burn
@@ -298,7 +286,7 @@ fn noise_of_two_hundredths_of_a_bar_moves_the_pressure_rise_under_three_percent(
     let clean = trace(&cyl, &law, 600.0, 1.32, step, 0.0);
     let (v, dv) = grid_of(&cyl, step);
     let rise = |p: &[f64], opts: &Options| {
-        let g = on_grid(p, &v, &dv, step);
+        let g = CycleGrid::new(p, &v, &dv, step);
         analyse(&g, opts).unwrap().burn.unwrap()
     };
     let smooth = Options::default();
@@ -332,7 +320,7 @@ fn the_curves_end_where_the_burn_does() {
     let law = petrol();
     let p = trace(&cyl, &law, 600.0, 1.32, step, 0.0);
     let (v, dv) = grid_of(&cyl, step);
-    let g = on_grid(&p, &v, &dv, step);
+    let g = CycleGrid::new(&p, &v, &dv, step);
     let opts = Options::default();
     let r = analyse(&g, &opts).unwrap();
     let c = curves(&g, &opts, &r).unwrap();
@@ -367,15 +355,7 @@ fn sensitivities() {
     let base_p = trace(&cyl, &law, 600.0, 1.32, step, 0.0);
     let opts = Options::default();
     let run = |p: &[f64], v: &[f64], dv: &[f64], o: &Options| {
-        let g = CycleGrid {
-            pressure: p,
-            volume: v,
-            dvolume: dv,
-            step_deg: step,
-            rpm: None,
-            sample_step_deg: None,
-        };
-        analyse(&g, o).unwrap()
+        analyse(&CycleGrid::new(p, v, dv, step), o).unwrap()
     };
     let base = run(&base_p, &v, &dv, &opts);
     let bb = base.burn.clone().unwrap();
@@ -466,7 +446,7 @@ fn a_motored_cycle_losing_heat_has_no_burn_points() {
     let loss = BurnLaw::single(Wiebe::from_ca50(5.0, 60.0, 1.0, DEFAULT_A).unwrap());
     let p = trace(&cyl, &loss, -40.0, 1.32, step, 0.0);
     let (v, dv) = grid_of(&cyl, step);
-    let g = on_grid(&p, &v, &dv, step);
+    let g = CycleGrid::new(&p, &v, &dv, step);
     for gamma in [1.30, 1.32, 1.34] {
         let opts = Options {
             gamma: GammaModel::Constant(gamma),
@@ -502,7 +482,7 @@ fn soc_and_eoc_of_a_lossless_trace_are_the_burns_own_ends() {
     ] {
         let p = trace(&cyl, &law, 600.0, 1.32, step, 0.0);
         let (v, dv) = if step < 0.2 { (&v1, &dv1) } else { (&v5, &dv5) };
-        let b = analyse(&on_grid(&p, v, dv, step), &Options::default())
+        let b = analyse(&CycleGrid::new(&p, v, dv, step), &Options::default())
             .unwrap()
             .burn
             .unwrap();
@@ -578,7 +558,7 @@ fn the_pressure_rise_finds_a_premixed_spike() {
     let p = trace(&cyl, &law, 500.0, 1.32, step, 0.0);
     let (v, dv) = grid_of(&cyl, step);
     let opts = Options::default();
-    let b = analyse(&on_grid(&p, &v, &dv, step), &opts)
+    let b = analyse(&CycleGrid::new(&p, &v, &dv, step), &opts)
         .unwrap()
         .burn
         .unwrap();
@@ -624,7 +604,7 @@ fn noise_gives_no_burn_points_where_it_hides_the_burn() {
     let motored = trace(&cyl, &petrol(), 0.0, 1.32, step, 0.0);
     for (seed, sd) in (1..=8).zip([0.05, 0.1].into_iter().cycle()) {
         let p = noisy(&motored, sd, seed);
-        let r = analyse(&on_grid(&p, &v, &dv, step), &opts).unwrap();
+        let r = analyse(&CycleGrid::new(&p, &v, &dv, step), &opts).unwrap();
         assert!(
             r.burn.is_none(),
             "motored, {sd} bar noise (seed {seed}): CA50 {:?}",
@@ -639,7 +619,7 @@ fn noise_gives_no_burn_points_where_it_hides_the_burn() {
     let fired = trace(&cyl, &petrol(), 600.0, 1.32, step, 0.0);
     for seed in 1..=3 {
         let p = noisy(&fired, 5.0, seed);
-        let r = analyse(&on_grid(&p, &v, &dv, step), &opts).unwrap();
+        let r = analyse(&CycleGrid::new(&p, &v, &dv, step), &opts).unwrap();
         assert!(r.burn.is_none(), "5 bar noise: {:?}", r.burn);
         assert!(r.unresolved || r.heat_released_j < r.bound_j);
     }
@@ -667,7 +647,7 @@ fn noisy_cycles_keep_their_burn_points() {
         if seed % 2 == 0 {
             p[start] -= 0.5e5;
         }
-        let r = analyse(&on_grid(&p, &v, &dv, step), &opts).unwrap();
+        let r = analyse(&CycleGrid::new(&p, &v, &dv, step), &opts).unwrap();
         let b = r.burn.expect("a fired trace with 0.1 bar noise burns");
         let got = [
             b.level(&opts, 10.0).unwrap() - law.angle_of(0.1),
@@ -695,7 +675,7 @@ fn a_burn_past_the_window_is_flagged() {
     let law = BurnLaw::single(Wiebe::from_ca50(100.0, 40.0, 2.0, DEFAULT_A).unwrap());
     let p = trace(&cyl, &law, 600.0, 1.32, step, 0.0);
     let opts = Options::default();
-    let b = analyse(&on_grid(&p, &v, &dv, step), &opts)
+    let b = analyse(&CycleGrid::new(&p, &v, &dv, step), &opts)
         .unwrap()
         .burn
         .unwrap();
@@ -706,7 +686,7 @@ fn a_burn_past_the_window_is_flagged() {
         window_deg: (-90.0, 179.0),
         ..Options::default()
     };
-    let b = analyse(&on_grid(&p, &v, &dv, step), &wide)
+    let b = analyse(&CycleGrid::new(&p, &v, &dv, step), &wide)
         .unwrap()
         .burn
         .unwrap();
@@ -732,7 +712,7 @@ fn brunt_refuses_an_implausible_ivc_state() {
         gamma: gm,
         ..Options::default()
     };
-    let e = analyse(&on_grid(&p, &v, &dv, step), &opts).unwrap_err();
+    let e = analyse(&CycleGrid::new(&p, &v, &dv, step), &opts).unwrap_err();
     assert!(e.to_string().contains("--ivc-deg"), "{e}");
 }
 
@@ -848,7 +828,7 @@ fn a_motored_trace_losing_heat_by_the_law_has_no_gross_release() {
         (enginedyn_combustion::WallModel::Hohenberg, &hohenberg),
     ] {
         let p = walled_trace(&cyl, &petrol(), 0.0, h, step);
-        let mut g = on_grid(&p, &v, &dv, step);
+        let mut g = CycleGrid::new(&p, &v, &dv, step);
         g.rpm = Some(2000.0);
         let net = analyse(&g, &Options::default()).unwrap();
         let opts = Options {
@@ -878,7 +858,7 @@ fn a_fired_trace_with_a_known_wall_loss_gives_back_its_gross_burn() {
     let (v, dv) = grid_of(&cyl, step);
     let law = petrol();
     let p = walled_trace(&cyl, &law, 600.0, &hohenberg, step);
-    let mut g = on_grid(&p, &v, &dv, step);
+    let mut g = CycleGrid::new(&p, &v, &dv, step);
     g.rpm = Some(2000.0);
     let opts = Options {
         wall_heat: Some(wall(enginedyn_combustion::WallModel::Hohenberg)),
