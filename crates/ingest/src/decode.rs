@@ -3,21 +3,29 @@
 //! the column the reader takes whole ([`crate::reader::Reader::columns`]).
 //!
 //! Only the plain shape is read here, which is what indicating systems and
-//! asammdf write: sorted records (no record id) in uncompressed data blocks
-//! (`##DT`, alone or under data lists of them), each channel a little-endian
+//! asammdf write: sorted records (no record id) in data blocks as they lie
+//! (`##DT`) or deflated (`##DZ`, transposed or not), alone or under data
+//! lists of them (and a header list), each channel a little-endian
 //! integer (any bit offset and width up to 64 bits) or an aligned float32
 //! or float64, with no conversion or, for an integer or a float64, a
 //! linear one (raw counts of an indicating system's ADC, scaled); a
-//! channel's invalidation bit makes its sample NaN. Anything else (a
-//! compressed block, unsorted records, another data type or conversion, a
-//! block that is not whole) is [`Plain::new`]'s `None`, and the caller
+//! channel's invalidation bit makes its sample NaN. Anything else
+//! (another compression, unsorted records, another data type or
+//! conversion, a block that is not whole) is [`Plain::new`]'s `None`, and the caller
 //! decodes by falcon_mdf instead: what each sample is stays falcon_mdf's
 //! rule, and the tests hold this decoder to it bit for bit.
 //!
 //! Nothing is copied but the samples: the records are read where they lie
 //! (a record split across two blocks through a buffer of one record), and
-//! the columns hold one window at a time. What is read is bounded by the
-//! blocks present: a count the file declares is never allocated from.
+//! the columns hold one window at a time. A deflated block is expanded
+//! into a buffer kept from block to block (and un-transposed into a
+//! second), then read as a plain one. What is read is bounded by the
+//! blocks present: a count the file declares is never allocated from, and
+//! a deflated block expands to at most [`MAX_MDF_BLOCK`] (falcon_mdf's
+//! bound, with its messages).
+
+use crate::mdf::MAX_MDF_BLOCK;
+use falcon_mdf::error::Mf4Error;
 
 use falcon_mdf::Channel;
 use falcon_mdf::blocks::{ChannelType, Conversion, DataType};
@@ -217,10 +225,170 @@ fn bytes<const N: usize>(record: &[u8], at: usize) -> [u8; N] {
 /// A channel group in the plain shape: its data blocks' bytes in order,
 /// its record stride and the channels' fields.
 pub(crate) struct Plain<'f> {
-    blocks: Vec<&'f [u8]>,
+    blocks: Vec<Body<'f>>,
     stride: usize,
     records: usize,
     fields: Vec<Field>,
+}
+
+/// A data block's records: where they lie (`##DT`), or deflated
+/// (`##DZ`: the packed stream, the length it expands to, and for a
+/// transposed block the bytes of a record, its columns).
+#[derive(Debug, Clone, Copy)]
+enum Body<'f> {
+    Plain(&'f [u8]),
+    Deflated {
+        packed: &'f [u8],
+        size: usize,
+        columns: Option<usize>,
+    },
+}
+
+impl<'f> Body<'f> {
+    /// A `##DZ` block's body (its data after the links) in the plain
+    /// shape: records of a `##DT`, deflated (zip type 0) or transposed and
+    /// deflated (1, by a record's bytes), expanding to at most
+    /// [`MAX_MDF_BLOCK`]; `None` for anything else.
+    fn deflated(data: &'f [u8]) -> Option<Self> {
+        let u64_at = |at: usize| {
+            let b = data.get(at..at + 8)?;
+            usize::try_from(u64::from_le_bytes(b.try_into().ok()?)).ok()
+        };
+        if data.get(..2)? != b"DT" {
+            return None;
+        }
+        let param = u32::from_le_bytes(data.get(4..8)?.try_into().ok()?);
+        let columns = match (*data.get(2)?, param) {
+            (0, _) => None,
+            (1, 1..) => Some(usize::try_from(param).ok()?),
+            _ => return None,
+        };
+        let (size, packed) = (u64_at(8)?, u64_at(16)?);
+        if size as u64 > MAX_MDF_BLOCK {
+            return None;
+        }
+        Some(Body::Deflated {
+            packed: data.get(24..24usize.checked_add(packed)?)?,
+            size,
+            columns,
+        })
+    }
+
+    /// The bytes of records the block holds.
+    fn len(&self) -> usize {
+        match *self {
+            Body::Plain(b) => b.len(),
+            Body::Deflated { size, .. } => size,
+        }
+    }
+
+    /// The block's records: as they lie, or expanded into `buf` (and
+    /// un-transposed through `flat`) as falcon_mdf expands them, with its
+    /// errors.
+    fn records<'b>(&self, buf: &'b mut Vec<u8>, flat: &'b mut Vec<u8>) -> Result<&'b [u8], Mf4Error>
+    where
+        'f: 'b,
+    {
+        let (packed, size, columns) = match *self {
+            Body::Plain(b) => return Ok(b),
+            Body::Deflated {
+                packed,
+                size,
+                columns,
+            } => (packed, size, columns),
+        };
+        use std::io::Read;
+        buf.clear();
+        buf.reserve(size);
+        flate2::bufread::ZlibDecoder::new(packed)
+            .take(MAX_MDF_BLOCK)
+            .read_to_end(buf)
+            .map_err(|e| Mf4Error::Decompression(e.to_string()))?;
+        if buf.len() != size {
+            return Err(Mf4Error::Decompression(format!(
+                "Decompressed size mismatch: expected {size} bytes, got {}",
+                buf.len()
+            )));
+        }
+        match columns {
+            None => Ok(buf),
+            Some(c) => {
+                un_transpose(buf, c, flat);
+                Ok(flat)
+            }
+        }
+    }
+}
+
+/// A transposed block's bytes in record order, into `out`: the first
+/// `lines = len / columns` records were stored column by column (byte `k`
+/// of every record, then byte `k + 1`), the bytes after them as they are.
+/// Eight records by eight bytes at a time, as one 8 × 8 transposition of
+/// words ([`transpose8`]); the edges byte by byte.
+fn un_transpose(t: &[u8], columns: usize, out: &mut Vec<u8>) {
+    let lines = t.len() / columns;
+    out.clear();
+    out.resize(t.len(), 0);
+    let body = lines * columns;
+    let (rows8, cols8) = (lines / 8 * 8, columns / 8 * 8);
+    // Tiles of records whose bytes stay in the first-level cache while
+    // every eight columns are written into them.
+    let tile = (16_384 / columns).max(8) / 8 * 8;
+    for r0 in (0..rows8).step_by(tile) {
+        let r1 = (r0 + tile).min(rows8);
+        let records = &mut out[r0 * columns..r1 * columns];
+        for k in (0..cols8).step_by(8) {
+            let from: [&[u8]; 8] = std::array::from_fn(|j| &t[(k + j) * lines + r0..][..r1 - r0]);
+            for (b, eight) in records.chunks_exact_mut(8 * columns).enumerate() {
+                let square = transpose8(std::array::from_fn(|j| le(&from[j][8 * b..])));
+                for (i, row) in square.iter().enumerate() {
+                    eight[i * columns + k..][..8].copy_from_slice(&row.to_le_bytes());
+                }
+            }
+        }
+    }
+    // The columns beyond the last eight for every record, then the records
+    // beyond the last eight.
+    for k in cols8..columns {
+        for r in 0..rows8 {
+            out[r * columns + k] = t[k * lines + r];
+        }
+    }
+    for k in 0..columns {
+        for r in rows8..lines {
+            out[r * columns + k] = t[k * lines + r];
+        }
+    }
+    out[body..].copy_from_slice(&t[body..]);
+}
+
+/// The first eight bytes of `b`, little-endian.
+#[inline(always)]
+fn le(b: &[u8]) -> u64 {
+    let mut w = [0; 8];
+    w.copy_from_slice(&b[..8]);
+    u64::from_le_bytes(w)
+}
+
+/// An 8 × 8 matrix of bytes transposed: byte `i` of word `j` becomes byte
+/// `j` of word `i`. Three exchanges, of 4 × 4, 2 × 2 and single bytes
+/// across the diagonal, each swapping one bit of the row index with the
+/// same bit of the column index.
+#[inline(always)]
+fn transpose8(mut a: [u64; 8]) -> [u64; 8] {
+    for (shift, mask, pairs) in [
+        (32, 0x0000_0000_ffff_ffff_u64, [0, 1, 2, 3]),
+        (16, 0x0000_ffff_0000_ffff, [0, 1, 4, 5]),
+        (8, 0x00ff_00ff_00ff_00ff, [0, 2, 4, 6]),
+    ] {
+        let step = shift / 8;
+        for i in pairs {
+            let x = ((a[i] >> shift) ^ a[i + step]) & mask;
+            a[i] ^= x << shift;
+            a[i + step] ^= x;
+        }
+    }
+    a
 }
 
 /// A block's header: its four-byte id, its length and its links.
@@ -285,40 +453,37 @@ impl<'f> Plain<'f> {
             .map(|ch| Field::of(ch, data, inval))
             .collect::<Option<Vec<_>>>()?;
         let mut blocks = Vec::new();
-        // One ##DT, or data lists (##DL) of them, each link filled.
+        // One ##DT or ##DZ, or data lists (##DL) of them, each link filled,
+        // perhaps under a header list (##HL).
         let mut next = *links.get(2)?;
+        if let Some(Block {
+            id: b"##HL", links, ..
+        }) = block(bytes, next)
+        {
+            next = *links.first()?;
+        }
+        let body = |b: Block<'f>| match b.id {
+            b"##DT" => Some(Body::Plain(b.data)),
+            b"##DZ" => Body::deflated(b.data),
+            _ => None,
+        };
         let mut seen = std::collections::HashSet::new();
         while next != 0 {
             if !seen.insert(next) {
                 return None;
             }
-            let Block {
-                id,
-                links,
-                data: body,
-            } = block(bytes, next)?;
-            match id {
-                b"##DT" => {
-                    blocks.push(body);
-                    next = 0;
+            let b = block(bytes, next)?;
+            if b.id == b"##DL" {
+                for &at in b.links.get(1..)? {
+                    blocks.push(body(block(bytes, at)?)?);
                 }
-                b"##DL" => {
-                    for &at in links.get(1..)? {
-                        match block(bytes, at)? {
-                            Block {
-                                id: b"##DT",
-                                data: body,
-                                ..
-                            } => blocks.push(body),
-                            _ => return None,
-                        }
-                    }
-                    next = *links.first()?;
-                }
-                _ => return None,
+                next = *b.links.first()?;
+            } else {
+                blocks.push(body(b)?);
+                next = 0;
             }
         }
-        let held: usize = blocks.iter().map(|b| b.len()).sum::<usize>() / stride.max(1);
+        let held: usize = blocks.iter().map(Body::len).sum::<usize>() / stride.max(1);
         let records = usize::try_from(records).ok()?;
         (stride > 0 && !blocks.is_empty() && records <= held).then_some(Self {
             blocks,
@@ -330,11 +495,14 @@ impl<'f> Plain<'f> {
 
     /// Decodes the records, at most `chunk` a window, into `cols` (one a
     /// channel, cleared each window) and hands each window to `f` with its
-    /// first record and its length. Returns the records read.
+    /// first record and its length. Returns the records read; a deflated
+    /// block that does not expand to its length is falcon_mdf's error, by
+    /// `damaged`.
     pub(crate) fn read<E>(
         &self,
         chunk: usize,
         cols: &mut Vec<Vec<f64>>,
+        damaged: impl Fn(Mf4Error) -> E,
         mut f: impl FnMut(&[Vec<f64>], usize, usize) -> Result<(), E>,
     ) -> Result<usize, E> {
         let stride = self.stride;
@@ -346,8 +514,10 @@ impl<'f> Plain<'f> {
         let (mut done, mut first, mut in_window) = (0usize, 0usize, 0usize);
         // A record split across two blocks, completed from the next.
         let mut carry: Vec<u8> = Vec::new();
-        for &body in &self.blocks {
-            let mut rest = body;
+        // A deflated block's bytes, kept from block to block.
+        let (mut buf, mut flat) = (Vec::new(), Vec::new());
+        for body in &self.blocks {
+            let mut rest = body.records(&mut buf, &mut flat).map_err(&damaged)?;
             if !carry.is_empty() {
                 let need = (stride - carry.len()).min(rest.len());
                 carry.extend_from_slice(&rest[..need]);

@@ -32,7 +32,8 @@
 //! - hold a table of its channels: the group is decoded a window at a time
 //!   (at most [`WINDOW_BYTES`] of records and [`WINDOW_VALUES`] values),
 //!   each channel in one pass into its column ([`crate::decode`] for sorted
-//!   records in plain blocks, falcon_mdf for the rest), and the window's
+//!   records in `##DT` blocks and deflated `##DZ` ones, a block expanded at
+//!   a time; falcon_mdf for the rest), and the window's
 //!   columns handed to the reader whole ([`Reader::columns`]): a record is
 //!   read cell by cell only where a cycle starts or a value is refused.
 //!
@@ -860,7 +861,7 @@ fn stream<F: FnMut(Streamed) -> Result<(), IngestError>>(
     let chunk = (WINDOW_BYTES / stride).min(WINDOW_VALUES / k).max(1);
     let mut cols: Vec<Vec<f64>> = Vec::with_capacity(k);
     let held = match plain {
-        Some(p) => p.read(chunk, &mut cols, |cols, first, n| {
+        Some(p) => p.read(chunk, &mut cols, damaged, |cols, first, n| {
             rd.columns(first + 2, cols, n, |r| Values { cols, r })
         })?,
         None => falcon_windows(file, group, chunk, &mut cols, rd)?,

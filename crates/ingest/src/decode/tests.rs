@@ -41,6 +41,37 @@ impl Writer {
         self.0.extend_from_slice(data);
         at
     }
+    /// A ##DZ block of `raw` (the records of a ##DT), deflated, and
+    /// transposed first by records of `columns` bytes when given: the
+    /// first `len / columns` records column by column, the rest as is.
+    fn dz(&mut self, raw: &[u8], columns: Option<u32>) -> u64 {
+        use std::io::Write as _;
+        let data = match columns {
+            Some(c) => {
+                let (c, lines) = (c as usize, raw.len() / c as usize);
+                let mut t = vec![0; raw.len()];
+                for r in 0..lines {
+                    for k in 0..c {
+                        t[k * lines + r] = raw[r * c + k];
+                    }
+                }
+                t[lines * c..].copy_from_slice(&raw[lines * c..]);
+                t
+            }
+            None => raw.to_vec(),
+        };
+        let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::fast());
+        z.write_all(&data).unwrap();
+        let packed = z.finish().unwrap();
+        let mut d = b"DT".to_vec();
+        d.push(u8::from(columns.is_some()));
+        d.push(0);
+        d.extend_from_slice(&columns.unwrap_or(0).to_le_bytes());
+        d.extend_from_slice(&(raw.len() as u64).to_le_bytes());
+        d.extend_from_slice(&(packed.len() as u64).to_le_bytes());
+        d.extend_from_slice(&packed);
+        self.block(b"##DZ", &[], &d)
+    }
     fn set(&mut self, at: u64, link: usize, to: u64) {
         let k = at as usize + 24 + 8 * link;
         self.0[k..k + 8].copy_from_slice(&to.to_le_bytes());
@@ -162,8 +193,11 @@ const WIDE: &[(&str, u8, u8, u8, u32, u32, Option<u32>, Option<(f64, f64)>)] = &
 
 /// The test file: group 1 `WIDE` (50 records in three ##DT blocks under a
 /// ##DL, cut at odd bytes); group 2 a master and a u16 whose one ##DT holds
-/// 10.5 records of the 11 declared; group 3 the same channels, unsorted.
-/// Returns the bytes and each data group's block.
+/// 10.5 records of the 11 declared; group 3 the same channels, unsorted;
+/// group 4 `WIDE` again, deflated ([`Writer::dz`]) under a ##HL and a ##DL:
+/// transposed with a record's 43 bytes (9 records, then 13 bytes as they
+/// are), a plain ##DT, deflated alone, transposed again (10 records and 20
+/// bytes). Returns the bytes and each data group's block.
 fn file() -> (Vec<u8>, Vec<u64>) {
     let mut w = Writer::new();
     let records = noise(50 * 43, 1);
@@ -190,10 +224,29 @@ fn file() -> (Vec<u8>, Vec<u64>) {
     }
     let dt = w.block(b"##DT", &[], &unsorted);
     let dg3 = w.group(short, (10, 0, 20), 1, dt);
+    let records = noise(50 * 43, 4);
+    let cuts = [0, 400, 1_333, 1_700, 50 * 43];
+    let blocks = [
+        w.dz(&records[..400], Some(43)),
+        w.block(b"##DT", &[], &records[400..1_333]),
+        w.dz(&records[1_333..1_700], None),
+        w.dz(&records[1_700..], Some(43)),
+    ];
+    let mut d = vec![0u8, 0, 0, 0];
+    d.extend_from_slice(&4u32.to_le_bytes());
+    for at in &cuts[..4] {
+        d.extend_from_slice(&(*at as u64).to_le_bytes());
+    }
+    let mut links = vec![0];
+    links.extend(blocks);
+    let dl = w.block(b"##DL", &links, &d);
+    let hl = w.block(b"##HL", &[dl], &[1, 0, 1, 0, 0, 0, 0, 0]);
+    let dg4 = w.group(WIDE, (42, 1, 50), 0, hl);
     w.set(64, 0, dg1);
     w.set(dg1, 0, dg2);
     w.set(dg2, 0, dg3);
-    (w.0, vec![dg1, dg2, dg3])
+    w.set(dg3, 0, dg4);
+    (w.0, vec![dg1, dg2, dg3, dg4])
 }
 
 /// falcon_mdf's plain decode of every channel of data group `dg`'s first
@@ -232,15 +285,20 @@ fn both(bytes: &[u8], at: u64, dg: usize, chunk: usize) -> (Vec<Vec<u64>>, Optio
         let mut cols = Vec::new();
         let mut next = 0;
         let read = p
-            .read(chunk, &mut cols, |cols, first, n| {
-                assert_eq!(first, next, "windows in order");
-                assert!(n <= chunk && cols.iter().all(|c| c.len() == n));
-                for (a, c) in all.iter_mut().zip(cols) {
-                    a.extend(c.iter().map(|x| x.to_bits()));
-                }
-                next += n;
-                Ok::<(), ()>(())
-            })
+            .read(
+                chunk,
+                &mut cols,
+                |e| panic!("{e}"),
+                |cols, first, n| {
+                    assert_eq!(first, next, "windows in order");
+                    assert!(n <= chunk && cols.iter().all(|c| c.len() == n));
+                    for (a, c) in all.iter_mut().zip(cols) {
+                        a.extend(c.iter().map(|x| x.to_bits()));
+                    }
+                    next += n;
+                    Ok::<(), ()>(())
+                },
+            )
             .unwrap();
         assert_eq!(read, next);
         all
@@ -269,6 +327,78 @@ fn the_columns_are_falcon_mdf_s_samples_bit_for_bit() {
     assert_eq!(Some(want), got);
 }
 
+/// Deflated blocks, transposed or not, beside a plain one and with
+/// records across their edges, read as falcon_mdf reads them.
+#[test]
+fn deflated_blocks_are_falcon_mdf_s_samples_bit_for_bit() {
+    let (bytes, dgs) = file();
+    for chunk in [1, 7, 1 << 17] {
+        let (want, got) = both(&bytes, dgs[3], 3, chunk);
+        assert_eq!(want[0].len(), 50);
+        let got = got.expect("group 4 is the plain shape");
+        for (k, (w, g)) in want.iter().zip(&got).enumerate() {
+            assert_eq!(w, g, "group 4, {} (window {chunk})", WIDE[k].0);
+        }
+    }
+}
+
+/// A deflated stream damaged, or a block that expands to less than it
+/// declares: the decoder's error is falcon_mdf's, word for word.
+#[test]
+fn a_damaged_deflated_block_is_falcon_mdf_s_error() {
+    let (bytes, dgs) = file();
+    let first_dz = bytes.windows(4).rposition(|w| w == b"##DZ").unwrap();
+    // ##DZ: 24 bytes of header, no links, 24 of its own, then the stream.
+    let mut flipped = bytes.clone();
+    for x in &mut flipped[first_dz + 52..first_dz + 60] {
+        *x ^= 0x5A;
+    }
+    let mut short = bytes.clone();
+    short[first_dz + 32..first_dz + 40].copy_from_slice(&151u64.to_le_bytes());
+    for damaged in [flipped, short] {
+        let file = Mf4File::from_bytes(damaged.clone()).unwrap();
+        let cg = &file.data_groups()[3].channel_groups[0];
+        let channels: Vec<_> = cg.channels.iter().collect();
+        let want = file.signal(channels[0]).unwrap_err().to_string();
+        let plain = Plain::new(
+            &damaged,
+            dgs[3],
+            cg.data_bytes_len(),
+            cg.inval_bytes_len(),
+            cg.sample_count,
+            &channels,
+        )
+        .expect("the plain shape");
+        let got = plain
+            .read(7, &mut Vec::new(), |e| e.to_string(), |_, _, _| Ok(()))
+            .unwrap_err();
+        assert!(want.starts_with("Decompression error"), "{want}");
+        assert_eq!(got, want);
+    }
+}
+
+/// The blockwise un-transposition against the plain rule (record `r`'s
+/// byte `k` was stored at `k * lines + r`, the bytes after the whole
+/// records as they are), about every edge of its 8 × 8 squares.
+#[test]
+fn the_blockwise_un_transposition_is_the_plain_one() {
+    for columns in 1..=19 {
+        for len in (0..=20 * columns + 9).chain([1_000 * columns + 5]) {
+            let t = noise(len, (columns * 7_919 + len) as u64);
+            let lines = len / columns;
+            let mut want = t.clone();
+            for r in 0..lines {
+                for k in 0..columns {
+                    want[r * columns + k] = t[k * lines + r];
+                }
+            }
+            let mut got = vec![1, 2, 3];
+            super::un_transpose(&t, columns, &mut got);
+            assert_eq!(got, want, "{columns} columns, {len} bytes");
+        }
+    }
+}
+
 #[test]
 fn unsorted_records_are_not_the_plain_shape() {
     let (bytes, dgs) = file();
@@ -283,11 +413,11 @@ fn the_fixtures_read_alike() {
         env!("CARGO_MANIFEST_DIR"),
         "/../../tests/fixtures/measured/"
     );
-    // The angle master (float32 pressure, a u16 counter): plain. The time
-    // master's ##DZ blocks: not plain.
+    // The angle master (float32 pressure, a u16 counter) and the time
+    // master (transposed ##DZ blocks): plain.
     for (name, plain) in [
         ("mdf_angle_master.mf4", true),
-        ("mdf_time_master_dz.mf4", false),
+        ("mdf_time_master_dz.mf4", true),
     ] {
         let bytes = std::fs::read(format!("{dir}{name}")).unwrap();
         let mut at = u64::from_le_bytes(bytes[88..96].try_into().unwrap());
