@@ -24,7 +24,7 @@
 //! a deflated block expands to at most [`MAX_MDF_BLOCK`] (falcon_mdf's
 //! bound, with its messages).
 
-use crate::mdf::MAX_MDF_BLOCK;
+use crate::mdf::{MAX_MDF_ALLOC, MAX_MDF_BLOCK};
 use falcon_mdf::error::Mf4Error;
 
 use falcon_mdf::Channel;
@@ -299,7 +299,9 @@ impl<'f> Body<'f> {
         };
         use std::io::Read;
         buf.clear();
-        buf.reserve(size);
+        // As falcon_mdf: no more reserved from a declared length than
+        // `MAX_MDF_ALLOC`; the buffer grows with what the stream gives.
+        buf.reserve(size.min(MAX_MDF_ALLOC));
         flate2::bufread::ZlibDecoder::new(packed)
             .take(MAX_MDF_BLOCK)
             .read_to_end(buf)

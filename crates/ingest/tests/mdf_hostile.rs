@@ -473,6 +473,30 @@ fn data_lists_are_bounded() {
     assert!(peak < 300 << 20, "{} MB", peak >> 20);
 }
 
+/// A deflated block declaring the most a block may expand to (256 MiB)
+/// while its stream gives 295,035 bytes: the size mismatch is the error,
+/// and no more than falcon_mdf's 16 MiB is reserved from the declared
+/// length (the columns' decoder reserved all 256 MiB before).
+#[test]
+fn a_deflated_block_s_declared_length_is_not_allocated() {
+    let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let (o, _) = time_options();
+    let mut m = Mdf(fixture("mdf_time_master_dz.mf4"));
+    let dg = m.dgs()[1];
+    let dz = m.link(dg, 2) as usize;
+    assert_eq!(&m.0[dz..dz + 4], b"##DZ");
+    // ##DZ: the expanded length is the u64 at 32.
+    assert_eq!(m.u64(dz + 32), 295_035);
+    m.0[dz + 32..dz + 40].copy_from_slice(&(256u64 << 20).to_le_bytes());
+    let (e, took, peak) = measured(|| error(&m.0, &o));
+    assert!(
+        e.contains("Decompressed size mismatch: expected 268435456 bytes, got 295035"),
+        "{e}"
+    );
+    assert!(took < Duration::from_secs(10), "{took:?}");
+    assert!(peak < 64 << 20, "{} MB", peak >> 20);
+}
+
 /// `count` data groups after the angle-master fixture's, each with its own
 /// channel group on one shared channel (a copy of `PCYL1`, ending its own
 /// chain; or none) and the shared data block (or none).
