@@ -9,8 +9,10 @@ usage: benches/mdf4.py [--cycles 60] [--rounds 5] [--copies 10] [--bin PATH]
   --cycles cycles at 0.1°) is written again as an MDF4 file (asammdf,
   version 4.10): an angle master `crank_deg` in degrees that runs on over
   the cycles, and one `pressure` channel in bar, float64, one channel
-  group, uncompressed; and as a CSV of the same two columns (the angle
-  running on too, so both go through the same cut at firing TDC).
+  group, uncompressed; again compressed as asammdf's `compression=2`
+  writes it (transposed deflate, `##DZ` blocks under a data list); and as
+  a CSV of the same two columns (the angle running on too, so all go
+  through the same cut at firing TDC).
 - Before timing, each is read once with `run --json` and their IMEP
   compared: equal to the bit, or the bench stops.
 - Parsing is timed as `enginedyn batch --parse-only --jobs 1` over --copies
@@ -76,10 +78,14 @@ def main():
     # An angle master (sync type 2), as an indicating system writes it.
     m.append([asammdf.Signal(p, angle, name="pressure", unit="bar", master_metadata=("Crank angle", 2))])
     m.save(mf4, overwrite=True)
+    mdz = os.path.join(d, "run_on_dz.mf4")
+    m.save(mdz, overwrite=True, compression=2)
+    files = (csv, mf4, mdz)
+    names = {csv: "CSV, angle running on", mf4: "MDF4, angle master, float64", mdz: "MDF4 compressed (transposed deflate)"}
     bins = [("after", a.bin)] + ([("before", a.before)] if a.before else [])
     want = None
     for _, b in bins:
-        for f in (csv, mf4):
+        for f in files:
             r = subprocess.run([b, "run", "--engine", engine, "--diagram", f, "--json"], capture_output=True, text=True)
             if r.returncode != 0:
                 print(f"{os.path.basename(f)}: exit {r.returncode}: {r.stderr.strip()}")
@@ -90,16 +96,16 @@ def main():
                 print(f"IMEP differs: {imep} against {want}")
                 return 1
     links = {}
-    for f in (csv, mf4):
+    for f in files:
         links[f] = []
         for k in range(a.copies):
             link = f"{f}.{k}{os.path.splitext(f)[1]}"
             os.link(f, link)
             links[f].append(link)
-    times = {(b, f): [] for b, _ in bins for f in (csv, mf4)}
+    times = {(b, f): [] for b, _ in bins for f in files}
     for _ in range(a.rounds):
         for b, path in bins:
-            for f in (csv, mf4):
+            for f in files:
                 for x in links[f]:
                     open(x, "rb").read()
                 t = time.perf_counter()
@@ -110,7 +116,7 @@ def main():
     instr = {}
     if a.callgrind:
         for b, path in bins:
-            for f in (csv, mf4):
+            for f in files:
                 r = subprocess.run(
                     ["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", path, "batch", "--engine", engine, "--parse-only", "--jobs", "1", f],
                     capture_output=True, text=True, check=True,
@@ -121,15 +127,16 @@ def main():
     print("| build | layout | M values/s | instructions a value | every run (s) |")
     print("| --- | --- | --- | --- | --- |")
     for b, _ in bins:
-        for f, name in ((csv, "CSV, angle running on"), (mf4, "MDF4, angle master, float64")):
+        for f in files:
             i = f"{instr[(b, f)]:.0f}" if (b, f) in instr else "–"
-            print(f"| {b} | {name} | {rate[(b, f)]:.1f} | {i} | {', '.join(f'{x:.3f}' for x in times[(b, f)])} |")
+            print(f"| {b} | {names[f]} | {rate[(b, f)]:.1f} | {i} | {', '.join(f'{x:.3f}' for x in times[(b, f)])} |")
     print()
     for b, _ in bins:
-        ratio = f"MDF4 / CSV rate ({b}): {rate[(b, mf4)] / rate[(b, csv)]:.2f}"
-        if (b, csv) in instr:
-            ratio += f"; by instructions {instr[(b, csv)] / instr[(b, mf4)]:.2f}"
-        print(ratio)
+        for f, what in ((mf4, "MDF4"), (mdz, "compressed MDF4")):
+            ratio = f"{what} / CSV rate ({b}): {rate[(b, f)] / rate[(b, csv)]:.2f}"
+            if (b, csv) in instr:
+                ratio += f"; by instructions {instr[(b, csv)] / instr[(b, f)]:.2f}"
+            print(ratio)
     return 0
 
 
