@@ -204,17 +204,54 @@ impl Shape {
             return None;
         }
         let w = word(b, s);
-        let x = less_zeros(w);
-        // As in `digits_in`; a lane that is no digit is always flagged, and
-        // its carry can only flag a digit lane above it (a miss, not a
-        // wrong read). The point is compared as it is, carries aside.
-        let flags = (x.wrapping_add(0x76 * LANES) | x) & self.digits;
-        if flags | ((w ^ self.point) & self.point_lane) != 0 {
+        if lanes_differ(w, self.point, self.point_lane, self.digits) != 0 {
             return None;
         }
-        let m = eight_digits(((x & self.int.0) << self.int.1) | ((x & self.frac.0) << self.frac.1));
-        Some((decimal_value(m, self.frac_digits, self.neg), s + self.len))
+        Some((self.value_of(w), s + self.len))
     }
+
+    /// The value of a cell of this shape whose bytes after the sign are
+    /// the first of `w` (the lanes beyond the cell are not read), its
+    /// digits and point checked already (by [`Shape::read`], or by a row
+    /// pattern built from [`Shape::cell_bytes`]).
+    #[inline(always)]
+    pub(crate) fn value_of(&self, w: u64) -> f64 {
+        let x = less_zeros(w);
+        let m = eight_digits(((x & self.int.0) << self.int.1) | ((x & self.frac.0) << self.frac.1));
+        decimal_value(m, self.frac_digits, self.neg)
+    }
+
+    /// Whether the cell starts with a minus sign.
+    pub(crate) fn neg(&self) -> bool {
+        self.neg
+    }
+
+    /// The cell's bytes after its sign.
+    pub(crate) fn cell_len(&self) -> usize {
+        self.len
+    }
+
+    /// What each byte of the cell after its sign must be: `None` for a
+    /// digit, else the byte itself (the point).
+    pub(crate) fn cell_bytes(&self) -> impl Iterator<Item = Option<u8>> + '_ {
+        (0..self.len).map(|k| {
+            let shift = 8 * k;
+            ((self.point_lane >> shift) & 0xff != 0).then_some((self.point >> shift) as u8)
+        })
+    }
+}
+
+/// The lanes of the word `w` that are not as a pattern wants them: nonzero
+/// when a lane set in `exact` differs from `expect`'s, or a lane with 0x80
+/// set in `digits` holds no ASCII digit (judged as in `digits_in`;
+/// `expect` is not read there). A lane that is no digit is always flagged.
+/// Adding 0x76 carries out of a lane only where it holds a byte of 0x80 or
+/// more, and only into the lane above it (a later byte); a carry never
+/// clears a flag: a miss at worst, never a wrong read.
+#[inline(always)]
+pub(crate) fn lanes_differ(w: u64, expect: u64, exact: u64, digits: u64) -> u64 {
+    let x = less_zeros(w);
+    ((w ^ expect) & exact) | ((x.wrapping_add(0x76 * LANES) | x) & digits)
 }
 
 /// Cells a reader of many may read otherwise than by the shape before
@@ -230,6 +267,11 @@ pub(crate) struct Shapes {
 }
 
 impl Shapes {
+    /// The last shape learned, if any.
+    pub(crate) fn shape(&self) -> Option<&Shape> {
+        self.shape.as_ref()
+    }
+
     /// The cell at `b[i..]` by the last shape learned, as [`Shape::read`]
     /// gives it (the caller sees that the byte after it ends it).
     #[inline(always)]

@@ -10,7 +10,7 @@
 //! seed a new template. The angle is kept as the integer its digits spell,
 //! so the value it gives is bit for bit what reading the cell gives.
 
-use crate::number::{POW10, Shapes, decimal_value};
+use crate::number::{POW10, Shape, Shapes, decimal_value, lanes_differ};
 
 /// Longest text a template holds: the cells before the value, with their
 /// separators.
@@ -51,6 +51,86 @@ pub(crate) struct Template {
     before: (usize, u64),
     /// The shape of the last value read, which the next is read by first.
     shapes: Shapes,
+    /// The whole row as the last one read by its shape, when it fits:
+    /// checked in words at once ([`Template::next`]'s first try).
+    row: Option<RowShape>,
+    /// Row shapes built so far (at most [`ROW_BUILDS`]).
+    builds: usize,
+}
+
+/// Longest row (text, value, line end) a [`RowShape`] checks, in words.
+const ROW_WORDS: usize = 3;
+
+/// Row shapes a template builds before it keeps to the cell-by-cell read:
+/// values or line ends whose shapes keep changing.
+const ROW_BUILDS: usize = 16;
+
+/// What the bytes after the template's text must be, for a row like the
+/// last one read: the value's sign and point exactly and digits where it
+/// had digits, then the same line end. With the text it checks a whole
+/// row in [`ROW_WORDS`] words or fewer, each with one mask test
+/// ([`lanes_differ`]), where the cell-by-cell read tests the text, the
+/// sign, the digits and the line end one after another, each behind its
+/// own branch.
+#[derive(Clone, Copy)]
+struct RowShape {
+    /// The bytes after the text that must be as they are (zero in the
+    /// text's lanes, which `Template::text` fills).
+    expect: [u64; ROW_WORDS],
+    /// Lanes compared exactly: the text, the sign, the point, the line end.
+    exact: [u64; ROW_WORDS],
+    /// 0x80 in the lanes that must hold a digit.
+    digits: [u64; ROW_WORDS],
+    /// Whether the row reaches the third word.
+    third: bool,
+    /// Where the value's bytes after its sign start.
+    at: usize,
+    /// The row's length, line end included.
+    len: usize,
+    /// The value's shape.
+    shape: Shape,
+}
+
+impl RowShape {
+    /// The pattern of a row with `text_len` bytes of text, then a value of
+    /// `shape`, then the line end `end`; `None` when it is longer than
+    /// [`ROW_WORDS`] words.
+    fn new(text_len: usize, shape: &Shape, end: &[u8]) -> Option<Self> {
+        const N: usize = 8 * ROW_WORDS;
+        let (mut expect, mut exact, mut digits) = ([0u8; N], [0u8; N], [0u8; N]);
+        exact[..text_len.min(N)].fill(0xff);
+        let sign = shape.neg().then_some(Some(b'-'));
+        let len = text_len + usize::from(shape.neg()) + shape.cell_len() + end.len();
+        if len > N {
+            return None;
+        }
+        let cells = sign
+            .into_iter()
+            .chain(shape.cell_bytes())
+            .chain(end.iter().map(|&c| Some(c)));
+        for (i, c) in (text_len..).zip(cells) {
+            match c {
+                Some(c) => (expect[i], exact[i]) = (c, 0xff),
+                None => digits[i] = 0x80,
+            }
+        }
+        let words = |b: [u8; N]| {
+            std::array::from_fn(|k| {
+                let mut w = [0; 8];
+                w.copy_from_slice(&b[8 * k..8 * k + 8]);
+                u64::from_le_bytes(w)
+            })
+        };
+        Some(Self {
+            expect: words(expect),
+            exact: words(exact),
+            digits: words(digits),
+            third: len > 16,
+            at: text_len + usize::from(shape.neg()),
+            len,
+            shape: *shape,
+        })
+    }
 }
 
 impl Template {
@@ -127,6 +207,8 @@ impl Template {
             last: (0, 10),
             before: (0, 10),
             shapes: Shapes::default(),
+            row: None,
+            builds: 0,
         };
         if let Some(j) = (s..e).rev().find(|&j| t.digit(j).is_some()) {
             t.last = (j, t.digit(j).unwrap_or(10));
@@ -247,6 +329,9 @@ impl Template {
     /// The next row, when it starts with the template's text and its value
     /// is a plain decimal ending the line: the angle and the value (file
     /// units) and the row's length; the template then moves one step on.
+    /// A row shaped as the last one is checked in words at once
+    /// ([`RowShape`]); any other is read cell by cell, and its shape kept
+    /// for the next.
     #[inline(always)]
     pub(crate) fn next(
         &mut self,
@@ -258,16 +343,52 @@ impl Template {
             b.copy_from_slice(&row[8 * k..8 * k + 8]);
             u64::from_le_bytes(b)
         };
+        if let Some(r) = &self.row {
+            let differ = |k: usize| {
+                let text = if k < 2 { self.text[k] } else { 0 };
+                lanes_differ(word(k), text | r.expect[k], r.exact[k], r.digits[k])
+            };
+            let mut bad = differ(0) | differ(1);
+            if r.third {
+                bad |= differ(2);
+            }
+            if bad == 0 {
+                let mut b = [0; 8];
+                b.copy_from_slice(&row[r.at..r.at + 8]);
+                let (v, len) = (r.shape.value_of(u64::from_le_bytes(b)), r.len);
+                return Some(self.step_on(v, len));
+            }
+        }
         let differ =
             ((word(0) ^ self.text[0]) & self.mask[0]) | ((word(1) ^ self.text[1]) & self.mask[1]);
         if self.dead || differ != 0 {
             return None;
         }
         let (v, len) = self.value(row, decimal_comma)?;
+        if self.builds < ROW_BUILDS
+            && let Some(shape) = self.shapes.shape()
+        {
+            self.builds += 1;
+            let value_end = self.len + usize::from(shape.neg()) + shape.cell_len();
+            self.row = row
+                .get(value_end..len)
+                .and_then(|end| RowShape::new(self.len, shape, end))
+                .filter(|r| r.len == len);
+        }
+        Some(self.step_on(v, len))
+    }
+
+    /// The angle of the row just read, with its value `v` and length
+    /// `len`; the template moves one step on (a dead one reads no more).
+    #[inline(always)]
+    fn step_on(&mut self, v: f64, len: usize) -> (f64, f64, usize) {
         let a = self.angle();
         self.advance();
+        if self.dead {
+            self.row = None;
+        }
         self.rows += 1;
-        Some((a, v, len))
+        (a, v, len)
     }
 
     /// The value cell after the template's text, a plain decimal (`-12.5`,
@@ -423,6 +544,71 @@ mod tests {
                         got.map(|g| g.1),
                         want.filter(|_| !bad.ends_with(' ')),
                         "{r:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// A row read as the last (by the whole-row pattern, [`RowShape`])
+    /// against the plain rule, with one byte of it changed at every place
+    /// (the cells before the value, the value's sign, digits and point, the
+    /// line end, the byte after it) to bytes chosen to defeat a word-wide
+    /// test: digits, separators, signs, line ends, an exponent, NUL and
+    /// bytes of 0x80 and more (whose carries cross lanes). The plain rule:
+    /// the text before the value exactly the template's, then a plain
+    /// decimal up to a line end, read as `str::parse` reads it.
+    #[test]
+    fn a_row_read_whole_is_the_plain_row() {
+        fn plain(row: &[u8], text: &[u8]) -> Option<(f64, usize)> {
+            let rest = row.strip_prefix(text)?;
+            let end = rest.iter().position(|&c| c == b'\n')?;
+            let (cell, len) = match rest[..end].strip_suffix(b"\r") {
+                Some(c) => (c, text.len() + end + 1),
+                None => (&rest[..end], text.len() + end + 1),
+            };
+            let digits = cell.iter().filter(|c| c.is_ascii_digit()).count();
+            let body = cell.strip_prefix(b"-").unwrap_or(cell);
+            let points = body.iter().filter(|&&c| c == b'.').count();
+            let ok = (1..=15).contains(&digits)
+                && points <= 1
+                && body.iter().all(|&c| c.is_ascii_digit() || c == b'.');
+            ok.then(|| (std::str::from_utf8(cell).unwrap().parse().unwrap(), len))
+        }
+        let bytes = [
+            b'0', b'5', b'9', b'.', b',', b'-', b'+', b' ', b'\r', b'\n', b'e', b'/', b':', 0,
+            0x7f, 0x80, 0x89, 0x8a, 0xb9, 0xba, 0xff,
+        ];
+        for (text, value, end) in [
+            ("3,127.", "87.14250", "\n"),
+            ("12,5.", "-0.5", "\r\n"),
+            ("7,360.", "1234567", "\n"),
+            ("1,99.", "-12.5", "\n"),
+        ] {
+            let seed = format!("{text}1,{value}{end}");
+            let mut t = Template::seed(seed.as_bytes(), b',', 1, 2, 0.1).unwrap();
+            // Two rows read, the second by the pattern the first built.
+            for m in 2..4 {
+                let r = format!("{text}{m},{value}{end}");
+                let got = t.next(&window(&r), false).map(|g| g.1);
+                assert_eq!(got, Some(value.parse().unwrap()), "{r:?}");
+                assert!(t.row.is_some(), "{r:?}: a row shape built");
+            }
+            let good = format!("{text}4,{value}{end}xy");
+            let prefix = format!("{text}4,");
+            for at in 0..good.len() {
+                for &b in &bytes {
+                    let mut r = good.clone().into_bytes();
+                    r[at] = b;
+                    let mut w = [b' '; ROW];
+                    w[..r.len()].copy_from_slice(&r);
+                    let got = t.clone().next(&w, false).map(|(_, v, len)| (v, len));
+                    let want = plain(&r, prefix.as_bytes());
+                    assert_eq!(
+                        got.map(|(v, l)| (v.to_bits(), l)),
+                        want.map(|(v, l)| (v.to_bits(), l)),
+                        "{:?}",
+                        String::from_utf8_lossy(&r)
                     );
                 }
             }
