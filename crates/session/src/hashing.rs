@@ -197,10 +197,11 @@ fn read_and_hash(
     let mut h = blake3::Hasher::new();
     let mut size = FIRST;
     loop {
+        // A block that came back keeps its length (its bytes are read
+        // over), so that only a new one is zeroed.
         let mut block = blocks
             .try_recv()
             .unwrap_or_else(|_| Vec::with_capacity(BLOCK));
-        block.clear();
         let stop = fill(&mut source, &mut block, size);
         // The bytes read before an end or an error go first.
         if !block.is_empty() {
@@ -215,9 +216,9 @@ fn read_and_hash(
     }
 }
 
-/// Reads `source` into `block`, up to `size` bytes: `None` when it holds
-/// them all, else the end (`Ok`) or the source's error, after the bytes
-/// read before it.
+/// Reads `source` into `block` (its bytes read over), up to `size` bytes:
+/// `None` when it holds them all, else the end (`Ok`) or the source's
+/// error, after the bytes read before it.
 fn fill(source: &mut Source, block: &mut Vec<u8>, size: usize) -> Option<std::io::Result<()>> {
     block.resize(size, 0);
     let mut n = 0;
