@@ -307,7 +307,7 @@ def main():
     }
     for b in builds:
         names |= {
-            b + "ours1": f"{b}enginedyn batch --jobs 1 (the hash beside on the idle core)",
+            b + "ours1": f"{b}enginedyn batch --jobs 1 (the read and the hash beside on the idle core)",
             b + "pin1": f"{b}enginedyn batch --jobs 1, pinned to one core (taskset -c 0)",
             b + "ours2": f"{b}enginedyn batch --jobs 2",
             b + "floor": f"{b}enginedyn batch --jobs 1 --parse-only (parse floor)",
