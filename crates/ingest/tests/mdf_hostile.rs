@@ -408,6 +408,16 @@ fn measured<T>(f: impl FnOnce() -> T) -> (T, Duration, usize) {
     (out, t.elapsed(), PEAK.load(Ordering::Relaxed) - before)
 }
 
+/// The time-master fixture, its fast group's data group block and the
+/// `##DZ` block that holds the group's records.
+fn fixture_dz() -> (Mdf, u64, u64) {
+    let m = Mdf(fixture("mdf_time_master_dz.mf4"));
+    let dg = m.dgs()[1];
+    let dz = m.link(dg, 2);
+    assert_eq!(&m.0[dz as usize..dz as usize + 4], b"##DZ");
+    (m, dg, dz)
+}
+
 /// Item 13: a data list naming one compressed block 100,000 times (it ran
 /// 400 s) is an error at once; blocks expanding past 1 GiB in all are an
 /// error naming the bound.
@@ -415,10 +425,7 @@ fn measured<T>(f: impl FnOnce() -> T) -> (T, Duration, usize) {
 fn data_lists_are_bounded() {
     let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let (o, _) = time_options();
-    let mut m = Mdf(fixture("mdf_time_master_dz.mf4"));
-    let dg = m.dgs()[1];
-    let dz = m.link(dg, 2);
-    assert_eq!(&m.0[dz as usize..dz as usize + 4], b"##DZ");
+    let (mut m, dg, dz) = fixture_dz();
     let n = 100_000u64;
     let mut links = vec![0u64];
     links.extend(std::iter::repeat_n(dz, n as usize));
@@ -481,10 +488,8 @@ fn data_lists_are_bounded() {
 fn a_deflated_block_s_declared_length_is_not_allocated() {
     let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let (o, _) = time_options();
-    let mut m = Mdf(fixture("mdf_time_master_dz.mf4"));
-    let dg = m.dgs()[1];
-    let dz = m.link(dg, 2) as usize;
-    assert_eq!(&m.0[dz..dz + 4], b"##DZ");
+    let (mut m, _, dz) = fixture_dz();
+    let dz = dz as usize;
     // ##DZ: the expanded length is the u64 at 32.
     assert_eq!(m.u64(dz + 32), 295_035);
     m.0[dz + 32..dz + 40].copy_from_slice(&(256u64 << 20).to_le_bytes());

@@ -306,17 +306,25 @@ fn both(bytes: &[u8], at: u64, dg: usize, chunk: usize) -> (Vec<Vec<u64>>, Optio
     (want, got)
 }
 
+/// A group of `WIDE`'s 50 records (data group `dg`, block `at`) read in
+/// windows of `chunk`: the decoder's columns are falcon_mdf's, channel by
+/// channel; returns them.
+fn wide_alike(bytes: &[u8], at: u64, dg: usize, chunk: usize) -> Vec<Vec<u64>> {
+    let (want, got) = both(bytes, at, dg, chunk);
+    assert_eq!(want[0].len(), 50);
+    let got = got.expect("the plain shape");
+    for (k, (w, g)) in want.iter().zip(&got).enumerate() {
+        assert_eq!(w, g, "data group {dg}, {} (window {chunk})", WIDE[k].0);
+    }
+    got
+}
+
 #[test]
 fn the_columns_are_falcon_mdf_s_samples_bit_for_bit() {
     let (bytes, dgs) = file();
     // Windows of 1, of 7 (shorter than a block, not dividing 50) and whole.
     for chunk in [1, 7, 1 << 17] {
-        let (want, got) = both(&bytes, dgs[0], 0, chunk);
-        assert_eq!(want[0].len(), 50);
-        let got = got.expect("group 1 is the plain shape");
-        for (k, (w, g)) in want.iter().zip(&got).enumerate() {
-            assert_eq!(w, g, "group 1, {} (window {chunk})", WIDE[k].0);
-        }
+        let got = wide_alike(&bytes, dgs[0], 0, chunk);
         // Some samples invalid, some not: the bits were read.
         let nan = |c: &Vec<u64>| c.iter().filter(|&&x| f64::from_bits(x).is_nan()).count();
         assert!((1..50).contains(&nan(&got[8])), "{}", nan(&got[8]));
@@ -333,12 +341,7 @@ fn the_columns_are_falcon_mdf_s_samples_bit_for_bit() {
 fn deflated_blocks_are_falcon_mdf_s_samples_bit_for_bit() {
     let (bytes, dgs) = file();
     for chunk in [1, 7, 1 << 17] {
-        let (want, got) = both(&bytes, dgs[3], 3, chunk);
-        assert_eq!(want[0].len(), 50);
-        let got = got.expect("group 4 is the plain shape");
-        for (k, (w, g)) in want.iter().zip(&got).enumerate() {
-            assert_eq!(w, g, "group 4, {} (window {chunk})", WIDE[k].0);
-        }
+        wide_alike(&bytes, dgs[3], 3, chunk);
     }
 }
 
