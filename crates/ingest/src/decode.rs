@@ -330,6 +330,12 @@ impl<'f> Body<'f> {
 fn un_transpose(t: &[u8], columns: usize, out: &mut Vec<u8>) {
     let lines = t.len() / columns;
     out.clear();
+    if lines == 0 {
+        // No whole record (a block shorter than the file's record length):
+        // as it is, without a pass over the columns.
+        out.extend_from_slice(t);
+        return;
+    }
     out.resize(t.len(), 0);
     let body = lines * columns;
     let (rows8, cols8) = (lines / 8 * 8, columns / 8 * 8);
@@ -464,7 +470,10 @@ impl<'f> Plain<'f> {
         {
             next = *links.first()?;
         }
+        // A data block has no links; falcon_mdf reads its data at byte 24
+        // whatever it declares, so one that declares links is left to it.
         let body = |b: Block<'f>| match b.id {
+            _ if !b.links.is_empty() => None,
             b"##DT" => Some(Body::Plain(b.data)),
             b"##DZ" => Body::deflated(b.data),
             _ => None,

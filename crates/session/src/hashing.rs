@@ -115,7 +115,8 @@ enum Hasher {
         block: Vec<u8>,
         at: usize,
         /// The hash, once the worker reached the end; `Err` once the
-        /// source failed (the worker then waits for the next diagram).
+        /// source failed (every later read is an error, and the worker
+        /// goes with this reader).
         hash: Option<Result<String, ()>>,
     },
 }

@@ -402,6 +402,41 @@ fn the_blockwise_un_transposition_is_the_plain_one() {
     }
 }
 
+/// A data block that declares links (none belong there) is left to
+/// falcon_mdf, which reads its data at byte 24 whatever it declares.
+#[test]
+fn a_data_block_with_links_is_not_the_plain_shape() {
+    for dz in [false, true] {
+        let mut w = Writer::new();
+        let records = noise(10 * 43, 5);
+        let block = if dz {
+            let at = w.dz(&records, Some(43));
+            let d = w.0[at as usize + 24..].to_vec();
+            w.block(b"##DZ", &[0], &d)
+        } else {
+            w.block(b"##DT", &[0], &records)
+        };
+        let dg = w.group(WIDE, (42, 1, 10), 0, block);
+        w.set(64, 0, dg);
+        let file = Mf4File::from_bytes(w.0.clone()).unwrap();
+        let cg = &file.data_groups()[0].channel_groups[0];
+        let channels: Vec<_> = cg.channels.iter().collect();
+        let plain = Plain::new(
+            &w.0,
+            dg,
+            cg.data_bytes_len(),
+            cg.inval_bytes_len(),
+            cg.sample_count,
+            &channels,
+        );
+        assert!(
+            plain.is_none(),
+            "a ##{} with a link",
+            if dz { "DZ" } else { "DT" }
+        );
+    }
+}
+
 #[test]
 fn unsorted_records_are_not_the_plain_shape() {
     let (bytes, dgs) = file();
