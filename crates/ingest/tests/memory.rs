@@ -140,9 +140,8 @@ impl<F: FnMut(usize) -> Option<String>> Read for Made<F> {
     }
 }
 
-fn peak_of(
-    read: impl FnOnce() -> enginedyn_ingest::Resampled,
-) -> (enginedyn_ingest::Resampled, usize) {
+/// What `read` gives, and the peak heap it took beyond what was held before.
+fn peak_of<T>(read: impl FnOnce() -> T) -> (T, usize) {
     let before = NOW.load(Ordering::Relaxed);
     PEAK.store(before, Ordering::Relaxed);
     let r = read();
@@ -227,6 +226,13 @@ fn other_layouts_in_bounded_memory() {
     eprintln!("time record: peak heap {:.1} MB", peak as f64 / 1048576.0);
 }
 
+/// The error reading `bytes` gives (a panic if it reads).
+fn refused(bytes: &[u8]) -> String {
+    enginedyn_ingest::parse(std::io::Cursor::new(bytes), &ParseOptions::new(720.0))
+        .unwrap_err()
+        .to_string()
+}
+
 /// A damaged .xls whose one cell's row and column bytes were changed
 /// (row 65,535, column 255) would make calamine lay out a table of 65,536 ×
 /// 256 cells (hundreds of MB) as it opens the workbook; the sheet's span is
@@ -246,12 +252,7 @@ fn a_damaged_xls_cell_address_is_refused_in_bounded_memory() {
         .unwrap();
     assert!(at % 512 < 504, "the record's address lies in one sector");
     xls[at + 4..at + 8].copy_from_slice(&[0xff, 0xff, 0xff, 0x00]);
-    let before = NOW.load(Ordering::Relaxed);
-    PEAK.store(before, Ordering::Relaxed);
-    let e = enginedyn_ingest::parse(std::io::Cursor::new(&xls), &ParseOptions::new(720.0))
-        .unwrap_err()
-        .to_string();
-    let peak = PEAK.load(Ordering::Relaxed) - before;
+    let (e, peak) = peak_of(|| refused(&xls));
     eprintln!("damaged .xls: peak heap {:.1} MB", peak as f64 / 1048576.0);
     assert!(
         e.contains("sheet 1 of the .xls spans 65,536 rows × 256 columns"),
@@ -269,12 +270,7 @@ fn a_repeated_ods_row_is_refused_in_bounded_memory() {
     let ods = ods_with::ods_with(
         r#"<table:table-row table:number-rows-repeated="6000"><table:table-cell office:value-type="float" office:value="1" table:number-columns-repeated="16000"><text:p>1</text:p></table:table-cell></table:table-row>"#,
     );
-    let before = NOW.load(Ordering::Relaxed);
-    PEAK.store(before, Ordering::Relaxed);
-    let e = enginedyn_ingest::parse(std::io::Cursor::new(&ods), &ParseOptions::new(720.0))
-        .unwrap_err()
-        .to_string();
-    let peak = PEAK.load(Ordering::Relaxed) - before;
+    let (e, peak) = peak_of(|| refused(&ods));
     eprintln!(
         "repeated .ods row: peak heap {:.1} MB",
         peak as f64 / 1048576.0
