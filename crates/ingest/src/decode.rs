@@ -25,6 +25,7 @@
 //! bound, with its messages).
 
 use crate::mdf::{MAX_MDF_ALLOC, MAX_MDF_BLOCK};
+use crate::number::word;
 use falcon_mdf::error::Mf4Error;
 
 use falcon_mdf::Channel;
@@ -250,10 +251,7 @@ impl<'f> Body<'f> {
     /// deflated (1, by a record's bytes), expanding to at most
     /// [`MAX_MDF_BLOCK`]; `None` for anything else.
     fn deflated(data: &'f [u8]) -> Option<Self> {
-        let u64_at = |at: usize| {
-            let b = data.get(at..at + 8)?;
-            usize::try_from(u64::from_le_bytes(b.try_into().ok()?)).ok()
-        };
+        let size_at = |at: usize| usize::try_from(u64_at(data, at)?).ok();
         if data.get(..2)? != b"DT" {
             return None;
         }
@@ -263,7 +261,7 @@ impl<'f> Body<'f> {
             (1, 1..) => Some(usize::try_from(param).ok()?),
             _ => return None,
         };
-        let (size, packed) = (u64_at(8)?, u64_at(16)?);
+        let (size, packed) = (size_at(8)?, size_at(16)?);
         if size as u64 > MAX_MDF_BLOCK {
             return None;
         }
@@ -348,7 +346,7 @@ fn un_transpose(t: &[u8], columns: usize, out: &mut Vec<u8>) {
         for k in (0..cols8).step_by(8) {
             let from: [&[u8]; 8] = std::array::from_fn(|j| &t[(k + j) * lines + r0..][..r1 - r0]);
             for (b, eight) in records.chunks_exact_mut(8 * columns).enumerate() {
-                let square = transpose8(std::array::from_fn(|j| le(&from[j][8 * b..])));
+                let square = transpose8(std::array::from_fn(|j| word(from[j], 8 * b)));
                 for (i, row) in square.iter().enumerate() {
                     eight[i * columns + k..][..8].copy_from_slice(&row.to_le_bytes());
                 }
@@ -368,14 +366,6 @@ fn un_transpose(t: &[u8], columns: usize, out: &mut Vec<u8>) {
         }
     }
     out[body..].copy_from_slice(&t[body..]);
-}
-
-/// The first eight bytes of `b`, little-endian.
-#[inline(always)]
-fn le(b: &[u8]) -> u64 {
-    let mut w = [0; 8];
-    w.copy_from_slice(&b[..8]);
-    u64::from_le_bytes(w)
 }
 
 /// An 8 × 8 matrix of bytes transposed: byte `i` of word `j` becomes byte
@@ -407,6 +397,13 @@ pub(crate) struct Block<'a> {
     pub(crate) data: &'a [u8],
 }
 
+/// The little-endian u64 of a block's field at `at` in `data`, if there.
+pub(crate) fn u64_at(data: &[u8], at: usize) -> Option<u64> {
+    Some(u64::from_le_bytes(
+        data.get(at..at.checked_add(8)?)?.try_into().ok()?,
+    ))
+}
+
 /// The block at `at`, when one is there whole; `None` otherwise (falcon_mdf
 /// then names the damage).
 pub(crate) fn block(bytes: &[u8], at: u64) -> Option<Block<'_>> {
@@ -415,8 +412,8 @@ pub(crate) fn block(bytes: &[u8], at: u64) -> Option<Block<'_>> {
     if &head[..2] != b"##" {
         return None;
     }
-    let len = usize::try_from(u64::from_le_bytes(head[8..16].try_into().ok()?)).ok()?;
-    let n = usize::try_from(u64::from_le_bytes(head[16..24].try_into().ok()?)).ok()?;
+    let len = usize::try_from(u64_at(head, 8)?).ok()?;
+    let n = usize::try_from(u64_at(head, 16)?).ok()?;
     let links_end = n.checked_mul(8)?.checked_add(24)?;
     if len < links_end {
         return None;

@@ -42,7 +42,7 @@
 //! window.
 
 use crate::columns::{Role, recognise, same};
-use crate::decode::block;
+use crate::decode::{block, u64_at};
 use crate::error::IngestError;
 use crate::reader::Reader;
 use crate::row::Cells;
@@ -199,10 +199,6 @@ impl Survey {
             .ok()
             .map(|i| self.declared[i].2)
     }
-}
-
-fn u64_at(data: &[u8], at: usize) -> Option<u64> {
-    Some(u64::from_le_bytes(data.get(at..at + 8)?.try_into().ok()?))
 }
 
 /// Walks the file's data groups, channel groups, channels and data lists

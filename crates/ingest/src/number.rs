@@ -24,9 +24,10 @@ pub(crate) fn decimal_value(m: u64, frac: usize, neg: bool) -> f64 {
     if neg { -v } else { v }
 }
 
-/// The eight bytes of `b` from `i`, the first in the lowest byte.
+/// The eight bytes of `b` from `i`, the first in the lowest byte (the one
+/// little-endian word reader of the crate's fast paths).
 #[inline(always)]
-fn word(b: &[u8], i: usize) -> u64 {
+pub(crate) fn word(b: &[u8], i: usize) -> u64 {
     let mut w = [0; 8];
     w.copy_from_slice(&b[i..i + 8]);
     u64::from_le_bytes(w)

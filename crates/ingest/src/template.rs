@@ -10,7 +10,7 @@
 //! seed a new template. The angle is kept as the integer its digits spell,
 //! so the value it gives is bit for bit what reading the cell gives.
 
-use crate::number::{POW10, Shape, Shapes, decimal_value, lanes_differ};
+use crate::number::{POW10, Shape, Shapes, decimal_value, lanes_differ, word};
 
 /// Longest text a template holds: the cells before the value, with their
 /// separators.
@@ -114,13 +114,7 @@ impl RowShape {
                 None => digits[i] = 0x80,
             }
         }
-        let words = |b: [u8; N]| {
-            std::array::from_fn(|k| {
-                let mut w = [0; 8];
-                w.copy_from_slice(&b[8 * k..8 * k + 8]);
-                u64::from_le_bytes(w)
-            })
-        };
+        let words = |b: [u8; N]| std::array::from_fn(|k| word(&b, 8 * k));
         Some(Self {
             expect: words(expect),
             exact: words(exact),
@@ -338,29 +332,27 @@ impl Template {
         row: &[u8; ROW],
         decimal_comma: bool,
     ) -> Option<(f64, f64, usize)> {
-        let word = |k: usize| {
-            let mut b = [0; 8];
-            b.copy_from_slice(&row[8 * k..8 * k + 8]);
-            u64::from_le_bytes(b)
-        };
         if let Some(r) = &self.row {
             let differ = |k: usize| {
                 let text = if k < 2 { self.text[k] } else { 0 };
-                lanes_differ(word(k), text | r.expect[k], r.exact[k], r.digits[k])
+                lanes_differ(
+                    word(row, 8 * k),
+                    text | r.expect[k],
+                    r.exact[k],
+                    r.digits[k],
+                )
             };
             let mut bad = differ(0) | differ(1);
             if r.third {
                 bad |= differ(2);
             }
             if bad == 0 {
-                let mut b = [0; 8];
-                b.copy_from_slice(&row[r.at..r.at + 8]);
-                let (v, len) = (r.shape.value_of(u64::from_le_bytes(b)), r.len);
+                let (v, len) = (r.shape.value_of(word(row, r.at)), r.len);
                 return Some(self.step_on(v, len));
             }
         }
-        let differ =
-            ((word(0) ^ self.text[0]) & self.mask[0]) | ((word(1) ^ self.text[1]) & self.mask[1]);
+        let differ = ((word(row, 0) ^ self.text[0]) & self.mask[0])
+            | ((word(row, 8) ^ self.text[1]) & self.mask[1]);
         if self.dead || differ != 0 {
             return None;
         }
